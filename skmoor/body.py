@@ -1,0 +1,443 @@
+"""Rigid body: mass, inertia, attachment kinematics and hydrostatics.
+
+Conventions: SI units, global frame with z up and z = 0 at the still water line. The
+body displacement is ``q = [x, y, z, rx, ry, rz]`` (m, rad) of the body's reference
+point, with the rotation ``R = Rz(rz) @ Ry(ry) @ Rx(rx)``; at ``q = 0`` the body frame is
+the global frame. A point fixed in the body at ``r`` (relative to the reference point)
+moves to ``reference_point + q[:3] + R r``.
+
+Two conventions of rotational load exist and must not be mixed in one model:
+
+- *moment*: the moment about the displaced reference point, in global axes. The
+  standard hydrostatic matrix (WAMIT, Newman) is its derivative; it is not symmetric
+  (K46, K56 != 0 = K64, K65).
+- *generalized*: the load conjugate to ``q``, ``J^T f`` for a force ``f`` at a body
+  point (:func:`attachment_jacobian`), whose derivative at fixed ``f`` is
+  :func:`attachment_hessian`. Hydrostatics and weight derive from a potential that does
+  not depend on yaw, so their generalized stiffness is symmetric with K46 = K56 = 0.
+
+Both agree at ``q = 0`` on the loads; the stiffnesses differ by terms in the static
+moment of each load, which cancel in a model whose total static moment is zero.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "rotation_matrix",
+    "attachment_displacement",
+    "attachment_jacobian",
+    "attachment_hessian",
+    "uniform_box_inertia",
+    "Hydrostatics",
+    "box_hydrostatics",
+    "hull_hydrostatics",
+    "RigidBody",
+]
+
+
+# --------------------------------------------------------------------------- checks
+
+def _finite_array(name: str, value, shape: tuple) -> np.ndarray:
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: expected numbers of shape {shape}, got {value!r}") from None
+    if arr.shape != shape:
+        raise ValueError(f"{name}: expected shape {shape}, got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: contains NaN or inf")
+    return arr
+
+
+def _positive(name: str, value) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: expected a positive number, got {value!r}") from None
+    if not (np.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name}: must be a positive finite number, got {value}")
+    return value
+
+
+# --------------------------------------------------------------------------- kinematics
+
+def _axis_rotation(angle: float, axis: int) -> np.ndarray:
+    """Rotation by ``angle`` about a coordinate axis and its first two derivatives, (3, 3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    i, j = (axis + 1) % 3, (axis + 2) % 3  # cyclic, so that R[i, j] = -sin
+    out = np.zeros((3, 3, 3))
+    out[0, axis, axis] = 1.0
+    # (cos, sin) -> (-sin, cos) -> (-cos, -sin): successive derivatives
+    for n, (cn, sn) in enumerate([(c, s), (-s, c), (-c, -s)]):
+        out[n, i, i] = out[n, j, j] = cn
+        out[n, i, j], out[n, j, i] = -sn, sn
+    return out
+
+
+def _rotation_derivatives(angles) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """R, dR/dangle_a (3, 3, 3) and d2R/dangle_a dangle_b (3, 3, 3, 3) of R = Rz Ry Rx."""
+    angles = _finite_array("angles", angles, (3,))
+    rx, ry, rz = (_axis_rotation(angles[k], k) for k in range(3))
+
+    def product(order):  # order[k]: derivative order of the factor about axis k
+        return rz[order[2]] @ ry[order[1]] @ rx[order[0]]
+
+    eye = np.eye(3, dtype=int)
+    d1 = np.array([product(eye[a]) for a in range(3)])
+    d2 = np.array([[product(eye[a] + eye[b]) for b in range(3)] for a in range(3)])
+    return product((0, 0, 0)), d1, d2
+
+
+def rotation_matrix(angles) -> np.ndarray:
+    """Rotation matrix R = Rz(rz) @ Ry(ry) @ Rx(rx) for ``angles = (rx, ry, rz)`` in rad."""
+    return _rotation_derivatives(angles)[0]
+
+
+def attachment_displacement(q, r) -> np.ndarray:
+    """Displacement (m) of body point(s) ``r`` (3,) or (n, 3): ``q[:3] + R r - r``."""
+    q = _finite_array("q", q, (6,))
+    r = np.asarray(r, dtype=float)
+    return q[:3] + r @ rotation_matrix(q[3:]).T - r
+
+
+def attachment_jacobian(q, r) -> np.ndarray:
+    """Derivative of :func:`attachment_displacement` w.r.t. ``q``: (3, 6), or (n, 3, 6)."""
+    q = _finite_array("q", q, (6,))
+    r = np.asarray(r, dtype=float)
+    d1 = _rotation_derivatives(q[3:])[1]
+    jac = np.zeros(r.shape[:-1] + (3, 6))
+    jac[..., :, :3] = np.eye(3)
+    jac[..., :, 3:] = np.einsum("akl,...l->...ka", d1, r)
+    return jac
+
+
+def attachment_hessian(q, r, f) -> np.ndarray:
+    """sum_k f_k d2p_k/dq dq (6, 6): derivative of ``J(q, r)^T f`` w.r.t. ``q`` at fixed ``f``.
+
+    ``r`` and ``f`` (N) are (3,) or (n, 3); the terms of all points are summed. Only
+    the rotation block is non-zero (units N m).
+    """
+    q = _finite_array("q", q, (6,))
+    r = np.asarray(r, dtype=float).reshape(-1, 3)
+    f = np.asarray(f, dtype=float).reshape(-1, 3)
+    d2 = _rotation_derivatives(q[3:])[2]
+    hess = np.zeros((6, 6))
+    hess[3:, 3:] = np.einsum("abkl,kl->ab", d2, f.T @ r)
+    return hess
+
+
+def _skew(v) -> np.ndarray:
+    """Matrix S with S @ a = v x a."""
+    x, y, z = v
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def uniform_box_inertia(mass: float, length: float, width: float, height: float) -> np.ndarray:
+    """Inertia (kg m2) about the centre of a uniform box, length along x, width along y."""
+    return mass / 12.0 * np.diag(
+        [width**2 + height**2, length**2 + height**2, length**2 + width**2]
+    )
+
+
+# --------------------------------------------------------------------------- hydrostatics
+
+def _vertical_load_stiffness(weight: float, r, generalized: bool) -> np.ndarray:
+    """Stiffness (6, 6) of the load -weight e_z (N) at ``r`` (m) from the reference point."""
+    k = np.zeros((6, 6))
+    k[3, 3] = k[4, 4] = -weight * r[2]
+    if not generalized:
+        k[3, 5], k[4, 5] = weight * r[0], weight * r[1]
+    return k
+
+
+@dataclass
+class Hydrostatics:
+    """Hydrostatic properties of a hull in its floating position (still water, z = 0).
+
+    reference_point            (3,)  point (global, m) about which moments are taken
+    volume                     float displaced volume V, m3
+    center_of_buoyancy         (3,)  centre of the displaced volume, global, m
+    waterplane_area            float Awp, m2
+    waterplane_first_moments   (2,)  [int x dA, int y dA], m3
+    waterplane_second_moments  (3,)  [int x^2 dA, int y^2 dA, int x y dA], m4
+    x, y in the waterplane integrals are measured from the reference point.
+    """
+
+    reference_point: np.ndarray
+    volume: float
+    center_of_buoyancy: np.ndarray
+    waterplane_area: float
+    waterplane_first_moments: np.ndarray
+    waterplane_second_moments: np.ndarray
+
+    def __post_init__(self):
+        for name, shape in [("reference_point", (3,)), ("center_of_buoyancy", (3,)),
+                            ("waterplane_first_moments", (2,)),
+                            ("waterplane_second_moments", (3,))]:
+            setattr(self, name, _finite_array(f"Hydrostatics.{name}", getattr(self, name), shape))
+        self.volume = _positive("Hydrostatics.volume", self.volume)
+        self.waterplane_area = _positive("Hydrostatics.waterplane_area", self.waterplane_area)
+
+    def stiffness(self, mass: float, center_of_mass, rho: float = 1025.0, g: float = 9.81,
+                  generalized: bool = False) -> np.ndarray:
+        """Linear hydrostatic + gravity restoring matrix K (6, 6) about the reference point.
+
+        ``mass`` in kg, ``center_of_mass`` global (m), ``rho`` kg/m3, ``g`` m/s2. With
+        ``generalized=False`` K is the WAMIT / Newman matrix (moments about the displaced
+        reference point); with ``generalized=True`` it is the derivative of the load
+        conjugate to ``q`` (K46 = K56 = 0), consistent with :func:`attachment_hessian`.
+        """
+        sx, sy = self.waterplane_first_moments
+        ixx, iyy, ixy = self.waterplane_second_moments  # int x^2, int y^2, int xy
+        k = np.zeros((6, 6))
+        k[2, 2] = self.waterplane_area
+        k[2, 3] = k[3, 2] = sy
+        k[2, 4] = k[4, 2] = -sx
+        k[3, 3], k[4, 4] = iyy, ixx
+        k[3, 4] = k[4, 3] = -ixy
+        k *= rho * g
+        r_b = self.center_of_buoyancy - self.reference_point
+        r_g = np.asarray(center_of_mass, dtype=float) - self.reference_point
+        k += _vertical_load_stiffness(-rho * g * self.volume, r_b, generalized)
+        k += _vertical_load_stiffness(mass * g, r_g, generalized)
+        return k
+
+
+def box_hydrostatics(length: float, width: float, height: float, draft: float,
+                     reference_point=(0.0, 0.0, 0.0), center_xy=(0.0, 0.0)) -> Hydrostatics:
+    """Analytic hydrostatics of an axis-aligned box (m) floating upright.
+
+    Length along x, width along y, bottom at z = -draft, plan centre at ``center_xy``.
+    """
+    length = _positive("length", length)
+    width = _positive("width", width)
+    height = _positive("height", height)
+    draft = _positive("draft", draft)
+    if draft >= height:
+        raise ValueError(f"draft: {draft} m must be less than the box height {height} m")
+    ref = _finite_array("reference_point", reference_point, (3,))
+    cx, cy = _finite_array("center_xy", center_xy, (2,)) - ref[:2]
+    area = length * width
+    return Hydrostatics(
+        reference_point=ref,
+        volume=area * draft,
+        center_of_buoyancy=np.array([cx + ref[0], cy + ref[1], -draft / 2]),
+        waterplane_area=area,
+        waterplane_first_moments=area * np.array([cx, cy]),
+        waterplane_second_moments=area * np.array(
+            [cx**2 + length**2 / 12, cy**2 + width**2 / 12, cx * cy]
+        ),
+    )
+
+
+def _as_polydata(mesh):
+    """A pyvista PolyData from a PolyData, a meshio.Mesh, a pyvista grid or a file path."""
+    import pyvista as pv
+
+    if isinstance(mesh, (str, os.PathLike)):
+        if not os.path.isfile(mesh):
+            raise FileNotFoundError(f"mesh: no such file: {os.fspath(mesh)}")
+        mesh = pv.read(mesh)
+    else:
+        mesh = pv.wrap(mesh)
+    if isinstance(mesh, pv.PolyData):
+        return mesh
+    if isinstance(mesh, pv.UnstructuredGrid):
+        faces = [np.column_stack([np.full(len(conn), conn.shape[1]), conn]).ravel()
+                 for kind, conn in mesh.cells_dict.items()
+                 if kind in (pv.CellType.TRIANGLE, pv.CellType.QUAD, pv.CellType.POLYGON)]
+        if faces:
+            return pv.PolyData(mesh.points, np.concatenate(faces))
+    raise ValueError(f"mesh: expected a triangulated surface, got {type(mesh).__name__}")
+
+
+def hull_hydrostatics(mesh, reference_point=(0.0, 0.0, 0.0),
+                      offset=(0.0, 0.0, 0.0)) -> Hydrostatics:
+    """Hydrostatics of a closed hull surface (pyvista PolyData, meshio.Mesh or file path).
+
+    The surface is moved by ``offset`` (m, done in double precision) into its floating
+    position; duplicate points are merged and the faces oriented outward. It is clipped at
+    z = 0, and the displaced volume, its centroid and the waterplane integrals are computed
+    exactly for the triangulated surface (divergence theorem on the wetted faces; the
+    waterplane cap at z = 0 needs no triangulation).
+    """
+    ref = _finite_array("reference_point", reference_point, (3,))
+    offset = _finite_array("offset", offset, (3,))
+    surf = _as_polydata(mesh).triangulate()  # a new mesh: the input is left as it is
+    if surf.n_cells == 0:
+        raise ValueError("mesh: the surface has no faces")
+    surf.points = np.asarray(surf.points, dtype=float) + offset
+    if not np.all(np.isfinite(surf.points)):
+        raise ValueError("mesh: point coordinates contain NaN or inf")
+    surf = surf.clean()
+    bad = surf.extract_feature_edges(boundary_edges=True, non_manifold_edges=True,
+                                     feature_edges=False, manifold_edges=False).n_cells
+    if bad:
+        raise ValueError(f"mesh: the hull surface is not closed ({bad} open or non-manifold "
+                         "edges); hydrostatics need a watertight surface")
+    zmin, zmax = surf.bounds[4], surf.bounds[5]
+    if zmin >= 0.0:
+        raise ValueError(f"mesh: the hull does not reach below the waterline (lowest z = {zmin} m)")
+    if zmax <= 0.0:
+        raise ValueError(f"mesh: the hull is fully submerged (highest z = {zmax} m), "
+                         "it has no waterplane")
+    surf = surf.compute_normals(cell_normals=True, point_normals=False,
+                                consistent_normals=True, auto_orient_normals=True)
+    wet = surf.clip(normal="z", origin=(0.0, 0.0, 0.0), invert=True).triangulate()
+
+    pts = np.asarray(wet.points, dtype=float) - np.array([ref[0], ref[1], 0.0])
+    tri = pts[wet.faces.reshape(-1, 4)[:, 1:]]  # (n, 3 vertices, 3 coords)
+    area_z = 0.5 * np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])[:, 2]  # n_z dS
+    x, y, z = tri[..., 0], tri[..., 1], tri[..., 2]
+    one = np.ones_like(x)
+
+    def integral(a, b):
+        """Exact sum over faces of int a b n_z dS for a, b linear on each face."""
+        return area_z @ (np.einsum("ij,ij->i", a, b) + a.sum(1) * b.sum(1)) / 12.0
+
+    # int_V div(F) = oint F.n with F = (0, 0, z * phi); the cap at z = 0 adds nothing.
+    volume = integral(z, one)
+    # oint phi n_z dS = 0 over the closed wetted volume: cap integrals = -wetted ones.
+    area = -integral(one, one)
+    if volume <= 0.0 or area <= 0.0:
+        raise ValueError(f"mesh: degenerate wetted part (volume {volume} m3, waterplane "
+                         f"area {area} m2)")
+    centroid = np.array([integral(x, z), integral(y, z), integral(z, z) / 2.0]) / volume
+    return Hydrostatics(
+        reference_point=ref,
+        volume=volume,
+        center_of_buoyancy=centroid + np.array([ref[0], ref[1], 0.0]),
+        waterplane_area=area,
+        waterplane_first_moments=-np.array([integral(x, one), integral(y, one)]),
+        waterplane_second_moments=-np.array([integral(x, x), integral(y, y), integral(x, y)]),
+    )
+
+
+# --------------------------------------------------------------------------- rigid body
+
+@dataclass
+class RigidBody:
+    """A 6-DOF rigid body.
+
+    mass             kg
+    center_of_mass   (3,) global position at q = 0, m
+    inertia          (3, 3) about the centre of mass, global axes, kg m2
+    reference_point  (3,) global, m; the point whose motion q describes (default: CoM)
+    hydrostatics     Hydrostatics about ``reference_point``, or None (no buoyancy)
+    added_mass       (6, 6) about the reference point, kg / kg m / kg m2 (kept apart
+                     from :meth:`mass_matrix`)
+    linear_damping   (6, 6) about the reference point, N s/m, N s, N m s
+    rho, g           water density kg/m3, gravity m/s2
+    box_size         (3,) box dimensions (m) for drawing, or None
+    box_center       (3,) box centre relative to the reference point (m), for drawing
+    """
+
+    mass: float
+    center_of_mass: np.ndarray
+    inertia: np.ndarray
+    reference_point: np.ndarray | None = None
+    hydrostatics: Hydrostatics | None = None
+    added_mass: np.ndarray | None = None
+    linear_damping: np.ndarray | None = None
+    rho: float = 1025.0
+    g: float = 9.81
+    box_size: np.ndarray | None = None
+    box_center: np.ndarray | None = None
+
+    def __post_init__(self):
+        self.mass = _positive("mass", self.mass)
+        self.rho = _positive("rho", self.rho)
+        self.g = _positive("g", self.g)
+        self.center_of_mass = _finite_array("center_of_mass", self.center_of_mass, (3,))
+        self.reference_point = (self.center_of_mass.copy() if self.reference_point is None
+                                else _finite_array("reference_point", self.reference_point, (3,)))
+        inertia = _finite_array("inertia", self.inertia, (3, 3))
+        if not np.allclose(inertia, inertia.T, rtol=1e-10, atol=0.0):
+            raise ValueError("inertia: must be symmetric")
+        if np.linalg.eigvalsh(inertia).min() <= 0.0:
+            raise ValueError("inertia: must be positive definite")
+        self.inertia = inertia
+        for name in ("added_mass", "linear_damping"):
+            value = getattr(self, name)
+            setattr(self, name, np.zeros((6, 6)) if value is None
+                    else _finite_array(name, value, (6, 6)))
+        if self.box_size is not None:
+            self.box_size = _finite_array("box_size", self.box_size, (3,))
+        self.box_center = (np.zeros(3) if self.box_center is None
+                           else _finite_array("box_center", self.box_center, (3,)))
+        if self.hydrostatics is not None and not np.allclose(
+                self.hydrostatics.reference_point, self.reference_point):
+            raise ValueError(f"hydrostatics: computed about {self.hydrostatics.reference_point}, "
+                             f"but the body's reference_point is {self.reference_point}")
+
+    @classmethod
+    def box(cls, length: float, width: float, height: float, mass: float, draft: float,
+            reference_point=None, **kwargs) -> "RigidBody":
+        """Uniform box (m, kg), length along x, bottom at z = -draft, centred on x = y = 0.
+
+        Centre of mass at the box centre; the reference point defaults to it. Other
+        keyword arguments (added_mass, linear_damping, rho, g) go to :class:`RigidBody`.
+        """
+        center = np.array([0.0, 0.0, _positive("height", height) / 2 - _positive("draft", draft)])
+        ref = center if reference_point is None else _finite_array(
+            "reference_point", reference_point, (3,))
+        return cls(
+            mass=mass,
+            center_of_mass=center,
+            inertia=uniform_box_inertia(mass, length, width, height),
+            reference_point=ref,
+            hydrostatics=box_hydrostatics(length, width, height, draft, reference_point=ref),
+            box_size=np.array([length, width, height], dtype=float),
+            box_center=center - ref,
+            **kwargs,
+        )
+
+    @classmethod
+    def from_hull(cls, mesh, mass: float, center_of_mass, inertia, reference_point=None,
+                  offset=(0.0, 0.0, 0.0), **kwargs) -> "RigidBody":
+        """Body with hydrostatics of a closed hull surface (see :func:`hull_hydrostatics`).
+
+        ``center_of_mass`` and ``reference_point`` are global (after ``offset``); other
+        keyword arguments go to :class:`RigidBody`.
+        """
+        ref = center_of_mass if reference_point is None else reference_point
+        return cls(mass=mass, center_of_mass=center_of_mass, inertia=inertia,
+                   reference_point=ref,
+                   hydrostatics=hull_hydrostatics(mesh, reference_point=ref, offset=offset),
+                   **kwargs)
+
+    def mass_matrix(self) -> np.ndarray:
+        """Rigid-body mass matrix (6, 6) about the reference point (small rotations)."""
+        s = _skew(self.center_of_mass - self.reference_point)
+        m = np.zeros((6, 6))
+        m[:3, :3] = self.mass * np.eye(3)
+        m[:3, 3:] = -self.mass * s
+        m[3:, :3] = self.mass * s
+        m[3:, 3:] = self.inertia - self.mass * s @ s
+        return m
+
+    def hydrostatic_stiffness(self, generalized: bool = False) -> np.ndarray:
+        """Hydrostatic + gravity restoring matrix (6, 6), see :meth:`Hydrostatics.stiffness`."""
+        if self.hydrostatics is None:
+            return _vertical_load_stiffness(self.mass * self.g,
+                                            self.center_of_mass - self.reference_point,
+                                            generalized)
+        return self.hydrostatics.stiffness(self.mass, self.center_of_mass, self.rho, self.g,
+                                           generalized)
+
+    def static_force(self) -> np.ndarray:
+        """Buoyancy + weight at q = 0: [F, M] (N, N m), moments about the reference point."""
+        weight = np.array([0.0, 0.0, -self.mass * self.g])
+        load = np.zeros(6)
+        load[:3] = weight
+        load[3:] = np.cross(self.center_of_mass - self.reference_point, weight)
+        if self.hydrostatics is not None:
+            buoyancy = np.array([0.0, 0.0, self.rho * self.g * self.hydrostatics.volume])
+            load[:3] += buoyancy
+            load[3:] += np.cross(self.hydrostatics.center_of_buoyancy - self.reference_point,
+                                 buoyancy)
+        return load

@@ -1,0 +1,178 @@
+"""The coupling block: lines + rigid body reduced to one nonlinear system.
+
+Unknowns x = [free cable DOFs, body DOFs q = (x, y, z, rx, ry, rz)]. Anchors are fixed;
+each fairlead either follows the body with exact rigid-body kinematics
+(position = body position + R(rotation) r_local), is fixed, or follows a prescribed
+motion. With u(x) the full cable displacement and P = du/dx:
+
+    R_red = P^T R_lines(u) + R_body(q),
+    K_red = P^T K_lines P + sum_k f_k . d2p_k/dq2 + K_hydrostatic,
+    M_red = P0^T M_lines P0 + M_body (P0 = P at q = 0, constant).
+
+(``skfem.mpc`` drops the slave equations, so the reduction is written out here.)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import asm
+
+from . import body as rigid
+from .kernels import CableKernel
+
+
+@dataclass
+class Term:
+    """A user term added to the cable residual, written as scikit-fem forms.
+
+    residual: LinearForm of (v, w) with w.u (displacement), w.du (velocity) and the
+    LineSet's reference fields available, plus ``fields``; its value is added to
+    internal - external forces (N). stiffness / damping: BilinearForms, its derivatives
+    with respect to u and to the velocity (None when zero).
+    """
+
+    residual: object
+    stiffness: object = None
+    damping: object = None
+    fields: dict = field(default_factory=dict)
+
+
+class System:
+    """Lines (a :class:`~skmoor.line.LineSet`) and an optional rigid body, reduced.
+
+    fairleads: 'body' (attached to ``body``), 'fixed', or 'prescribed' with
+    ``motion(t) -> (nlines, 3)`` fairlead displacements, m.
+    body_load(t, q, qdot) -> 6-vector of applied body loads (N, N m), optional.
+    line_load: (ndofs,) extra constant nodal loads on the lines, N.
+    """
+
+    def __init__(self, lines, body=None, *, fairleads="body", motion=None,
+                 body_load=None, terms=(), lumped_mass=True):
+        if fairleads not in ("body", "fixed", "prescribed"):
+            raise ValueError(f"System fairleads: {fairleads!r} is not 'body', 'fixed' or 'prescribed'")
+        if fairleads == "body" and body is None:
+            raise ValueError("System body: fairleads='body' needs a RigidBody")
+        if fairleads == "prescribed" and not callable(motion):
+            raise ValueError("System motion: fairleads='prescribed' needs motion(t) -> (nlines, 3)")
+        self.lines, self.body, self.mode = lines, (body if fairleads == "body" else None), fairleads
+        self.motion, self.body_load, self.terms = motion, body_load, list(terms)
+        self.kernel = CableKernel(lines)
+        dofs = lines.nodal_dofs
+        self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3)
+        held = np.concatenate([dofs[lines.anchor_nodes].ravel(), self.fairlead_dofs.ravel()])
+        self.free = np.setdiff1d(np.arange(lines.ndofs), held)
+        self.nf = len(self.free)
+        self.nb = 6 if self.body is not None else 0
+        self.n = self.nf + self.nb
+        if self.body is not None:
+            self.r_local = lines.points[lines.fairlead_nodes] - self.body.reference_point
+            self.K_body = self.body.hydrostatic_stiffness(generalized=True)
+            self.F_body0 = self.body.static_force()
+        self.weight = lines.weight_load()
+        self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
+        self._free_block = sp.csr_matrix((np.ones(self.nf), (self.free, np.arange(self.nf))),
+                                         shape=(lines.ndofs, self.n))
+        self.M = self._reduce_constant(self.M_lines)
+        if self.body is not None:
+            self.M = (self.M + self._embed_body(self.body.mass_matrix())).tocsr()
+
+    # --- maps between reduced and full cable DOFs
+    def q(self, x):
+        """Body DOFs of a reduced vector (zeros without a body)."""
+        return x[self.nf:] if self.nb else np.zeros(6)
+
+    def full_displacement(self, x, t=0.0):
+        """(ndofs,) cable displacement for reduced state x at time t, m."""
+        u = np.zeros(self.lines.ndofs)
+        u[self.free] = x[: self.nf]
+        u[self.fairlead_dofs] = self.fairlead_displacement(x, t)
+        return u
+
+    def fairlead_displacement(self, x, t=0.0):
+        """(nlines, 3) fairlead displacements, m."""
+        if self.mode == "body":
+            return rigid.attachment_displacement(self.q(x), self.r_local)
+        if self.mode == "prescribed":
+            return np.asarray(self.motion(t), float).reshape(-1, 3)
+        return np.zeros(self.fairlead_dofs.shape)
+
+    def full_velocity(self, x, v, t=0.0, dt=1e-6):
+        """(ndofs,) cable velocity, m/s."""
+        ud = self.P(x) @ v
+        if self.mode == "prescribed":
+            ud[self.fairlead_dofs] = (self.fairlead_displacement(x, t + dt)
+                                      - self.fairlead_displacement(x, t - dt)) / (2 * dt)
+        return ud
+
+    def P(self, x):
+        """du/dx (ndofs, n): identity on free DOFs, attachment Jacobians at fairleads."""
+        if not self.nb:
+            return self._free_block
+        J = rigid.attachment_jacobian(self.q(x), self.r_local)  # (nlines, 3, 6)
+        rows = np.repeat(self.fairlead_dofs.ravel(), 6)
+        cols = np.tile(self.nf + np.arange(6), self.fairlead_dofs.size)
+        body = sp.csr_matrix((J.ravel(), (rows, cols)), shape=self._free_block.shape)
+        return self._free_block + body
+
+    def _reduce_constant(self, A):
+        P0 = self.P(np.zeros(self.n))
+        return (P0.T @ A @ P0).tocsr()
+
+    def _embed_body(self, A6):
+        out = np.zeros((self.n, self.n))
+        out[self.nf:, self.nf:] = A6
+        return sp.csr_matrix(out)
+
+    # --- the nonlinear system
+    def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True):
+        """Full cable residual internal - external (N) and its u- and v-derivatives."""
+        if tangent:
+            f, K = self.kernel.force_and_tangent(u)
+        else:
+            f, K = self.kernel.force(u), None
+        R = f - load_factor * self.weight
+        Kv = None
+        for term in self.terms:
+            w = dict(self.lines.fields, u=u, du=ud, **term.fields)
+            R = R + asm(term.residual, self.lines.basis, **w)
+            if tangent and term.stiffness is not None:
+                K = K + asm(term.stiffness, self.lines.basis, **w)
+            if tangent and term.damping is not None:
+                Cv = asm(term.damping, self.lines.basis, **w)
+                Kv = Cv if Kv is None else Kv + Cv
+        return R, K, Kv
+
+    def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True):
+        """Reduced residual R(x, v, t) (no inertia, no Rayleigh damping) and its
+        derivatives K = dR/dx and Kv = dR/dv (None when zero)."""
+        v = np.zeros(self.n) if v is None else v
+        u = self.full_displacement(x, t)
+        ud = self.full_velocity(x, v, t) if self.terms else None
+        R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent)
+        P = self.P(x)
+        R = P.T @ R_full
+        if self.nb:
+            q = self.q(x)
+            R[self.nf:] += self.K_body @ q - load_factor * self.F_body0
+            if self.body_load is not None:
+                R[self.nf:] -= self.body_load(t, q, v[self.nf:])
+        if not tangent:
+            return R, None, None
+        K = (P.T @ K_full @ P).tocsr()
+        if self.nb:
+            H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
+            K = K + self._embed_body(H + self.K_body)
+        Kv = None if Kv_full is None else (P.T @ Kv_full @ P).tocsr()
+        return R, K, Kv
+
+    def reactions(self, x, v=None, t=0.0):
+        """(nlines, 3) forces the lines exert on their fairleads, and (nlines, 3) on their
+        anchors, N (quasi-static: internal force minus loads at the end node)."""
+        v = np.zeros(self.n) if v is None else v
+        u = self.full_displacement(x, t)
+        ud = self.full_velocity(x, v, t) if self.terms else None
+        R_full, _, _ = self.line_residual(u, ud, t, tangent=False)
+        dofs = self.lines.nodal_dofs
+        return -R_full[self.fairlead_dofs], -R_full[dofs[self.lines.anchor_nodes]]

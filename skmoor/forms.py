@@ -1,0 +1,116 @@
+"""The cable's weak forms (Wang, Er & Iu, Eqs. 3-23) as scikit-fem forms.
+
+The line lives on a ``MeshLine1`` in s, the arclength of the reference (static)
+configuration, with a vector P1 basis for the displacement u(s) (3 components). The
+reference state enters as fields at quadrature points:
+
+- ``Xp``  (3, nel, nqp)  unit tangent X'(s) of the reference configuration
+- ``T``   (nel, nqp)     reference tension, N
+- ``EA``  (nel, nqp)     axial stiffness, N
+- ``m``   (nel, nqp)     mass per length (structural + added), kg/m
+- ``w``   (nel, nqp)     submerged weight per length, N/m (acts along -z)
+
+The current displacement is passed as the DOF vector ``u``. A residual is
+``internal - external``; tangents are its exact derivatives.
+
+Strain laws (the stress resultant S(eps) conjugate to the strain of Eq. 3): the paper's
+``S = EA eps`` (Eq. 6), or ``engineering`` where the tension grows with the engineering
+strain as in Irvine's elastic catenary, MoorPy and MoorDyn: (T + S) lambda = T + EA
+(lambda - 1) with lambda = sqrt(1 + 2 eps). The two differ by O(T/EA).
+
+Write a new term as a ``LinearForm`` (its contribution to the residual) and, for Newton,
+a ``BilinearForm`` (its derivative with respect to u, or to the velocity); see
+:class:`skmoor.line.Term` and ``examples/03_weak_form_drag.py``.
+"""
+import numpy as np
+from skfem import BilinearForm, LinearForm
+from skfem.helpers import dot
+
+PAPER, ENGINEERING = 0, 1
+EZ = np.array([0.0, 0.0, 1.0])
+
+
+def d_ds(field):
+    """d/ds of a vector field in a form, shape (3, nel, nqp)."""
+    return field.grad[:, 0]
+
+
+def strain(Xp, up):
+    """Eq. 3 in 3D: eps = X'.u' + |u'|^2 / 2."""
+    return dot(Xp, up) + 0.5 * dot(up, up)
+
+
+def stress_resultant(eps, T, EA, law):
+    """S(eps), N: the axial force added to T by the strain eps (Eq. 6 for PAPER)."""
+    if law == PAPER:
+        return EA * eps
+    stretch = np.sqrt(1.0 + 2.0 * eps)
+    return (T + EA * (stretch - 1.0)) / stretch - T
+
+
+def stress_resultant_slope(eps, T, EA, law):
+    """dS/deps, N."""
+    if law == PAPER:
+        return EA * np.ones_like(eps)
+    return (EA - T) / np.sqrt(1.0 + 2.0 * eps) ** 3
+
+
+@LinearForm
+def cable_force(v, w):
+    # Eq. 11: dPi' = int [ S(eps) (X' + u').du' + T u'.du' ] ds
+    up = d_ds(w.u)
+    S = stress_resultant(strain(w.Xp, up), w.T, w.EA, w.law)
+    return S * dot(w.Xp + up, d_ds(v)) + w.T * dot(up, d_ds(v))
+
+
+@LinearForm
+def reference_force(v, w):
+    # Eq. 9 at u = 0: int T X'.du' ds, in equilibrium with the weight in the reference state
+    return w.T * dot(w.Xp, d_ds(v))
+
+
+@BilinearForm
+def cable_tangent(du, v, w):
+    # Eq. 17, exact: d(Eq. 11)/du = int [ S' (r'.du')(r'.v') + (T + S) du'.v' ] ds, r' = X' + u'
+    up = d_ds(w.u)
+    eps = strain(w.Xp, up)
+    S = stress_resultant(eps, w.T, w.EA, w.law)
+    dS = stress_resultant_slope(eps, w.T, w.EA, w.law)
+    rp = w.Xp + up
+    return dS * dot(rp, d_ds(du)) * dot(rp, d_ds(v)) + (w.T + S) * dot(d_ds(du), d_ds(v))
+
+
+@BilinearForm
+def unit_tension_stiffness(du, v, w):
+    # the T u'.du' term of Eq. 11 with T = 1 N: geometric stiffness of a unit tension
+    return dot(d_ds(du), d_ds(v))
+
+
+@LinearForm
+def weight(v, w):
+    # Eq. 8: gravity on the submerged line, int w (-e_z).du ds
+    return -w.w * v.value[2]
+
+
+@LinearForm
+def distributed_load(v, w):
+    # Eq. 12: int f.du ds, with f (3, nel, nqp) in N/m
+    return dot(w.f, v.value)
+
+
+@BilinearForm
+def mass(du, v, w):
+    # Eq. 19 (consistent) on Gauss points; Eq. 20 (lumped) on nodal quadrature
+    return w.m * dot(du, v)
+
+
+@BilinearForm
+def line_damping(du, v, w):
+    # Eq. 12: int c udot.du ds, with c (nel, nqp) in N s/m2
+    return w.c * dot(du, v)
+
+
+def tension(Xp, T, EA, up, law):
+    """Tension in the deformed line, N: (T + S) |X' + u'|."""
+    eps = strain(Xp, up)
+    return (T + stress_resultant(eps, T, EA, law)) * np.sqrt(dot(Xp + up, Xp + up))

@@ -1,0 +1,347 @@
+"""Mooring lines as one scikit-fem model: a ``MeshLine1`` in s, a vector P1 basis.
+
+A :class:`Line` is a reference (static) state: node arclengths s (m), node positions
+X (m), and the reference fields X'(s) (unit tangent) and T(s) (tension, N). It is built
+from the analytic catenary (:func:`Line.from_catenary`) or from a polyline
+(:func:`Line.from_polyline`, :func:`read_line_mesh`). A :class:`LineSet` puts several
+lines on one mesh (each on its own stretch of s, with a gap between them) so that one
+assembly covers them all.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from skfem import Basis, ElementLineP1, ElementVector, MeshLine1, asm
+
+from . import forms
+from .validation import check_finite, check_positive
+
+RHO_WATER = 1025.0
+G = 9.81
+LAWS = {"paper": forms.PAPER, "engineering": forms.ENGINEERING}
+
+
+@dataclass
+class LineType:
+    """Cable properties (per unit unstretched length).
+
+    EA: axial stiffness, N. mass: mass per length, kg/m. diameter: volume-equivalent
+    diameter, m. weight: submerged weight per length, N/m (default: (mass - rho_w A) g).
+    Cd_n, Cd_t, Ca_n, Ca_t: normal / tangential drag and added-mass coefficients (used by
+    the hydrodynamic terms, not by the paper's model).
+    """
+
+    EA: float
+    mass: float
+    diameter: float
+    weight: float | None = None
+    Cd_n: float = 0.0
+    Cd_t: float = 0.0
+    Ca_n: float = 0.0
+    Ca_t: float = 0.0
+    rho_water: float = RHO_WATER
+    g: float = G
+
+    def __post_init__(self):
+        for name in ("EA", "mass", "diameter"):
+            check_positive(f"LineType.{name}", getattr(self, name))
+        for name in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "rho_water", "g"):
+            check_finite(f"LineType.{name}", getattr(self, name))
+        if self.weight is None:
+            self.weight = (self.mass - self.rho_water * self.area) * self.g
+        check_finite("LineType.weight", self.weight)
+
+    @property
+    def area(self) -> float:
+        """Cross-section area, m2."""
+        return np.pi * self.diameter**2 / 4
+
+    @classmethod
+    def steel_rod(cls, diameter: float, E: float = 2e11, density: float = 8000.0, **kw):
+        """A solid round steel cable (the paper's Table 1), E in Pa, density in kg/m3."""
+        check_positive("LineType.steel_rod.diameter", diameter)
+        area = np.pi * diameter**2 / 4
+        return cls(EA=E * area, mass=density * area, diameter=diameter, **kw)
+
+
+@dataclass
+class Line:
+    """One line's reference state.
+
+    s: (n,) node arclengths of the reference configuration from the anchor, m.
+    X: (n, 3) node positions, m. The first node is the anchor end, the last the fairlead.
+    tangent(s) -> (..., 3) and tension(s) -> (...) give the reference fields at any s.
+    stretch(s): reference stretch (1 + T/EA for an elastic catenary, 1 for a stress-free
+    polyline); mass and weight per unit reference length are divided by it.
+    """
+
+    name: str
+    line_type: LineType
+    s: np.ndarray
+    X: np.ndarray
+    tangent: object
+    tension: object
+    stretch: object = field(default=lambda s: np.ones_like(s))
+
+    def __post_init__(self):
+        self.s = np.asarray(self.s, float)
+        self.X = np.asarray(self.X, float)
+        check_finite(f"Line {self.name!r} s", self.s)
+        check_finite(f"Line {self.name!r} X", self.X)
+        if self.s.ndim != 1 or self.X.shape != (len(self.s), 3) or len(self.s) < 2:
+            raise ValueError(f"Line {self.name!r}: need n >= 2 arclengths s and (n, 3) "
+                             f"positions X, got s {self.s.shape} and X {self.X.shape}")
+        if np.any(np.diff(self.s) <= 0):
+            raise ValueError(f"Line {self.name!r} s: element lengths must be positive "
+                             "(two nodes at the same place?)")
+
+    @property
+    def n_elements(self) -> int:
+        return len(self.s) - 1
+
+    @property
+    def length(self) -> float:
+        """Reference (static) length, m."""
+        return float(self.s[-1] - self.s[0])
+
+    @classmethod
+    def from_catenary(cls, catenary, line_type: LineType, n_elements: int, name="line"):
+        """Reference state = the analytic elastic catenary, elements of equal unstretched
+        length (as MoorDyn's segments)."""
+        if int(n_elements) < 1:
+            raise ValueError(f"Line {name!r} n_elements: must be >= 1, got {n_elements}")
+        s0 = np.linspace(0.0, catenary.L, int(n_elements) + 1)
+        unstretched = _inverse_monotone(catenary.stretched_arclength, catenary.L)
+
+        def tangent(s):
+            return catenary.tangent(unstretched(s).ravel()).reshape(np.shape(s) + (3,))
+
+        def tension(s):
+            return catenary.tension(unstretched(s).ravel()).reshape(np.shape(s))
+
+        def stretch(s):
+            return 1.0 + tension(s) / catenary.EA
+
+        return cls(name, line_type, catenary.stretched_arclength(s0), catenary.position(s0),
+                   tangent, tension, stretch)
+
+    @classmethod
+    def from_polyline(cls, points, line_type: LineType, name="line", tension=0.0):
+        """Reference state = a polyline (anchor first), straight between nodes, with a
+        uniform reference tension (N; 0 for a stress-free line)."""
+        X = np.asarray(points, float)
+        check_finite(f"Line {name!r} points", X)
+        check_finite(f"Line {name!r} tension", tension)
+        if X.ndim != 2 or X.shape[1] != 3 or len(X) < 2:
+            raise ValueError(f"Line {name!r} points: need an (n >= 2, 3) array, got {X.shape}")
+        chords = np.diff(X, axis=0)
+        lengths = np.linalg.norm(chords, axis=1)
+        if np.any(lengths <= 0):
+            raise ValueError(f"Line {name!r} points: node {int(np.argmin(lengths)) + 1} "
+                             "repeats the previous one (zero-length element)")
+        s = np.concatenate([[0.0], np.cumsum(lengths)])
+        directions = chords / lengths[:, None]
+
+        def element(sq):
+            return np.clip(np.searchsorted(s, sq) - 1, 0, len(lengths) - 1)
+
+        return cls(name, line_type, s, X, lambda sq: directions[element(sq)],
+                   lambda sq: np.full(np.shape(sq), float(tension)))
+
+
+def _inverse_monotone(f, upper):
+    """x(y) for an increasing function y = f(x) with f' ~ 1, by Newton from x = y."""
+
+    def inverse(y):
+        y = np.asarray(y, float)
+        x = np.clip(y.copy(), 0.0, upper)
+        for _ in range(50):
+            h = 1e-7 * max(upper, 1.0)
+            slope = (f(np.minimum(x + h, upper + h)) - f(x)) / h
+            step = (f(x) - y) / slope
+            x = x - step
+            if np.all(np.abs(step) < 1e-13 * max(upper, 1.0)):
+                break
+        return x
+
+    return inverse
+
+
+class LineSet:
+    """All lines on one ``MeshLine1`` with a vector P1 basis (3 DOFs per node).
+
+    Attributes: ``mesh``, ``basis`` (Gauss), ``nodal_basis`` (nodal quadrature, for the
+    lumped mass of Eq. 20), ``points`` (nnodes, 3) reference positions, ``anchor_nodes``
+    and ``fairlead_nodes`` (one per line), ``line_of_cell``, and the reference fields at
+    quadrature points (``Xp``, ``T``, ``EA``, ``m``, ``w``).
+    """
+
+    GAP = 1.0  # m of s between two lines on the shared mesh
+
+    def __init__(self, lines, law: str = "paper", intorder: int = 4):
+        lines = list(lines)
+        if not lines:
+            raise ValueError("LineSet: no lines")
+        if law not in LAWS:
+            raise ValueError(f"LineSet law: unknown strain law {law!r}, use one of {list(LAWS)}")
+        self.lines, self.law_name, self.law = lines, law, LAWS[law]
+        offsets, coords, cells, node0 = [], [], [], 0
+        start = 0.0
+        for line in lines:
+            offsets.append(start - line.s[0])
+            coords.append(line.s + offsets[-1])
+            n = len(line.s)
+            cells.append(np.stack([np.arange(node0, node0 + n - 1), np.arange(node0 + 1, node0 + n)]))
+            node0 += n
+            start = coords[-1][-1] + self.GAP
+        self.mesh = MeshLine1(np.concatenate(coords)[None, :], np.concatenate(cells, axis=1))
+        element = ElementVector(ElementLineP1(), dim=3)
+        self.basis = Basis(self.mesh, element, intorder=intorder)
+        self.nodal_basis = Basis(self.mesh, element,
+                                 quadrature=(np.array([[0.0, 1.0]]), np.array([0.5, 0.5])))
+        self.points = np.concatenate([line.X for line in lines])
+        sizes = [len(line.s) for line in lines]
+        first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        self.anchor_nodes = first
+        self.fairlead_nodes = first + np.array(sizes) - 1
+        self.line_of_cell = np.repeat(np.arange(len(lines)), [n - 1 for n in sizes])
+        self._offsets = np.array(offsets)
+        self.fields = self._fields(self.basis)
+        self.nodal_fields = self._fields(self.nodal_basis)
+
+    @property
+    def ndofs(self) -> int:
+        return self.basis.N
+
+    @property
+    def nodal_dofs(self) -> np.ndarray:
+        """(nnodes, 3) global DOF numbers of each node's x, y, z displacement."""
+        return self.basis.nodal_dofs.T
+
+    def _fields(self, basis):
+        """Reference fields at the quadrature points of ``basis``."""
+        s_global = basis.mapping.F(basis.X)[0]  # (nel, nqp)
+        Xp = np.empty((3,) + s_global.shape)
+        T, EA, m, w = (np.empty(s_global.shape) for _ in range(4))
+        for k, line in enumerate(self.lines):
+            cells = self.line_of_cell == k
+            s = s_global[cells] - self._offsets[k]
+            Xp[:, cells] = np.moveaxis(line.tangent(s), -1, 0)
+            T[cells] = line.tension(s)
+            stretch = line.stretch(s)
+            EA[cells] = line.line_type.EA
+            m[cells] = line.line_type.mass / stretch
+            w[cells] = line.line_type.weight / stretch
+        return dict(Xp=Xp, T=T, EA=EA, m=m, w=w, law=self.law)
+
+    # --- assembly through the forms (the definition; see kernels.py for the fast path)
+    def internal_force(self, u):
+        """Eq. 9 = Eq. 11 + reference part: internal force vector, N."""
+        return (asm(forms.cable_force, self.basis, u=u, **self.fields)
+                + asm(forms.reference_force, self.basis, **self.fields))
+
+    def tangent_stiffness(self, u):
+        """Eq. 17: d(internal_force)/du, sparse, N/m."""
+        return asm(forms.cable_tangent, self.basis, u=u, **self.fields)
+
+    def unit_tension_stiffness(self):
+        """Geometric stiffness of a 1 N tension in every line (sparse, 1/m)."""
+        return asm(forms.unit_tension_stiffness, self.basis)
+
+    def weight_load(self):
+        """Eq. 8: submerged weight as nodal loads, N."""
+        return asm(forms.weight, self.basis, **self.fields)
+
+    def mass_matrix(self, lumped: bool = True):
+        """Eq. 20 (lumped, default) or Eq. 19 (consistent), sparse, kg."""
+        basis, flds = (self.nodal_basis, self.nodal_fields) if lumped else (self.basis, self.fields)
+        return asm(forms.mass, basis, **flds)
+
+    def element_tension(self, u):
+        """(nel,) tension at each element's mid-point, N."""
+        up = self.element_slopes(u)
+        mid = self._midpoint_fields()
+        return forms.tension(mid["Xp"], mid["T"], mid["EA"], up, self.law)
+
+    def element_strain(self, u):
+        """(nel,) strain of Eq. 3 at each element's mid-point, -."""
+        up = self.element_slopes(u)
+        return forms.strain(self._midpoint_fields()["Xp"], up)
+
+    def element_slopes(self, u):
+        """(3, nel) u' on each element (constant for P1)."""
+        nodes = self.nodal_dofs
+        U = u[nodes]  # (nnodes, 3)
+        t = self.mesh.t
+        h = self.element_lengths
+        return ((U[t[1]] - U[t[0]]) / h[:, None]).T
+
+    @property
+    def element_lengths(self) -> np.ndarray:
+        return np.diff(self.mesh.p[0, self.mesh.t], axis=0)[0]
+
+    def _midpoint_fields(self):
+        if not hasattr(self, "_mid"):
+            s_mid = self.mesh.p[0, self.mesh.t].mean(axis=0)
+            Xp, T, EA = np.empty((3, len(s_mid))), np.empty(len(s_mid)), np.empty(len(s_mid))
+            for k, line in enumerate(self.lines):
+                cells = self.line_of_cell == k
+                s = s_mid[cells] - self._offsets[k]
+                Xp[:, cells] = line.tangent(s).T
+                T[cells] = line.tension(s)
+                EA[cells] = line.line_type.EA
+            self._mid = dict(Xp=Xp, T=T, EA=EA)
+        return self._mid
+
+
+def read_line_mesh(path, line_type: LineType, name=None, tension=0.0) -> Line:
+    """Read a polyline (gmsh ``.msh``, ``.vtu``, ...) with meshio as a stress-free Line.
+
+    The line cells must form one unbroken chain; its end with the lower z is the anchor.
+    """
+    import meshio
+
+    path = Path(path)
+    mesh = meshio.read(path)
+    segments = [c.data for c in mesh.cells if c.type == "line"]
+    if not segments:
+        types = sorted({c.type for c in mesh.cells})
+        raise ValueError(f"{path.name}: no line cells in the mesh (found {types or 'none'})")
+    order = _chain(np.concatenate(segments), path.name)
+    points = np.zeros((len(order), 3))
+    points[:, : mesh.points.shape[1]] = mesh.points[order]
+    if points[0, 2] > points[-1, 2]:
+        points = points[::-1]
+    return Line.from_polyline(points, line_type, name=name or path.stem, tension=tension)
+
+
+def _chain(segments, source):
+    """Node order of an unbroken chain of 2-node segments."""
+    neighbours = {}
+    for a, b in segments:
+        neighbours.setdefault(int(a), []).append(int(b))
+        neighbours.setdefault(int(b), []).append(int(a))
+    ends = [n for n, nb in neighbours.items() if len(nb) == 1]
+    if len(ends) != 2 or any(len(nb) > 2 for nb in neighbours.values()):
+        raise ValueError(f"{source}: the line cells do not form one unbroken chain "
+                         f"({len(ends)} free ends, a chain has 2)")
+    order, previous = [ends[0]], None
+    while len(order) < len(neighbours):
+        nxt = [n for n in neighbours[order[-1]] if n != previous]
+        previous = order[-1]
+        order.append(nxt[0])
+    if len(order) != len(segments) + 1:
+        raise ValueError(f"{source}: the line cells do not form one unbroken chain (a loop?)")
+    return np.array(order)
+
+
+def write_line_mesh(line: Line, path) -> Path:
+    """Write a line's reference polyline with meshio (format from the suffix)."""
+    import meshio
+
+    n = len(line.s)
+    cells = [("line", np.stack([np.arange(n - 1), np.arange(1, n)], axis=1))]
+    meshio.write(Path(path), meshio.Mesh(line.X, cells, point_data={"s": line.s}))
+    return Path(path)

@@ -1,0 +1,120 @@
+"""Results of a run: time series of the body and the lines, saved as one ``.npz``.
+
+All arrays are SI (m, N, s, rad). Lines share one node numbering (the one mesh of
+:class:`skmoor.line.LineSet`): ``cells`` joins nodes into elements, ``line_of_cell``
+tells which line an element belongs to.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+BODY_DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+
+
+@dataclass
+class Results:
+    """Sampled states of a coupled run (or a single static state with ``nt == 1``).
+
+    t                   (nt,)            time, s
+    body                (nt, 6)          body displacement [x, y, z, rx, ry, rz] from the reference, m / rad
+    points              (nnodes, 3)      reference (static) node positions, m
+    cells               (nel, 2)         element connectivity
+    line_of_cell        (nel,)           line index of each element
+    line_names          [nlines]         names of the lines
+    displacement        (nt, nnodes, 3)  node displacement from ``points``, m
+    velocity            (nt, nnodes, 3)  node velocity, m/s
+    tension             (nt, nel)        element tension, N
+    strain              (nt, nel)        element strain (relative to the reference), -
+    fairlead_tension    (nt, nlines)     tension at the fairlead end, N
+    anchor_tension      (nt, nlines)     tension at the anchor end, N
+    body_center         (3,)             reference position of the body's reference point, m
+    body_box            (3,)             box dimensions (Lx, Ly, Lz) in m for drawing, or zeros
+    body_box_center     (3,)             box centre relative to the body's reference point, m
+    depth               float            water depth, m
+    meta                dict             free-form (case name, solver settings, wall time ...)
+    """
+
+    t: np.ndarray
+    body: np.ndarray
+    points: np.ndarray
+    cells: np.ndarray
+    line_of_cell: np.ndarray
+    line_names: list
+    displacement: np.ndarray
+    velocity: np.ndarray
+    tension: np.ndarray
+    strain: np.ndarray
+    fairlead_tension: np.ndarray
+    anchor_tension: np.ndarray
+    body_center: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    body_box: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    body_box_center: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    depth: float = 0.0
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def max_tension(self) -> np.ndarray:
+        """(nt,) largest element tension over all lines at each time, N."""
+        return self.tension.max(axis=1)
+
+    def positions(self, i: int) -> np.ndarray:
+        """(nnodes, 3) deformed node positions at sample ``i``, m."""
+        return self.points + self.displacement[i]
+
+    def body_series(self, name: str) -> np.ndarray:
+        """Time series of one body DOF by name (``surge``, ``heave``, ``pitch`` ...)."""
+        return self.body[:, BODY_DOFS.index(name)]
+
+    def amplitude(self, series: np.ndarray, period: float, n_periods: int = 5) -> float:
+        """Steady-state amplitude of ``series``: half its range over the last
+        ``n_periods`` periods (of length ``period``, s)."""
+        start = self.t[-1] - n_periods * period
+        if start < self.t[0]:
+            raise ValueError(f"amplitude: the run ({self.t[-1] - self.t[0]:g} s) is shorter "
+                             f"than {n_periods} periods of {period:g} s")
+        window = series[self.t >= start - 1e-12]
+        return 0.5 * float(window.max() - window.min())
+
+    def truncated(self, n: int) -> "Results":
+        """The first ``n`` samples (used to save what a stopped run computed)."""
+        kw = {f.name: getattr(self, f.name) for f in fields(self)}
+        for name in _TIME_ARRAYS:
+            kw[name] = kw[name][:n]
+        return Results(**kw)
+
+    def save(self, path) -> Path:
+        """Write to ``path`` (``.npz``); returns the path."""
+        path = Path(path)
+        arrays = {f.name: np.asarray(getattr(self, f.name)) for f in fields(self)
+                  if f.name not in ("meta", "line_names", "depth")}
+        np.savez_compressed(path, **arrays, depth=np.float64(self.depth),
+                            line_names=np.array(self.line_names, dtype=str),
+                            meta=np.array(json.dumps(self.meta, default=_jsonable)))
+        return path
+
+    @classmethod
+    def load(cls, path) -> "Results":
+        """Read a file written by :meth:`save`."""
+        with np.load(Path(path), allow_pickle=False) as data:
+            kw = {f.name: data[f.name] for f in fields(cls)
+                  if f.name not in ("meta", "line_names", "depth")}
+            kw["depth"] = float(data["depth"])
+            kw["line_names"] = [str(s) for s in data["line_names"]]
+            kw["meta"] = json.loads(str(data["meta"]))
+        return cls(**kw)
+
+
+_TIME_ARRAYS = ("t", "body", "displacement", "velocity", "tension", "strain",
+                "fairlead_tension", "anchor_tension")
+
+
+def _jsonable(x):
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    return str(x)

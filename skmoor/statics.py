@@ -1,0 +1,110 @@
+"""Static equilibrium: Newton with load continuation, line search and a vanishing
+regularization (needed to start from a slack, stress-free line whose tangent is singular).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import warnings
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+
+class ConvergenceError(RuntimeError):
+    """A Newton solve did not converge; the message says where and what to try."""
+
+
+@dataclass
+class StaticSolution:
+    x: np.ndarray  # reduced state, m / rad
+    iterations: int
+    residual: float  # final max |R|, N
+
+
+def newton(residual, x0, *, xtol=1e-9, maxiter=60, shift=None, shift_matrix=None,
+           where="static solve"):
+    """Solve residual(x) = (R, K) = 0 from x0 with a backtracking line search.
+
+    shift_matrix (sparse, n x n) times ``shift`` is added to the tangent, cut tenfold
+    each iteration and gone after six: with the
+    geometric stiffness of a unit tension and a shift of the order of the expected
+    tension, Newton starts from a slack, stress-free line whose own tangent is singular.
+    Converged when max |dx| < xtol (m or rad) in a step without shift.
+    """
+    x = np.array(x0, float)
+    R, K = residual(x)
+    shift = float(shift or 0.0)
+    floor = shift * 1e-6
+    for it in range(1, maxiter + 1):
+        A = K + shift * shift_matrix if shift > 0 else K
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore", spla.MatrixRankWarning)
+            dx = spla.spsolve(A.tocsc(), -R)
+        if not np.all(np.isfinite(dx)):
+            raise ConvergenceError(f"{where}: singular tangent at iteration {it}; is a line "
+                                   "slack and weightless, or a DOF unrestrained? (a static "
+                                   "solve from a slack line takes pretension=...)")
+        step, (x_try, R_try, K_try) = line_search(residual, x, R, dx)
+        converged = shift == 0 and np.max(np.abs(dx)) < xtol
+        x, R, K = x_try, R_try, K_try
+        shift = shift * 0.1 if shift * 0.1 >= floor else 0.0
+        if converged:
+            return StaticSolution(x, it, float(np.max(np.abs(R))))
+    raise ConvergenceError(f"{where}: no convergence in {maxiter} iterations "
+                           f"(max |R| = {np.max(np.abs(R)):.3g} N); try more load steps "
+                           "(steps=...), a pretension, or a better first guess")
+
+
+def line_search(residual, x, R, dx, maxeval=10):
+    """Step length along dx where the residual's projection R . dx has fallen to half
+    its start (the minimum of the potential along dx for a conservative system), by
+    the Illinois variant of regula falsi; the full step when it already has."""
+    slope0 = R @ dx
+    state = residual(x + dx)
+    slope1 = state[0] @ dx
+    if not np.isfinite(slope1) or slope0 >= 0 or slope1 <= 0.5 * abs(slope0):
+        return 1.0, (x + dx,) + state  # NaN is caught by the caller; else still going down
+    a, fa, b, fb = 0.0, slope0, 1.0, slope1
+    for _ in range(maxeval):
+        c = b - fb * (b - a) / (fb - fa)
+        state = residual(x + c * dx)
+        fc = state[0] @ dx
+        if abs(fc) <= 0.5 * abs(slope0):
+            break
+        if fc * fb < 0:
+            a, fa = b, fb
+        else:
+            fa *= 0.5
+        b, fb = c, fc
+    return c, (x + c * dx,) + state
+
+
+def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
+                 pretension=None):
+    """Static equilibrium of a :class:`~skmoor.coupling.System` at time t.
+
+    steps > 1 ramps the weight and the body's static load in equal increments (load
+    continuation), each solved from the previous one. pretension (N): a temporary
+    tension stiffness that lets Newton start from a slack, stress-free line (use about
+    the line's weight); it is removed before convergence, so it does not change the
+    answer.
+    """
+    x = np.zeros(system.n) if x0 is None else np.array(x0, float)
+    G = None
+    if pretension:
+        P = system.P(x)
+        G = (P.T @ system.lines.unit_tension_stiffness() @ P).tocsr()
+    total = 0
+    for k in range(1, steps + 1):
+        factor = k / steps
+
+        def residual(y, factor=factor):
+            R, K, _ = system.residual(y, t=t, load_factor=factor)
+            return R, K
+
+        sol = newton(residual, x, xtol=xtol, maxiter=maxiter, shift=pretension,
+                     shift_matrix=G, where=f"static solve, load step {k}/{steps}")
+        x, total = sol.x, total + sol.iterations
+    return StaticSolution(x, total, sol.residual)
