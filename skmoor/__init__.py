@@ -1,0 +1,32 @@
+"""skmoor: nonlinear dynamics of moored floating structures on scikit-fem.
+
+The data flow: case (TOML) -> model (lines, body, coupling) -> solver (statics, modes,
+dynamics) -> Results -> export / plots / animation.
+
+    import skmoor
+    case = skmoor.paper_case()              # or skmoor.Case.from_toml("case.toml")
+    model = skmoor.build(case)
+    results = skmoor.simulate(model, duration=60.0)
+    print(skmoor.summary(results)["amplitude"])
+"""
+from .body import RigidBody
+from .case import Case, paper_case
+from .catenary import Catenary, solve_catenary
+from .coupling import System, Term
+from .dynamics import DivergenceError, Scheme, integrate
+from .line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
+from .model import Model, build
+from .modes import eigenmodes
+from .results import Results
+from .run import equilibrium, run_case, simulate, summary, write_outputs
+from .statics import ConvergenceError, solve_static
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Case", "paper_case", "build", "Model", "simulate", "run_case", "summary",
+    "write_outputs", "equilibrium", "Results", "LineType", "Line", "LineSet",
+    "read_line_mesh", "write_line_mesh", "Catenary", "solve_catenary", "RigidBody",
+    "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
+    "Scheme", "DivergenceError",
+]

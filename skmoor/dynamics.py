@@ -105,7 +105,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         t1 = t0 + step * dt
         x_pred = x + dt * v + dt**2 * (0.5 - beta) * a  # part of x1 known from level 0
         v_pred = v + dt * (1 - gamma) * a
-        x1 = x_pred + beta * dt**2 * a  # constant-acceleration first guess
+        x1 = x + dt * v  # constant-velocity first guess
 
         def balance(y):
             """alpha-level balance at x1 = y, and its tangent."""

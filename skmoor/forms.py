@@ -89,13 +89,13 @@ def unit_tension_stiffness(du, v, w):
 @LinearForm
 def weight(v, w):
     # Eq. 8: gravity on the submerged line, int w (-e_z).du ds
-    return -w.w * v.value[2]
+    return -w.w * v[2]
 
 
 @LinearForm
 def distributed_load(v, w):
     # Eq. 12: int f.du ds, with f (3, nel, nqp) in N/m
-    return dot(w.f, v.value)
+    return dot(w.f, v)
 
 
 @BilinearForm

@@ -1,0 +1,155 @@
+"""Command line: ``skmoor run | sweep | export | render``, over the public API only."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+DEFAULT_OUT = "skmoor-out"
+
+
+def _load_case(path):
+    from . import Case, paper_case
+
+    return paper_case() if path is None else Case.from_toml(path)
+
+
+def cmd_run(args) -> int:
+    from . import build, simulate, write_outputs
+
+    case = _load_case(args.case)
+    settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
+                if getattr(args, k) is not None}
+    model = build(case)
+    results = simulate(model, progress=not args.quiet, **settings)
+    out = Path(args.out)
+    info = write_outputs(results, out)
+    _plots(results, out)
+    if not args.no_export:
+        _export(results, out)
+    if not args.no_animation:
+        _animate(results, out, args.quiet)
+    print(json.dumps(info, indent=2))
+    print(f"wrote {out}/")
+    return 0 if results.meta.get("stopped") is None else 1
+
+
+def cmd_sweep(args) -> int:
+    from .sweep import paper_studies, run_sweep, studies_from_args
+
+    studies = studies_from_args(args.param, args.study_file, args.case) if (
+        args.param or args.study_file) else paper_studies(args.points)
+    rows = run_sweep(studies, args.out, workers=args.workers, scheduler=args.scheduler,
+                     duration=args.duration, dt=args.dt, progress=not args.quiet)
+    failed = [r for r in rows if r.get("error")]
+    return 1 if failed else 0
+
+
+def cmd_export(args) -> int:
+    from . import Results
+
+    out = Path(args.outdir)
+    _export(Results.load(out / "results.npz"), out)
+    return 0
+
+
+def cmd_render(args) -> int:
+    from . import Results
+
+    out = Path(args.outdir)
+    _animate(Results.load(out / "results.npz"), out, args.quiet, scale=args.scale,
+             camera=args.camera)
+    return 0
+
+
+def _plots(results, out):
+    from .plots import plot_time_histories
+
+    plot_time_histories(results, out / "time_histories.png")
+
+
+def _export(results, out):
+    from .export import export
+
+    for path in export(results, out):
+        print(f"exported {path}")
+
+
+def _animate(results, out, quiet, scale=None, camera="iso"):
+    from .render import animate, default_scale, snapshot
+
+    scale = default_scale(results) if scale is None else scale
+    snapshot(results, len(results.t) - 1, out / "snapshot.png", scale=scale, camera=camera)
+    for name, frames in (("animation.mp4", 300), ("animation.gif", 80)):
+        every = max(1, len(results.t) // frames)
+        n = animate(results, out / name, every=every, scale=scale, camera=camera,
+                    progress=not quiet)
+        print(f"rendered {out / name} ({n} frames)")
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="skmoor", description=__doc__)
+    sub = p.add_subparsers(dest="command", required=True)
+
+    run = sub.add_parser("run", help="run a case (default: the paper's case)",
+                         description="Static equilibrium, modes and time history of a case; "
+                         "writes summary.json, timeseries.csv, results.npz, plots, ParaView "
+                         "files and an animation into --out.")
+    run.add_argument("case", nargs="?", help="case file (.toml); default: the paper's case")
+    run.add_argument("--out", default=DEFAULT_OUT, help="output folder (default: %(default)s)")
+    run.add_argument("--duration", type=float, help="simulated time, s (default: the case's)")
+    run.add_argument("--dt", type=float, help="time step, s (default: the case's)")
+    run.add_argument("--output-interval", dest="output_interval", type=float,
+                     help="sampling interval of the results, s (default: the case's)")
+    run.add_argument("--no-export", action="store_true", help="skip the XDMF / PVD export")
+    run.add_argument("--no-animation", action="store_true", help="skip snapshot and animations")
+    run.add_argument("--quiet", action="store_true", help="no progress bars")
+    run.set_defaults(func=cmd_run)
+
+    sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",
+                        description="Runs parameter studies in parallel processes or on a Dask "
+                        "cluster; writes sweep.csv and plots into --out; finished points are "
+                        "kept and a rerun does only the missing ones.")
+    sw.add_argument("--param", action="append", default=[],
+                    help="PATH=v1,v2,... or PATH=start:stop:n (repeat for a grid), e.g. "
+                    "mooring.sag_ratio=0.02,0.0167")
+    sw.add_argument("--study-file", help="TOML file with [[study]] tables")
+    sw.add_argument("--case", help="base case file for --param (default: the paper's case)")
+    sw.add_argument("--points", type=int, default=8, help="points per paper study (default: 8)")
+    sw.add_argument("--out", default=DEFAULT_OUT, help="output folder (default: %(default)s)")
+    sw.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    sw.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
+    sw.add_argument("--duration", type=float, help="simulated time per point, s")
+    sw.add_argument("--dt", type=float, help="time step, s")
+    sw.add_argument("--quiet", action="store_true", help="no progress bar")
+    sw.set_defaults(func=cmd_sweep)
+
+    ex = sub.add_parser("export", help="(re)write ParaView files from saved results",
+                        description="Reads OUTDIR/results.npz and writes lines.xdmf (+ .h5) and "
+                        "a VTU series with a .pvd index into OUTDIR.")
+    ex.add_argument("outdir", help="folder of a previous run")
+    ex.set_defaults(func=cmd_export)
+
+    rd = sub.add_parser("render", help="(re)render snapshot and animations from saved results",
+                        description="Reads OUTDIR/results.npz and renders snapshot.png, "
+                        "animation.mp4 and animation.gif off-screen.")
+    rd.add_argument("outdir", help="folder of a previous run")
+    rd.add_argument("--scale", type=float, help="displacement scale factor (default: automatic)")
+    rd.add_argument("--camera", default="iso", help="camera preset: iso, side, top, front")
+    rd.add_argument("--quiet", action="store_true", help="no progress bar")
+    rd.set_defaults(func=cmd_render)
+    return p
+
+
+def main(argv=None) -> int:
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except (ValueError, FileNotFoundError) as err:
+        print(f"skmoor {args.command}: error: {err}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
