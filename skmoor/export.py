@@ -12,17 +12,11 @@ import h5py
 import meshio
 import numpy as np
 
+from .body import rotation_matrix
+
 # the 6 faces of a box whose 8 corners are numbered by bits (x, y, z) = (i & 1, i & 2, i & 4)
 BOX_FACES = np.array([[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4],
                       [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]])
-
-
-def rotation(rx: float, ry: float, rz: float) -> np.ndarray:
-    """Rotation matrix R = Rz Ry Rx for the body angles (rad)."""
-    cx, sx, cy, sy, cz, sz = np.cos(rx), np.sin(rx), np.cos(ry), np.sin(ry), np.cos(rz), np.sin(rz)
-    return (np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
-            @ np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
-            @ np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]]))
 
 
 def box_points(results, i: int, scale: float = 1.0) -> np.ndarray:
@@ -33,7 +27,7 @@ def box_points(results, i: int, scale: float = 1.0) -> np.ndarray:
     bits = (np.arange(8)[:, None] >> np.arange(3)) & 1
     local = results.body_box_center + (bits - 0.5) * results.body_box
     u = scale * np.asarray(results.body[i], dtype=float)
-    return results.body_center + u[:3] + local @ rotation(*u[3:]).T
+    return results.body_center + u[:3] + local @ rotation_matrix(u[3:]).T
 
 
 def has_box(results) -> bool:
@@ -46,7 +40,7 @@ def write_xdmf(results, path) -> Path:
 
     Points are the reference positions; move them by ``displacement`` (ParaView: Warp By
     Vector). One step per sample, time in s. Returns the path of the ``.xdmf``."""
-    path = Path(path).resolve()
+    path = Path(path)
     if path.suffix != ".xdmf":
         raise ValueError(f"write_xdmf: path must end in .xdmf, got {path.name!r}")
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -12,7 +12,8 @@ STUDY_KEYS = ("value", "surge", "heave", "pitch", "max_tension")
 
 def plot_time_histories(results, path, title=None, figsize=(8.0, 9.0), dpi=120) -> Path:
     """Surge x (m), heave (m), pitch (rad) and the maximum element tension over all lines
-    (kN) against time (s), stacked in 4 panels (the paper's Fig. 6)."""
+    (kN) against time (s), stacked in 4 panels (the paper's Fig. 6). The title defaults
+    to ``results.meta["case"]``; pass ``""`` for none."""
     panels = [(results.body_series("surge"), "surge x [m]"),
               (results.body_series("heave"), "heave z [m]"),
               (results.body_series("pitch"), "pitch [rad]"),
@@ -26,8 +27,9 @@ def plot_time_histories(results, path, title=None, figsize=(8.0, 9.0), dpi=120) 
         ax.set_title(f"({letter})", loc="left", fontsize="medium")
     axes[-1].set_xlabel("time t [s]")
     axes[-1].set_xlim(results.t[0], results.t[-1])
+    title = results.meta.get("case", "") if title is None else title
     if title:
-        fig.suptitle(title)
+        fig.suptitle(str(title))
     return _save(fig, path)
 
 
