@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import scipy.sparse as sp
 from skfem import Basis, ElementLineP1, ElementVector, MeshLine1, asm
 
 from . import forms
@@ -172,8 +173,8 @@ def _inverse_monotone(f, upper):
 class LineSet:
     """All lines on one ``MeshLine1`` with a vector P1 basis (3 DOFs per node).
 
-    Attributes: ``mesh``, ``basis`` (Gauss), ``nodal_basis`` (nodal quadrature, for the
-    lumped mass of Eq. 20), ``points`` (nnodes, 3) reference positions, ``anchor_nodes``
+    Attributes: ``mesh``, ``basis`` (vector P1, Gauss quadrature), ``points`` (nnodes, 3)
+    reference positions, ``anchor_nodes``
     and ``fairlead_nodes`` (one per line), ``line_of_cell``, and the reference fields at
     quadrature points (``Xp``, ``T``, ``EA``, ``m``, ``w``).
     """
@@ -199,8 +200,6 @@ class LineSet:
         self.mesh = MeshLine1(np.concatenate(coords)[None, :], np.concatenate(cells, axis=1))
         element = ElementVector(ElementLineP1(), dim=3)
         self.basis = Basis(self.mesh, element, intorder=intorder)
-        self.nodal_basis = Basis(self.mesh, element,
-                                 quadrature=(np.array([[0.0, 1.0]]), np.array([0.5, 0.5])))
         self.points = np.concatenate([line.X for line in lines])
         sizes = [len(line.s) for line in lines]
         first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -209,7 +208,6 @@ class LineSet:
         self.line_of_cell = np.repeat(np.arange(len(lines)), [n - 1 for n in sizes])
         self._offsets = np.array(offsets)
         self.fields = self._fields(self.basis)
-        self.nodal_fields = self._fields(self.nodal_basis)
 
     @property
     def ndofs(self) -> int:
@@ -221,7 +219,7 @@ class LineSet:
         return self.basis.nodal_dofs.T
 
     def _fields(self, basis):
-        """Reference fields at the quadrature points of ``basis``."""
+        """Reference fields at the quadrature points of ``basis``: Xp, T, EA, m, w."""
         s_global = basis.mapping.F(basis.X)[0]  # (nel, nqp)
         Xp = np.empty((3,) + s_global.shape)
         T, EA, m, w = (np.empty(s_global.shape) for _ in range(4))
@@ -256,8 +254,10 @@ class LineSet:
 
     def mass_matrix(self, lumped: bool = True):
         """Eq. 20 (lumped, default) or Eq. 19 (consistent), sparse, kg."""
-        basis, flds = (self.nodal_basis, self.nodal_fields) if lumped else (self.basis, self.fields)
-        return asm(forms.mass, basis, **flds)
+        M = asm(forms.mass, self.basis, **self.fields)
+        if lumped:  # Eq. 20 as the row sums of Eq. 19: keeps the line's mass exactly
+            return sp.diags(np.asarray(M.sum(axis=1)).ravel()).tocsr()
+        return M
 
     def element_tension(self, u):
         """(nel,) tension at each element's mid-point, N."""
@@ -338,10 +338,17 @@ def _chain(segments, source):
 
 
 def write_line_mesh(line: Line, path) -> Path:
-    """Write a line's reference polyline with meshio (format from the suffix)."""
+    """Write a line's reference polyline with meshio (format from the suffix; ``.msh`` is
+    gmsh 2.2, binary, since meshio reads ASCII gmsh with point data back wrongly)."""
     import meshio
 
+    path = Path(path)
     n = len(line.s)
     cells = [("line", np.stack([np.arange(n - 1), np.arange(1, n)], axis=1))]
-    meshio.write(Path(path), meshio.Mesh(line.X, cells, point_data={"s": line.s}))
-    return Path(path)
+    if path.suffix == ".msh":  # meshio would pick the ANSYS format for .msh
+        tags = {"gmsh:physical": [np.ones(n - 1, int)], "gmsh:geometrical": [np.ones(n - 1, int)]}
+        meshio.write(path, meshio.Mesh(line.X, cells, point_data={"s": line.s}, cell_data=tags),
+                     file_format="gmsh22", binary=True)
+    else:
+        meshio.write(path, meshio.Mesh(line.X, cells, point_data={"s": line.s}))
+    return path
