@@ -28,3 +28,21 @@ def test_drag_form_damps_the_coupled_response(monkeypatch):
     ex = load("03_weak_form_drag.py", monkeypatch, SKMOOR_EXAMPLE_DURATION="20")
     assert ex.drag[0] < 0.95 * ex.plain[0]
     assert ex.drag[1] < 0.95 * ex.plain[1]
+
+
+def test_paper_case_example_matches_the_papers_draft(monkeypatch):
+    """Example 02 (shortened): draft of Eq. 1 near the paper's 0.896 m; surge follows the load."""
+    ex = load("02_paper_case.py", monkeypatch, SKMOOR_EXAMPLE_DURATION="20")
+    assert ex.model.draft == pytest.approx(0.896, rel=5e-3)
+    assert ex.info["amplitude"]["surge"] > 10 * ex.info["amplitude"]["heave"]
+
+
+def test_export_and_animation_example_writes_files(monkeypatch, tmp_path):
+    """Example 04 (shortened): ParaView files, snapshot, run and mode GIFs exist."""
+    import imageio.v3 as iio
+
+    ex = load("04_export_and_animation.py", monkeypatch, SKMOOR_EXAMPLE_DURATION="4",
+              SKMOOR_EXAMPLE_OUT=str(tmp_path))
+    assert ex.xdmf.with_suffix(".h5").exists() and ex.pvd.exists() and ex.mode_pvd.exists()
+    assert len(iio.imread(tmp_path / "run.gif", index=None)) == ex.frames
+    assert len(iio.imread(tmp_path / "mode1.gif", index=None)) == ex.mode_frames == 24
