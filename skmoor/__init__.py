@@ -18,14 +18,14 @@ from .line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
 from .model import Model, build
 from .modes import eigenmodes
 from .results import Results
-from .run import equilibrium, run_case, simulate, summary, write_outputs
+from .run import equilibrium, run_case, simulate, static_results, summary, write_outputs
 from .statics import ConvergenceError, solve_static
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Case", "paper_case", "build", "Model", "simulate", "run_case", "summary",
-    "write_outputs", "equilibrium", "Results", "LineType", "Line", "LineSet",
+    "write_outputs", "equilibrium", "static_results", "Results", "LineType", "Line", "LineSet",
     "read_line_mesh", "write_line_mesh", "Catenary", "solve_catenary", "RigidBody",
     "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
     "Scheme", "DivergenceError",

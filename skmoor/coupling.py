@@ -7,7 +7,8 @@ motion. With u(x) the full cable displacement and P = du/dx:
 
     R_red = P^T R_lines(u) + R_body(q),
     K_red = P^T K_lines P + sum_k f_k . d2p_k/dq2 + K_hydrostatic,
-    M_red = P0^T M_lines P0 + M_body (P0 = P at q = 0, constant).
+    M_red = P0^T M_lines P0 + M_body + added mass (P0 = P at q = 0, constant);
+    the body residual adds hydrostatics, its linear damping and the applied loads.
 
 (``skfem.mpc`` drops the slave equations, so the reduction is written out here.)
 """
@@ -76,7 +77,8 @@ class System:
                                          shape=(lines.ndofs, self.n))
         self.M = self._reduce_constant(self.M_lines)
         if self.body is not None:
-            self.M = (self.M + self._embed_body(self.body.mass_matrix())).tocsr()
+            body_mass = self.body.mass_matrix() + self.body.added_mass
+            self.M = (self.M + self._embed_body(body_mass)).tocsr()
 
     # --- maps between reduced and full cable DOFs
     def q(self, x):
@@ -156,6 +158,7 @@ class System:
         if self.nb:
             q = self.q(x)
             R[self.nf:] += self.K_body @ q - load_factor * self.F_body0
+            R[self.nf:] += self.body.linear_damping @ v[self.nf:]
             if self.body_load is not None:
                 R[self.nf:] -= self.body_load(t, q, v[self.nf:])
         if not tangent:
@@ -165,6 +168,9 @@ class System:
             H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
             K = K + self._embed_body(H + self.K_body)
         Kv = None if Kv_full is None else (P.T @ Kv_full @ P).tocsr()
+        if self.nb and np.any(self.body.linear_damping):
+            D = self._embed_body(self.body.linear_damping)
+            Kv = D if Kv is None else (Kv + D).tocsr()
         return R, K, Kv
 
     def reactions(self, x, v=None, t=0.0):

@@ -15,8 +15,15 @@ The current displacement is passed as the DOF vector ``u``. A residual is
 
 Strain laws (the stress resultant S(eps) conjugate to the strain of Eq. 3): the paper's
 ``S = EA eps`` (Eq. 6), or ``engineering`` where the tension grows with the engineering
-strain as in Irvine's elastic catenary, MoorPy and MoorDyn: (T + S) lambda = T + EA
-(lambda - 1) with lambda = sqrt(1 + 2 eps). The two differ by O(T/EA).
+strain as in Irvine's elastic catenary, MoorPy and MoorDyn: the tension
+(T + S) lambda = T + (EA + T)(lambda - 1), lambda = sqrt(1 + 2 eps), EA being per
+unstretched length, gives S = EA (1 - 1/lambda). The two differ by O(T/EA).
+
+The displacement-dependent cable terms (Eqs. 11, 17) are integrated at the element
+mid-point (``LineSet.cable_basis``): with P1 displacements and a curved reference
+tangent, Gauss points would see a rigid rotation of a chord as strain (membrane
+locking, 6 % too stiff in-plane at 11 elements). The reference force and the weight
+keep full quadrature, so the reference state stays an exact equilibrium.
 
 Write a new term as a ``LinearForm`` (its contribution to the residual) and, for Newton,
 a ``BilinearForm`` (its derivative with respect to u, or to the velocity); see
@@ -44,15 +51,14 @@ def stress_resultant(eps, T, EA, law):
     """S(eps), N: the axial force added to T by the strain eps (Eq. 6 for PAPER)."""
     if law == PAPER:
         return EA * eps
-    stretch = np.sqrt(1.0 + 2.0 * eps)
-    return (T + EA * (stretch - 1.0)) / stretch - T
+    return EA * (1.0 - 1.0 / np.sqrt(1.0 + 2.0 * eps))
 
 
 def stress_resultant_slope(eps, T, EA, law):
     """dS/deps, N."""
     if law == PAPER:
         return EA * np.ones_like(eps)
-    return (EA - T) / np.sqrt(1.0 + 2.0 * eps) ** 3
+    return EA / np.sqrt(1.0 + 2.0 * eps) ** 3
 
 
 @LinearForm

@@ -1,7 +1,7 @@
 """Fast path of the standard cable forms for the time loop.
 
-Same physics as ``forms.cable_force + forms.reference_force`` and ``forms.cable_tangent``
-on the same quadrature, evaluated element by element with numpy (P1: u' is constant on an
+Same physics as ``forms.cable_force`` and ``forms.cable_tangent`` on the same (mid-point)
+quadrature, plus the LineSet's reference force, evaluated element by element with numpy (P1: u' is constant on an
 element) and scattered into a sparse matrix whose pattern is fixed once. The tests hold it
 equal to the scikit-fem assembly to round-off.
 """
@@ -15,12 +15,13 @@ class CableKernel:
     """Internal force and tangent of all lines of a :class:`~skmoor.line.LineSet`."""
 
     def __init__(self, lineset):
-        f = lineset.fields
+        f = lineset.cable_fields
         self.law = lineset.law
         self.Xp = np.moveaxis(f["Xp"], 0, -1)  # (nel, nqp, 3)
         self.T, self.EA = f["T"], f["EA"]  # (nel, nqp)
         h = lineset.element_lengths
-        self.dx_h = lineset.basis.dx / h[:, None]  # quadrature weights / h
+        self.dx_h = lineset.cable_basis.dx / h[:, None]  # quadrature weights / h
+        self.reference = lineset.reference_force()
         self.dx_h2 = self.dx_h / h[:, None]
         t = lineset.mesh.t
         nodal = lineset.nodal_dofs
@@ -50,10 +51,12 @@ class CableKernel:
         return rp, eps, S
 
     def _gather(self, rp, S):
-        """Nodal internal forces from the element force vectors int (T + S) r' ds / h."""
-        g = np.einsum("eq,eqk->ek", self.dx_h * (self.T + S), rp).ravel()  # (nel*3,)
+        """Nodal internal forces: Eq. 11's int [(T + S) r' - T X'] ds / h per element,
+        scattered, plus the reference force."""
+        flux = (self.T + S)[..., None] * rp - self.T[..., None] * self.Xp
+        g = np.einsum("eq,eqk->ek", self.dx_h, flux).ravel()  # (nel*3,)
         return (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
-                - np.bincount(self.dofs_i.ravel(), g, self.ndofs))
+                - np.bincount(self.dofs_i.ravel(), g, self.ndofs) + self.reference)
 
     def force(self, u):
         """Internal force vector (Eq. 9 = Eq. 11 + reference part), N."""

@@ -173,8 +173,9 @@ def _inverse_monotone(f, upper):
 class LineSet:
     """All lines on one ``MeshLine1`` with a vector P1 basis (3 DOFs per node).
 
-    Attributes: ``mesh``, ``basis`` (vector P1, Gauss quadrature), ``points`` (nnodes, 3)
-    reference positions, ``anchor_nodes``
+    Attributes: ``mesh``, ``basis`` (vector P1, Gauss quadrature), ``cable_basis`` (the
+    same at the element mid-points, for the displacement-dependent cable terms; see
+    forms.py), ``points`` (nnodes, 3) reference positions, ``anchor_nodes``
     and ``fairlead_nodes`` (one per line), ``line_of_cell``, and the reference fields at
     quadrature points (``Xp``, ``T``, ``EA``, ``m``, ``w``).
     """
@@ -200,6 +201,8 @@ class LineSet:
         self.mesh = MeshLine1(np.concatenate(coords)[None, :], np.concatenate(cells, axis=1))
         element = ElementVector(ElementLineP1(), dim=3)
         self.basis = Basis(self.mesh, element, intorder=intorder)
+        self.cable_basis = Basis(self.mesh, element,
+                                 quadrature=(np.array([[0.5]]), np.array([1.0])))
         self.points = np.concatenate([line.X for line in lines])
         sizes = [len(line.s) for line in lines]
         first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -208,6 +211,8 @@ class LineSet:
         self.line_of_cell = np.repeat(np.arange(len(lines)), [n - 1 for n in sizes])
         self._offsets = np.array(offsets)
         self.fields = self._fields(self.basis)
+        self.cable_fields = self._fields(self.cable_basis)
+        self._reference = asm(forms.reference_force, self.basis, **self.fields)
 
     @property
     def ndofs(self) -> int:
@@ -237,12 +242,15 @@ class LineSet:
     # --- assembly through the forms (the definition; see kernels.py for the fast path)
     def internal_force(self, u):
         """Eq. 9 = Eq. 11 + reference part: internal force vector, N."""
-        return (asm(forms.cable_force, self.basis, u=u, **self.fields)
-                + asm(forms.reference_force, self.basis, **self.fields))
+        return asm(forms.cable_force, self.cable_basis, u=u, **self.cable_fields) + self._reference
+
+    def reference_force(self):
+        """The reference part of Eq. 9, int T X'.du' ds, as nodal forces, N."""
+        return self._reference.copy()
 
     def tangent_stiffness(self, u):
         """Eq. 17: d(internal_force)/du, sparse, N/m."""
-        return asm(forms.cable_tangent, self.basis, u=u, **self.fields)
+        return asm(forms.cable_tangent, self.cable_basis, u=u, **self.cable_fields)
 
     def unit_tension_stiffness(self):
         """Geometric stiffness of a 1 N tension in every line (sparse, 1/m)."""
@@ -261,39 +269,23 @@ class LineSet:
 
     def element_tension(self, u):
         """(nel,) tension at each element's mid-point, N."""
-        up = self.element_slopes(u)
-        mid = self._midpoint_fields()
-        return forms.tension(mid["Xp"], mid["T"], mid["EA"], up, self.law)
+        f = self.cable_fields
+        return forms.tension(f["Xp"][:, :, 0], f["T"][:, 0], f["EA"][:, 0],
+                             self.element_slopes(u), self.law)
 
     def element_strain(self, u):
         """(nel,) strain of Eq. 3 at each element's mid-point, -."""
-        up = self.element_slopes(u)
-        return forms.strain(self._midpoint_fields()["Xp"], up)
+        return forms.strain(self.cable_fields["Xp"][:, :, 0], self.element_slopes(u))
 
     def element_slopes(self, u):
         """(3, nel) u' on each element (constant for P1)."""
-        nodes = self.nodal_dofs
-        U = u[nodes]  # (nnodes, 3)
+        U = u[self.nodal_dofs]  # (nnodes, 3)
         t = self.mesh.t
-        h = self.element_lengths
-        return ((U[t[1]] - U[t[0]]) / h[:, None]).T
+        return ((U[t[1]] - U[t[0]]) / self.element_lengths[:, None]).T
 
     @property
     def element_lengths(self) -> np.ndarray:
         return np.diff(self.mesh.p[0, self.mesh.t], axis=0)[0]
-
-    def _midpoint_fields(self):
-        if not hasattr(self, "_mid"):
-            s_mid = self.mesh.p[0, self.mesh.t].mean(axis=0)
-            Xp, T, EA = np.empty((3, len(s_mid))), np.empty(len(s_mid)), np.empty(len(s_mid))
-            for k, line in enumerate(self.lines):
-                cells = self.line_of_cell == k
-                s = s_mid[cells] - self._offsets[k]
-                Xp[:, cells] = line.tangent(s).T
-                T[cells] = line.tension(s)
-                EA[cells] = line.line_type.EA
-            self._mid = dict(Xp=Xp, T=T, EA=EA)
-        return self._mid
 
 
 def read_line_mesh(path, line_type: LineType, name=None, tension=0.0) -> Line:

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 from tqdm.auto import tqdm
 
-from .dynamics import DivergenceError, Scheme, integrate, rayleigh_coefficients
+from .dynamics import DivergenceError, Scheme, State, integrate, rayleigh_coefficients
 from .model import Model, build
 from .modes import Modes, eigenmodes
 from .results import Results
@@ -85,6 +85,16 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     return recorder.results(meta)
 
 
+def static_results(model: Model, eq: Equilibrium | None = None) -> Results:
+    """The static equilibrium as a one-sample :class:`Results` (for export and renders)."""
+    eq = eq or equilibrium(model)
+    recorder = _Recorder(model)
+    zero = np.zeros(model.system.n)
+    recorder.record(State(0.0, 0, eq.x, zero, zero))
+    return recorder.results({"case": model.case.name, "draft": model.draft, "static": True,
+                             "natural_periods": eq.modes.periods.tolist()})
+
+
 class _Recorder:
     """Collects sampled states into arrays for :class:`Results`."""
 
@@ -126,14 +136,16 @@ def summary(results: Results) -> dict:
     meta = results.meta
     period = meta.get("forcing_period")
     n = int(meta.get("steady_periods", 5))
-    amplitude = {}
+    amplitude, steady_max = {}, None
     if period and results.t[-1] - results.t[0] >= n * period:
         amplitude = {name: results.amplitude(results.body_series(name), period, n)
                      for name in ("surge", "heave", "pitch")}
+        steady_max = float(results.max_tension[results.t >= results.t[-1] - n * period].max())
     return {"case": meta.get("case"), "draft": meta.get("draft"),
             "fairlead_tension_static": meta.get("fairlead_tension_static"),
             "natural_periods": meta.get("natural_periods"), "amplitude": amplitude,
             "max_tension": float(results.max_tension.max()),
+            "max_tension_steady": steady_max,
             "wall_time": meta.get("wall_time"), "simulated_time": float(results.t[-1]),
             "steps": meta.get("steps"), "dt": meta.get("dt"), "stopped": meta.get("stopped")}
 

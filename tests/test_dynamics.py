@@ -17,14 +17,14 @@ def paper_line(n_elements=10, law="paper"):
 
 
 def potential_energy(lines, u):
-    """Strain energy int (T eps + EA eps^2 / 2) ds plus the weight's potential, J,
-    from the strain definition (Eq. 3), independently of the force assembly."""
-    f = lines.fields
+    """Energy of Eq. 11, int (T |u'|^2 / 2 + EA eps^2 / 2) ds on the cable quadrature,
+    plus the potentials of the (constant) reference force and weight, J, from the strain
+    definition (Eq. 3), independently of the force assembly."""
+    f = lines.cable_fields
     up = lines.element_slopes(u)[:, :, None]  # (3, nel, 1), constant per element
-    Xp = f["Xp"]
-    eps = (Xp * up).sum(0) + 0.5 * (up * up).sum(0)
-    strain = (f["T"] * eps + 0.5 * f["EA"] * eps**2) * lines.basis.dx
-    return strain.sum() - lines.weight_load() @ u
+    eps = (f["Xp"] * up).sum(0) + 0.5 * (up * up).sum(0)
+    energy = (0.5 * f["T"] * (up * up).sum(0) + 0.5 * f["EA"] * eps**2) * lines.cable_basis.dx
+    return energy.sum() + (lines.reference_force() - lines.weight_load()) @ u
 
 
 def test_newmark_conserves_energy_over_100_periods():
