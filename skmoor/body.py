@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -80,16 +81,20 @@ def _axis_rotation(angle: float, axis: int) -> np.ndarray:
 
 def _rotation_derivatives(angles) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """R, dR/dangle_a (3, 3, 3) and d2R/dangle_a dangle_b (3, 3, 3, 3) of R = Rz Ry Rx."""
-    angles = _finite_array("angles", angles, (3,))
+    return _rotation_derivatives_cached(tuple(_finite_array("angles", angles, (3,))))
+
+
+@lru_cache(maxsize=8)
+def _rotation_derivatives_cached(angles):
     rx, ry, rz = (_axis_rotation(angles[k], k) for k in range(3))
-
-    def product(order):  # order[k]: derivative order of the factor about axis k
-        return rz[order[2]] @ ry[order[1]] @ rx[order[0]]
-
-    eye = np.eye(3, dtype=int)
-    d1 = np.array([product(eye[a]) for a in range(3)])
-    d2 = np.array([[product(eye[a] + eye[b]) for b in range(3)] for a in range(3)])
-    return product((0, 0, 0)), d1, d2
+    # every product Rz^(c) Ry^(b) Rx^(a) of derivative orders a, b, c at once
+    D = np.einsum("cij,bjk,akl->abcil", rz, ry, rx)
+    d1 = np.array([D[1, 0, 0], D[0, 1, 0], D[0, 0, 1]])
+    orders = np.eye(3, dtype=int)
+    d2 = np.array([[D[tuple(orders[a] + orders[b])] for b in range(3)] for a in range(3)])
+    for arr in (D, d1, d2):
+        arr.flags.writeable = False
+    return D[0, 0, 0], d1, d2
 
 
 def rotation_matrix(angles) -> np.ndarray:

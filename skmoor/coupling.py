@@ -102,11 +102,44 @@ class System:
 
     def full_velocity(self, x, v, t=0.0, dt=1e-6):
         """(ndofs,) cable velocity, m/s."""
-        ud = self.P(x) @ v
+        ud = self._expand(v, self._jacobian(x))
         if self.mode == "prescribed":
             ud[self.fairlead_dofs] = (self.fairlead_displacement(x, t + dt)
                                       - self.fairlead_displacement(x, t - dt)) / (2 * dt)
         return ud
+
+    def _jacobian(self, x):
+        """(3 nlines, 6) fairlead Jacobians stacked, or None without a body."""
+        if not self.nb:
+            return None
+        return rigid.attachment_jacobian(self.q(x), self.r_local).reshape(-1, 6)
+
+    def _expand(self, y, J):
+        """P y for a reduced vector y, without forming P."""
+        out = np.zeros(self.lines.ndofs)
+        out[self.free] = y[: self.nf]
+        if J is not None:
+            out[self.fairlead_dofs.ravel()] = J @ y[self.nf:]
+        return out
+
+    def _reduce(self, R_full, J):
+        """P^T R_full, without forming P."""
+        out = np.empty(self.n)
+        out[: self.nf] = R_full[self.free]
+        if J is not None:
+            out[self.nf:] = J.T @ R_full[self.fairlead_dofs.ravel()]
+        return out
+
+    def _reduce_dense(self, A, J):
+        """P^T A P for a dense (ndofs, ndofs) A, without forming P."""
+        free, fair = self.free, self.fairlead_dofs.ravel()
+        out = np.empty((self.n, self.n))
+        out[: self.nf, : self.nf] = A[np.ix_(free, free)]
+        if J is not None:
+            out[: self.nf, self.nf:] = A[np.ix_(free, fair)] @ J
+            out[self.nf:, : self.nf] = J.T @ A[np.ix_(fair, free)]
+            out[self.nf:, self.nf:] = J.T @ A[np.ix_(fair, fair)] @ J
+        return out
 
     def P(self, x):
         """du/dx (ndofs, n): identity on free DOFs, attachment Jacobians at fairleads."""
@@ -122,16 +155,18 @@ class System:
         P0 = self.P(np.zeros(self.n))
         return (P0.T @ A @ P0).tocsr()
 
-    def _embed_body(self, A6):
+    def _embed_body(self, A6, dense=False):
+        """A 6x6 body block in an (n, n) matrix."""
         out = np.zeros((self.n, self.n))
         out[self.nf:, self.nf:] = A6
-        return sp.csr_matrix(out)
+        return out if dense else sp.csr_matrix(out)
 
     # --- the nonlinear system
-    def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True):
-        """Full cable residual internal - external (N) and its u- and v-derivatives."""
+    def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, dense=False):
+        """Full cable residual internal - external (N) and its u- and v-derivatives
+        (sparse, or dense arrays when ``dense``)."""
         if tangent:
-            f, K = self.kernel.force_and_tangent(u)
+            f, K = self.kernel.force_and_tangent(u, dense=dense)
         else:
             f, K = self.kernel.force(u), None
         R = f - load_factor * self.weight
@@ -140,21 +175,24 @@ class System:
             w = dict(self.lines.fields, u=u, du=ud, **term.fields)
             R = R + asm(term.residual, self.lines.basis, **w)
             if tangent and term.stiffness is not None:
-                K = K + asm(term.stiffness, self.lines.basis, **w)
+                Kt = asm(term.stiffness, self.lines.basis, **w)
+                K = K + (Kt.toarray() if dense else Kt)
             if tangent and term.damping is not None:
                 Cv = asm(term.damping, self.lines.basis, **w)
+                Cv = Cv.toarray() if dense else Cv
                 Kv = Cv if Kv is None else Kv + Cv
         return R, K, Kv
 
-    def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True):
+    def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, dense=False):
         """Reduced residual R(x, v, t) (no inertia, no Rayleigh damping) and its
-        derivatives K = dR/dx and Kv = dR/dv (None when zero)."""
+        derivatives K = dR/dx and Kv = dR/dv (None when zero); sparse, or dense arrays
+        when ``dense`` (faster below a few thousand unknowns)."""
         v = np.zeros(self.n) if v is None else v
         u = self.full_displacement(x, t)
+        J = self._jacobian(x)
         ud = self.full_velocity(x, v, t) if self.terms else None
-        R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent)
-        P = self.P(x)
-        R = P.T @ R_full
+        R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, dense)
+        R = self._reduce(R_full, J)
         if self.nb:
             q = self.q(x)
             R[self.nf:] += self.K_body @ q - load_factor * self.F_body0
@@ -163,14 +201,19 @@ class System:
                 R[self.nf:] -= self.body_load(t, q, v[self.nf:])
         if not tangent:
             return R, None, None
-        K = (P.T @ K_full @ P).tocsr()
+        if dense:
+            K = self._reduce_dense(K_full, J)
+            Kv = None if Kv_full is None else self._reduce_dense(Kv_full, J)
+        else:
+            P = self.P(x)
+            K = (P.T @ K_full @ P).tocsr()
+            Kv = None if Kv_full is None else (P.T @ Kv_full @ P).tocsr()
         if self.nb:
             H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
-            K = K + self._embed_body(H + self.K_body)
-        Kv = None if Kv_full is None else (P.T @ Kv_full @ P).tocsr()
-        if self.nb and np.any(self.body.linear_damping):
-            D = self._embed_body(self.body.linear_damping)
-            Kv = D if Kv is None else (Kv + D).tocsr()
+            K = K + self._embed_body(H + self.K_body, dense)
+            if np.any(self.body.linear_damping):
+                D = self._embed_body(self.body.linear_damping, dense)
+                Kv = D if Kv is None else Kv + D
         return R, K, Kv
 
     def reactions(self, x, v=None, t=0.0):

@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -79,23 +80,30 @@ def rayleigh_coefficients(zeta: float, omega1: float, omega2: float):
     return 2 * zeta * omega1 * omega2 / (omega1 + omega2), 2 * zeta / (omega1 + omega2)
 
 
+DENSE_BELOW = 1500  # unknowns: below this, dense LAPACK beats sparse overhead
+
+
 def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-8,
               maxiter=20):
     """Yield a :class:`State` per step from (x0, v0) at t0 until t_end.
 
-    system: anything with ``M`` (sparse) and ``residual(x, v, t) -> (R, K, Kv)``.
+    system: anything with ``M`` (sparse) and ``residual(x, v, t, dense=...) -> (R, K, Kv)``.
     C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when the largest
     correction is below tol times the largest change over the step (plus 1e-12 m).
+    Systems below ``DENSE_BELOW`` unknowns are solved with dense matrices.
     """
     if not dt > 0:
         raise ValueError(f"integrate dt: must be positive, got {dt}")
     scheme = scheme or Scheme.newmark()
     am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
-    M = system.M.tocsr()
+    dense = system.M.shape[0] < DENSE_BELOW
+    M = system.M.toarray() if dense else system.M.tocsr()
     C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
+    C = C.toarray() if dense else C
+    solve = _dense_solve if dense else (lambda A, b: spla.spsolve(A.tocsc(), b))
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
     R, _, _ = system.residual(x, v, t, tangent=False)
-    a = spla.spsolve(M.tocsc(), -(C @ v + R))
+    a = solve(M, -(C @ v + R))
     force_old = C @ v + R
     yield State(t, 0, x, v, a)
     c_x = (1 - am) / (beta * dt**2)
@@ -111,14 +119,14 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             """alpha-level balance at x1 = y, and its tangent."""
             a1 = (y - x_pred) / (beta * dt**2)
             v1 = v_pred + gamma * dt * a1
-            R1, K1, Kv1 = system.residual(y, v1, t1)
+            R1, K1, Kv1 = system.residual(y, v1, t1, dense=dense)
             Cv = C if Kv1 is None else C + Kv1
             B = (1 - am) * (M @ a1) + am * (M @ a) + (1 - af) * (C @ v1 + R1) + af * force_old
             return B, c_x * M + (1 - af) * (c_v * Cv + K1)
 
         B, A = balance(x1)
         for it in range(1, maxiter + 1):
-            dx = spla.spsolve(A.tocsc(), -B)
+            dx = solve(A, -B)
             if not np.all(np.isfinite(dx)):
                 raise DivergenceError(_hint(t1, step, dt, "the Newton step is not finite"), t1, step)
             x1 = x1 + dx
@@ -134,6 +142,14 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         force_old = C @ v1 + R1
         x, v, a = x1, v1, a1
         yield State(t1, step, x, v, a, it)
+
+
+def _dense_solve(A, b):
+    """LU solve of a dense system; NaN (caught by the caller) when singular."""
+    try:
+        return sla.solve(A, b, check_finite=False)
+    except sla.LinAlgError:
+        return np.full_like(b, np.nan)
 
 
 def _hint(t, step, dt, what):

@@ -38,6 +38,7 @@ class CableKernel:
         indptr = np.searchsorted(unique // self.ndofs, np.arange(self.ndofs + 1))
         self._pattern = (unique % self.ndofs, indptr)
         self.nnz = len(unique)
+        self._flat = keys  # positions in a dense (ndofs, ndofs) array
 
     def slopes(self, u):
         """(nel, 3) u' on each element."""
@@ -63,13 +64,17 @@ class CableKernel:
         rp, _, S = self._state(u)
         return self._gather(rp, S)
 
-    def force_and_tangent(self, u):
-        """Internal force (N) and its exact tangent (Eq. 17, CSR, N/m)."""
+    def force_and_tangent(self, u, dense=False):
+        """Internal force (N) and its exact tangent (Eq. 17, N/m): CSR, or a dense array
+        when ``dense`` (cheaper for small models)."""
         rp, eps, S = self._state(u)
         dS = forms.stress_resultant_slope(eps, self.T, self.EA, self.law)
         k = np.einsum("eq,eqa,eqb->eab", self.dx_h2 * dS, rp, rp)
         k += np.einsum("eq->e", self.dx_h2 * (self.T + S))[:, None, None] * np.eye(3)
         ke = np.block([[k, -k], [-k, k]])  # (nel, 6, 6)
+        if dense:
+            K = np.bincount(self._flat, weights=ke.ravel(), minlength=self.ndofs**2)
+            return self._gather(rp, S), K.reshape(self.ndofs, self.ndofs)
         data = np.bincount(self._scatter, weights=ke.ravel(), minlength=self.nnz)
         K = sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
         return self._gather(rp, S), K

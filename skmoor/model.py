@@ -60,13 +60,20 @@ def reference_catenaries(case, draft):
     com = np.array([0.0, 0.0, height / 2 - draft])
     depth = case.water["depth"]
     specs, cats, types = case.line_specs(), [], []
+    lengths = {}  # lines alike in their plane share the length a sag ratio gives
     for spec in specs:
         lt = line_type(case, spec.type)
         fairlead = com + spec.fairlead
         anchor = _anchor(spec, fairlead, depth)
+        chord = fairlead - anchor
+        key = (round(float(np.hypot(*chord[:2])), 9), round(float(chord[2]), 9),
+               round(float(anchor[2] + depth), 9), lt.weight, lt.EA, spec.sag_ratio)
+        length = spec.length if spec.length is not None else lengths.get(key)
         try:
-            cat = solve_catenary(anchor, fairlead, lt.weight, lt.EA, length=spec.length,
-                                 sag_ratio=spec.sag_ratio, seabed_z=-depth)
+            cat = solve_catenary(anchor, fairlead, lt.weight, lt.EA, length=length,
+                                 sag_ratio=None if length is not None else spec.sag_ratio,
+                                 seabed_z=-depth)
+            lengths[key] = cat.L
         except ValueError as err:
             raise ValueError(f"line {spec.name}: {err}") from None
         cats.append(cat)
