@@ -34,7 +34,6 @@ from skfem import BilinearForm, LinearForm
 from skfem.helpers import dot
 
 PAPER, ENGINEERING = 0, 1
-EZ = np.array([0.0, 0.0, 1.0])
 
 
 def d_ds(field):

@@ -22,6 +22,9 @@ from .results import Results
 from .statics import solve_static
 
 
+INTERRUPTED = "interrupted (Ctrl-C)"
+
+
 @dataclass
 class Equilibrium:
     """Static equilibrium of a model: state x, tangent K, modes, damping matrix C."""
@@ -71,7 +74,7 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
                 recorder.record(state)
             bar.update(1 if state.step else 0)
     except KeyboardInterrupt:
-        stopped = "interrupted (Ctrl-C)"
+        stopped = INTERRUPTED
     except DivergenceError as err:
         stopped = str(err)
     finally:
@@ -79,7 +82,8 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     meta = {"case": model.case.name, "draft": model.draft, "dt": dt, "scheme": solver["scheme"],
             "natural_periods": eq.modes.periods.tolist(), "rayleigh": list(eq.rayleigh),
             "wall_time": time.perf_counter() - started, "steps": n_steps,
-            "stopped": stopped, "forcing_period": model.forcing_period,
+            "stopped": stopped, "interrupted": stopped == INTERRUPTED,
+            "forcing_period": model.forcing_period,
             "steady_periods": solver.get("steady_periods", 5),
             "fairlead_tension_static": [c.T_fairlead for c in model.catenaries]}
     return recorder.results(meta)
@@ -147,7 +151,8 @@ def summary(results: Results) -> dict:
             "max_tension": float(results.max_tension.max()),
             "max_tension_steady": steady_max,
             "wall_time": meta.get("wall_time"), "simulated_time": float(results.t[-1]),
-            "steps": meta.get("steps"), "dt": meta.get("dt"), "stopped": meta.get("stopped")}
+            "steps": meta.get("steps"), "dt": meta.get("dt"), "stopped": meta.get("stopped"),
+            "interrupted": bool(meta.get("interrupted"))}
 
 
 def write_outputs(results: Results, out) -> dict:

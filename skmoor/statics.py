@@ -8,7 +8,6 @@ from dataclasses import dataclass
 import warnings
 
 import numpy as np
-import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 

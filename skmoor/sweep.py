@@ -295,7 +295,7 @@ def run_point(task: dict) -> dict:
     except Exception as err:  # reported in the point's row; the other points go on
         return {"error": _describe(err), "wall_time": time.perf_counter() - started,
                 "host": host}
-    if "interrupted" in str(info.get("stopped") or ""):
+    if info["interrupted"]:
         raise KeyboardInterrupt      # simulate() keeps a Ctrl-C to itself; stop the sweep
     problems = []
     if info.get("stopped"):

@@ -5,7 +5,7 @@ import pytest
 import skmoor
 from skmoor.coupling import System
 from skmoor.dynamics import DivergenceError, Scheme, integrate
-from skmoor.line import Line, LineSet, LineType
+from skmoor.line import Line, LineSet
 
 
 def paper_line(n_elements=10, law="paper"):

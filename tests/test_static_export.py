@@ -1,7 +1,6 @@
 """A static analysis exports like a run: one step whose tensions are the catenary's."""
 import meshio
 import numpy as np
-import pytest
 
 import skmoor
 from skmoor.export import export
