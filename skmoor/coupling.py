@@ -26,18 +26,73 @@ from .kernels import CableKernel
 
 @dataclass
 class Term:
-    """A user term added to the cable residual, written as scikit-fem forms.
+    """A term added to the cable residual, written as scikit-fem forms.
 
-    residual: LinearForm of (v, w) with w.u (displacement), w.du (velocity) and the
-    LineSet's reference fields available, plus ``fields``; its value is added to
-    internal - external forces (N). stiffness / damping: BilinearForms, its derivatives
-    with respect to u and to the velocity (None when zero).
+    residual: LinearForm of (v, w) with w.u (displacement, m), w.du (velocity, m/s),
+    w.t (time, s) and the LineSet's reference fields available, plus ``fields``; its
+    value is added to internal - external forces (N). stiffness / damping: BilinearForms,
+    its derivatives with respect to u and to the velocity (None when zero). mass:
+    BilinearForm of a constant extra mass (e.g. added mass, kg), assembled once at u = 0.
+    fields: a dict, or a function t -> dict for time-dependent data (waves, currents).
+    quadrature: 'gauss' (``LineSet.basis``) or 'midpoint' (``LineSet.cable_basis``).
+
+    Anything with the method ``evaluate`` below (and optionally ``mass_matrix``) can be
+    a term, e.g. a numpy kernel of the same forms.
     """
 
     residual: object
     stiffness: object = None
     damping: object = None
-    fields: dict = field(default_factory=dict)
+    mass: object = None
+    fields: object = field(default_factory=dict)
+    quadrature: str = "gauss"
+
+    def __post_init__(self):
+        if self.quadrature not in ("gauss", "midpoint"):
+            raise ValueError(f"Term quadrature: {self.quadrature!r} is not 'gauss' or 'midpoint'")
+
+    def _basis_and_fields(self, lines, t):
+        if self.quadrature == "midpoint":
+            basis, base = lines.cable_basis, lines.cable_fields
+        else:
+            basis, base = lines.basis, lines.fields
+        extra = self.fields(t) if callable(self.fields) else self.fields
+        return basis, dict(base, t=t, **extra)
+
+    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
+        """(R, K, Kv) on the full cable DOFs: residual (N), d/du and d/dudot (None when
+        zero or not asked for; dense arrays when ``dense``)."""
+        basis, w = self._basis_and_fields(lines, t)
+        w.update(u=u, du=np.zeros_like(u) if ud is None else ud)
+        R = asm(self.residual, basis, **w)
+        K = Kv = None
+        if tangent and self.stiffness is not None:
+            K = asm(self.stiffness, basis, **w)
+            K = K.toarray() if dense else K
+        if tangent and self.damping is not None:
+            Kv = asm(self.damping, basis, **w)
+            Kv = Kv.toarray() if dense else Kv
+        return R, K, Kv
+
+    def mass_matrix(self, lines):
+        """The constant extra mass (sparse, kg), or None."""
+        if self.mass is None:
+            return None
+        basis, w = self._basis_and_fields(lines, 0.0)
+        return asm(self.mass, basis, u=np.zeros(lines.ndofs), du=np.zeros(lines.ndofs), **w)
+
+
+@dataclass
+class BodyTerm:
+    """A load on the rigid body: ``evaluate(q, qdot, t) -> (F, K, Kv)`` with F the
+    6-vector of loads on the body (N, N m) and K = -dF/dq, Kv = -dF/dqdot (6x6 or None);
+    ``added_mass``: a constant 6x6 (kg, kg m, kg m2) added to the body's mass."""
+
+    load: object
+    added_mass: object = None
+
+    def evaluate(self, q, qdot, t):
+        return self.load(q, qdot, t)
 
 
 class System:
@@ -46,11 +101,13 @@ class System:
     fairleads: 'body' (attached to ``body``), 'fixed', or 'prescribed' with
     ``motion(t) -> (nlines, 3)`` fairlead displacements, m.
     body_load(t, q, qdot) -> 6-vector of applied body loads (N, N m), optional.
-    line_load: (ndofs,) extra constant nodal loads on the lines, N.
+    terms: extra cable terms (:class:`Term` or anything with its ``evaluate``);
+    body_terms: extra body loads with tangents (:class:`BodyTerm`).
+    Add terms after construction with :meth:`add_term` (it updates the mass matrix).
     """
 
     def __init__(self, lines, body=None, *, fairleads="body", motion=None,
-                 body_load=None, terms=(), lumped_mass=True):
+                 body_load=None, terms=(), body_terms=(), lumped_mass=True):
         if fairleads not in ("body", "fixed", "prescribed"):
             raise ValueError(f"System fairleads: {fairleads!r} is not 'body', 'fixed' or 'prescribed'")
         if fairleads == "body" and body is None:
@@ -58,7 +115,8 @@ class System:
         if fairleads == "prescribed" and not callable(motion):
             raise ValueError("System motion: fairleads='prescribed' needs motion(t) -> (nlines, 3)")
         self.lines, self.body, self.mode = lines, (body if fairleads == "body" else None), fairleads
-        self.motion, self.body_load, self.terms = motion, body_load, list(terms)
+        self.motion, self.body_load = motion, body_load
+        self.terms, self.body_terms = list(terms), list(body_terms)
         self.kernel = CableKernel(lines)
         dofs = lines.nodal_dofs
         self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3)
@@ -75,9 +133,26 @@ class System:
         self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
         self._free_block = sp.csr_matrix((np.ones(self.nf), (self.free, np.arange(self.nf))),
                                          shape=(lines.ndofs, self.n))
-        self.M = self._reduce_constant(self.M_lines)
+        self._assemble_mass()
+
+    def add_term(self, term):
+        """Add a cable :class:`Term` or a :class:`BodyTerm` (and its mass)."""
+        (self.body_terms if isinstance(term, BodyTerm) else self.terms).append(term)
+        self._assemble_mass()
+
+    def _assemble_mass(self):
+        """M_red = P0^T (M_lines + term masses) P0 + body mass + added masses, kg."""
+        M_lines = self.M_lines
+        for term in self.terms:
+            extra = term.mass_matrix(self.lines) if hasattr(term, "mass_matrix") else None
+            if extra is not None:
+                M_lines = M_lines + extra
+        self.M = self._reduce_constant(M_lines)
         if self.body is not None:
             body_mass = self.body.mass_matrix() + self.body.added_mass
+            for term in self.body_terms:
+                if term.added_mass is not None:
+                    body_mass = body_mass + np.asarray(term.added_mass, float)
             self.M = (self.M + self._embed_body(body_mass)).tocsr()
 
     # --- maps between reduced and full cable DOFs
@@ -172,14 +247,11 @@ class System:
         R = f - load_factor * self.weight
         Kv = None
         for term in self.terms:
-            w = dict(self.lines.fields, u=u, du=ud, **term.fields)
-            R = R + asm(term.residual, self.lines.basis, **w)
-            if tangent and term.stiffness is not None:
-                Kt = asm(term.stiffness, self.lines.basis, **w)
-                K = K + (Kt.toarray() if dense else Kt)
-            if tangent and term.damping is not None:
-                Cv = asm(term.damping, self.lines.basis, **w)
-                Cv = Cv.toarray() if dense else Cv
+            Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent, dense)
+            R = R + Rt
+            if Kt is not None:
+                K = K + Kt
+            if Cv is not None:
                 Kv = Cv if Kv is None else Kv + Cv
         return R, K, Kv
 
@@ -199,6 +271,12 @@ class System:
             R[self.nf:] += self.body.linear_damping @ v[self.nf:]
             if self.body_load is not None:
                 R[self.nf:] -= self.body_load(t, q, v[self.nf:])
+            body_K, body_Kv = np.zeros((6, 6)), np.zeros((6, 6))
+            for term in self.body_terms:
+                F, Kb, Kvb = term.evaluate(q, v[self.nf:], t)
+                R[self.nf:] -= F
+                body_K += 0.0 if Kb is None else Kb
+                body_Kv += 0.0 if Kvb is None else Kvb
         if not tangent:
             return R, None, None
         if dense:
@@ -210,9 +288,9 @@ class System:
             Kv = None if Kv_full is None else (P.T @ Kv_full @ P).tocsr()
         if self.nb:
             H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
-            K = K + self._embed_body(H + self.K_body, dense)
-            if np.any(self.body.linear_damping):
-                D = self._embed_body(self.body.linear_damping, dense)
+            K = K + self._embed_body(H + self.K_body + body_K, dense)
+            if np.any(self.body.linear_damping) or np.any(body_Kv):
+                D = self._embed_body(self.body.linear_damping + body_Kv, dense)
                 Kv = D if Kv is None else Kv + D
         return R, K, Kv
 

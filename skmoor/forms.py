@@ -27,7 +27,7 @@ keep full quadrature, so the reference state stays an exact equilibrium.
 
 Write a new term as a ``LinearForm`` (its contribution to the residual) and, for Newton,
 a ``BilinearForm`` (its derivative with respect to u, or to the velocity); see
-:class:`skmoor.line.Term` and ``examples/03_weak_form_drag.py``.
+:class:`skmoor.coupling.Term` and ``examples/03_weak_form_drag.py``.
 """
 import numpy as np
 from skfem import BilinearForm, LinearForm
