@@ -97,6 +97,20 @@ def _rotation_derivatives_cached(angles):
     return D[0, 0, 0], d1, d2
 
 
+def rotation_and_slopes(angles) -> tuple[np.ndarray, np.ndarray]:
+    """R = Rz Ry Rx and dR/dangle_a (3, 3, 3) for finite ``angles`` (rad), without input
+    checks or caching: the time loop's fast path."""
+    (cx, cy, cz), (sx, sy, sz) = np.cos(angles), np.sin(angles)
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]])
+    ry = np.array([[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]])
+    rz = np.array([[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]])
+    drx = np.array([[0.0, 0.0, 0.0], [0.0, -sx, -cx], [0.0, cx, -sx]])
+    dry = np.array([[-sy, 0.0, cy], [0.0, 0.0, 0.0], [-cy, 0.0, -sy]])
+    drz = np.array([[-sz, -cz, 0.0], [cz, -sz, 0.0], [0.0, 0.0, 0.0]])
+    zy = rz @ ry
+    return zy @ rx, np.array([zy @ drx, rz @ dry @ rx, drz @ ry @ rx])
+
+
 def rotation_matrix(angles) -> np.ndarray:
     """Rotation matrix R = Rz(rz) @ Ry(ry) @ Rx(rx) for ``angles = (rx, ry, rz)`` in rad."""
     return _rotation_derivatives(angles)[0]

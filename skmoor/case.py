@@ -199,6 +199,9 @@ def _validate(d: dict) -> None:
         else:
             for key in ("E", "diameter", "density"):
                 _require(d, f"line_types.{name}.{key}", positive=True)
+        if "BA" in t and (_require(d, f"line_types.{name}.BA") < 0):
+            raise ValueError(f"line_types.{name}.BA: internal damping must be >= 0 N s, "
+                             f"got {t['BA']}")
     lines = d.get("lines")
     if not lines:
         raise ValueError("lines: define at least one line")

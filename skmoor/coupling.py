@@ -129,6 +129,7 @@ class System:
             self.r_local = lines.points[lines.fairlead_nodes] - self.body.reference_point
             self.K_body = self.body.hydrostatic_stiffness(generalized=True)
             self.F_body0 = self.body.static_force()
+        self._attachment_cache = (None, None, None)
         self.weight = lines.weight_load()
         self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
         self._free_block = sp.csr_matrix((np.ones(self.nf), (self.free, np.arange(self.nf))),
@@ -167,10 +168,26 @@ class System:
         u[self.fairlead_dofs] = self.fairlead_displacement(x, t)
         return u
 
+    def _attachment(self, x):
+        """Fairlead displacements (nlines, 3) and stacked Jacobians (3 nlines, 6) at the
+        body DOFs of x, computed once per state."""
+        q = x[self.nf:]
+        key = q.tobytes()
+        if self._attachment_cache[0] != key:
+            if not np.all(np.isfinite(q)):
+                raise ValueError(f"System: body DOFs are not finite: {q}")
+            R, dR = rigid.rotation_and_slopes(q[3:])
+            r = self.r_local
+            J = np.empty((len(r), 3, 6))
+            J[:, :, :3] = np.eye(3)
+            J[:, :, 3:] = np.einsum("akl,nl->nka", dR, r)
+            self._attachment_cache = (key, q[:3] + r @ R.T - r, J.reshape(-1, 6))
+        return self._attachment_cache[1], self._attachment_cache[2]
+
     def fairlead_displacement(self, x, t=0.0):
         """(nlines, 3) fairlead displacements, m."""
         if self.mode == "body":
-            return rigid.attachment_displacement(self.q(x), self.r_local)
+            return self._attachment(x)[0]
         if self.mode == "prescribed":
             return np.asarray(self.motion(t), float).reshape(-1, 3)
         return np.zeros(self.fairlead_dofs.shape)
@@ -187,7 +204,7 @@ class System:
         """(3 nlines, 6) fairlead Jacobians stacked, or None without a body."""
         if not self.nb:
             return None
-        return rigid.attachment_jacobian(self.q(x), self.r_local).reshape(-1, 6)
+        return self._attachment(x)[1]
 
     def _expand(self, y, J):
         """P y for a reduced vector y, without forming P."""
@@ -236,6 +253,10 @@ class System:
         out[self.nf:, self.nf:] = A6
         return out if dense else sp.csr_matrix(out)
 
+    @property
+    def _needs_velocity(self):
+        return bool(self.terms) or self.lines.damped
+
     # --- the nonlinear system
     def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, dense=False):
         """Full cable residual internal - external (N) and its u- and v-derivatives
@@ -246,6 +267,10 @@ class System:
             f, K = self.kernel.force(u), None
         R = f - load_factor * self.weight
         Kv = None
+        if self.lines.damped:
+            f_damp, K_damp, Kv = self.kernel.damping(u, ud, tangent, dense)
+            R = R + f_damp
+            K = K + K_damp if tangent else K
         for term in self.terms:
             Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent, dense)
             R = R + Rt
@@ -262,7 +287,7 @@ class System:
         v = np.zeros(self.n) if v is None else v
         u = self.full_displacement(x, t)
         J = self._jacobian(x)
-        ud = self.full_velocity(x, v, t) if self.terms else None
+        ud = self.full_velocity(x, v, t) if self._needs_velocity else None
         R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, dense)
         R = self._reduce(R_full, J)
         if self.nb:
@@ -299,7 +324,7 @@ class System:
         anchors, N (quasi-static: internal force minus loads at the end node)."""
         v = np.zeros(self.n) if v is None else v
         u = self.full_displacement(x, t)
-        ud = self.full_velocity(x, v, t) if self.terms else None
+        ud = self.full_velocity(x, v, t) if self._needs_velocity else None
         R_full, _, _ = self.line_residual(u, ud, t, tangent=False)
         dofs = self.lines.nodal_dofs
         return -R_full[self.fairlead_dofs], -R_full[dofs[self.lines.anchor_nodes]]

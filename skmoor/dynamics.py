@@ -81,16 +81,41 @@ def rayleigh_coefficients(zeta: float, omega1: float, omega2: float):
 
 
 DENSE_BELOW = 1500  # unknowns: below this, dense LAPACK beats sparse overhead
+CONTRACTION = 0.2  # modified Newton refreshes the tangent when |dx| shrinks slower than this
 
 
-def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-8,
+class _IterationMatrix:
+    """The Newton matrix A = c_x M + (1 - af)(c_v (C + Kv) + K), factorized once and reused
+    across iterations and steps (modified Newton) until convergence slows down."""
+
+    def __init__(self, dense):
+        self.dense, self.factor, self.age = dense, None, 0
+
+    def update(self, A):
+        self.age = 0
+        if self.dense:
+            self.factor = sla.lu_factor(A, check_finite=False)
+        else:
+            self.factor = spla.splu(sp.csc_matrix(A))
+
+    def solve(self, b):
+        self.age += 1
+        if self.dense:
+            return sla.lu_solve(self.factor, b, check_finite=False)
+        return self.factor.solve(b)
+
+
+def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-5,
               maxiter=20):
     """Yield a :class:`State` per step from (x0, v0) at t0 until t_end.
 
-    system: anything with ``M`` (sparse) and ``residual(x, v, t, dense=...) -> (R, K, Kv)``.
-    C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when the largest
-    correction is below tol times the largest change over the step (plus 1e-12 m).
-    Systems below ``DENSE_BELOW`` unknowns are solved with dense matrices.
+    system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., dense=...)
+    -> (R, K, Kv)``. C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when
+    the largest correction is below tol times the largest change over the step (plus
+    1e-12 m). Newton is modified: the factorized matrix is kept over iterations and steps
+    and refreshed when a correction shrinks by less than ``CONTRACTION``; a step that does
+    not converge so is retried with full Newton. Systems below ``DENSE_BELOW`` unknowns
+    are solved with dense matrices.
     """
     if not dt > 0:
         raise ValueError(f"integrate dt: must be positive, got {dt}")
@@ -100,48 +125,68 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     M = system.M.toarray() if dense else system.M.tocsr()
     C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
     C = C.toarray() if dense else C
-    solve = _dense_solve if dense else (lambda A, b: spla.spsolve(A.tocsc(), b))
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
     R, _, _ = system.residual(x, v, t, tangent=False)
-    a = solve(M, -(C @ v + R))
     force_old = C @ v + R
+    a = _dense_solve(M, -force_old) if dense else spla.spsolve(M.tocsc(), -force_old)
     yield State(t, 0, x, v, a)
     c_x = (1 - am) / (beta * dt**2)
     c_v = gamma / (beta * dt)
+    matrix = _IterationMatrix(dense)
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
     for step in range(1, n_steps + 1):
         t1 = t0 + step * dt
         x_pred = x + dt * v + dt**2 * (0.5 - beta) * a  # part of x1 known from level 0
         v_pred = v + dt * (1 - gamma) * a
-        x1 = x + dt * v  # constant-velocity first guess
+        inertia_old = am * (M @ a) + af * force_old
 
-        def balance(y):
-            """alpha-level balance at x1 = y, and its tangent."""
+        def balance(y, tangent):
+            """alpha-level balance at x1 = y, and (when asked) its tangent."""
             a1 = (y - x_pred) / (beta * dt**2)
             v1 = v_pred + gamma * dt * a1
-            R1, K1, Kv1 = system.residual(y, v1, t1, dense=dense)
+            R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, dense=dense)
+            B = (1 - am) * (M @ a1) + (1 - af) * (C @ v1 + R1) + inertia_old
+            if not tangent:
+                return B, None
             Cv = C if Kv1 is None else C + Kv1
-            B = (1 - am) * (M @ a1) + am * (M @ a) + (1 - af) * (C @ v1 + R1) + af * force_old
             return B, c_x * M + (1 - af) * (c_v * Cv + K1)
 
-        B, A = balance(x1)
-        for it in range(1, maxiter + 1):
-            dx = solve(A, -B)
-            if not np.all(np.isfinite(dx)):
-                raise DivergenceError(_hint(t1, step, dt, "the Newton step is not finite"), t1, step)
-            x1 = x1 + dx
-            if np.max(np.abs(dx)) <= tol * np.max(np.abs(x1 - x)) + 1e-12:
-                break
-            B, A = balance(x1)
-        else:
+        x1, it = _newton(balance, x + dt * v, x, matrix, tol, maxiter, full=False)
+        if x1 is None:  # modified Newton stalled: the step again with a fresh tangent each time
+            x1, it = _newton(balance, x + dt * v, x, matrix, tol, maxiter, full=True)
+        if x1 is None:
             raise DivergenceError(_hint(t1, step, dt, f"Newton did not converge in {maxiter} "
                                         "iterations"), t1, step)
+        if x1 is False:
+            raise DivergenceError(_hint(t1, step, dt, "the Newton step is not finite"), t1, step)
         a1 = (x1 - x_pred) / (beta * dt**2)
         v1 = v_pred + gamma * dt * a1
-        R1, _, _ = system.residual(x1, v1, t1, tangent=False)
-        force_old = C @ v1 + R1
+        # C v1 + R(x1) from the converged balance (saves a residual evaluation per step)
+        force_old = -((1 - am) * (M @ a1) + inertia_old) / (1 - af)
         x, v, a = x1, v1, a1
         yield State(t1, step, x, v, a, it)
+
+
+def _newton(balance, x1, x0, matrix, tol, maxiter, full):
+    """Solve balance(x1) = 0 from x1 with the factorized ``matrix`` (refreshed every
+    iteration when ``full``, else when convergence slows). Returns (x1, iterations),
+    (None, maxiter) when it does not converge, (False, k) on a non-finite step."""
+    B, A = balance(x1, tangent=full or matrix.factor is None)
+    previous = np.inf
+    for it in range(1, maxiter + 1):
+        if A is not None:
+            matrix.update(A)
+        dx = matrix.solve(-B)
+        if not np.all(np.isfinite(dx)):
+            return False, it
+        x1 = x1 + dx
+        size = np.max(np.abs(dx))
+        if size <= tol * np.max(np.abs(x1 - x0)) + 1e-12:
+            return x1, it
+        slow = size > CONTRACTION * previous
+        previous = size
+        B, A = balance(x1, tangent=full or slow)
+    return None, maxiter
 
 
 def _dense_solve(A, b):

@@ -69,6 +69,28 @@ def cable_force(v, w):
 
 
 @LinearForm
+def axial_damping(v, w):
+    # Kelvin-Voigt line damping (MoorDyn's BA): int BA deps/dt (X' + u').du' ds, deps/dt = r'.udot'
+    rp = w.Xp + d_ds(w.u)
+    return w.BA * dot(rp, d_ds(w.du)) * dot(rp, d_ds(v))
+
+
+@BilinearForm
+def axial_damping_rate(dud, v, w):
+    # d(axial_damping)/d(udot) = int BA (r'.dudot')(r'.v') ds
+    rp = w.Xp + d_ds(w.u)
+    return w.BA * dot(rp, d_ds(dud)) * dot(rp, d_ds(v))
+
+
+@BilinearForm
+def axial_damping_tangent(du, v, w):
+    # d(axial_damping)/du = int BA [(du'.udot')(r'.v') + (r'.udot') du'.v'] ds
+    rp = w.Xp + d_ds(w.u)
+    return w.BA * (dot(d_ds(du), d_ds(w.du)) * dot(rp, d_ds(v))
+                   + dot(rp, d_ds(w.du)) * dot(d_ds(du), d_ds(v)))
+
+
+@LinearForm
 def reference_force(v, w):
     # Eq. 9 at u = 0: int T X'.du' ds, in equilibrium with the weight in the reference state
     return w.T * dot(w.Xp, d_ds(v))

@@ -1,8 +1,9 @@
 """Fast path of the standard cable forms for the time loop.
 
 Same physics as ``forms.cable_force`` and ``forms.cable_tangent`` on the same (mid-point)
-quadrature, plus the LineSet's reference force, evaluated element by element with numpy (P1: u' is constant on an
-element) and scattered into a sparse matrix whose pattern is fixed once. The tests hold it
+quadrature, plus the LineSet's reference force, evaluated element by element with numpy
+(P1: u' is constant on an element, one quadrature point) and scattered into a sparse
+matrix whose pattern is fixed once. The tests hold it
 equal to the scikit-fem assembly to round-off.
 """
 import numpy as np
@@ -16,13 +17,16 @@ class CableKernel:
 
     def __init__(self, lineset):
         f = lineset.cable_fields
+        if f["T"].shape[1] != 1:
+            raise ValueError("CableKernel: the cable basis must have one (mid-point) "
+                             f"quadrature point per element, got {f['T'].shape[1]}")
         self.law = lineset.law
-        self.Xp = np.moveaxis(f["Xp"], 0, -1)  # (nel, nqp, 3)
-        self.T, self.EA = f["T"], f["EA"]  # (nel, nqp)
+        self.Xp = f["Xp"][:, :, 0].T.copy()  # (nel, 3)
+        self.T, self.EA, self.BA = f["T"][:, 0], f["EA"][:, 0], f["BA"][:, 0]  # (nel,)
         h = lineset.element_lengths
-        self.dx_h = lineset.cable_basis.dx / h[:, None]  # quadrature weights / h
+        self.dx_h = lineset.cable_basis.dx[:, 0] / h  # quadrature weight / h = 1
         self.reference = lineset.reference_force()
-        self.dx_h2 = self.dx_h / h[:, None]
+        self.dx_h2 = self.dx_h / h
         t = lineset.mesh.t
         nodal = lineset.nodal_dofs
         self.node_dofs = nodal  # (nnodes, 3)
@@ -45,17 +49,17 @@ class CableKernel:
         return (u[self.dofs_j] - u[self.dofs_i]) / self.h[:, None]
 
     def _state(self, u):
-        up = self.slopes(u)[:, None, :]  # (nel, 1, 3)
-        rp = self.Xp + up  # (nel, nqp, 3)
-        eps = (self.Xp * up).sum(-1) + 0.5 * (up * up).sum(-1)
+        up = self.slopes(u)
+        rp = self.Xp + up  # (nel, 3)
+        eps = ((self.Xp + 0.5 * up) * up).sum(-1)
         S = forms.stress_resultant(eps, self.T, self.EA, self.law)
         return rp, eps, S
 
     def _gather(self, rp, S):
         """Nodal internal forces: Eq. 11's int [(T + S) r' - T X'] ds / h per element,
         scattered, plus the reference force."""
-        flux = (self.T + S)[..., None] * rp - self.T[..., None] * self.Xp
-        g = np.einsum("eq,eqk->ek", self.dx_h, flux).ravel()  # (nel*3,)
+        g = ((self.dx_h * (self.T + S))[:, None] * rp
+             - (self.dx_h * self.T)[:, None] * self.Xp).ravel()  # (nel*3,)
         return (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
                 - np.bincount(self.dofs_i.ravel(), g, self.ndofs) + self.reference)
 
@@ -69,12 +73,31 @@ class CableKernel:
         when ``dense`` (cheaper for small models)."""
         rp, eps, S = self._state(u)
         dS = forms.stress_resultant_slope(eps, self.T, self.EA, self.law)
-        k = np.einsum("eq,eqa,eqb->eab", self.dx_h2 * dS, rp, rp)
-        k += np.einsum("eq->e", self.dx_h2 * (self.T + S))[:, None, None] * np.eye(3)
+        k = (self.dx_h2 * dS)[:, None, None] * rp[:, :, None] * rp[:, None, :]
+        k += (self.dx_h2 * (self.T + S))[:, None, None] * np.eye(3)
+        return self._gather(rp, S), self._assemble(k, dense)
+
+    def damping(self, u, ud, tangent=True, dense=False):
+        """Axial internal damping (``forms.axial_damping``), N, and its derivatives with
+        respect to u and to the velocity ud (None unless ``tangent``)."""
+        rp = self.Xp + self.slopes(u)
+        rate_slopes = self.slopes(ud)
+        rate = (rp * rate_slopes).sum(-1)  # strain rate, 1/s
+        g = ((self.dx_h * self.BA * rate)[:, None] * rp).ravel()
+        f = (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
+             - np.bincount(self.dofs_i.ravel(), g, self.ndofs))
+        if not tangent:
+            return f, None, None
+        b = (self.dx_h2 * self.BA)[:, None, None]
+        k_rate = b * rp[:, :, None] * rp[:, None, :]
+        k_u = b * (rp[:, :, None] * rate_slopes[:, None, :] + rate[:, None, None] * np.eye(3))
+        return f, self._assemble(k_u, dense), self._assemble(k_rate, dense)
+
+    def _assemble(self, k, dense):
+        """Scatter per-element 3x3 blocks k (of the slopes) into the global matrix."""
         ke = np.block([[k, -k], [-k, k]])  # (nel, 6, 6)
         if dense:
             K = np.bincount(self._flat, weights=ke.ravel(), minlength=self.ndofs**2)
-            return self._gather(rp, S), K.reshape(self.ndofs, self.ndofs)
+            return K.reshape(self.ndofs, self.ndofs)
         data = np.bincount(self._scatter, weights=ke.ravel(), minlength=self.nnz)
-        K = sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
-        return self._gather(rp, S), K
+        return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))

@@ -31,7 +31,8 @@ class LineType:
     EA: axial stiffness, N. mass: mass per length, kg/m. diameter: volume-equivalent
     diameter, m. weight: submerged weight per length, N/m (default: (mass - rho_w A) g).
     Cd_n, Cd_t, Ca_n, Ca_t: normal / tangential drag and added-mass coefficients (used by
-    the hydrodynamic terms, not by the paper's model).
+    the hydrodynamic terms, not by the paper's model). BA: axial internal damping, N s
+    (MoorDyn's BA: the tension gains BA times the strain rate; 0 in the paper's model).
     """
 
     EA: float
@@ -42,14 +43,17 @@ class LineType:
     Cd_t: float = 0.0
     Ca_n: float = 0.0
     Ca_t: float = 0.0
+    BA: float = 0.0
     rho_water: float = RHO_WATER
     g: float = G
 
     def __post_init__(self):
         for name in ("EA", "mass", "diameter"):
             check_positive(f"LineType.{name}", getattr(self, name))
-        for name in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "rho_water", "g"):
+        for name in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "rho_water", "g"):
             check_finite(f"LineType.{name}", getattr(self, name))
+        if self.BA < 0:
+            raise ValueError(f"LineType.BA: internal damping must be >= 0 N s, got {self.BA}")
         if self.weight is None:
             self.weight = (self.mass - self.rho_water * self.area) * self.g
         check_finite("LineType.weight", self.weight)
@@ -224,10 +228,10 @@ class LineSet:
         return self.basis.nodal_dofs.T
 
     def _fields(self, basis):
-        """Reference fields at the quadrature points of ``basis``: Xp, T, EA, m, w."""
+        """Reference fields at the quadrature points of ``basis``: Xp, T, EA, m, w, BA."""
         s_global = basis.mapping.F(basis.X)[0]  # (nel, nqp)
         Xp = np.empty((3,) + s_global.shape)
-        T, EA, m, w = (np.empty(s_global.shape) for _ in range(4))
+        T, EA, m, w, BA = (np.empty(s_global.shape) for _ in range(5))
         for k, line in enumerate(self.lines):
             cells = self.line_of_cell == k
             s = s_global[cells] - self._offsets[k]
@@ -235,14 +239,25 @@ class LineSet:
             T[cells] = line.tension(s)
             stretch = line.stretch(s)
             EA[cells] = line.line_type.EA
+            BA[cells] = line.line_type.BA
             m[cells] = line.line_type.mass / stretch
             w[cells] = line.line_type.weight / stretch
-        return dict(Xp=Xp, T=T, EA=EA, m=m, w=w, law=self.law)
+        return dict(Xp=Xp, T=T, EA=EA, m=m, w=w, BA=BA, law=self.law)
 
     # --- assembly through the forms (the definition; see kernels.py for the fast path)
     def internal_force(self, u):
         """Eq. 9 = Eq. 11 + reference part: internal force vector, N."""
         return asm(forms.cable_force, self.cable_basis, u=u, **self.cable_fields) + self._reference
+
+    @property
+    def damped(self) -> bool:
+        """True when any line has axial internal damping (BA > 0)."""
+        return any(line.line_type.BA > 0 for line in self.lines)
+
+    def damping_force(self, u, ud):
+        """Axial internal damping force int BA eps_dot r'.du' ds (N) at displacement u and
+        velocity ud."""
+        return asm(forms.axial_damping, self.cable_basis, u=u, du=ud, **self.cable_fields)
 
     def reference_force(self):
         """The reference part of Eq. 9, int T X'.du' ds, as nodal forces, N."""

@@ -32,13 +32,15 @@ class Model:
 
 
 def line_type(case, name) -> LineType:
-    """The LineType ``name`` of a case (from EA, mass, diameter or from E, diameter, density)."""
+    """The LineType ``name`` of a case (from EA, mass, diameter or from E, diameter, density;
+    optional internal damping BA, N s)."""
     t = case.data["line_types"][name]
-    rho, g = case.water["density"], case.water["gravity"]
+    rho, g, BA = case.water["density"], case.water["gravity"], float(t.get("BA", 0.0))
     if "EA" in t:
         return LineType(EA=t["EA"], mass=t["mass"], diameter=t["diameter"], weight=t.get("weight"),
-                        rho_water=rho, g=g)
-    return LineType.steel_rod(t["diameter"], E=t["E"], density=t["density"], rho_water=rho, g=g)
+                        BA=BA, rho_water=rho, g=g)
+    return LineType.steel_rod(t["diameter"], E=t["E"], density=t["density"], BA=BA,
+                              rho_water=rho, g=g)
 
 
 def _anchor(spec, fairlead, depth):

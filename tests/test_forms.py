@@ -158,3 +158,53 @@ def test_user_term_adds_its_residual(rope):
     np.testing.assert_allclose(R - R0, Kv @ v, rtol=1e-12, atol=1e-9)
     # without velocity the term is silent
     np.testing.assert_allclose(dragged.residual(x)[0], plain.residual(x)[0], atol=1e-9)
+
+
+def test_axial_damping_kernel_forms_and_derivatives(rope):
+    """BA damping: kernel == forms (1e-12), and its u- and udot-derivatives pass a Taylor
+    test (second-order remainder)."""
+    damped = LineType(EA=ROPE.EA, mass=ROPE.mass, diameter=ROPE.diameter, BA=3e4)
+    lines = LineSet([Line.from_catenary(rope, damped, 9)], law="engineering")
+    rng = np.random.default_rng(5)
+    u, ud, du = (rng.normal(size=lines.ndofs) for _ in range(3))
+    kernel = CableKernel(lines)
+    f, K_u, K_v = kernel.damping(u, ud)
+    assert np.linalg.norm(f - lines.damping_force(u, ud)) <= 1e-12 * np.linalg.norm(f)
+    K_u_forms = asm_form("axial_damping_tangent", lines, u, ud)
+    K_v_forms = asm_form("axial_damping_rate", lines, u, ud)
+    assert abs(K_u - K_u_forms).max() <= 1e-12 * abs(K_u_forms).max()
+    assert abs(K_v - K_v_forms).max() <= 1e-12 * abs(K_v_forms).max()
+    e = np.logspace(-1, -4, 7)
+    rem_u = [np.linalg.norm(kernel.damping(u + ei * du, ud)[0] - f - ei * (K_u @ du)) for ei in e]
+    rem_v = [np.linalg.norm(kernel.damping(u, ud + ei * du)[0] - f - ei * (K_v @ du)) for ei in e]
+    assert slope(e, rem_u) == pytest.approx(2.0, abs=0.1)
+    assert max(rem_v) <= 1e-9 * np.linalg.norm(f)  # linear in the velocity
+
+
+def asm_form(name, lines, u, ud):
+    from skfem import asm
+
+    from skmoor import forms
+    return asm(getattr(forms, name), lines.cable_basis, u=u, du=ud, **lines.cable_fields)
+
+
+def test_axial_damping_gives_kelvin_voigt_modal_damping():
+    """A taut straight bar with BA: the first axial mode's damping ratio (quadratic
+    eigenproblem of M, Kv, K) is BA omega / (2 (EA + T)) (Kelvin-Voigt; the axial stiffness
+    of a line under tension T is EA + T), and omega is pi / L sqrt((EA + T) / m) within 1 %."""
+    EA, m, L, BA, T = 1e8, 80.0, 100.0, 2e4, 1e5
+    bar = LineType(EA=EA, mass=m, diameter=0.1, BA=BA)
+    points = np.linspace([0.0, 0.0, 0.0], [L, 0.0, 0.0], 41)
+    system = System(LineSet([Line.from_polyline(points, bar, tension=T)]), fairleads="fixed")
+    _, K, Kv = system.residual(np.zeros(system.n))
+    K, C, M = K.toarray(), Kv.toarray(), system.M.toarray()
+    axial = np.arange(0, system.n, 3)  # x DOFs of the inner nodes
+    Ka, Ca, Ma = (A[np.ix_(axial, axial)] for A in (K, C, M))
+    n = len(axial)
+    A = np.block([[np.zeros((n, n)), np.eye(n)],
+                  [-np.linalg.solve(Ma, Ka), -np.linalg.solve(Ma, Ca)]])
+    lam = np.linalg.eigvals(A)
+    first = lam[np.argmin(np.abs(lam))]
+    omega = abs(first)
+    assert omega == pytest.approx(np.pi / L * np.sqrt((EA + T) / m), rel=1e-2)
+    assert -first.real / omega == pytest.approx(BA * omega / (2 * (EA + T)), rel=1e-6)

@@ -1,0 +1,316 @@
+"""The paper's case in skmoor and in MoorDyn v2, side by side: wall time at equal accuracy.
+
+The system: the paper's box on its four steel lines (11 elements / segments each),
+F_x = 1e5 sin(1.6 t) N, 200 s from static rest. Both codes get the same physics:
+
+- lines: EA times the engineering strain (skmoor's 'engineering' law; the paper's S = EA eps
+  differs by O(T/EA) = 3e-4), lumped mass, no drag, no added mass on the lines;
+- body: the same 6x6 mass + added mass, hydrostatic stiffness, buoyancy - weight and load.
+  MoorDyn has no hydrostatic stiffness for bodies, so its lines are attached to four
+  'Coupled' points and this script integrates the body (velocity Verlet at a 10 ms
+  coupling step, MoorDyn sub-stepping at its own dtM inside);
+- damping, two variants (both printed; the last line is the paper's):
+  'light': the same explicit damping in both codes, line internal damping BA = 1e-3 s x EA
+  (skmoor's LineType.BA, MoorDyn's BA) and a 6x6 body damping, no Rayleigh damping;
+  'paper': skmoor's Rayleigh C = a0 M + a1 K of the paper's case (3 % at the first two
+  modes). MoorDyn gets its equivalent: BA = a1 EA (the axial part of a1 K) and
+  a0 M_body + a1 (K_body + the mooring's condensed stiffness) on the body. That BA is
+  large, and MoorDyn's explicit RK2 then needs a far smaller step (the damping's own
+  stability limit), which is the paper case's cost in an explicit code.
+- static state: MoorDyn's fairleads sit where skmoor's static solve puts them, and its line
+  lengths are set so that its segmented chain has skmoor's static fairlead tension
+  (tests/peers.py); its initial-condition solver then settles the lines.
+
+Accuracy: each code is run at a converged reference step (skmoor dt = 2.5 ms; MoorDyn
+dtM = 0.025 ms with a 2 ms coupling step) and then at steps from large to small; the step
+used is the largest whose fairlead tensions (all four lines, sampled every 0.1 s) stay
+within 1 % of the tension range of that code's own reference over the whole run. The
+timed run is then repeated at that step (best of two), and the wall times (everything
+from the built model to the tension histories: skmoor's static solve, modes and time
+loop; MoorDyn's Create, its initial-condition solve and the coupled loop) give the ratio.
+The distance between the two codes' references is printed as a check of the physics.
+
+Run: python benchmarks/paper_case.py [--duration 200]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+
+import moordyn  # noqa: E402
+from peers import chain_length_for, condensed_line_stiffness  # noqa: E402
+
+import skmoor  # noqa: E402
+from skmoor.model import line_type  # noqa: E402
+
+TOLERANCE = 0.01  # of the reference's fairlead tension range
+SAMPLE = 0.1  # s, comparison grid
+SKMOOR_STEPS = (0.2, 0.1, 0.05, 0.025, 0.0125)  # s
+SKMOOR_REFERENCE = 0.0025  # s
+MOORDYN_STEPS = (2e-3, 1e-3, 8e-4, 6.25e-4, 5e-4, 4e-4, 2.5e-4, 2e-4, 1.25e-4, 1e-4, 5e-5)  # s
+MOORDYN_REFERENCE = (2.5e-5, 2e-3)  # s: dtM, coupling step
+COUPLING = 0.01  # s
+
+
+LIGHT_BA = 1e-3  # s: BA / EA of the lightly damped variant
+
+
+class Scenario:
+    """One system in both codes: skmoor's model, and the damping MoorDyn gets for it.
+
+    'paper': the paper's case with its Rayleigh damping C = a0 M + a1 K; MoorDyn's lines
+    get BA = a1 EA (the axial part of a1 K), its body a0 M_body + a1 (K_body + the
+    mooring's condensed stiffness). 'light': both codes get the same explicit damping,
+    lines BA = LIGHT_BA EA and that body matrix, and no Rayleigh damping.
+    """
+
+    def __init__(self, name):
+        self.name = name
+        paper = skmoor.build(skmoor.paper_case(mooring__strain_law="engineering"))
+        eq = skmoor.equilibrium(paper)
+        a0, a1 = eq.rayleigh
+        body = paper.body
+        mass = body.mass_matrix() + body.added_mass
+        stiffness = paper.system.K_body + condensed_line_stiffness(paper.system, eq.x)
+        self.body_damping = a0 * mass + a1 * stiffness
+        EA = line_type(paper.case, "steel").EA
+        if name == "paper":
+            self.model, self.BA = paper, a1 * EA
+            self.description = (f"the paper's Rayleigh damping (MoorDyn: BA = a1 EA = "
+                                f"{a1 * EA:.3g} N s and the body's share)")
+        else:
+            self.BA = LIGHT_BA * EA
+            self.model = skmoor.build(skmoor.paper_case(
+                mooring__strain_law="engineering", damping__ratio=0.0,
+                line_types__steel__BA=self.BA))
+            self.model.body.linear_damping = self.body_damping
+            self.description = (f"light line damping in both, BA = {LIGHT_BA:g} s x EA, and "
+                                "the same body damping")
+        self.eq = skmoor.equilibrium(self.model)
+
+
+# ------------------------------------------------------------------------------ skmoor
+
+def run_skmoor(scenario, dt, duration):
+    """(sample times, fairlead tensions (n, 4) N, wall time s) of skmoor at step dt."""
+    started = time.perf_counter()
+    results = skmoor.simulate(scenario.model, duration=duration, dt=dt,
+                              output_interval=max(dt, SAMPLE), progress=False)
+    wall = time.perf_counter() - started
+    if results.meta["stopped"]:
+        return None, None, wall
+    return results.t, results.fairlead_tension, wall
+
+
+# ------------------------------------------------------------------------------ MoorDyn
+
+class CoupledBody:
+    """The paper's body for the MoorDyn run: its 6x6 matrices from skmoor's model."""
+
+    def __init__(self, scenario):
+        model, eq = scenario.model, scenario.eq
+        system, body = model.system, model.body
+        self.mass = body.mass_matrix() + body.added_mass
+        self.inverse_mass = np.linalg.inv(self.mass)
+        self.K = system.K_body
+        self.F0 = system.F_body0
+        self.C = scenario.body_damping
+        self.load = system.body_load
+        self.r_local = system.r_local
+        self.reference = body.reference_point
+        self.q0 = system.q(eq.x).copy()
+        self.BA = scenario.BA
+
+    def fairleads(self, q, qdot):
+        """Fairlead positions (4, 3) and velocities, m and m/s, and the Jacobians."""
+        R, dR = skmoor.body.rotation_and_slopes(q[3:])
+        J = np.zeros((len(self.r_local), 3, 6))
+        J[:, :, :3] = np.eye(3)
+        J[:, :, 3:] = np.einsum("akl,nl->nka", dR, self.r_local)
+        position = self.reference + q[:3] + self.r_local @ R.T
+        return position, J @ qdot, J
+
+    def acceleration(self, q, qdot, t, line_forces, J):
+        """Body acceleration from the lines' forces on the fairlead (4, 3), N."""
+        force = np.einsum("nki,nk->i", J, line_forces) - self.K @ q + self.F0 - self.C @ qdot
+        if self.load is not None:
+            force += self.load(t, q, qdot)
+        return self.inverse_mass @ force
+
+
+def moordyn_deck(path, model, body, lengths, dtM):
+    """A MoorDyn v2 deck of the paper's lines: fixed anchors, coupled fairleads."""
+    lt = line_type(model.case, "steel")
+    num = lambda v: repr(float(v))  # noqa: E731
+    fair, _, _ = body.fairleads(body.q0, np.zeros(6))
+    points, lines = [], []
+    for k, (cat, length) in enumerate(zip(model.catenaries, lengths)):
+        a = cat.anchor
+        points.append(f"{2 * k + 1} Fixed {num(a[0])} {num(a[1])} {num(a[2])} 0 0 0 0")
+        f = fair[k]
+        points.append(f"{2 * k + 2} Coupled {num(f[0])} {num(f[1])} {num(f[2])} 0 0 0 0")
+        lines.append(f"{k + 1} steel {2 * k + 1} {2 * k + 2} {num(length)} "
+                     f"{len(model.lines.lines[k].s) - 1} -")
+    water = model.case.water
+    Path(path).write_text(f"""skmoor benchmarks/paper_case.py: the paper's four lines
+---------------------- LINE TYPES ----------------------------------
+TypeName Diam Mass/m EA BA/-zeta EI Cd Ca CdAx CaAx
+(name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)
+steel {num(lt.diameter)} {num(lt.mass)} {num(lt.EA)} {num(body.BA)} 0 0 0 0 0
+---------------------- POINTS --------------------------------------
+ID Attachment X Y Z Mass Volume CdA Ca
+(#) (word) (m) (m) (m) (kg) (m^3) (m^2) (-)
+{chr(10).join(points)}
+---------------------- LINES ---------------------------------------
+ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
+(#) (name) (#) (#) (m) (-) (-)
+{chr(10).join(lines)}
+---------------------- OPTIONS -------------------------------------
+0 writeLog
+{num(dtM)} dtM
+{num(water['gravity'])} g
+{num(water['density'])} rho
+{num(water['depth'])} WtrDpth
+60 TmaxIC
+1e-9 threshIC
+1 disableOutput
+1 disableOutTime
+---------------------- OUTPUTS -------------------------------------
+---------------------- END -----------------------------------------
+""")
+    return path
+
+
+def run_moordyn(model, body, lengths, dtM, duration, coupling=COUPLING, workdir="."):
+    """(sample times, fairlead tensions (n, 4) N, wall time s) of MoorDyn at step dtM."""
+    deck = moordyn_deck(Path(workdir) / "paper.txt", model, body, lengths, dtM)
+    started = time.perf_counter()
+    md = moordyn.Create(str(deck))
+    try:
+        q, qdot = body.q0.copy(), np.zeros(6)
+        position, velocity, J = body.fairleads(q, qdot)
+        if moordyn.Init(md, position.ravel().tolist(), velocity.ravel().tolist()) != 0:
+            raise RuntimeError("MoorDyn: Init failed")
+        forces = np.array([moordyn.GetPointForce(moordyn.GetPoint(md, 2 * k + 2))
+                           for k in range(len(lengths))])
+        every = int(round(SAMPLE / coupling))
+        times, tensions = [0.0], [np.linalg.norm(forces, axis=1)]
+        acc = body.acceleration(q, qdot, 0.0, forces, J)
+        for k in range(int(round(duration / coupling))):
+            t = k * coupling
+            half = qdot + 0.5 * coupling * acc
+            q = q + coupling * half
+            position, velocity, J = body.fairleads(q, half)
+            out = moordyn.Step(md, position.ravel().tolist(), velocity.ravel().tolist(),
+                               t, coupling)
+            forces = np.reshape(out, (-1, 3))
+            if not np.all(np.isfinite(forces)) or np.abs(forces).max() > 1e12:
+                return None, None, time.perf_counter() - started
+            acc = body.acceleration(q, half, t + coupling, forces, J)
+            qdot = half + 0.5 * coupling * acc
+            if (k + 1) % every == 0:
+                times.append(t + coupling)
+                tensions.append(np.linalg.norm(forces, axis=1))
+    finally:
+        moordyn.Close(md)
+    return np.array(times), np.array(tensions), time.perf_counter() - started
+
+
+# ------------------------------------------------------------------------------ search
+
+def error(t, tension, t_ref, tension_ref):
+    """max |T - T_ref| over the run and the lines, over the reference's tension range."""
+    if t is None or not np.all(np.isfinite(tension)):
+        return np.inf
+    ref = np.column_stack([np.interp(t, t_ref, tension_ref[:, k])
+                           for k in range(tension_ref.shape[1])])
+    return float(np.abs(tension - ref).max() / np.ptp(tension_ref))
+
+
+def largest_step(label, steps, run, reference):
+    """The largest step (s) whose run is within TOLERANCE of the reference, and its error."""
+    for dt in steps:
+        t, tension, wall = run(dt)
+        err = error(t, tension, *reference)
+        print(f"  {label} dt = {dt * 1e3:8.3f} ms: error {err:9.2%} of the tension range "
+              f"({wall:6.2f} s)", flush=True)
+        if err <= TOLERANCE:
+            return dt, err
+    raise SystemExit(f"{label}: no step within {TOLERANCE:.0%}; extend the list of steps")
+
+
+def compare(scenario, duration):
+    """Search both codes' steps for one scenario; returns (wall skmoor, wall MoorDyn)."""
+    model = scenario.model
+    body = CoupledBody(scenario)
+    static = np.linalg.norm(model.system.reactions(scenario.eq.x)[0], axis=1)
+    n_segments = len(model.lines.lines[0].s) - 1
+    lengths = [chain_length_for(cat, n_segments, T) for cat, T in zip(model.catenaries, static)]
+    workdir = tempfile.mkdtemp(prefix="skmoor-bench-")
+
+    print(f"\n== {scenario.name}: {scenario.description}")
+    print("skmoor (implicit, the case's scheme):")
+    t_ref, T_ref, wall = run_skmoor(scenario, SKMOOR_REFERENCE, duration)
+    print(f"  reference dt = {SKMOOR_REFERENCE * 1e3:g} ms ({wall:.1f} s)")
+    dt_sk, err_sk = largest_step("skmoor", SKMOOR_STEPS,
+                                 lambda dt: run_skmoor(scenario, dt, duration), (t_ref, T_ref))
+    print("MoorDyn v2 (explicit RK2, lines) + the body integrated here:")
+    dtM, coupling = MOORDYN_REFERENCE
+    with quiet():
+        tm_ref, Tm_ref, wall = run_moordyn(model, body, lengths, dtM, duration, coupling, workdir)
+    print(f"  reference dtM = {dtM * 1e3:g} ms, coupling {coupling * 1e3:g} ms ({wall:.1f} s)")
+
+    def moordyn_run(dt):
+        with quiet():
+            return run_moordyn(model, body, lengths, dt, duration, workdir=workdir)
+
+    dt_md, err_md = largest_step("MoorDyn", MOORDYN_STEPS, moordyn_run, (tm_ref, Tm_ref))
+    between = error(t_ref, T_ref, tm_ref, Tm_ref)
+    print(f"  the two references differ by {between:.1%} of MoorDyn's tension range")
+    wall_sk = min(run_skmoor(scenario, dt_sk, duration)[2] for _ in range(2))
+    wall_md = min(moordyn_run(dt_md)[2] for _ in range(2))
+    print(f"  skmoor:  dt  = {dt_sk * 1e3:g} ms, error {err_sk:.2%}, wall {wall_sk:.2f} s")
+    print(f"  MoorDyn: dtM = {dt_md * 1e3:g} ms, error {err_md:.2%}, wall {wall_md:.2f} s")
+    print(f"  {scenario.name}: ratio skmoor/moordyn = {wall_sk / wall_md:.3f}")
+    return wall_sk, wall_md
+
+
+class quiet:
+    """Silence MoorDyn's console output (it writes to the C-level stdout)."""
+
+    def __enter__(self):
+        sys.stdout.flush()
+        self.saved = os.dup(1)
+        self.null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(self.null, 1)
+
+    def __exit__(self, *exc):
+        sys.stdout.flush()
+        os.dup2(self.saved, 1)
+        os.close(self.null)
+        os.close(self.saved)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--duration", type=float, default=200.0, help="simulated time, s")
+    args = parser.parse_args(argv)
+    print(f"the paper's case, {args.duration:g} s simulated, 11 segments per line; step "
+          f"criterion: fairlead tensions within {TOLERANCE:.0%} of the reference's range")
+    os.chdir(tempfile.mkdtemp(prefix="skmoor-bench-"))  # MoorDyn may write files here
+    light = compare(Scenario("light"), args.duration)
+    paper = compare(Scenario("paper"), args.duration)
+    print(f"\nlightly damped variant: ratio skmoor/moordyn = {light[0] / light[1]:.3f}")
+    print(f"ratio skmoor/moordyn = {paper[0] / paper[1]:.3f}")
+
+
+if __name__ == "__main__":
+    main()
