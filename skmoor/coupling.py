@@ -34,7 +34,8 @@ class Term:
     its derivatives with respect to u and to the velocity (None when zero). mass:
     BilinearForm of a constant extra mass (e.g. added mass, kg), assembled once at u = 0.
     fields: a dict, or a function t -> dict for time-dependent data (waves, currents).
-    quadrature: 'gauss' (``LineSet.basis``) or 'midpoint' (``LineSet.cable_basis``).
+    quadrature: 'gauss' (``LineSet.basis``), 'midpoint' (``LineSet.cable_basis``) or
+    'nodal' (``LineSet.nodal_basis``).
 
     Anything with the method ``evaluate`` below (and optionally ``mass_matrix``) can be
     a term, e.g. a numpy kernel of the same forms.
@@ -48,12 +49,15 @@ class Term:
     quadrature: str = "gauss"
 
     def __post_init__(self):
-        if self.quadrature not in ("gauss", "midpoint"):
-            raise ValueError(f"Term quadrature: {self.quadrature!r} is not 'gauss' or 'midpoint'")
+        if self.quadrature not in ("gauss", "midpoint", "nodal"):
+            raise ValueError(f"Term quadrature: {self.quadrature!r} is not 'gauss', "
+                             "'midpoint' or 'nodal'")
 
     def _basis_and_fields(self, lines, t):
         if self.quadrature == "midpoint":
             basis, base = lines.cable_basis, lines.cable_fields
+        elif self.quadrature == "nodal":
+            basis, base = lines.nodal_basis, lines.nodal_fields
         else:
             basis, base = lines.basis, lines.fields
         extra = self.fields(t) if callable(self.fields) else self.fields

@@ -217,6 +217,25 @@ class LineSet:
         self.fields = self._fields(self.basis)
         self.cable_fields = self._fields(self.cable_basis)
         self._reference = asm(forms.reference_force, self.basis, **self.fields)
+        self._nodal_basis = self._nodal_fields = None
+
+    @property
+    def nodal_basis(self):
+        """The vector P1 basis with nodal quadrature (the element ends, weights h/2): for
+        point-wise terms such as sea-bed contact, one decision per node as in a lumped
+        model."""
+        if self._nodal_basis is None:
+            element = ElementVector(ElementLineP1(), dim=3)
+            self._nodal_basis = Basis(self.mesh, element,
+                                      quadrature=(np.array([[0.0, 1.0]]), np.array([0.5, 0.5])))
+        return self._nodal_basis
+
+    @property
+    def nodal_fields(self) -> dict:
+        """Reference fields at the nodal quadrature points (see :attr:`nodal_basis`)."""
+        if self._nodal_fields is None:
+            self._nodal_fields = self._fields(self.nodal_basis)
+        return self._nodal_fields
 
     @property
     def ndofs(self) -> int:

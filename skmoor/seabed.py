@@ -1,0 +1,334 @@
+"""Sea-bed contact: a penalty spring-damper normal to a flat or sloped plane and
+regularised Coulomb friction, as scikit-fem forms and as a fast numpy kernel.
+
+The bed is the plane through (0, 0, -depth) rising at ``slope_deg`` towards
+``slope_heading_deg``, with upward unit normal n. At a point x = X + u of the line
+(X reference position, u displacement, m) the penetration is g = n.(P0 - x) (m, > 0 in
+contact). While g > 0 the bed pushes along n with k g - c n.udot per unit length
+(k in N/m2, c in N s/m2; MoorDyn-C's linear spring-damper, which, as there, may pull
+while the line lifts off quickly). Friction takes the spring part N = k g as its normal
+force and opposes the slip velocity v_t = P udot (P = I - n n^T) along the line's
+current tangent projected on the bed, a = P r' / |P r'| (r' = X' + u'), and across it:
+
+    f = -N [mu_a phi(v_a) a + mu_l v_l / sqrt(|v_l|^2 + v0^2)],  phi(s) = s / sqrt(s^2 + v0^2),
+    v_a = a.v_t,  v_l = v_t - v_a a.
+
+The square-root regularisation (rather than MoorDyn's linear ramp with a kink where it
+saturates) keeps the residual smooth, so Newton keeps converging quadratically in the
+implicit integrator; the force is 99.5 % of mu N at a slip of 10 v0. Friction acts on
+velocities only: a static solve (udot = 0) sees none.
+
+Quadrature is nodal (Gauss-Lobatto: points 0 and 1 of each element, weights 1/2), i.e.
+lumped contact as MoorDyn's: each node is one spring-damper carrying its share of the
+two elements' lengths, as the lumped mass. With Gauss points a P1 element that is partly
+on the bed couples its nodes, giving pulling (negative) nodal reactions next to the
+touchdown and a contact status that switches inside elements; nodal points give pushing
+nodal reactions, one contact decision per node and a node-diagonal normal tangent.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import BilinearForm, LinearForm
+from skfem.helpers import dot
+
+from .coupling import Term
+from .forms import d_ds
+from .validation import check_finite, check_positive
+
+DEFAULT_PENETRATION = 1e-3  # m: the default stiffness lets the heaviest line sink this far
+_VERTICAL = 1e-12  # |P r'| below which an element stands on the bed: no axial direction
+
+
+@dataclass
+class Seabed:
+    """A plane sea bed with penalty contact and friction.
+
+    depth: m below z = 0 at x = y = 0. stiffness: normal force per unit line length (of
+    the reference arclength s) per metre of penetration, N/m2 (default: the heaviest line's submerged weight per length
+    over 1 mm). damping: N s/m2 per unit length (default: critical, 2 sqrt(k m) with the
+    heaviest line's mass per length). mu_axial, mu_lateral: friction coefficients along
+    and across the line. slope_deg: rise of the plane, degrees, towards the horizontal
+    heading slope_heading_deg (degrees from +x towards +y). friction_velocity: slip
+    velocity v0 of the regularisation, m/s.
+    """
+
+    depth: float
+    stiffness: float | None = None
+    damping: float | None = None
+    mu_axial: float = 0.0
+    mu_lateral: float = 0.0
+    slope_deg: float = 0.0
+    slope_heading_deg: float = 0.0
+    friction_velocity: float = 1e-3
+
+    def __post_init__(self):
+        check_positive("Seabed.depth", self.depth)
+        if self.stiffness is not None:
+            check_positive("Seabed.stiffness", self.stiffness)
+        for name in ("damping", "mu_axial", "mu_lateral"):
+            value = getattr(self, name)
+            if value is not None:
+                check_finite(f"Seabed.{name}", value)
+                if value < 0:
+                    raise ValueError(f"Seabed.{name}: must not be negative, got {value!r}")
+        check_finite("Seabed.slope_heading_deg", self.slope_heading_deg)
+        check_finite("Seabed.slope_deg", self.slope_deg)
+        if not 0.0 <= self.slope_deg < 90.0:
+            raise ValueError(f"Seabed.slope_deg: must lie in [0, 90), got {self.slope_deg!r}")
+        check_positive("Seabed.friction_velocity", self.friction_velocity)
+
+    @classmethod
+    def from_moordyn(cls, depth, diameter, kBot=3.0e6, cBot=3.0e5, FrictionCoefficient=0.0,
+                     **kw):
+        """MoorDyn v2's bottom: pressures kBot (Pa/m) and cBot (Pa s/m) on the area d l of
+        each node in contact (MoorDyn-C source/Line.cpp: B_z = ((depth - z) kBot - z' cBot)
+        d l; defaults 3e6 and 3e5), i.e. stiffness kBot d (N/m2) and damping cBot d
+        (N s/m2) for a line of diameter d (m); FrictionCoefficient in both directions
+        (MoorDyn-F's MU_KA and MU_KT are mu_axial and mu_lateral)."""
+        check_positive("Seabed.from_moordyn.diameter", diameter)
+        return cls(depth, stiffness=kBot * diameter, damping=cBot * diameter,
+                   mu_axial=FrictionCoefficient, mu_lateral=FrictionCoefficient, **kw)
+
+    @property
+    def normal(self) -> np.ndarray:
+        """(3,) upward unit normal of the bed."""
+        a, h = np.radians(self.slope_deg), np.radians(self.slope_heading_deg)
+        return np.array([-np.sin(a) * np.cos(h), -np.sin(a) * np.sin(h), np.cos(a)])
+
+    @property
+    def offset(self) -> float:
+        """n.P0 (m), P0 = (0, 0, -depth) a point of the bed: penetration g = offset - n.x."""
+        return -self.depth * self.normal[2]
+
+    def height(self, xy) -> np.ndarray:
+        """z of the bed (m) at horizontal positions xy (..., 2), m."""
+        xy = np.asarray(xy, float)
+        a, h = np.radians(self.slope_deg), np.radians(self.slope_heading_deg)
+        return -self.depth + np.tan(a) * (xy[..., 0] * np.cos(h) + xy[..., 1] * np.sin(h))
+
+    def penetration(self, points) -> np.ndarray:
+        """Depth of points (..., 3) below the bed, normal to it, m (negative above)."""
+        return self.offset - np.asarray(points, float) @ self.normal
+
+    def coefficients(self, lines):
+        """(stiffness N/m2, damping N s/m2) with the defaults resolved for a LineSet."""
+        k = self.stiffness
+        if k is None:
+            weight = max(abs(line.line_type.weight) for line in lines.lines)
+            if weight == 0:
+                raise ValueError("Seabed.stiffness: the lines are weightless; give a stiffness")
+            k = weight / DEFAULT_PENETRATION
+        c = self.damping
+        if c is None:
+            c = 2.0 * np.sqrt(k * max(line.line_type.mass for line in lines.lines))
+        return float(k), float(c)
+
+
+# --- the pointwise physics, component axis first: x, rp, ud (3, ...), n (3, 1, ...)
+def _slip(rp, ud, n, v0):
+    """Axial direction a, 1/|P r'| (0 for an element standing on the bed), axial slip v_a,
+    lateral slip v_l and the regularisation roots sqrt(v_a^2 + v0^2), sqrt(|v_l|^2 + v0^2)."""
+    b = rp - dot(n, rp) * n
+    length = np.sqrt(dot(b, b))
+    inv = np.where(length > _VERTICAL, 1.0 / np.maximum(length, _VERTICAL), 0.0)
+    a = b * inv
+    vt = ud - dot(n, ud) * n
+    va = dot(a, vt)
+    vl = vt - va * a
+    return a, inv, va, vl, np.sqrt(va**2 + v0**2), np.sqrt(dot(vl, vl) + v0**2)
+
+
+def _outer(p, q):
+    """(..., 3, 3) outer products of (..., 3) vectors."""
+    return p[..., :, None] * q[..., None, :]
+
+
+def _state(w):
+    """Penetration g (m), contact indicator H(g), current tangent r' = X' + u' (the P1
+    chord) and velocity udot (m/s) at the quadrature points of a form."""
+    x = w.X + w.u
+    g = w.bed_offset - dot(w.bed_n, x)
+    return g, (g > 0).astype(float), d_ds(w.X) + d_ds(w.u), w.du
+
+
+def _friction_direction(a, va, vl, ra, rho, mu_a, mu_l):
+    """F = mu_a phi(v_a) a + mu_l v_l / rho: friction per unit normal force, against slip."""
+    return mu_a * (va / ra) * a + mu_l * vl / rho
+
+
+def normal_residual(v, w):
+    # contact: int -(k g - c n.udot) H(g) n.du ds, g = n.(P0 - X - u)
+    g, H, _, ud = _state(w)
+    return -(w.k_bed * g - w.c_bed * dot(w.bed_n, ud)) * H * dot(w.bed_n, v)
+
+
+def friction_residual(v, w):
+    # friction: int k g H [mu_a phi(v_a) a + mu_l v_l / sqrt(|v_l|^2 + v0^2)].du ds
+    g, H, rp, ud = _state(w)
+    a, _, va, vl, ra, rho = _slip(rp, ud, w.bed_n, w.v0)
+    return w.k_bed * g * H * dot(_friction_direction(a, va, vl, ra, rho, w.mu_a, w.mu_l), v)
+
+
+def normal_stiffness(du, v, w):
+    # d(contact)/du: int k H (n.du)(n.v) ds
+    _, H, _, _ = _state(w)
+    return w.k_bed * H * dot(w.bed_n, du) * dot(w.bed_n, v)
+
+
+def normal_damping(du, v, w):
+    # d(contact)/dudot: int c H (n.du)(n.v) ds
+    _, H, _, _ = _state(w)
+    return w.c_bed * H * dot(w.bed_n, du) * dot(w.bed_n, v)
+
+
+def friction_stiffness(du, v, w):
+    # d(friction)/du: through N = k g (dg = -n.du) and a (da = Q du' / |P r'|, Q = P - a a^T)
+    g, H, rp, ud = _state(w)
+    n = w.bed_n
+    a, inv, va, vl, ra, rho = _slip(rp, ud, n, w.v0)
+    F = _friction_direction(a, va, vl, ra, rho, w.mu_a, w.mu_l)
+    N = w.k_bed * g * H
+    dup = d_ds(du)
+    Qdup_v = dot(dup, v) - dot(n, dup) * dot(n, v) - dot(a, dup) * dot(a, v)
+    vl_dup, a_v, vl_v = dot(vl, dup), dot(a, v), dot(vl, v)
+    axial = w.mu_a * (w.v0**2 / ra**3 * vl_dup * a_v + va / ra * Qdup_v)
+    lateral = w.mu_l * (-(vl_dup * a_v + va * Qdup_v) / rho + va * vl_dup * vl_v / rho**3)
+    return -w.k_bed * H * dot(n, du) * dot(F, v) + N * inv * (axial + lateral)
+
+
+def friction_damping(du, v, w):
+    # d(friction)/dudot: int N [mu_a phi'(v_a) (a.du)(a.v)
+    #                            + mu_l ((Q du).v / rho - (v_l.du)(v_l.v) / rho^3)] ds
+    g, H, rp, ud = _state(w)
+    n = w.bed_n
+    a, _, va, vl, ra, rho = _slip(rp, ud, n, w.v0)
+    Qdu_v = dot(du, v) - dot(n, du) * dot(n, v) - dot(a, du) * dot(a, v)
+    axial = w.mu_a * w.v0**2 / ra**3 * dot(a, du) * dot(a, v)
+    lateral = w.mu_l * (Qdu_v / rho - dot(vl, du) * dot(vl, v) / rho**3)
+    return w.k_bed * g * H * (axial + lateral)
+
+
+@LinearForm
+def seabed_residual(v, w):
+    # bed reaction and friction as internal - external: int -(f_n + f_f).du ds
+    return normal_residual(v, w) + friction_residual(v, w)
+
+
+@BilinearForm
+def seabed_stiffness(du, v, w):
+    # d(seabed_residual)/du
+    return normal_stiffness(du, v, w) + friction_stiffness(du, v, w)
+
+
+@BilinearForm
+def seabed_damping(du, v, w):
+    # d(seabed_residual)/dudot
+    return normal_damping(du, v, w) + friction_damping(du, v, w)
+
+
+def _reference_positions(lines):
+    """(ndofs,) reference node positions as a DOF vector, m."""
+    X = np.zeros(lines.ndofs)
+    X[lines.nodal_dofs] = lines.points
+    return X
+
+
+def seabed_term(lines, seabed, *, fast=True):
+    """The sea bed as a term of ``System(terms=[...])``: a :class:`SeabedKernel` (fast) or
+    a :class:`~skmoor.coupling.Term` on the forms above with nodal quadrature (same numbers
+    to round-off)."""
+    if fast:
+        return SeabedKernel(lines, seabed)
+    k, c = seabed.coefficients(lines)
+    fields = dict(X=_reference_positions(lines), bed_n=seabed.normal[:, None, None],
+                  bed_offset=seabed.offset, k_bed=k, c_bed=c, mu_a=float(seabed.mu_axial),
+                  mu_l=float(seabed.mu_lateral), v0=float(seabed.friction_velocity))
+    moving = c > 0 or seabed.mu_axial > 0 or seabed.mu_lateral > 0
+    return Term(seabed_residual, seabed_stiffness, seabed_damping if moving else None,
+                fields=fields, quadrature="nodal")
+
+
+class SeabedKernel:
+    """Fast path of the seabed forms: ``evaluate(lines, u, ud, t, tangent, dense) ->
+    (R N, K N/m, Kv N s/m)``, element by element with numpy at the nodal quadrature points
+    (2 per element: node i of element e with weight h_e / 2)."""
+
+    def __init__(self, lines, seabed):
+        self.seabed = seabed
+        self.k, self.c = seabed.coefficients(lines)
+        self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
+        self.v0 = float(seabed.friction_velocity)
+        self.n, self.offset = seabed.normal, seabed.offset
+        t = lines.mesh.t  # (2, nel)
+        dofs = lines.nodal_dofs
+        self.ndofs = lines.ndofs
+        self.h = lines.element_lengths
+        self.ends = dofs[t]  # (2, nel, 3): DOFs of each element's two nodes
+        self.X = lines.points[t]  # (2, nel, 3)
+        edofs = np.concatenate([self.ends[0], self.ends[1]], axis=1)  # (nel, 6)
+        rows = np.repeat(edofs[:, :, None], 6, axis=2).ravel()
+        cols = np.repeat(edofs[:, None, :], 6, axis=1).ravel()
+        keys = rows.astype(np.int64) * self.ndofs + cols
+        unique = np.unique(keys)
+        self._scatter = np.searchsorted(unique, keys)
+        self._pattern = (unique % self.ndofs,
+                         np.searchsorted(unique // self.ndofs, np.arange(self.ndofs + 1)))
+        self._keys, self._nnz = keys, len(unique)
+        self.moving = self.c > 0 or self.mu_a > 0 or self.mu_l > 0
+
+    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
+        """(R, K, Kv) of the sea bed on the full cable DOFs (see the forms above)."""
+        ud = np.zeros(self.ndofs) if ud is None else ud
+        x = self.X + u[self.ends]  # (2, nel, 3)
+        rp = np.broadcast_to((x[1] - x[0]) / self.h[:, None], x.shape)
+        vel = ud[self.ends]
+        n = self.n
+        g = self.offset - x @ n  # (2, nel)
+        H = (g > 0).astype(float)
+        W = 0.5 * self.h  # quadrature weight of each end
+        first = (np.moveaxis(rp, -1, 0), np.moveaxis(vel, -1, 0), n[:, None, None], self.v0)
+        a, inv, va, vl, ra, rho = _slip(*first)  # component axis first
+        a, vl = np.moveaxis(a, 0, -1), np.moveaxis(vl, 0, -1)  # (2, nel, 3)
+        F = (self.mu_a * va / ra)[..., None] * a + self.mu_l * vl / rho[..., None]
+        N = self.k * g * H
+        push = -(self.k * g - self.c * (vel @ n)) * H
+        f = W[:, None] * (push[..., None] * n + N[..., None] * F)  # (2, nel, 3)
+        R = np.bincount(self.ends.ravel(), f.ravel(), self.ndofs)
+        if not tangent:
+            return R, None, None
+        # 3x3 blocks per quadrature point, rows: test function, columns: trial
+        nn = np.outer(n, n)
+        Q = np.eye(3) - nn - _outer(a, a)
+        a_vl, vl_vl = _outer(a, vl), _outer(vl, vl)
+        va, ra, rho = (q[..., None, None] for q in (va, ra, rho))
+        # d/du through a, per unit change of the element chord (du_1 - du_0) / h
+        G = (self.mu_a * (self.v0**2 / ra**3 * a_vl + va / ra * Q)
+             + self.mu_l * (-(a_vl + va * Q) / rho + va / rho**3 * vl_vl))
+        G = (W * N * inv / self.h)[..., None, None] * G
+        # d/du through the penetration: the spring and the friction's normal force
+        B = (W * self.k * H)[..., None, None] * (nn - F[..., :, None] * n)
+        ke = np.zeros((len(self.h), 6, 6))
+        ke[:, :3, :3] += B[0] - G[0]
+        ke[:, :3, 3:] += G[0]
+        ke[:, 3:, 3:] += B[1] + G[1]
+        ke[:, 3:, :3] -= G[1]
+        K = self._assemble(ke, dense)
+        if not self.moving:
+            return R, K, None
+        C = ((W * self.c * H)[..., None, None] * nn
+             + (W * N)[..., None, None] * (self.mu_a * self.v0**2 / ra**3 * _outer(a, a)
+                                           + self.mu_l * (Q / rho - vl_vl / rho**3)))
+        ce = np.zeros((len(self.h), 6, 6))
+        ce[:, :3, :3], ce[:, 3:, 3:] = C[0], C[1]
+        return R, K, self._assemble(ce, dense)
+
+    def _assemble(self, blocks, dense):
+        """(nel, 6, 6) element blocks into a CSR matrix, or a dense array."""
+        if dense:
+            return np.bincount(self._keys, blocks.ravel(),
+                               self.ndofs**2).reshape(self.ndofs, self.ndofs)
+        data = np.bincount(self._scatter, blocks.ravel(), self._nnz)
+        return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))

@@ -1,0 +1,216 @@
+"""Sea-bed contact (skmoor.seabed): the plane's geometry, tangents against central finite
+differences, the numpy kernel against the scikit-fem forms, the static touchdown against
+the analytic catenary, a line on a slope against the in-plane catenary and w cos(slope),
+and friction against mu w L of a line dragged along and across itself."""
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from skmoor.catenary import solve_catenary
+from skmoor.coupling import System
+from skmoor.dynamics import Scheme, integrate
+from skmoor.line import Line, LineSet, LineType
+from skmoor.seabed import DEFAULT_PENETRATION, Seabed, seabed_term
+from skmoor.statics import solve_static
+
+CHAIN = LineType(EA=6e8, mass=150.0, diameter=0.15)  # w = 1294 N/m
+DEPTH = 100.0
+ANCHOR = np.array([450.0, 0.0, -DEPTH])
+FAIRLEAD = np.zeros(3)
+LENGTH = 500.0  # 352 m of it on the bed
+
+
+def touchdown(fairlead=FAIRLEAD):
+    return solve_catenary(ANCHOR, fairlead, CHAIN.weight, CHAIN.EA, length=LENGTH,
+                          seabed_z=-DEPTH)
+
+
+def test_plane_geometry_and_input_checks():
+    """The sloped plane passes through (0, 0, -depth), rises at the slope towards the
+    heading, and its normal is the unit upward normal; bad input names its field."""
+    bed = Seabed(50.0, slope_deg=10.0, slope_heading_deg=30.0)
+    heading = np.array([np.cos(np.radians(30.0)), np.sin(np.radians(30.0))])
+    xy = np.array([[0.0, 0.0], [100.0 * heading[0], 100.0 * heading[1]], [-20.0, 35.0]])
+    z = bed.height(xy)
+    assert z[0] == pytest.approx(-50.0)
+    assert z[1] == pytest.approx(-50.0 + 100.0 * np.tan(np.radians(10.0)))
+    on_bed = np.column_stack([xy, z])
+    assert bed.penetration(on_bed) == pytest.approx(np.zeros(3), abs=1e-12)
+    assert bed.penetration(on_bed + 2.0 * bed.normal) == pytest.approx(np.full(3, -2.0))
+    assert np.linalg.norm(bed.normal) == pytest.approx(1.0)
+    assert bed.normal[2] == pytest.approx(np.cos(np.radians(10.0)))
+    moordyn = Seabed.from_moordyn(50.0, 0.252, kBot=1e5, cBot=1e4, FrictionCoefficient=0.5)
+    assert (moordyn.stiffness, moordyn.damping) == pytest.approx((1e5 * 0.252, 1e4 * 0.252))
+    assert moordyn.mu_axial == moordyn.mu_lateral == 0.5
+    for kw, field in ((dict(depth=-1.0), "depth"), (dict(depth=10.0, slope_deg=90.0), "slope_deg"),
+                      (dict(depth=10.0, mu_lateral=-0.1), "mu_lateral"),
+                      (dict(depth=10.0, friction_velocity=0.0), "friction_velocity")):
+        with pytest.raises(ValueError, match=field):
+            Seabed(**kw)
+
+
+def contact_state(seed=0):
+    """Two lines on one mesh, partly in the bed of a sloped, frictional sea bed, moving."""
+    lines = LineSet([Line.from_catenary(touchdown(), CHAIN, 16, name="a"),
+                     Line.from_catenary(touchdown([20.0, 30.0, -10.0]), CHAIN, 9, name="b")],
+                    law="engineering")
+    bed = Seabed(DEPTH, damping=3e4, mu_axial=0.4, mu_lateral=0.9, slope_deg=2.0,
+                 slope_heading_deg=40.0, friction_velocity=0.02)
+    rng = np.random.default_rng(seed)
+    u = rng.normal(scale=0.05, size=lines.ndofs)  # m, against ~ 0.6 m to the slope
+    ud = rng.normal(scale=0.03, size=lines.ndofs)  # m/s, about v0: the curved part of friction
+    g = bed.penetration(lines.points + u[lines.nodal_dofs])
+    assert 10 < np.sum(g > 0) < len(g) - 5 and np.min(np.abs(g)) > 1e-4  # clear of the kink
+    return lines, bed, u, ud
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_tangents_are_central_differences(fast):
+    """K = dR/du and Kv = dR/dudot of contact and friction (both directions, sloped bed)
+    match central differences of the residual to 1e-6."""
+    lines, bed, u, ud = contact_state()
+    term = seabed_term(lines, bed, fast=fast)
+    _, K, Kv = term.evaluate(lines, u, ud, 0.0, True, False)
+    rng = np.random.default_rng(5)
+    e = 1e-6
+    for _ in range(3):
+        d = rng.normal(size=lines.ndofs)
+        dR_du = (term.evaluate(lines, u + e * d, ud, 0.0, False)[0]
+                 - term.evaluate(lines, u - e * d, ud, 0.0, False)[0]) / (2 * e)
+        dR_dv = (term.evaluate(lines, u, ud + e * d, 0.0, False)[0]
+                 - term.evaluate(lines, u, ud - e * d, 0.0, False)[0]) / (2 * e)
+        assert np.max(np.abs(K @ d - dR_du)) < 1e-6 * np.max(np.abs(dR_du))
+        assert np.max(np.abs(Kv @ d - dR_dv)) < 1e-6 * np.max(np.abs(dR_dv))
+
+
+@pytest.mark.parametrize("dense", [False, True])
+def test_kernel_equals_forms(dense):
+    """The numpy kernel gives the scikit-fem assembly of the forms to round-off."""
+    lines, bed, u, ud = contact_state(seed=3)
+    fast = seabed_term(lines, bed).evaluate(lines, u, ud, 0.0, True, dense)
+    forms = seabed_term(lines, bed, fast=False).evaluate(lines, u, ud, 0.0, True, dense)
+    for a, b in zip(fast, forms):
+        a, b = (m.toarray() if hasattr(m, "toarray") else m for m in (a, b))
+        assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
+
+
+def laid_length(system, bed, x, s0):
+    """FE laid length, m of unstretched line from the anchor: where the suspended part
+    lifts off, i.e. where the parabola through its first three nodes past the last node
+    in the bed (height above the bed against s0, a catenary near its lowest point) is
+    horizontal."""
+    lines = system.lines
+    u = system.full_displacement(x)
+    g = bed.penetration(lines.points + u[lines.nodal_dofs])
+    i = np.nonzero(g > 0)[0].max()
+    c2, c1, _ = np.polyfit(s0[i + 1:i + 4], -g[i + 1:i + 4], 2)
+    return -c1 / (2 * c2)
+
+
+@pytest.mark.parametrize("shift", [0.0, -5.0, 5.0])
+def test_static_touchdown_matches_catenary(shift):
+    """Static FE solve with a stiff frictionless bed, reference = the analytic catenary;
+    the fairlead then moved 5 m away (-x) or closer (+x) as a prescribed motion and
+    compared with the analytic catenary of the moved fairlead (tension +13 % / -9 %,
+    laid length -4 % / +3 %): fairlead tension and laid length within 0.5 %."""
+    nel = 150
+    lines = LineSet([Line.from_catenary(touchdown(), CHAIN, nel)], law="engineering")
+    bed = Seabed(DEPTH, stiffness=CHAIN.weight / 1e-4)  # 0.1 mm penetration
+    system = System(lines, fairleads="prescribed", motion=lambda t: [[shift, 0.0, 0.0]],
+                    terms=[seabed_term(lines, bed)])
+    x = solve_static(system).x
+    exact = touchdown(FAIRLEAD + [shift, 0.0, 0.0])
+    fairlead, _ = system.reactions(x)
+    assert np.linalg.norm(fairlead[0]) == pytest.approx(exact.T_fairlead, rel=5e-3)
+    s0 = np.linspace(0.0, LENGTH, nel + 1)
+    assert laid_length(system, bed, x, s0) == pytest.approx(exact.laid_length, rel=5e-3)
+
+
+def parabola_on_plane(a, b, down, length, n):
+    """n + 1 points from a to b on a parabola bulging along the unit vector ``down``,
+    equally spaced in arclength, whose chords add up to ``length``."""
+    t = np.linspace(0.0, 1.0, 4001)[:, None]
+
+    def points(sag):
+        curve = a + t * (b - a) + 4 * sag * t * (1 - t) * down
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
+        at = np.linspace(0.0, arc[-1], n + 1)
+        return np.stack([np.interp(at, arc, curve[:, k]) for k in range(3)], axis=1)
+
+    span = np.linalg.norm(b - a)
+    sag = brentq(lambda d: np.linalg.norm(np.diff(points(d), axis=0), axis=1).sum() - length,
+                 1e-9 * span, span, xtol=1e-13)
+    return points(sag)
+
+
+def test_line_across_a_slope_is_an_in_plane_catenary():
+    """A line laid along a contour of a frictionless 20 deg slope, both ends held on the
+    bed, from a stress-free parabola: the bed carries w cos(slope) per length normal to
+    it, the downslope part w sin(slope) makes an in-plane catenary, whose H and sag
+    (skmoor.catenary with weight w sin(slope)) the FE solve matches to 0.2 %."""
+    slope, span, length, nel = 20.0, 100.0, 106.0, 40
+    alpha = np.radians(slope)
+    bed = Seabed(DEPTH, slope_deg=slope, slope_heading_deg=90.0)  # rises towards +y
+    k, _ = bed.coefficients(LineSet([Line.from_polyline([[0, 0, 0], [1, 0, 0]], CHAIN)]))
+    rest = CHAIN.weight * np.cos(alpha) / k  # m: the penetration that carries w cos(slope)
+    a = np.array([0.0, 0.0, -DEPTH]) - rest * bed.normal
+    b = a + [span, 0.0, 0.0]
+    downslope = -np.array([0.0, np.cos(alpha), np.sin(alpha)])
+    line = Line.from_polyline(parabola_on_plane(a, b, downslope, length, nel), CHAIN)
+    lines = LineSet([line], law="engineering")
+    system = System(lines, fairleads="fixed", terms=[seabed_term(lines, bed)])
+    x = solve_static(system, pretension=CHAIN.weight * length).x
+    u = system.full_displacement(x)
+    position = lines.points + u[lines.nodal_dofs]
+    interior = slice(1, -1)
+    assert bed.penetration(position[interior]) == pytest.approx(rest, rel=1e-6)
+    planar = solve_catenary(np.zeros(3), [span, 0.0, 0.0], CHAIN.weight * np.sin(alpha),
+                            CHAIN.EA, length=length)
+    fairlead, anchor = system.reactions(x)
+    assert -fairlead[0][0] == pytest.approx(planar.H, rel=2e-3)
+    assert anchor[0][0] == pytest.approx(planar.H, rel=2e-3)
+    sag = (position[nel // 2] - a) @ downslope
+    assert sag == pytest.approx(planar.sag(), rel=2e-3)
+
+
+def drag(direction, mu_axial, mu_lateral, stretch, t_end):
+    """A 100 m line lying straight on a flat bed (at its rest penetration), anchor fixed,
+    pre-stretched by ``stretch`` m, its far end then dragged along ``direction`` at
+    0.2 m/s (reached smoothly over 2 s). Returns the drag force at t_end (the pull on
+    the dragged end plus the anchor's, along the direction, N) and the sliding laid
+    length (the anchor node's half element does not slide), m."""
+    length, nel, speed, ramp = 100.0, 20, 0.2, 2.0
+    bed = Seabed(DEPTH, mu_axial=mu_axial, mu_lateral=mu_lateral)
+    z = -DEPTH - DEFAULT_PENETRATION  # the default stiffness carries w at 1 mm
+    line = Line.from_polyline(np.linspace([0.0, 0.0, z], [length, 0.0, z], nel + 1), CHAIN)
+    lines = LineSet([line], law="engineering")
+    direction = np.array([*direction, 0.0])
+
+    def moved(t):  # velocity speed (1 - cos(pi t / ramp)) / 2, then speed
+        if t < ramp:
+            return speed * (t / 2 - ramp / (2 * np.pi) * np.sin(np.pi * t / ramp))
+        return speed * (t - ramp / 2)
+
+    system = System(lines, fairleads="prescribed", terms=[seabed_term(lines, bed)],
+                    motion=lambda t: [[stretch, 0.0, 0.0] + moved(t) * direction])
+    x0 = solve_static(system, pretension=1e5).x
+    for state in integrate(system, x0, np.zeros(system.n), 0.02, t_end,
+                           scheme=Scheme.generalized_alpha(0.5)):
+        pass
+    fairlead, anchor = system.reactions(state.x, state.v, state.t)
+    return -(fairlead[0] + anchor[0]) @ direction, length - 0.5 * length / nel
+
+
+def test_axial_drag_needs_mu_axial_w_laid_length():
+    """Dragged along itself (all of it slides, the speed growing from the anchor), the line
+    needs mu_axial w L_laid (1 %); the lateral coefficient plays no part."""
+    force, laid = drag([1.0, 0.0], mu_axial=0.3, mu_lateral=0.9, stretch=0.01, t_end=4.0)
+    assert force == pytest.approx(0.3 * CHAIN.weight * laid, rel=1e-2)
+
+
+def test_lateral_drag_needs_mu_lateral_w_laid_length():
+    """Taut (1 % stretch) and swung sideways about its anchor (every point moving across
+    the line), the line needs mu_lateral w L_laid (1 %); the axial coefficient plays no
+    part."""
+    force, laid = drag([0.0, 1.0], mu_axial=0.1, mu_lateral=0.8, stretch=1.0, t_end=6.0)
+    assert force == pytest.approx(0.8 * CHAIN.weight * laid, rel=1e-2)
