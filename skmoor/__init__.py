@@ -9,7 +9,16 @@ dynamics) -> Results -> export / plots / animation.
     results = skmoor.simulate(model, duration=60.0)
     print(skmoor.summary(results)["amplitude"])
 """
-from .body import RigidBody
+import os as _os
+
+from threadpoolctl import threadpool_limits as _threadpool_limits
+
+# skmoor's matrices are small (hundreds to a few thousand unknowns): BLAS threads only add
+# overhead, and under load they slow a 150 x 150 LU from 0.2 ms to 0.25 s. One thread
+# unless SKMOOR_BLAS_THREADS says otherwise (this applies to the whole process).
+_threadpool_limits(int(_os.environ.get("SKMOOR_BLAS_THREADS", 1)), user_api="blas")
+
+from .body import RigidBody  # noqa: E402
 from .case import Case, paper_case
 from .catenary import Catenary, solve_catenary
 from .coupling import System, Term

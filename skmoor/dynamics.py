@@ -151,8 +151,11 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             Cv = C if Kv1 is None else C + Kv1
             return B, c_x * M + (1 - af) * (c_v * Cv + K1)
 
-        x1, it = _newton(balance, x + dt * v, x, matrix, tol, maxiter, full=False)
-        if x1 is None:  # modified Newton stalled: the step again with a fresh tangent each time
+        # first guess: constant acceleration; should modified Newton stall from it, the step
+        # again from constant velocity (robust on stiff axial modes) with full Newton
+        guess = x + dt * v + 0.5 * dt**2 * a
+        x1, it = _newton(balance, guess, x, matrix, tol, maxiter, full=False)
+        if x1 is None or x1 is False:
             x1, it = _newton(balance, x + dt * v, x, matrix, tol, maxiter, full=True)
         if x1 is None:
             raise DivergenceError(_hint(t1, step, dt, f"Newton did not converge in {maxiter} "
