@@ -21,6 +21,8 @@ moment of each load, which cancel in a model whose total static moment is zero.
 """
 from __future__ import annotations
 
+import math
+
 import os
 from dataclasses import dataclass
 from functools import lru_cache
@@ -98,17 +100,23 @@ def _rotation_derivatives_cached(angles):
 
 
 def rotation_and_slopes(angles) -> tuple[np.ndarray, np.ndarray]:
-    """R = Rz Ry Rx and dR/dangle_a (3, 3, 3) for finite ``angles`` (rad), without input
-    checks or caching: the time loop's fast path."""
-    (cx, cy, cz), (sx, sy, sz) = np.cos(angles), np.sin(angles)
-    rx = np.array([[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]])
-    ry = np.array([[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]])
-    rz = np.array([[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]])
-    drx = np.array([[0.0, 0.0, 0.0], [0.0, -sx, -cx], [0.0, cx, -sx]])
-    dry = np.array([[-sy, 0.0, cy], [0.0, 0.0, 0.0], [-cy, 0.0, -sy]])
-    drz = np.array([[-sz, -cz, 0.0], [cz, -sz, 0.0], [0.0, 0.0, 0.0]])
-    zy = rz @ ry
-    return zy @ rx, np.array([zy @ drx, rz @ dry @ rx, drz @ ry @ rx])
+    """R = Rz Ry Rx and dR/dangle_a (3, 3, 3) for finite ``angles`` (rad), written out,
+    without input checks or caching: the time loop's fast path."""
+    a, b, c = (float(angle) for angle in angles)
+    ca, sa, cb, sb, cc, sc = math.cos(a), math.sin(a), math.cos(b), math.sin(b), math.cos(c), math.sin(c)
+    R = np.array([[cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc],
+                  [cb * sc, sa * sb * sc + ca * cc, ca * sb * sc - sa * cc],
+                  [-sb, sa * cb, ca * cb]])
+    dR = np.array([[[0.0, ca * sb * cc + sa * sc, ca * sc - sa * sb * cc],
+                    [0.0, ca * sb * sc - sa * cc, -sa * sb * sc - ca * cc],
+                    [0.0, ca * cb, -sa * cb]],
+                   [[-sb * cc, sa * cb * cc, ca * cb * cc],
+                    [-sb * sc, sa * cb * sc, ca * cb * sc],
+                    [-cb, -sa * sb, -ca * sb]],
+                   [[-cb * sc, -sa * sb * sc - ca * cc, sa * cc - ca * sb * sc],
+                    [cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc],
+                    [0.0, 0.0, 0.0]]])
+    return R, dR
 
 
 def rotation_matrix(angles) -> np.ndarray:

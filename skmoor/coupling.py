@@ -184,7 +184,7 @@ class System:
             r = self.r_local
             J = np.empty((len(r), 3, 6))
             J[:, :, :3] = np.eye(3)
-            J[:, :, 3:] = np.einsum("akl,nl->nka", dR, r)
+            J[:, :, 3:] = (dR @ r.T).T  # (n, 3, a): dR_a r
             self._attachment_cache = (key, q[:3] + r @ R.T - r, J.reshape(-1, 6))
         return self._attachment_cache[1], self._attachment_cache[2]
 

@@ -306,3 +306,20 @@ def test_from_hull_equals_box():
     assert np.allclose(hull.hydrostatic_stiffness(), box.hydrostatic_stiffness(),
                        rtol=0, atol=1e-8 * np.abs(box.hydrostatic_stiffness()).max())
     assert np.allclose(hull.static_force(), box.static_force(), atol=1e-6)
+
+
+def test_fast_rotation_and_slopes_match_the_product_and_finite_differences():
+    """rotation_and_slopes (the time loop's closed form): R equals Rz Ry Rx built from
+    the axis rotations, and dR/dangle matches central differences (1e-8)."""
+    from skmoor.body import _axis_rotation, rotation_and_slopes
+
+    rng = np.random.default_rng(3)
+    for angles in rng.normal(scale=0.7, size=(5, 3)):
+        R, dR = rotation_and_slopes(angles)
+        rx, ry, rz = (_axis_rotation(angles[k], k)[0] for k in range(3))
+        np.testing.assert_allclose(R, rz @ ry @ rx, atol=1e-15)
+        for a in range(3):
+            step = np.zeros(3)
+            step[a] = 1e-6
+            fd = (rotation_and_slopes(angles + step)[0] - rotation_and_slopes(angles - step)[0]) / 2e-6
+            np.testing.assert_allclose(dR[a], fd, atol=1e-8)

@@ -1,0 +1,401 @@
+"""Hydrodynamic loads: Morison drag on the velocity relative to the water, fluid inertia
+and added mass on the lines; quadratic drag and added mass on a rigid body.
+
+Conventions are MoorDyn v2's, so a MoorDyn line type maps one to one
+(MoorDyn source/Line.cpp, ``Line::getStateDeriv``, tags v2.7.1 and later; docs/inputs.rst,
+"Line Types"): with d the line type's diameter (constant, no contraction), A = pi d^2 / 4,
+per unit UNSTRETCHED length, the relative flow v = u_water - rdot split along the line's
+current unit tangent q into v_q = (v.q) q and v_p = v - v_q:
+
+- transverse drag  1/2 rho Cd    d      |v_p| v_p   (Cd: "w.r.t. frontal area d l")
+- tangential drag  1/2 rho CdAx (pi d)  |v_q| v_q   (CdAx: "w.r.t. surface area pi d l")
+- fluid inertia    rho A [(1 + Ca) a_p + (1 + CaAx) a_q], a the water acceleration
+  (Froude-Krylov plus the added-mass part of the water's acceleration)
+- added mass       rho A [Ca (I - q q^T) + CaAx q q^T]
+
+LineType's Cd_n, Cd_t, Ca_n, Ca_t are MoorDyn's Cd, CdAx, Ca, CaAx. skmoor integrates over
+s, the REFERENCE arclength (line.py): a load per unstretched length is divided by the
+reference stretch, as LineSet does for ``m`` and ``w`` (the factor is read off as
+m / LineType.mass). Differences from MoorDyn: the loads are integrated with Gauss points
+over each element (MoorDyn lumps them at the nodes with the nodal tangent); the added mass
+is a constant matrix on the reference tangent X' (MoorDyn uses the current tangent);
+the line is taken as fully submerged (no partial submergence near the surface).
+
+The water velocity and acceleration are evaluated at the displaced nodes X + u at time t
+(as MoorDyn does) and interpolated linearly along each element; their spatial gradient is
+neglected in the tangent d/du, which differentiates only the current tangent
+tau = (X' + u') / |X' + u'|.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import BilinearForm, LinearForm, asm
+from skfem.helpers import dot
+
+from .coupling import BodyTerm, Term
+from .forms import d_ds
+from .validation import check_finite, check_positive
+from .waves import Sea
+
+
+# --- the forms. Fields (nel, nqp), per unit reference length: drag_n = 1/2 rho Cd_n d,
+# drag_t = 1/2 rho Cd_t pi d, inertia_n/t = (1 + Ca_n/t) rho A, added_n/t = Ca_n/t rho A;
+# uw, aw: P1 fields of the water velocity and acceleration (nodal_water).
+
+def _tangent(w):
+    """tau = r' / |r'| and |r'|, r' = X' + u' (the current unit tangent and stretch)."""
+    rp = w.Xp + d_ds(w.u)
+    length = np.sqrt(dot(rp, rp))
+    return rp / length, length
+
+
+def _split(vec, tau):
+    """(vec . tau, vec - (vec . tau) tau): axial component and normal part."""
+    along = dot(vec, tau)
+    return along, vec - along * tau
+
+
+def _nonzero(x):
+    """x with zeros replaced by 1, for quotients that vanish with their numerator."""
+    return np.where(x > 0, x, 1.0)
+
+
+@LinearForm
+def morison_drag(v, w):
+    # -int [drag_n |v_n| v_n + drag_t |v_t| v_t] . du ds,  v = u_w - udot split along tau
+    tau, _ = _tangent(w)
+    a, vn = _split(w.uw - w.du, tau)
+    speed = np.sqrt(dot(vn, vn))
+    return -(w.drag_n * speed * dot(vn, v) + w.drag_t * np.abs(a) * a * dot(tau, v))
+
+
+@BilinearForm
+def morison_drag_rate(dv, v, w):
+    # d/d(udot): int [drag_n (|v_n| P + v_n v_n^T / |v_n|) + 2 drag_t |v.tau| tau tau^T] dv . du ds
+    tau, _ = _tangent(w)
+    a, vn = _split(w.uw - w.du, tau)
+    speed = np.sqrt(dot(vn, vn))
+    _, dvn = _split(dv, tau)
+    return (w.drag_n * (speed * dot(dvn, v) + dot(vn, dv) * dot(vn, v) / _nonzero(speed))
+            + 2.0 * w.drag_t * np.abs(a) * dot(tau, dv) * dot(tau, v))
+
+
+@BilinearForm
+def morison_drag_stiffness(du, v, w):
+    # d/du via tau only (dtau = P du'/|r'|): -int [drag_n d(|v_n| v_n) + drag_t d(|v_t| v_t)].du ds
+    tau, length = _tangent(w)
+    a, vn = _split(w.uw - w.du, tau)
+    speed = np.sqrt(dot(vn, vn))
+    _, dtau = _split(d_ds(du), tau)
+    dtau = dtau / length
+    vd = dot(vn, dtau)
+    d_normal = -(speed * a * dtau + speed * vd * tau + a * vd * vn / _nonzero(speed))
+    d_axial = 2.0 * np.abs(a) * vd * tau + np.abs(a) * a * dtau
+    return -dot(w.drag_n * d_normal + w.drag_t * d_axial, v)
+
+
+@LinearForm
+def fluid_inertia(v, w):
+    # -int [inertia_n a_n + inertia_t a_t] . du ds,  a = water acceleration split along tau
+    tau, _ = _tangent(w)
+    a, an = _split(w.aw, tau)
+    return -(w.inertia_n * dot(an, v) + w.inertia_t * a * dot(tau, v))
+
+
+@BilinearForm
+def fluid_inertia_stiffness(du, v, w):
+    # d/du via tau: -int (inertia_t - inertia_n) d(a_t).du ds, d(a_t) = (a_n.dtau) tau + (a.tau) dtau
+    tau, length = _tangent(w)
+    a, an = _split(w.aw, tau)
+    _, dtau = _split(d_ds(du), tau)
+    dtau = dtau / length
+    return -(w.inertia_t - w.inertia_n) * dot(dot(an, dtau) * tau + a * dtau, v)
+
+
+@BilinearForm
+def added_mass(du, v, w):
+    # int [added_n (I - X' X'^T) + added_t X' X'^T] dudd . du ds, on the reference tangent X'
+    along = dot(w.Xp, du) * dot(w.Xp, v)
+    return w.added_n * (dot(du, v) - along) + w.added_t * along
+
+
+# --- line terms
+
+def coefficients(lines):
+    """The coefficient fields of the forms above, (nel, nqp) each at the Gauss points
+    (``lines.basis``), from each cell's LineType, per unit reference length."""
+    fields = lines.fields
+    types = [line.line_type for line in lines.lines]
+
+    def per_cell(name):
+        return np.array([getattr(lt, name) for lt in types])[lines.line_of_cell][:, None]
+
+    per_reference = fields["m"] / per_cell("mass")  # 1 / stretch, as m = mass / stretch
+    rho, d, area = per_cell("rho_water"), per_cell("diameter"), per_cell("area")
+    out = dict(drag_n=0.5 * rho * per_cell("Cd_n") * d,
+               drag_t=0.5 * rho * per_cell("Cd_t") * np.pi * d,
+               inertia_n=(1.0 + per_cell("Ca_n")) * rho * area,
+               inertia_t=(1.0 + per_cell("Ca_t")) * rho * area,
+               added_n=per_cell("Ca_n") * rho * area,
+               added_t=per_cell("Ca_t") * rho * area)
+    return {name: value * per_reference for name, value in out.items()}
+
+
+def nodal_water(lines, sea, u, t, kind="velocity"):
+    """(ndofs,) water velocity (m/s) or, for kind='acceleration', acceleration (m/s2)
+    at the displaced nodes X + u, as a P1 field (the forms see its interpolation)."""
+    out = np.zeros(lines.ndofs)
+    if sea is None or (sea.still if kind == "velocity" else not sea.has_waves):
+        return out
+    x = lines.points + u[lines.nodal_dofs]
+    out[lines.nodal_dofs] = sea.velocity(x, t) if kind == "velocity" else sea.acceleration(x, t)
+    return out
+
+
+def lump_blocks(M, nodal_dofs):
+    """Row-sum lumping by 3 x 3 nodal blocks: node i keeps sum_j M_ij (Eq. 20 for a
+    direction-dependent mass), sparse."""
+    M = M.tocoo()
+    node = np.empty(M.shape[0], int)
+    component = np.empty(M.shape[0], int)
+    node[nodal_dofs] = np.arange(len(nodal_dofs))[:, None]
+    component[nodal_dofs] = np.arange(3)
+    cols = nodal_dofs[node[M.row], component[M.col]]
+    return sp.csr_matrix((M.data, (M.row, cols)), shape=M.shape)
+
+
+def added_mass_matrix(lines, lumped=True):
+    """The lines' added mass (sparse, kg), block-lumped when ``lumped``; None when every
+    Ca_n and Ca_t is zero."""
+    c = coefficients(lines)
+    if not (np.any(c["added_n"]) or np.any(c["added_t"])):
+        return None
+    M = asm(added_mass, lines.basis, **lines.fields, **c)
+    return lump_blocks(M, lines.nodal_dofs) if lumped else M.tocsr()
+
+
+@dataclass
+class SeaTerm(Term):
+    """A :class:`~skmoor.coupling.Term` with the water's velocity (field ``uw``) or
+    acceleration (``aw``, when ``water='acceleration'``) from :func:`nodal_water` at
+    time t; its mass is block-lumped when ``lumped``."""
+
+    sea: object = None
+    water: str = "velocity"
+    lumped: bool = True
+
+    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
+        name = "uw" if self.water == "velocity" else "aw"
+        fields = dict(self.fields, **{name: nodal_water(lines, self.sea, u, t, self.water)})
+        return Term.evaluate(replace(self, fields=fields), lines, u, ud, t, tangent, dense)
+
+    def mass_matrix(self, lines):
+        if self.mass is None:
+            return None
+        return added_mass_matrix(lines, self.lumped)
+
+
+class LineHydroKernel:
+    """The forms above (drag, fluid inertia, added mass) as a numpy kernel: the same
+    Gauss points, element by element, scattered into a fixed sparsity pattern.
+    ``evaluate(lines, u, ud, t, tangent, dense) -> (R, K, Kv)`` as :class:`Term`."""
+
+    def __init__(self, lines, sea=None, lumped_mass=True):
+        basis = lines.basis
+        self.sea = sea
+        self.moving_water = sea is not None and not sea.still
+        self.has_waves = sea is not None and sea.has_waves
+        self.Xp = np.moveaxis(lines.fields["Xp"], 0, -1)  # (nel, nqp, 3)
+        self.points, self.nodal_dofs = lines.points, lines.nodal_dofs
+        self.enodes = lines.mesh.t.T  # (nel, 2)
+        self.edofs = self.nodal_dofs[self.enodes].reshape(-1, 6)  # (nel, 6)
+        xi = basis.X[0]
+        self.phi = np.stack([1.0 - xi, xi])  # (2, nqp) P1 shape functions
+        c = coefficients(lines)
+        self.kn, self.kt = c["drag_n"], c["drag_t"]
+        self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
+        dx, h = basis.dx, lines.element_lengths
+        self.h = h
+        # (nel, 2, nqp) weight x shape function phi_a; (nel, 3, nqp) x phi_a phi_b, ab = 00, 01, 11
+        self.wphi = dx[:, None, :] * self.phi
+        self.wphi2 = self.wphi[:, [0, 0, 1]] * self.phi[[0, 1, 1]]
+        self.ndofs = lines.ndofs
+        rows = np.repeat(self.edofs[:, :, None], 6, axis=2).ravel()
+        cols = np.repeat(self.edofs[:, None, :], 6, axis=1).ravel()
+        keys = rows.astype(np.int64) * self.ndofs + cols
+        unique = np.unique(keys)
+        self._scatter = np.searchsorted(unique, keys)
+        self._pattern = (unique % self.ndofs, np.searchsorted(unique // self.ndofs,
+                                                              np.arange(self.ndofs + 1)))
+        self.nnz, self._flat = len(unique), keys
+        self._ke = np.empty((len(h), 6, 6))
+        self._mass = added_mass_matrix(lines, lumped_mass)
+
+    def _matrix(self, blocks, dense):
+        """Scatter element blocks [[00, 01], [10, 11]] (each (nel, 3, 3))."""
+        ke = self._ke
+        ke[:, :3, :3], ke[:, :3, 3:], ke[:, 3:, :3], ke[:, 3:, 3:] = blocks
+        if dense:
+            n = self.ndofs
+            return np.bincount(self._flat, ke.ravel(), n * n).reshape(n, n)
+        data = np.bincount(self._scatter, ke.ravel(), self.nnz)
+        return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
+
+    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
+        """Residual (N) and its derivatives d/du, d/dudot (N/m, N s/m)."""
+        U = u[self.edofs].reshape(-1, 2, 3)
+        rp = self.Xp + ((U[:, 1] - U[:, 0]) / self.h[:, None])[:, None, :]
+        length = np.sqrt(np.einsum("eqk,eqk->eq", rp, rp))
+        tau = rp / length[..., None]
+        v = (np.zeros(rp.shape) if ud is None
+             else -(self.phi.T @ ud[self.edofs].reshape(-1, 2, 3)))
+        if self.moving_water:
+            water, acc = self.sea.kinematics(self.points + u[self.nodal_dofs], t)
+            v += self.phi.T @ water[self.enodes]
+            acc = self.phi.T @ acc[self.enodes]
+        a = np.einsum("eqk,eqk->eq", v, tau)
+        vn = v - a[..., None] * tau
+        speed = np.sqrt(np.einsum("eqk,eqk->eq", vn, vn))
+        absa = np.abs(a)
+        # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
+        cn, ct = self.kn * speed, self.kt * absa * a
+        force = cn[..., None] * vn + ct[..., None] * tau
+        if self.has_waves:
+            aa = np.einsum("eqk,eqk->eq", acc, tau)
+            an = acc - aa[..., None] * tau
+            force += self.mn[..., None] * an + ((self.mn + self.dm) * aa)[..., None] * tau
+        R = -np.bincount(self.edofs.ravel(), (self.wphi @ force).ravel(), self.ndofs)
+        if not tangent:
+            return R, None, None
+        # Kv = d/dudot = alpha I + beta tau tau^T + gamma v_n v_n^T  (the form's matrix)
+        vnvn = vn[..., :, None] * vn[..., None, :]
+        beta = 2.0 * self.kt * absa - cn
+        gamma = self.kn / _nonzero(speed)
+        B = (tau[..., :, None] * (beta[..., None] * tau)[..., None, :]
+             + gamma[..., None, None] * vnvn)
+        kv = self.wphi2 @ B.reshape(*cn.shape, 9)  # (nel, 3, 9)
+        kv[..., ::4] += self.wphi2 @ cn[..., None]  # + alpha I, alpha = drag_n |v_n|
+        # dF/du' |r'| = c1 P + beta tau v_n^T - drag_n a / |v_n| v_n v_n^T (+ dm (tau a_n^T + aa P))
+        #            = c1 I + tau y^T + c3 v_n v_n^T,  y = beta v_n - c1 tau (+ dm a_n)
+        c1 = (self.kt * absa - cn) * a
+        y = beta[..., None] * vn
+        if self.has_waves:
+            c1 = c1 + self.dm * aa
+            y += self.dm[..., None] * an
+        y -= c1[..., None] * tau
+        G = tau[..., :, None] * y[..., None, :] - (gamma * a)[..., None, None] * vnvn
+        # K_e[a, b] = -sum_q w phi_a dphi_b/ds dF/du', dphi_b/ds = -+1/h
+        weights = self.wphi / (length * self.h[:, None])[:, None, :]
+        g = weights @ G.reshape(*c1.shape, 9)  # (nel, 2, 9)
+        g[..., ::4] += weights @ c1[..., None]
+        g, kv = g.reshape(-1, 2, 3, 3), kv.reshape(-1, 3, 3, 3)
+        return (R, self._matrix((g[:, 0], -g[:, 0], g[:, 1], -g[:, 1]), dense),
+                self._matrix((kv[:, 0], kv[:, 1], kv[:, 1], kv[:, 2]), dense))
+
+    def mass_matrix(self, lines):
+        """The added mass (sparse, kg), or None when every Ca is zero."""
+        return self._mass
+
+
+def _check_sea(lines, sea):
+    if sea is None:
+        return
+    if not isinstance(sea, Sea):
+        raise ValueError(f"line_hydrodynamics sea: expected a skmoor.waves.Sea or None, "
+                         f"got {type(sea).__name__}")
+    for line in lines.lines:
+        if not np.isclose(line.line_type.rho_water, sea.rho, rtol=1e-12, atol=0.0):
+            raise ValueError(f"line_hydrodynamics sea: rho {sea.rho} kg/m3 differs from line "
+                             f"{line.name!r}'s LineType.rho_water {line.line_type.rho_water}")
+
+
+def line_hydrodynamics(lines, sea=None, *, fast=True, lumped_mass=True):
+    """Terms for a System on ``lines`` (a LineSet): Morison drag on the relative velocity,
+    fluid inertia (when ``sea`` has waves) and added mass, coefficients from each line's
+    LineType (MoorDyn v2 conventions, see the module docstring). sea=None: still water.
+
+    fast: one :class:`LineHydroKernel` (numpy, for the time loop); else :class:`SeaTerm`
+    objects on the forms (the definition). lumped_mass: block-lump the added mass as the
+    System lumps the line's mass (keep the two alike).
+    """
+    _check_sea(lines, sea)
+    if fast:
+        return [LineHydroKernel(lines, sea, lumped_mass)]
+    c = coefficients(lines)
+    has_mass = np.any(c["added_n"]) or np.any(c["added_t"])
+    terms = [SeaTerm(morison_drag, stiffness=morison_drag_stiffness, damping=morison_drag_rate,
+                     mass=added_mass if has_mass else None, fields=c, sea=sea,
+                     lumped=lumped_mass)]
+    if sea is not None and sea.has_waves:
+        terms.append(SeaTerm(fluid_inertia, stiffness=fluid_inertia_stiffness, fields=c,
+                             sea=sea, water="acceleration"))
+    return terms
+
+
+# --- body
+
+def _six(name, value):
+    """A (6,) array from 3 (translational, rotational zero) or 6 finite values."""
+    arr = np.asarray(value, float).ravel()
+    if arr.shape not in ((3,), (6,)):
+        raise ValueError(f"body_hydrodynamics {name}: need 3 or 6 values, got {arr.shape}")
+    check_finite(f"body_hydrodynamics {name}", arr)
+    if np.any(arr < 0):
+        raise ValueError(f"body_hydrodynamics {name}: must be >= 0, got {arr}")
+    return np.concatenate([arr, np.zeros(6 - arr.size)])
+
+
+def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=None, sea=None,
+                       reference_point=(0.0, 0.0, 0.0), rho=1025.0):
+    """A :class:`~skmoor.coupling.BodyTerm`: quadratic drag on the body's velocity relative
+    to the water and a constant added mass, MoorDyn v2's body convention
+    (source/Body.cpp): F = 1/2 rho diag(Cd A)[:3] |v_r| v_r with v_r = u_w(x_ref + q[:3], t)
+    - qdot[:3], and M = 1/2 rho diag(Cd A)[3:] |w_r| w_r with w_r = -qdot[3:]
+    (|.| the norm of the 3-vector). Axes are global (small rotations).
+
+    drag_coefficients (-), drag_areas (m2 translational; m5 rotational): 3 or 6 values
+    each, multiplied; added_mass: (6, 6) about the reference point (kg, kg m, kg m2);
+    reference_point (m): where q is measured and the water velocity taken. The tangent
+    K = -dF/dq neglects the water velocity's gradient (None); Kv = -dF/dqdot is exact.
+    """
+    check_positive("body_hydrodynamics rho", rho)
+    point = np.asarray(reference_point, float)
+    if point.shape != (3,):
+        raise ValueError(f"body_hydrodynamics reference_point: need 3 values, got {point.shape}")
+    check_finite("body_hydrodynamics reference_point", point)
+    if (drag_coefficients is None) != (drag_areas is None):
+        raise ValueError("body_hydrodynamics drag_coefficients, drag_areas: give both or neither")
+    if sea is not None:
+        if not isinstance(sea, Sea):
+            raise ValueError(f"body_hydrodynamics sea: expected a Sea or None, "
+                             f"got {type(sea).__name__}")
+        if not np.isclose(sea.rho, rho, rtol=1e-12, atol=0.0):
+            raise ValueError(f"body_hydrodynamics rho: {rho} kg/m3 differs from sea.rho {sea.rho}")
+    cda = (np.zeros(6) if drag_coefficients is None
+           else _six("drag_coefficients", drag_coefficients) * _six("drag_areas", drag_areas))
+    if added_mass is not None:
+        added_mass = np.asarray(added_mass, float)
+        if added_mass.shape != (6, 6):
+            raise ValueError(f"body_hydrodynamics added_mass: need a (6, 6) matrix, "
+                             f"got {added_mass.shape}")
+        check_finite("body_hydrodynamics added_mass", added_mass)
+    moving_water = sea is not None and not sea.still
+
+    def load(q, qdot, t):
+        relative = -np.asarray(qdot, float)
+        if moving_water:
+            relative[:3] += sea.velocity(point + q[:3], t)
+        F, Kv = np.zeros(6), np.zeros((6, 6))
+        for block in (slice(0, 3), slice(3, 6)):
+            vr = relative[block]
+            speed = np.linalg.norm(vr)
+            k = 0.5 * rho * cda[block][:, None]
+            F[block] = k[:, 0] * speed * vr
+            # -dF/dqdot = 1/2 rho diag(Cd A) (|v_r| I + v_r v_r^T / |v_r|)
+            Kv[block, block] = k * (speed * np.eye(3) + np.outer(vr, vr) / (speed or 1.0))
+        return F, None, Kv
+
+    return BodyTerm(load, added_mass)
