@@ -20,6 +20,8 @@ else:  # pragma: no cover
 
 import numpy as np
 
+from . import environment
+
 PAPER_CASE = {
     "name": "Wang, Er & Iu: moored box, d/l = 1/60, theta = 50 deg",
     "water": {"density": 1025.0, "gravity": 9.81, "depth": 100.0},
@@ -199,9 +201,11 @@ def _validate(d: dict) -> None:
         else:
             for key in ("E", "diameter", "density"):
                 _require(d, f"line_types.{name}.{key}", positive=True)
-        if "BA" in t and (_require(d, f"line_types.{name}.BA") < 0):
-            raise ValueError(f"line_types.{name}.BA: internal damping must be >= 0 N s, "
-                             f"got {t['BA']}")
+        for key in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA"):
+            if key in t and _require(d, f"line_types.{name}.{key}") < 0:
+                raise ValueError(f"line_types.{name}.{key}: must be >= 0, got {t[key]}")
+    environment.sea(d)
+    environment.seabed(d)
     lines = d.get("lines")
     if not lines:
         raise ValueError("lines: define at least one line")

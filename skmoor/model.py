@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from . import environment
 from .body import RigidBody
 from .catenary import solve_catenary
 from .coupling import System
@@ -33,14 +34,15 @@ class Model:
 
 def line_type(case, name) -> LineType:
     """The LineType ``name`` of a case (from EA, mass, diameter or from E, diameter, density;
-    optional internal damping BA, N s)."""
+    optional Morison coefficients Cd_n, Cd_t, Ca_n, Ca_t and internal damping BA, N s)."""
     t = case.data["line_types"][name]
-    rho, g, BA = case.water["density"], case.water["gravity"], float(t.get("BA", 0.0))
+    extra = {key: float(t[key]) for key in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA") if key in t}
+    rho, g = case.water["density"], case.water["gravity"]
     if "EA" in t:
         return LineType(EA=t["EA"], mass=t["mass"], diameter=t["diameter"], weight=t.get("weight"),
-                        BA=BA, rho_water=rho, g=g)
-    return LineType.steel_rod(t["diameter"], E=t["E"], density=t["density"], BA=BA,
-                              rho_water=rho, g=g)
+                        rho_water=rho, g=g, **extra)
+    return LineType.steel_rod(t["diameter"], E=t["E"], density=t["density"], rho_water=rho,
+                              g=g, **extra)
 
 
 def _anchor(spec, fairlead, depth):
@@ -112,7 +114,9 @@ def build(case) -> Model:
     length, width, height = body_data["size"]
     body = RigidBody.box(length, width, height, body_data["mass"], draft,
                          rho=case.water["density"], g=case.water["gravity"])
-    system = System(lines, body, body_load=body_load(case))
+    cable_terms, body_terms = environment.terms(case.data, lines, body)
+    system = System(lines, body, body_load=body_load(case), terms=cable_terms,
+                    body_terms=body_terms)
     return Model(case, system, lines, body, cats, draft)
 
 

@@ -1,0 +1,111 @@
+"""The environment sections of a case file: water kinematics, sea bed, hydrodynamics.
+
+All optional; without them a case is the paper's model (no water forces on the lines, no
+sea bed). In TOML:
+
+    [line_types.chain]          # Morison coefficients and internal damping per line type
+    Cd_n = 1.37                 # MoorDyn's Cd, CdAx, Ca, CaAx; BA in N s
+    Cd_t = 0.64
+    Ca_n = 1.0
+
+    [sea]                       # currents and waves (needs line coefficients to act)
+    current_speed = 0.5         # m/s, or current_profile = [[z, speed], ...]
+    current_heading_deg = 0.0
+    waves = [{type = "airy", height = 2.0, period = 8.0},
+             {type = "jonswap", Hs = 3.0, Tp = 10.0, gamma = 3.3, seed = 1}]
+
+    [seabed]                    # contact with the bed at the water depth
+    mu_axial = 0.5              # and stiffness, damping, mu_lateral, slope_deg, ...
+
+    [body]                      # quadratic drag on the body (MoorDyn's CdA)
+    drag_coefficients = [1.0, 1.0, 1.0]
+    drag_areas = [50.0, 130.0, 260.0]
+"""
+from __future__ import annotations
+
+from .hydro import body_hydrodynamics, line_hydrodynamics
+from .seabed import Seabed, seabed_term
+from .waves import AiryWave, Current, JonswapWave, Sea
+
+LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t")
+SEABED_KEYS = ("stiffness", "damping", "mu_axial", "mu_lateral", "slope_deg",
+               "slope_heading_deg", "friction_velocity")
+
+
+def _named(section, build):
+    """Call ``build``; a ValueError is re-raised with the case section in front."""
+    try:
+        return build()
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"{section}: {err}") from None
+
+
+def sea(data: dict) -> Sea | None:
+    """The case's :class:`~skmoor.waves.Sea` (None without a [sea] section)."""
+    spec = data.get("sea")
+    if spec is None:
+        return None
+    if not isinstance(spec, dict):
+        raise ValueError(f"sea: expected a table, got {spec!r}")
+    water = data["water"]
+    depth, g = float(water["depth"]), float(water.get("gravity", 9.81))
+    unknown = set(spec) - {"current_speed", "current_heading_deg", "current_profile", "waves"}
+    if unknown:
+        raise ValueError(f"sea: unknown keys {sorted(unknown)}")
+    current = None
+    if "current_speed" in spec or "current_profile" in spec:
+        current = _named("sea.current", lambda: Current(
+            spec.get("current_speed"), spec.get("current_heading_deg", 0.0),
+            spec.get("current_profile")))
+    waves = []
+    for i, wave in enumerate(spec.get("waves", [])):
+        where = f"sea.waves[{i}]"
+        if not isinstance(wave, dict):
+            raise ValueError(f"{where}: expected a table, got {wave!r}")
+        kind = wave.get("type")
+        args = {k: v for k, v in wave.items() if k != "type"}
+        if kind == "airy":
+            waves.append(_named(where, lambda: AiryWave(depth=depth, g=g, **args)))
+        elif kind == "jonswap":
+            waves.append(_named(where, lambda: JonswapWave(depth=depth, g=g, **args)))
+        else:
+            raise ValueError(f"{where}.type: {kind!r} is not 'airy' or 'jonswap'")
+    return _named("sea", lambda: Sea(depth, rho=float(water["density"]), g=g,
+                                      current=current, waves=waves))
+
+
+def seabed(data: dict) -> Seabed | None:
+    """The case's :class:`~skmoor.seabed.Seabed` at the water depth (None without [seabed])."""
+    spec = data.get("seabed")
+    if spec is None:
+        return None
+    if not isinstance(spec, dict):
+        raise ValueError(f"seabed: expected a table, got {spec!r}")
+    unknown = set(spec) - set(SEABED_KEYS)
+    if unknown:
+        raise ValueError(f"seabed: unknown keys {sorted(unknown)}, use {list(SEABED_KEYS)}")
+    return _named("seabed", lambda: Seabed(float(data["water"]["depth"]), **spec))
+
+
+def has_line_hydrodynamics(data: dict) -> bool:
+    """True when any line type has a drag or added-mass coefficient."""
+    return any(float(t.get(name, 0.0)) != 0.0 for t in data["line_types"].values()
+               for name in LINE_COEFFICIENTS)
+
+
+def terms(data: dict, lines, body) -> tuple[list, list]:
+    """(cable terms, body terms) for a case's lines (LineSet) and body (RigidBody)."""
+    water_sea = sea(data)
+    cable, rigid = [], []
+    if has_line_hydrodynamics(data):
+        cable += line_hydrodynamics(lines, water_sea)
+    bed = seabed(data)
+    if bed is not None:
+        cable.append(seabed_term(lines, bed))
+    spec = data["body"]
+    if "drag_coefficients" in spec or "drag_areas" in spec:
+        rigid.append(_named("body", lambda: body_hydrodynamics(
+            drag_coefficients=spec.get("drag_coefficients"), drag_areas=spec.get("drag_areas"),
+            sea=water_sea, reference_point=body.reference_point,
+            rho=float(data["water"]["density"]))))
+    return cable, rigid
