@@ -17,7 +17,12 @@ def _load_case(path):
 
 def cmd_run(args) -> int:
     from . import build, simulate, write_outputs
+    from .deck import is_deck
 
+    if args.case is not None and is_deck(args.case):
+        return _run_deck(args)
+    if args.heave is not None:
+        raise ValueError("--heave: only for a MoorDyn deck (a case file's body moves itself)")
     case = _load_case(args.case)
     settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
                 if getattr(args, k) is not None}
@@ -26,6 +31,29 @@ def cmd_run(args) -> int:
     out = Path(args.out)
     info = write_outputs(results, out)
     _plots(results, out)
+    if not args.no_export:
+        _export(results, out)
+    if not args.no_animation:
+        _animate(results, out, args.quiet)
+    print(json.dumps(info, indent=2))
+    print(f"wrote {out}/")
+    return 0 if results.meta.get("stopped") is None else 1
+
+
+def _run_deck(args) -> int:
+    """``skmoor run deck.dat``: the deck's coupled points and bodies still, or heaving."""
+    from .deck import read_deck
+    from .deck_model import heave_motion, run_deck
+
+    motion = None
+    if args.heave is not None:
+        if args.period is None:
+            raise ValueError("--heave: give the heave period with --period T (s)")
+        motion, _ = heave_motion(read_deck(args.case), args.heave, args.period)
+    out = Path(args.out)
+    results, info = run_deck(args.case, duration=args.duration, dt=args.dt, motion=motion,
+                             out=out, output_interval=args.output_interval,
+                             progress=not args.quiet)
     if not args.no_export:
         _export(results, out)
     if not args.no_animation:
@@ -96,7 +124,8 @@ def parser() -> argparse.ArgumentParser:
                          description="Static equilibrium, modes and time history of a case; "
                          "writes summary.json, timeseries.csv, results.npz, plots, ParaView "
                          "files and an animation into --out.")
-    run.add_argument("case", nargs="?", help="case file (.toml); default: the paper's case")
+    run.add_argument("case", nargs="?", help="case file (.toml) or MoorDyn v2 deck (.dat, "
+                     ".txt); default: the paper's case")
     run.add_argument("--out", default=DEFAULT_OUT, help="output folder (default: %(default)s)")
     run.add_argument("--duration", type=float, help="simulated time, s (default: the case's)")
     run.add_argument("--dt", type=float, help="time step, s (default: the case's)")
@@ -105,6 +134,10 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--no-export", action="store_true", help="skip the XDMF / PVD export")
     run.add_argument("--no-animation", action="store_true", help="skip snapshot and animations")
     run.add_argument("--quiet", action="store_true", help="no progress bars")
+    run.add_argument("--heave", type=float, metavar="AMP",
+                     help="deck only: heave the coupled points / bodies AMP m (faded in over "
+                     "one period; without it they stay still)")
+    run.add_argument("--period", type=float, metavar="T", help="deck only: heave period, s")
     run.set_defaults(func=cmd_run)
 
     sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",

@@ -265,16 +265,8 @@ class System:
     def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, dense=False):
         """Full cable residual internal - external (N) and its u- and v-derivatives
         (sparse, or dense arrays when ``dense``)."""
-        if tangent:
-            f, K = self.kernel.force_and_tangent(u, dense=dense)
-        else:
-            f, K = self.kernel.force(u), None
+        f, K, Kv = self.kernel.evaluate(u, ud if self.lines.damped else None, tangent, dense)
         R = f - load_factor * self.weight
-        Kv = None
-        if self.lines.damped:
-            f_damp, K_damp, Kv = self.kernel.damping(u, ud, tangent, dense)
-            R = R + f_damp
-            K = K + K_damp if tangent else K
         for term in self.terms:
             Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent, dense)
             R = R + Rt

@@ -48,50 +48,43 @@ class CableKernel:
         """(nel, 3) u' on each element."""
         return (u[self.dofs_j] - u[self.dofs_i]) / self.h[:, None]
 
-    def _state(self, u):
+    def evaluate(self, u, ud=None, tangent=True, dense=False):
+        """Internal force (Eq. 9 = Eq. 11 + reference part) plus, given the velocity ud,
+        the axial damping (``forms.axial_damping``), N; with ``tangent`` its exact
+        derivatives with respect to u (Eq. 17 and the damping's part, N/m) and to ud
+        (N s/m, None without ud): CSR, or dense arrays when ``dense``."""
         up = self.slopes(u)
         rp = self.Xp + up  # (nel, 3)
         eps = ((self.Xp + 0.5 * up) * up).sum(-1)
         S = forms.stress_resultant(eps, self.T, self.EA, self.law)
-        return rp, eps, S
-
-    def _gather(self, rp, S):
-        """Nodal internal forces: Eq. 11's int [(T + S) r' - T X'] ds / h per element,
-        scattered, plus the reference force."""
-        g = ((self.dx_h * (self.T + S))[:, None] * rp
-             - (self.dx_h * self.T)[:, None] * self.Xp).ravel()  # (nel*3,)
-        return (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
-                - np.bincount(self.dofs_i.ravel(), g, self.ndofs) + self.reference)
+        axial = self.T + S
+        if ud is not None:
+            rate_slopes = self.slopes(ud)
+            rate = (rp * rate_slopes).sum(-1)  # strain rate, 1/s
+            axial = axial + self.BA * rate
+        g = ((self.dx_h * axial)[:, None] * rp - (self.dx_h * self.T)[:, None] * self.Xp).ravel()
+        f = (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
+             - np.bincount(self.dofs_i.ravel(), g, self.ndofs) + self.reference)
+        if not tangent:
+            return f, None, None
+        dS = forms.stress_resultant_slope(eps, self.T, self.EA, self.law)
+        rr = rp[:, :, None] * rp[:, None, :]
+        k = (self.dx_h2 * dS)[:, None, None] * rr
+        k += (self.dx_h2 * (self.T + S))[:, None, None] * np.eye(3)
+        if ud is None:
+            return f, self._assemble(k, dense), None
+        b = (self.dx_h2 * self.BA)[:, None, None]
+        k += b * (rp[:, :, None] * rate_slopes[:, None, :] + rate[:, None, None] * np.eye(3))
+        return f, self._assemble(k, dense), self._assemble(b * rr, dense)
 
     def force(self, u):
         """Internal force vector (Eq. 9 = Eq. 11 + reference part), N."""
-        rp, _, S = self._state(u)
-        return self._gather(rp, S)
+        return self.evaluate(u, tangent=False)[0]
 
     def force_and_tangent(self, u, dense=False):
-        """Internal force (N) and its exact tangent (Eq. 17, N/m): CSR, or a dense array
-        when ``dense`` (cheaper for small models)."""
-        rp, eps, S = self._state(u)
-        dS = forms.stress_resultant_slope(eps, self.T, self.EA, self.law)
-        k = (self.dx_h2 * dS)[:, None, None] * rp[:, :, None] * rp[:, None, :]
-        k += (self.dx_h2 * (self.T + S))[:, None, None] * np.eye(3)
-        return self._gather(rp, S), self._assemble(k, dense)
-
-    def damping(self, u, ud, tangent=True, dense=False):
-        """Axial internal damping (``forms.axial_damping``), N, and its derivatives with
-        respect to u and to the velocity ud (None unless ``tangent``)."""
-        rp = self.Xp + self.slopes(u)
-        rate_slopes = self.slopes(ud)
-        rate = (rp * rate_slopes).sum(-1)  # strain rate, 1/s
-        g = ((self.dx_h * self.BA * rate)[:, None] * rp).ravel()
-        f = (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
-             - np.bincount(self.dofs_i.ravel(), g, self.ndofs))
-        if not tangent:
-            return f, None, None
-        b = (self.dx_h2 * self.BA)[:, None, None]
-        k_rate = b * rp[:, :, None] * rp[:, None, :]
-        k_u = b * (rp[:, :, None] * rate_slopes[:, None, :] + rate[:, None, None] * np.eye(3))
-        return f, self._assemble(k_u, dense), self._assemble(k_rate, dense)
+        """Internal force (N) and its exact tangent (Eq. 17, N/m)."""
+        f, K, _ = self.evaluate(u, dense=dense)
+        return f, K
 
     def _assemble(self, k, dense):
         """Scatter per-element 3x3 blocks k (of the slopes) into the global matrix."""

@@ -1,0 +1,536 @@
+"""MoorDyn v2 input decks: :func:`read_deck` into a :class:`Deck`, :func:`write_deck` back.
+
+A v2 deck is plain text in sections. A section starts at a line holding ``---`` and the
+section's name (``LINE TYPES``, ``POINTS``, ...); table sections have a line of column
+names and a line of units after it, then one entry a line (columns split by blanks, ``#``
+starts a comment); OPTIONS lines are ``value name``; OUTPUTS lists channel names; a last
+``---`` line ends the deck. The text before the first section is free-form.
+
+Read: LINE TYPES (constant EA, BA or -zeta, EI, Cd, Ca, CdAx, CaAx, optional VIV Cl dF cF),
+BODIES, POINTS (9 columns, or 12 with a constant force), LINES between points, OPTIONS
+(names as MoorDyn-C spells them, aliases mapped; unknown options kept with a note) and
+OUTPUTS. Refused with the deck line and the reason: stress-strain or damping curve files,
+viscoelastic (``|``) EA / BA, rods and rod ends, and the MoorDyn-F-only sections (FAILURE,
+CONTROL, EXTERNAL LOADS). The reader checks the format only; what skmoor can simulate is
+checked when the model is built (:mod:`skmoor.deck_model`).
+
+Units as MoorDyn: m, kg, N, s; body angles in degrees.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+__all__ = ["Deck", "DeckLineType", "DeckPoint", "DeckLine", "DeckBody", "read_deck",
+           "write_deck", "is_deck"]
+
+# section name as written -> canonical name (MoorDyn2.cpp's synonyms)
+SECTIONS = {
+    "LINE TYPES": "LINE TYPES", "LINE DICTIONARY": "LINE TYPES",
+    "ROD TYPES": "ROD TYPES", "ROD DICTIONARY": "ROD TYPES",
+    "BODIES": "BODIES", "BODY LIST": "BODIES", "BODY PROPERTIES": "BODIES",
+    "RODS": "RODS", "ROD LIST": "RODS", "ROD PROPERTIES": "RODS",
+    "POINTS": "POINTS", "POINT LIST": "POINTS", "POINT PROPERTIES": "POINTS",
+    "CONNECTION PROPERTIES": "POINTS", "NODE PROPERTIES": "POINTS",
+    "LINES": "LINES", "LINE LIST": "LINES", "LINE PROPERTIES": "LINES",
+    "OPTIONS": "OPTIONS", "SOLVER OPTIONS": "OPTIONS",
+    "OUTPUTS": "OUTPUTS", "OUTPUT": "OUTPUTS",
+    "FAILURE": "FAILURE", "CONTROL": "CONTROL", "EXTERNAL LOADS": "EXTERNAL LOADS",
+    "SYROPE IC": "SYROPE IC",
+}
+REFUSED_SECTIONS = {
+    "ROD TYPES": "rods are not supported",
+    "RODS": "rods are not supported",
+    "FAILURE": "line failures are not supported",
+    "CONTROL": "line control channels are not supported",
+    "EXTERNAL LOADS": "external loads on points / bodies are not supported",
+    "SYROPE IC": "the Syrope line model is not supported",
+}
+TABLES = ("LINE TYPES", "ROD TYPES", "BODIES", "RODS", "POINTS", "LINES", "FAILURE",
+          "CONTROL", "EXTERNAL LOADS", "SYROPE IC")
+
+# option name (lower case) -> the name MoorDyn-C reads
+OPTION_NAMES = {
+    "dtm": "dtM", "dt": "dtM", "cfl": "CFL", "writelog": "writeLog", "tscheme": "tScheme",
+    "g": "g", "gravity": "g", "rho": "rho", "rhow": "rho", "wtrdnsty": "rho",
+    "wtrdpth": "WtrDpth", "kbot": "kBot", "kb": "kBot", "cbot": "cBot", "cb": "cBot",
+    "dtic": "dtIC", "icdt": "dtIC", "tmaxic": "TmaxIC", "ictmax": "TmaxIC",
+    "cdscaleic": "CdScaleIC", "icdfac": "CdScaleIC", "threshic": "threshIC",
+    "icthresh": "threshIC", "icgendynamic": "ICgenDynamic", "gendynamicic": "ICgenDynamic",
+    "fileic": "fileIC", "icfile": "fileIC", "wavekin": "WaveKin", "dtwave": "dtWave",
+    "currents": "Currents", "unifycurrentgrid": "UnifyCurrentGrid",
+    "writeunits": "WriteUnits", "frictioncoefficient": "FrictionCoefficient",
+    "fricdamp": "FricDamp", "cv": "FricDamp", "statdynfricscale": "StatDynFricScale",
+    "mc": "StatDynFricScale", "dtout": "dtOut", "seafloorfile": "SeafloorFile",
+    "disableoutput": "disableOutput", "disableouttime": "disableOutTime",
+    # MoorDyn-F only (MoorDyn-C ignores them with a warning)
+    "mu_kt": "mu_kT", "mu_ka": "mu_kA", "waterkin": "WaterKin", "inertialf": "inertialF",
+    "inertialf_rampt": "inertialF_rampT", "outswitch": "OutSwitch",
+}
+F_ONLY = {"mu_kT", "mu_kA", "WaterKin", "inertialF", "inertialF_rampT", "OutSwitch"}
+DEFAULTS = {"g": 9.81, "rho": 1025.0, "WtrDpth": 0.0, "kBot": 3.0e6, "cBot": 3.0e5,
+            "FrictionCoefficient": 0.0, "FricDamp": 200.0, "StatDynFricScale": 1.0,
+            "dtOut": 0.0}  # MoorDyn-C's
+
+POINT_KINDS = {"ANCHOR": "fixed", "FIXED": "fixed", "FIX": "fixed",
+               "FAIRLEAD": "coupled", "VESSEL": "coupled", "VES": "coupled",
+               "COUPLED": "coupled", "CPLD": "coupled",
+               "POINT": "free", "CONNECT": "free", "CON": "free", "FREE": "free"}
+BODY_KINDS = {"ANCHOR": "fixed", "FIXED": "fixed", "FIX": "fixed",
+              "VESSEL": "coupled", "VES": "coupled", "COUPLED": "coupled", "CPLD": "coupled",
+              "VESSELPINNED": "pinned", "VESPIN": "pinned", "CPLDPIN": "pinned",
+              "COUPLEDPINNED": "pinned"}
+WORD = {"fixed": "Fixed", "coupled": "Coupled", "free": "Free", "pinned": "CoupledPinned"}
+
+
+@dataclass
+class DeckLineType:
+    """A LINE TYPES entry. diameter (m, volume-equivalent), mass (kg/m), EA (N),
+    BA (N s; a negative value is -zeta, a damping ratio per segment), EI (N m2),
+    Cd, Ca (transverse), CdAx, CaAx (axial), viv: the optional (Cl,) or (Cl, dF, cF)."""
+
+    name: str
+    diameter: float
+    mass: float
+    EA: float
+    BA: float
+    EI: float
+    Cd: float
+    Ca: float
+    CdAx: float
+    CaAx: float
+    viv: tuple = ()
+    where: int = field(default=0, compare=False)  # deck line number (1-based)
+
+
+@dataclass
+class DeckPoint:
+    """A POINTS entry. kind: 'fixed' (anchor), 'coupled' (vessel / fairlead, moved by
+    the caller), 'free', or 'body' (attached to body ``body``, position in its frame).
+    position (m), mass (kg), volume (m3), CdA (m2), Ca, force (N, the optional columns)."""
+
+    id: int
+    kind: str
+    position: tuple
+    mass: float = 0.0
+    volume: float = 0.0
+    CdA: float = 0.0
+    Ca: float = 0.0
+    body: int | None = None
+    force: tuple | None = None
+    where: int = field(default=0, compare=False)
+
+    @property
+    def attachment(self) -> str:
+        return f"Body{self.body}" if self.kind == "body" else WORD[self.kind]
+
+
+@dataclass
+class DeckLine:
+    """A LINES entry: from point ``a`` (end A, anchor end) to point ``b`` (end B),
+    unstretched length (m), number of segments, MoorDyn's line-output flags."""
+
+    id: int
+    type: str
+    a: int
+    b: int
+    length: float
+    n_segments: int
+    outputs: str = "-"
+    where: int = field(default=0, compare=False)
+
+
+@dataclass
+class DeckBody:
+    """A BODIES entry. kind: 'fixed', 'coupled', 'pinned' or 'free'. r6: x, y, z (m) and
+    roll, pitch, yaw (deg). cg, inertia, CdA, Ca: tuples as written (MoorDyn expands 1 or
+    3 values; CdA also 2 or 6)."""
+
+    id: int
+    kind: str
+    r6: tuple
+    mass: float
+    cg: tuple
+    inertia: tuple
+    volume: float
+    CdA: tuple
+    Ca: tuple
+    where: int = field(default=0, compare=False)
+
+    @property
+    def attachment(self) -> str:
+        return WORD.get(self.kind, "Free")
+
+
+@dataclass
+class Deck:
+    """A MoorDyn v2 deck. options: MoorDyn-C option name -> value as written (str);
+    notes: what the reader kept without using (never compared)."""
+
+    title: list = field(default_factory=list)
+    line_types: dict = field(default_factory=dict)
+    bodies: list = field(default_factory=list)
+    points: list = field(default_factory=list)
+    lines: list = field(default_factory=list)
+    options: dict = field(default_factory=dict)
+    outputs: list = field(default_factory=list)
+    source: str = field(default="deck", compare=False)
+    notes: list = field(default_factory=list, compare=False)
+    option_lines: dict = field(default_factory=dict, compare=False)
+
+    def option(self, name: str, default=None):
+        """The option ``name`` (MoorDyn-C spelling) as a float, or ``default``
+        (MoorDyn-C's default when ``default`` is None and it has one)."""
+        if name not in self.options:
+            return DEFAULTS.get(name) if default is None else default
+        value = self.options[name]
+        try:
+            return float(value)
+        except ValueError:
+            raise ValueError(f"{self.where(name)}: option {name}: {value!r} is not a "
+                             "number") from None
+
+    def where(self, option: str) -> str:
+        """'deck line N' of an option, for messages."""
+        return f"{self.source} line {self.option_lines.get(option, '?')}"
+
+    @property
+    def depth(self) -> float:
+        """Water depth, m: WtrDpth, raised to the lowest fixed / free / coupled point as
+        MoorDyn-C does."""
+        lowest = [-p.position[2] for p in self.points if p.kind != "body"]
+        return max([self.option("WtrDpth")] + lowest)
+
+    @property
+    def rho(self) -> float:
+        return self.option("rho")
+
+    @property
+    def g(self) -> float:
+        return self.option("g")
+
+    def point(self, point_id: int) -> DeckPoint:
+        return self.points[point_id - 1]
+
+
+# ------------------------------------------------------------------------ reading
+
+class _Entry:
+    """One table line: its words, the deck line number, and the source name."""
+
+    def __init__(self, words, number, source, section):
+        self.words, self.number, self.source, self.section = words, number, source, section
+
+    def error(self, what: str) -> ValueError:
+        return ValueError(f"{self.source} line {self.number}: {self.section} {what}")
+
+    def number_at(self, index: int, name: str, *, curve_ok=False) -> float:
+        text = self.words[index]
+        try:
+            value = float(text)
+        except ValueError:
+            if "|" in text:
+                raise self.error(f"{name}: {text!r} has several '|'-separated values "
+                                 "(viscoelastic or load-dependent models are not "
+                                 "supported; give one number)") from None
+            if curve_ok:
+                raise self.error(f"{name}: {text!r} is not a number (a curve file? "
+                                 "only constant values are supported)") from None
+            raise self.error(f"{name}: {text!r} is not a number") from None
+        if not math.isfinite(value):
+            raise self.error(f"{name}: must be finite, got {text!r}")
+        return value
+
+    def integer_at(self, index: int, name: str) -> int:
+        text = self.words[index]
+        if not re.fullmatch(r"[+-]?\d+", text):
+            raise self.error(f"{name}: {text!r} is not an integer")
+        return int(text)
+
+    def bar_numbers(self, index: int, name: str, counts) -> tuple:
+        parts = self.words[index].split("|")
+        if len(parts) not in counts:
+            raise self.error(f"{name}: {self.words[index]!r} must have "
+                             f"{' or '.join(map(str, counts))} '|'-separated numbers")
+        values = []
+        for part in parts:
+            try:
+                values.append(float(part))
+            except ValueError:
+                raise self.error(f"{name}: {part!r} is not a number") from None
+        return tuple(values)
+
+
+def _section_of(text: str):
+    """Canonical section name of a header line, '' for a '---' line of no known section,
+    None for an ordinary line."""
+    if "---" not in text:
+        return None
+    name = " ".join(text.replace("-", " ").split()).upper()
+    for written in sorted(SECTIONS, key=len, reverse=True):
+        if re.search(rf"(^|\s){written}($|\s)", name):
+            return SECTIONS[written]
+    return ""
+
+
+def read_deck(path) -> Deck:
+    """Read a MoorDyn v2 input file into a :class:`Deck` (see the module docstring for
+    what is supported); a ValueError names the deck line and the reason."""
+    path = Path(path)
+    text = path.read_text(encoding="utf-8", errors="replace").splitlines()
+    deck = Deck(source=path.name)
+    entries = _split_sections(text, deck)
+    for entry in entries.get("LINE TYPES", []):
+        _line_type(entry, deck)
+    for entry in entries.get("BODIES", []):
+        _body(entry, deck)
+    for entry in entries.get("POINTS", []):
+        _point(entry, deck)
+    for entry in entries.get("LINES", []):
+        _line(entry, deck)
+    for entry in entries.get("OPTIONS", []):
+        _option(entry, deck)
+    for entry in entries.get("OUTPUTS", []):
+        deck.outputs.extend(entry.words)
+    if not deck.lines:
+        raise ValueError(f"{deck.source}: no LINES section with at least one line "
+                         "(MoorDyn needs one)")
+    return deck
+
+
+def _split_sections(text, deck):
+    """Table / option entries of each section, the header and units lines skipped."""
+    entries, section, skip, seen, unknown = {}, None, 0, set(), ""
+    for number, raw in enumerate(text, start=1):
+        header = _section_of(raw)
+        if header is not None:
+            if header in seen:
+                raise ValueError(f"{deck.source} line {number}: a second {header} section")
+            if header:
+                seen.add(header)
+            section, skip, unknown = header, (2 if header in TABLES else 0), raw.strip()
+            continue
+        if not seen:  # free-form text above the first section
+            deck.title.append(raw.rstrip())
+            continue
+        if skip:
+            skip -= 1
+            continue
+        words = raw.split("#", 1)[0].split()
+        if not words:
+            continue
+        if not section:
+            raise ValueError(f"{deck.source} line {number}: {raw.strip()!r} under "
+                             f"{unknown!r}, which is no section of a MoorDyn v2 deck")
+        if section in REFUSED_SECTIONS:
+            raise ValueError(f"{deck.source} line {number}: {section}: "
+                             f"{REFUSED_SECTIONS[section]}")
+        if section == "OUTPUTS" and [w.upper() for w in words] == ["END"]:
+            continue  # the v1 end marker
+        entries.setdefault(section, []).append(_Entry(words, number, deck.source, section))
+    while deck.title and not deck.title[-1].strip():
+        deck.title.pop()
+    return entries
+
+
+def _line_type(e, deck):
+    if len(e.words) < 10 or len(e.words) in (12,) or len(e.words) > 13:
+        raise e.error(f"entry: needs the 10 columns Name Diam Mass/m EA BA/-zeta EI Cd Ca "
+                      f"CdAx CaAx (optionally Cl, or Cl dF cF), got {len(e.words)}")
+    name = e.words[0]
+    if name in deck.line_types:
+        raise e.error(f"name: {name!r} is defined twice")
+    if e.words[3].upper().startswith("SYROPE:"):
+        raise e.error(f"EA: {e.words[3]!r}: the Syrope model is not supported")
+    lt = DeckLineType(
+        name=name, diameter=e.number_at(1, "Diam"), mass=e.number_at(2, "Mass/m"),
+        EA=e.number_at(3, "EA", curve_ok=True), BA=e.number_at(4, "BA/-zeta", curve_ok=True),
+        EI=e.number_at(5, "EI", curve_ok=True), Cd=e.number_at(6, "Cd"),
+        Ca=e.number_at(7, "Ca"), CdAx=e.number_at(8, "CdAx"), CaAx=e.number_at(9, "CaAx"),
+        viv=tuple(e.number_at(i, n) for i, n in zip(range(10, len(e.words)),
+                                                    ("Cl", "dF", "cF"))),
+        where=e.number)
+    for column, value in (("Diam", lt.diameter), ("Mass/m", lt.mass), ("EA", lt.EA)):
+        if value <= 0:
+            raise e.error(f"{column}: must be positive, got {value:g}")
+    deck.line_types[name] = lt
+
+
+def _decompose(word):
+    """MoorDyn's split of an attachment word: (LETTERS, number or None, rest)."""
+    m = re.fullmatch(r"([A-Za-z_]*)(\d*)([A-Za-z]*)", word)
+    if not m:
+        return word.upper(), None, ""
+    return m.group(1).upper(), (int(m.group(2)) if m.group(2) else None), m.group(3).upper()
+
+
+def _body(e, deck):
+    if len(e.words) < 14:
+        raise e.error("entry: needs the 14 columns ID Attachment X0 Y0 Z0 r0 p0 y0 Mass "
+                      f"CG* I* Volume CdA* Ca*, got {len(e.words)}")
+    number = e.integer_at(0, "ID")
+    if number != len(deck.bodies) + 1:
+        raise e.error(f"ID: must count up from 1 (expected {len(deck.bodies) + 1}, "
+                      f"got {number})")
+    letters, _, _ = _decompose(e.words[1])
+    deck.bodies.append(DeckBody(
+        id=number, kind=BODY_KINDS.get(letters, "free"),
+        r6=tuple(e.number_at(i, c) for i, c in zip(range(2, 8),
+                                                   ("X0", "Y0", "Z0", "r0", "p0", "y0"))),
+        mass=e.number_at(8, "Mass"), cg=e.bar_numbers(9, "CG", (1, 3)),
+        inertia=e.bar_numbers(10, "I", (1, 3)), volume=e.number_at(11, "Volume"),
+        CdA=e.bar_numbers(12, "CdA", (1, 2, 3, 6)), Ca=e.bar_numbers(13, "Ca", (1, 3)),
+        where=e.number))
+
+
+def _point(e, deck):
+    if len(e.words) not in (9, 12):
+        raise e.error("entry: needs the 9 columns ID Attachment X Y Z Mass Volume CdA Ca "
+                      f"(or 12 with FX FY FZ before CdA), got {len(e.words)}")
+    number = e.integer_at(0, "ID")
+    if number != len(deck.points) + 1:
+        raise e.error(f"ID: must count up from 1 (expected {len(deck.points) + 1}, "
+                      f"got {number})")
+    letters, body, _ = _decompose(e.words[1])
+    if letters == "BODY":
+        if body is None or not 1 <= body <= len(deck.bodies):
+            raise e.error(f"Attachment: {e.words[1]!r} names no body of the BODIES "
+                          f"section ({len(deck.bodies)} bodies)")
+        kind = "body"
+    elif letters in POINT_KINDS:
+        kind, body = POINT_KINDS[letters], None
+    else:
+        raise e.error(f"Attachment: {e.words[1]!r} is not Fixed/Anchor, Coupled/Vessel, "
+                      "Free/Point or Body<N>")
+    force = None
+    if len(e.words) == 12:
+        force = tuple(e.number_at(i, c) for i, c in zip((7, 8, 9), ("FX", "FY", "FZ")))
+    k = 10 if force is not None else 7
+    deck.points.append(DeckPoint(
+        id=number, kind=kind, body=body,
+        position=tuple(e.number_at(i, c) for i, c in zip((2, 3, 4), ("X", "Y", "Z"))),
+        mass=e.number_at(5, "Mass"), volume=e.number_at(6, "Volume"),
+        CdA=e.number_at(k, "CdA"), Ca=e.number_at(k + 1, "Ca"), force=force,
+        where=e.number))
+
+
+def _line(e, deck):
+    if len(e.words) < 7:
+        raise e.error("entry: needs the 7 columns ID LineType AttachA AttachB UnstrLen "
+                      f"NumSegs LineOutputs, got {len(e.words)}")
+    number = e.integer_at(0, "ID")
+    if number != len(deck.lines) + 1:
+        raise e.error(f"ID: must count up from 1 (expected {len(deck.lines) + 1}, "
+                      f"got {number})")
+    if e.words[1] not in deck.line_types:
+        raise e.error(f"LineType: {e.words[1]!r} is not in LINE TYPES "
+                      f"({', '.join(deck.line_types) or 'none'})")
+    ends = []
+    for column, word in (("AttachA", e.words[2]), ("AttachB", e.words[3])):
+        letters, point, _ = _decompose(word)
+        if letters in ("R", "ROD"):
+            raise e.error(f"{column}: {word!r} is a rod end (rods are not supported)")
+        if letters not in ("", "C", "CON", "P", "POINT") or point is None:
+            raise e.error(f"{column}: {word!r} is not a point number")
+        if not 1 <= point <= len(deck.points):
+            raise e.error(f"{column}: point {point} is not in POINTS "
+                          f"({len(deck.points)} points)")
+        ends.append(point)
+    length = e.number_at(4, "UnstrLen")
+    segments = e.integer_at(5, "NumSegs")
+    if length <= 0:
+        raise e.error(f"UnstrLen: must be positive, got {length:g}")
+    if segments < 1:
+        raise e.error(f"NumSegs: must be >= 1, got {segments}")
+    deck.lines.append(DeckLine(id=number, type=e.words[1], a=ends[0], b=ends[1],
+                               length=length, n_segments=segments, outputs=e.words[6],
+                               where=e.number))
+
+
+def _option(e, deck):
+    if len(e.words) < 2:
+        deck.notes.append(f"line {e.number}: option line without a name ignored")
+        return
+    value, written = e.words[0], e.words[1]
+    name = OPTION_NAMES.get(written.lower())
+    if name is None:
+        name = written
+        deck.notes.append(f"line {e.number}: unknown option {written!r} kept, not used")
+    elif name in F_ONLY:
+        deck.notes.append(f"line {e.number}: option {written!r} is MoorDyn-F only "
+                          "(MoorDyn-C ignores it)")
+    if name in deck.options:
+        raise e.error(f"{written}: given twice (line {deck.option_lines[name]} and here)")
+    deck.options[name] = value
+    deck.option_lines[name] = e.number
+
+
+# ------------------------------------------------------------------------ writing
+
+def _num(value) -> str:
+    """Shortest text that reads back as the same float."""
+    return repr(float(value))
+
+
+def _bar(values) -> str:
+    return "|".join(_num(v) for v in values)
+
+
+def write_deck(deck: Deck, path) -> Path:
+    """Write ``deck`` as a MoorDyn v2 input file (MoorDyn-C 2.x reads it); returns the path."""
+    path = Path(path)
+    rule = lambda name: f"{'-' * 22} {name} {'-' * max(4, 50 - len(name))}"  # noqa: E731
+    out = [rule("MoorDyn Input File")] + list(deck.title)
+    out += [rule("LINE TYPES"),
+            "TypeName Diam Mass/m EA BA/-zeta EI Cd Ca CdAx CaAx",
+            "(name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)"]
+    for lt in deck.line_types.values():
+        out.append(" ".join([lt.name] + [_num(v) for v in (
+            lt.diameter, lt.mass, lt.EA, lt.BA, lt.EI, lt.Cd, lt.Ca, lt.CdAx, lt.CaAx)
+            + tuple(lt.viv)]))
+    if deck.bodies:
+        out += [rule("BODIES"),
+                "ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca*",
+                "(#) (word) (m) (m) (m) (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)"]
+        for b in deck.bodies:
+            out.append(" ".join([str(b.id), b.attachment] + [_num(v) for v in b.r6]
+                                + [_num(b.mass), _bar(b.cg), _bar(b.inertia),
+                                   _num(b.volume), _bar(b.CdA), _bar(b.Ca)]))
+    out += [rule("POINTS")]
+    with_force = any(p.force is not None for p in deck.points)
+    out += ["ID Attachment X Y Z Mass Volume " + ("FX FY FZ " if with_force else "")
+            + "CdA Ca",
+            "(#) (word) (m) (m) (m) (kg) (m^3) " + ("(N) (N) (N) " if with_force else "")
+            + "(m^2) (-)"]
+    for p in deck.points:
+        force = [] if not with_force else [_num(f) for f in (p.force or (0.0, 0.0, 0.0))]
+        out.append(" ".join([str(p.id), p.attachment] + [_num(v) for v in p.position]
+                            + [_num(p.mass), _num(p.volume)] + force
+                            + [_num(p.CdA), _num(p.Ca)]))
+    out += [rule("LINES"),
+            "ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs",
+            "(#) (name) (#) (#) (m) (-) (-)"]
+    for line in deck.lines:
+        out.append(f"{line.id} {line.type} {line.a} {line.b} {_num(line.length)} "
+                   f"{line.n_segments} {line.outputs}")
+    out += [rule("OPTIONS")]
+    out += [f"{value} {name}" for name, value in deck.options.items()]
+    if deck.outputs:
+        out += [rule("OUTPUTS")] + list(deck.outputs)
+    out += [rule("END")]
+    path.write_text("\n".join(out) + "\n", encoding="utf-8")
+    return path
+
+
+def is_deck(path) -> bool:
+    """True for a MoorDyn deck: a .dat / .txt file, or text with a '---' LINE TYPES line."""
+    path = Path(path)
+    if path.suffix.lower() in (".dat", ".txt"):
+        return True
+    try:
+        head = path.read_text(encoding="utf-8", errors="replace")[:20000]
+    except OSError:
+        return False
+    return any(_section_of(line) == "LINE TYPES" for line in head.splitlines())
