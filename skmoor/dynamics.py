@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
+from scipy.linalg import lapack
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -89,19 +90,21 @@ class _IterationMatrix:
     across iterations and steps (modified Newton) until convergence slows down."""
 
     def __init__(self, dense):
-        self.dense, self.factor, self.age = dense, None, 0
+        self.dense, self.factor = dense, None
 
     def update(self, A):
-        self.age = 0
-        if self.dense:
-            self.factor = sla.lu_factor(A, check_finite=False)
+        if self.dense:  # LAPACK directly: scipy's wrappers cost more than the solve here
+            lu, piv, info = lapack.dgetrf(A)
+            self.factor = None if info > 0 else (lu, piv)  # info > 0: singular
         else:
             self.factor = spla.splu(sp.csc_matrix(A))
 
     def solve(self, b):
-        self.age += 1
+        """A^-1 b, NaN (caught by the caller) when A is singular."""
+        if self.factor is None:
+            return np.full_like(b, np.nan)
         if self.dense:
-            return sla.lu_solve(self.factor, b, check_finite=False)
+            return lapack.dgetrs(*self.factor, b)[0]
         return self.factor.solve(b)
 
 
