@@ -21,14 +21,19 @@ _threadpool_limits(int(_os.environ.get("SKMOOR_BLAS_THREADS", 1)), user_api="bla
 from .body import RigidBody  # noqa: E402
 from .case import Case, paper_case
 from .catenary import Catenary, solve_catenary
-from .coupling import System, Term
+from .coupling import BodyTerm, System, Term
+from .deck import read_deck, write_deck
+from .deck_model import build_deck, run_deck, simulate_deck
 from .dynamics import DivergenceError, Scheme, integrate
+from .hydro import body_hydrodynamics, line_hydrodynamics
 from .line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
 from .model import Model, build
 from .modes import eigenmodes
 from .results import Results
 from .run import equilibrium, run_case, simulate, static_results, summary, write_outputs
+from .seabed import Seabed, seabed_term
 from .statics import ConvergenceError, solve_static
+from .waves import AiryWave, Current, JonswapWave, Sea
 
 __version__ = "0.1.0"
 
@@ -37,5 +42,7 @@ __all__ = [
     "write_outputs", "equilibrium", "static_results", "Results", "LineType", "Line", "LineSet",
     "read_line_mesh", "write_line_mesh", "Catenary", "solve_catenary", "RigidBody",
     "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
-    "Scheme", "DivergenceError",
+    "Scheme", "DivergenceError", "BodyTerm", "Sea", "Current", "AiryWave", "JonswapWave",
+    "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
+    "write_deck", "build_deck", "simulate_deck", "run_deck",
 ]
