@@ -16,6 +16,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import math
+
 import numpy as np
 import scipy.sparse as sp
 from skfem import asm
@@ -122,6 +124,7 @@ class System:
         self.motion, self.body_load = motion, body_load
         self.terms, self.body_terms = list(terms), list(body_terms)
         self.kernel = CableKernel(lines)
+        self._damped = lines.damped
         dofs = lines.nodal_dofs
         self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3)
         held = np.concatenate([dofs[lines.anchor_nodes].ravel(), self.fairlead_dofs.ravel()])
@@ -131,6 +134,8 @@ class System:
         self.n = self.nf + self.nb
         if self.body is not None:
             self.r_local = lines.points[lines.fairlead_nodes] - self.body.reference_point
+            self._jacobian_template = np.zeros((len(self.r_local), 3, 6))
+            self._jacobian_template[:, :, :3] = np.eye(3)
             self.K_body = self.body.hydrostatic_stiffness(generalized=True)
             self.F_body0 = self.body.static_force()
         self._attachment_cache = (None, None, None)
@@ -178,12 +183,11 @@ class System:
         q = x[self.nf:]
         key = q.tobytes()
         if self._attachment_cache[0] != key:
-            if not np.all(np.isfinite(q)):
+            if not math.isfinite(q.sum()):
                 raise ValueError(f"System: body DOFs are not finite: {q}")
             R, dR = rigid.rotation_and_slopes(q[3:])
             r = self.r_local
-            J = np.empty((len(r), 3, 6))
-            J[:, :, :3] = np.eye(3)
+            J = self._jacobian_template.copy()  # identity in the translations
             J[:, :, 3:] = (dR @ r.T).T  # (n, 3, a): dR_a r
             self._attachment_cache = (key, q[:3] + r @ R.T - r, J.reshape(-1, 6))
         return self._attachment_cache[1], self._attachment_cache[2]
@@ -259,13 +263,13 @@ class System:
 
     @property
     def _needs_velocity(self):
-        return bool(self.terms) or self.lines.damped
+        return bool(self.terms) or self._damped
 
     # --- the nonlinear system
     def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, dense=False):
         """Full cable residual internal - external (N) and its u- and v-derivatives
         (sparse, or dense arrays when ``dense``)."""
-        f, K, Kv = self.kernel.evaluate(u, ud if self.lines.damped else None, tangent, dense)
+        f, K, Kv = self.kernel.evaluate(u, ud if self._damped else None, tangent, dense)
         R = f - load_factor * self.weight
         for term in self.terms:
             Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent, dense)
@@ -292,12 +296,12 @@ class System:
             R[self.nf:] += self.body.linear_damping @ v[self.nf:]
             if self.body_load is not None:
                 R[self.nf:] -= self.body_load(t, q, v[self.nf:])
-            body_K, body_Kv = np.zeros((6, 6)), np.zeros((6, 6))
+            body_K = body_Kv = 0.0
             for term in self.body_terms:
                 F, Kb, Kvb = term.evaluate(q, v[self.nf:], t)
                 R[self.nf:] -= F
-                body_K += 0.0 if Kb is None else Kb
-                body_Kv += 0.0 if Kvb is None else Kvb
+                body_K = body_K if Kb is None else body_K + Kb
+                body_Kv = body_Kv if Kvb is None else body_Kv + Kvb
         if not tangent:
             return R, None, None
         if dense:

@@ -25,7 +25,6 @@ class CableKernel:
         self.T, self.EA, self.BA = f["T"][:, 0], f["EA"][:, 0], f["BA"][:, 0]  # (nel,)
         h = lineset.element_lengths
         self.dx_h = lineset.cable_basis.dx[:, 0] / h  # quadrature weight / h = 1
-        self.reference = lineset.reference_force()
         self.dx_h2 = self.dx_h / h
         t = lineset.mesh.t
         nodal = lineset.nodal_dofs
@@ -43,6 +42,10 @@ class CableKernel:
         self._pattern = (unique % self.ndofs, indptr)
         self.nnz = len(unique)
         self._flat = keys  # positions in a dense (ndofs, ndofs) array
+        # the displacement-free part of Eq. 9: the reference force minus int T X'.du' ds
+        # on the mid-point rule (the T r' term of Eq. 11 carries +T X' at u = 0)
+        self.constant = lineset.reference_force() - self._scatter_flux(
+            ((self.dx_h * self.T)[:, None] * self.Xp).ravel())
 
     def slopes(self, u):
         """(nel, 3) u' on each element."""
@@ -62,9 +65,7 @@ class CableKernel:
             rate_slopes = self.slopes(ud)
             rate = (rp * rate_slopes).sum(-1)  # strain rate, 1/s
             axial = axial + self.BA * rate
-        g = ((self.dx_h * axial)[:, None] * rp - (self.dx_h * self.T)[:, None] * self.Xp).ravel()
-        f = (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
-             - np.bincount(self.dofs_i.ravel(), g, self.ndofs) + self.reference)
+        f = self._scatter_flux(((self.dx_h * axial)[:, None] * rp).ravel()) + self.constant
         if not tangent:
             return f, None, None
         dS = forms.stress_resultant_slope(eps, self.T, self.EA, self.law)
@@ -76,6 +77,12 @@ class CableKernel:
         b = (self.dx_h2 * self.BA)[:, None, None]
         k += b * (rp[:, :, None] * rate_slopes[:, None, :] + rate[:, None, None] * np.eye(3))
         return f, self._assemble(k, dense), self._assemble(b * rr, dense)
+
+    def _scatter_flux(self, g):
+        """Nodal forces of per-element axial fluxes g (nel*3,): +g at the end node, -g at
+        the start node."""
+        return (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
+                - np.bincount(self.dofs_i.ravel(), g, self.ndofs))
 
     def force(self, u):
         """Internal force vector (Eq. 9 = Eq. 11 + reference part), N."""
