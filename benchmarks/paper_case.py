@@ -11,8 +11,9 @@ F_x = 1e5 sin(1.6 t) N, 200 s from static rest. Both codes get the same physics:
   step of 10, 5 or 2.5 ms, the largest that meets the accuracy criterion below, MoorDyn
   sub-stepping at its own dtM inside);
 - damping, two variants (both printed; the last line is the paper's):
-  'light': the same explicit damping in both codes, line internal damping BA = 1e-3 s x EA
-  (skmoor's LineType.BA, MoorDyn's BA) and a 6x6 body damping, no Rayleigh damping;
+  'moordyn-damping': the same explicit damping in both codes, MoorDyn's customary line
+  damping BA = -0.8 (zeta (L/N) sqrt(EA m), skmoor's LineType.BA) and a 6x6 body damping
+  (below), no Rayleigh damping;
   'paper': skmoor's Rayleigh C = a0 M + a1 K of the paper's case (3 % at the first two
   modes). MoorDyn gets its equivalent: BA = a1 EA (the axial part of a1 K) and
   a0 M_body + a1 (K_body + the mooring's condensed stiffness) on the body. That BA is
@@ -63,7 +64,7 @@ MOORDYN_REFERENCE = (2.5e-5, 2e-3)  # s: dtM, coupling step
 COUPLINGS = (0.01, 0.005, 0.0025)  # s, body coupling steps tried for MoorDyn
 
 
-LIGHT_BA = 1e-3  # s: BA / EA of the lightly damped variant
+LINE_ZETA = 0.8  # MoorDyn's customary BA = -0.8: damping ratio of a segment's axial mode
 TMAX_IC = 0.0  # s: MoorDyn starts from its own catenary state, the same for every dtM
 
 
@@ -72,8 +73,9 @@ class Scenario:
 
     'paper': the paper's case with its Rayleigh damping C = a0 M + a1 K; MoorDyn's lines
     get BA = a1 EA (the axial part of a1 K), its body a0 M_body + a1 (K_body + the
-    mooring's condensed stiffness). 'light': both codes get the same explicit damping,
-    lines BA = LIGHT_BA EA and that body matrix, and no Rayleigh damping.
+    mooring's condensed stiffness). 'moordyn-damping': both codes get the same explicit
+    damping, MoorDyn's customary line damping BA = -0.8 (80 % of a segment's critical
+    axial damping) and that body matrix, and no Rayleigh damping.
     """
 
     def __init__(self, name):
@@ -90,14 +92,15 @@ class Scenario:
             self.model, self.BA = paper, a1 * EA
             self.description = (f"the paper's Rayleigh damping (MoorDyn: BA = a1 EA = "
                                 f"{a1 * EA:.3g} N s and the body's share)")
-        else:
-            self.BA = LIGHT_BA * EA
+        else:  # MoorDyn's -zeta convention: BA = zeta (L / N) sqrt(EA m)
+            lt, line = line_type(paper.case, "steel"), paper.lines.lines[0]
+            self.BA = LINE_ZETA * line.length / (len(line.s) - 1) * np.sqrt(EA * lt.mass)
             self.model = skmoor.build(skmoor.paper_case(
                 mooring__strain_law="engineering", damping__ratio=0.0,
                 line_types__steel__BA=self.BA))
             self.model.body.linear_damping = self.body_damping
-            self.description = (f"light line damping in both, BA = {LIGHT_BA:g} s x EA, and "
-                                "the same body damping")
+            self.description = (f"MoorDyn's line damping in both, BA = -{LINE_ZETA:g} "
+                                f"(= {self.BA:.3g} N s), and the same body damping")
         self.eq = skmoor.equilibrium(self.model)
 
 
@@ -325,9 +328,9 @@ def main(argv=None):
     print(f"the paper's case, {args.duration:g} s simulated, 11 segments per line; step "
           f"criterion: fairlead tensions within {TOLERANCE:.0%} of the reference's range")
     os.chdir(tempfile.mkdtemp(prefix="skmoor-bench-"))  # MoorDyn may write files here
-    light = compare(Scenario("light"), args.duration)
+    light = compare(Scenario("moordyn-damping"), args.duration)
     paper = compare(Scenario("paper"), args.duration)
-    print(f"\nlightly damped variant: ratio skmoor/moordyn = {light[0] / light[1]:.3f}")
+    print(f"\nwith MoorDyn's line damping: ratio skmoor/moordyn = {light[0] / light[1]:.3f}")
     print(f"ratio skmoor/moordyn = {paper[0] / paper[1]:.3f}")
 
 
