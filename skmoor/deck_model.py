@@ -11,9 +11,11 @@ axial strain rate (``LineType.BA``). Drag and added mass come from
 :func:`skmoor.hydro.line_hydrodynamics` (MoorDyn's conventions, still water unless a
 ``Sea`` is given). The bottom is MoorDyn's (as :meth:`skmoor.seabed.Seabed.from_moordyn`:
 stiffness kBot d, damping cBot d per unit length), its damping faded in over the first
-centimetre of penetration (:class:`DampingOnset`); MoorDyn-C's friction (a viscous
-ramp mu FricDamp v capped at mu N) maps to the bed's regularised Coulomb law with the
-same slope and cap (slip velocity v0 = N / FricDamp, N a segment's weight).
+tenth of the static penetration w / (kBot d), 13 mm for the chain decks (the bed's
+default ``damping_onset``; MoorDyn's jump there leaves the implicit step without a
+solution); MoorDyn-C's friction (a viscous ramp mu FricDamp v capped at mu N) maps to
+the bed's regularised Coulomb law with the same slope and cap (slip velocity
+v0 = N / FricDamp, N a segment's weight).
 
 The coupled objects move as the caller says: ``motion(t)`` returns their displacements
 from the deck's positions in MoorDyn's order of coupled DOFs (6 per coupled body:
@@ -31,7 +33,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import scipy.sparse as sp
 from tqdm.auto import tqdm
 
 from .catenary import solve_catenary
@@ -47,52 +48,6 @@ from .statics import solve_static
 from .waves import Sea
 
 __all__ = ["DeckModel", "build_deck", "simulate_deck", "run_deck", "heave_motion"]
-
-
-class DampingOnset:
-    """Fades the bed's damping in over the first ``onset`` m of penetration g.
-
-    MoorDyn's bottom force per unit length, k g - c n.udot while g > 0, jumps by c n.udot
-    where a moving node touches the bed: an explicit code steps over the jump, but the
-    implicit step's equations then have no root and Newton cycles between the two sides.
-    This term turns the damping part into c n.udot min(g / onset, 1), continuous: at each
-    node it adds -c (n.udot) (1 - g / onset) W n for 0 < g < onset (W: the node's share
-    of line length, the seabed kernel's nodal quadrature), with its derivatives. onset:
-    a tenth of the heaviest line's static penetration w / k (13 mm for the chain decks).
-    """
-
-    def __init__(self, lines: LineSet, seabed: Seabed):
-        self.k, self.c = seabed.coefficients(lines)
-        self.n, self.offset = seabed.normal, seabed.offset
-        self.onset = 0.1 * max(abs(line.line_type.weight) for line in lines.lines) / self.k
-        dofs = lines.nodal_dofs
-        self.dofs, self.X = dofs, lines.points
-        self.W = np.bincount(lines.mesh.t.ravel(), np.tile(lines.element_lengths / 2, 2),
-                             len(lines.points))  # (nnodes,) m
-        self.ndofs = lines.ndofs
-
-    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
-        n = self.n
-        g = self.offset - (self.X + u[self.dofs]) @ n
-        fade = np.where((g > 0) & (g < self.onset), 1.0 - g / self.onset, 0.0)
-        vn = np.zeros(len(g)) if ud is None else ud[self.dofs] @ n
-        R = np.zeros(self.ndofs)
-        R[self.dofs] = -(self.c * self.W * vn * fade)[:, None] * n
-        if not tangent:
-            return R, None, None
-        inside = fade > 0
-        # d/du through g (dg/du = -n): -c W vn / onset n n^T; d/dudot: -c W fade n n^T
-        stiff = -self.c * self.W * vn * inside / self.onset
-        rate = -self.c * self.W * fade
-        return R, self._diagonal(stiff, dense), self._diagonal(rate, dense)
-
-    def _diagonal(self, per_node, dense):
-        """Node-diagonal 3x3 blocks a_i n n^T as a (ndofs, ndofs) matrix."""
-        blocks = per_node[:, None, None] * np.outer(self.n, self.n)
-        rows = np.repeat(self.dofs, 3, axis=1).ravel()
-        cols = np.tile(self.dofs, (1, 3)).ravel()
-        matrix = sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(self.ndofs, self.ndofs))
-        return matrix.toarray() if dense else matrix
 
 
 @dataclass
@@ -268,8 +223,6 @@ def build_deck(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     bed = _seabed(deck, lineset, depth) if seabed else None
     if bed is not None:
         terms.append(seabed_term(lineset, bed, fast=True))
-        if bed.damping:
-            terms.append(DampingOnset(lineset, bed))
     if hydro:
         sea = Sea(depth, rho=deck.rho, g=deck.g) if sea is None else sea
         terms += line_hydrodynamics(lineset, sea, fast=True)

@@ -29,7 +29,7 @@ from .waves import AiryWave, Current, JonswapWave, Sea
 
 LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t")
 SEABED_KEYS = ("stiffness", "damping", "mu_axial", "mu_lateral", "slope_deg",
-               "slope_heading_deg", "friction_velocity")
+               "slope_heading_deg", "friction_velocity", "damping_onset")
 
 
 def _named(section, build):

@@ -4,11 +4,16 @@ regularised Coulomb friction, as scikit-fem forms and as a fast numpy kernel.
 The bed is the plane through (0, 0, -depth) rising at ``slope_deg`` towards
 ``slope_heading_deg``, with upward unit normal n. At a point x = X + u of the line
 (X reference position, u displacement, m) the penetration is g = n.(P0 - x) (m, > 0 in
-contact). While g > 0 the bed pushes along n with k g - c n.udot per unit length
-(k in N/m2, c in N s/m2; MoorDyn-C's linear spring-damper, which, as there, may pull
-while the line lifts off quickly). Friction takes the spring part N = k g as its normal
-force and opposes the slip velocity v_t = P udot (P = I - n n^T) along the line's
-current tangent projected on the bed, a = P r' / |P r'| (r' = X' + u'), and across it:
+contact). While g > 0 the bed pushes along n with k g - c (n.udot) Hc(g) per unit
+length (k in N/m2, c in N s/m2; MoorDyn-C's linear spring-damper, which, as there, may
+pull while the line lifts off quickly), its damping faded in over the first
+``damping_onset`` m of penetration: Hc(g) = clip(g / onset, 0, 1). MoorDyn's damping
+(Hc = H, onset 0) jumps by c |n.udot| where a moving node touches the bed: an explicit
+code steps over the jump, but the implicit step's equations then have no root and
+Newton cycles between its two sides; with the fade-in the force is continuous.
+Friction takes the spring part N = k g as its normal force and opposes the slip
+velocity v_t = P udot (P = I - n n^T) along the line's current tangent projected on
+the bed, a = P r' / |P r'| (r' = X' + u'), and across it:
 
     f = -N [mu_a phi(v_a) a + mu_l v_l / sqrt(|v_l|^2 + v0^2)],  phi(s) = s / sqrt(s^2 + v0^2),
     v_a = a.v_t,  v_l = v_t - v_a a.
@@ -52,7 +57,9 @@ class Seabed:
     heaviest line's mass per length). mu_axial, mu_lateral: friction coefficients along
     and across the line. slope_deg: rise of the plane, degrees, towards the horizontal
     heading slope_heading_deg (degrees from +x towards +y). friction_velocity: slip
-    velocity v0 of the regularisation, m/s.
+    velocity v0 of the regularisation, m/s. damping_onset: penetration over which the
+    damping fades in, m (default: a tenth of the heaviest line's static penetration w / k;
+    0: MoorDyn's jump at touchdown).
     """
 
     depth: float
@@ -63,12 +70,13 @@ class Seabed:
     slope_deg: float = 0.0
     slope_heading_deg: float = 0.0
     friction_velocity: float = 1e-3
+    damping_onset: float | None = None
 
     def __post_init__(self):
         check_positive("Seabed.depth", self.depth)
         if self.stiffness is not None:
             check_positive("Seabed.stiffness", self.stiffness)
-        for name in ("damping", "mu_axial", "mu_lateral"):
+        for name in ("damping", "mu_axial", "mu_lateral", "damping_onset"):
             value = getattr(self, name)
             if value is not None:
                 check_finite(f"Seabed.{name}", value)
@@ -126,6 +134,13 @@ class Seabed:
             c = 2.0 * np.sqrt(k * max(line.line_type.mass for line in lines.lines))
         return float(k), float(c)
 
+    def onset(self, lines) -> float:
+        """The damping onset (m) with the default resolved for a LineSet."""
+        if self.damping_onset is not None:
+            return float(self.damping_onset)
+        k, _ = self.coefficients(lines)
+        return 0.1 * max(abs(line.line_type.weight) for line in lines.lines) / k
+
 
 # --- the pointwise physics, component axis first: x, rp, ud (3, ...), n (3, 1, ...)
 def _slip(rp, ud, n, v0):
@@ -154,15 +169,24 @@ def _state(w):
     return g, (g > 0).astype(float), d_ds(w.X) + d_ds(w.u), w.du
 
 
+def _fade(g, onset):
+    """Hc(g) = clip(g / onset, 0, 1), the damping's share (H(g) for onset 0), and dHc/dg
+    (1/m, 0 outside 0 < g < onset)."""
+    if onset == 0:
+        return (g > 0).astype(float), np.zeros_like(g)
+    return np.clip(g / onset, 0.0, 1.0), ((g > 0) & (g < onset)) / onset
+
+
 def _friction_direction(a, va, vl, ra, rho, mu_a, mu_l):
     """F = mu_a phi(v_a) a + mu_l v_l / rho: friction per unit normal force, against slip."""
     return mu_a * (va / ra) * a + mu_l * vl / rho
 
 
 def normal_residual(v, w):
-    # contact: int -(k g - c n.udot) H(g) n.du ds, g = n.(P0 - X - u)
+    # contact: int -(k g H(g) - c (n.udot) Hc(g)) n.du ds, g = n.(P0 - X - u)
     g, H, _, ud = _state(w)
-    return -(w.k_bed * g - w.c_bed * dot(w.bed_n, ud)) * H * dot(w.bed_n, v)
+    Hc, _ = _fade(g, w.bed_onset)
+    return -(w.k_bed * g * H - w.c_bed * dot(w.bed_n, ud) * Hc) * dot(w.bed_n, v)
 
 
 def friction_residual(v, w):
@@ -173,15 +197,17 @@ def friction_residual(v, w):
 
 
 def normal_stiffness(du, v, w):
-    # d(contact)/du: int k H (n.du)(n.v) ds
-    _, H, _, _ = _state(w)
-    return w.k_bed * H * dot(w.bed_n, du) * dot(w.bed_n, v)
+    # d(contact)/du: int (k H - c (n.udot) dHc/dg) (n.du)(n.v) ds
+    g, H, _, ud = _state(w)
+    _, dHc = _fade(g, w.bed_onset)
+    return (w.k_bed * H - w.c_bed * dot(w.bed_n, ud) * dHc) * dot(w.bed_n, du) * dot(w.bed_n, v)
 
 
 def normal_damping(du, v, w):
-    # d(contact)/dudot: int c H (n.du)(n.v) ds
-    _, H, _, _ = _state(w)
-    return w.c_bed * H * dot(w.bed_n, du) * dot(w.bed_n, v)
+    # d(contact)/dudot: int c Hc (n.du)(n.v) ds
+    g, _, _, _ = _state(w)
+    Hc, _ = _fade(g, w.bed_onset)
+    return w.c_bed * Hc * dot(w.bed_n, du) * dot(w.bed_n, v)
 
 
 def friction_stiffness(du, v, w):
@@ -244,8 +270,9 @@ def seabed_term(lines, seabed, *, fast=True):
         return SeabedKernel(lines, seabed)
     k, c = seabed.coefficients(lines)
     fields = dict(X=_reference_positions(lines), bed_n=seabed.normal[:, None, None],
-                  bed_offset=seabed.offset, k_bed=k, c_bed=c, mu_a=float(seabed.mu_axial),
-                  mu_l=float(seabed.mu_lateral), v0=float(seabed.friction_velocity))
+                  bed_offset=seabed.offset, k_bed=k, c_bed=c, bed_onset=seabed.onset(lines),
+                  mu_a=float(seabed.mu_axial), mu_l=float(seabed.mu_lateral),
+                  v0=float(seabed.friction_velocity))
     moving = c > 0 or seabed.mu_axial > 0 or seabed.mu_lateral > 0
     return Term(seabed_residual, seabed_stiffness, seabed_damping if moving else None,
                 fields=fields, quadrature="nodal")
@@ -259,6 +286,7 @@ class SeabedKernel:
     def __init__(self, lines, seabed):
         self.seabed = seabed
         self.k, self.c = seabed.coefficients(lines)
+        self.onset = seabed.onset(lines)
         self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
         self.v0 = float(seabed.friction_velocity)
         self.n, self.offset = seabed.normal, seabed.offset
@@ -288,13 +316,15 @@ class SeabedKernel:
         n = self.n
         g = self.offset - x @ n  # (2, nel)
         H = (g > 0).astype(float)
+        Hc, dHc = _fade(g, self.onset)
+        vn = vel @ n
         W = 0.5 * self.h  # quadrature weight of each end
         first = (np.moveaxis(rp, -1, 0), np.moveaxis(vel, -1, 0), n[:, None, None], self.v0)
         a, inv, va, vl, ra, rho = _slip(*first)  # component axis first
         a, vl = np.moveaxis(a, 0, -1), np.moveaxis(vl, 0, -1)  # (2, nel, 3)
         F = (self.mu_a * va / ra)[..., None] * a + self.mu_l * vl / rho[..., None]
         N = self.k * g * H
-        push = -(self.k * g - self.c * (vel @ n)) * H
+        push = -(self.k * g * H - self.c * vn * Hc)
         f = W[:, None] * (push[..., None] * n + N[..., None] * F)  # (2, nel, 3)
         R = np.bincount(self.ends.ravel(), f.ravel(), self.ndofs)
         if not tangent:
@@ -308,8 +338,10 @@ class SeabedKernel:
         G = (self.mu_a * (self.v0**2 / ra**3 * a_vl + va / ra * Q)
              + self.mu_l * (-(a_vl + va * Q) / rho + va / rho**3 * vl_vl))
         G = (W * N * inv / self.h)[..., None, None] * G
-        # d/du through the penetration: the spring and the friction's normal force
-        B = (W * self.k * H)[..., None, None] * (nn - F[..., :, None] * n)
+        # d/du through the penetration: the spring, the damping's fade-in and the
+        # friction's normal force
+        B = ((W * self.k * H)[..., None, None] * (nn - F[..., :, None] * n)
+             - (W * self.c * vn * dHc)[..., None, None] * nn)
         ke = np.zeros((len(self.h), 6, 6))
         ke[:, :3, :3] += B[0] - G[0]
         ke[:, :3, 3:] += G[0]
@@ -318,7 +350,7 @@ class SeabedKernel:
         K = self._assemble(ke, dense)
         if not self.moving:
             return R, K, None
-        C = ((W * self.c * H)[..., None, None] * nn
+        C = ((W * self.c * Hc)[..., None, None] * nn
              + (W * N)[..., None, None] * (self.mu_a * self.v0**2 / ra**3 * _outer(a, a)
                                            + self.mu_l * (Q / rho - vl_vl / rho**3)))
         ce = np.zeros((len(self.h), 6, 6))

@@ -24,7 +24,7 @@ samples: max |difference| within 5 % of MoorDyn's tension range (max - min). Mea
 The static fairlead tensions agree within 0.15 %. The 5 m heave in 50 m of water nearly
 slackens the chain: the trough carries a fast (0.3 s) axial ringing that both codes
 show and that skmoor follows better at dt = 0.025 s. skmoor's bed damping is faded in
-over the first 13 mm of penetration (deck_model.DampingOnset): MoorDyn's jump there
+over the first 13 mm of penetration (the sea bed's default `damping_onset`, a tenth of w / k): MoorDyn's jump there
 leaves the implicit step without a solution (Newton cycles; the 50 m / 2 m run stops
 at t = 24.6 s without it).
 """

@@ -1,7 +1,8 @@
 """Sea-bed contact (skmoor.seabed): the plane's geometry, tangents against central finite
-differences, the numpy kernel against the scikit-fem forms, the static touchdown against
-the analytic catenary, a line on a slope against the in-plane catenary and w cos(slope),
-and friction against mu w L of a line dragged along and across itself."""
+differences, the numpy kernel against the scikit-fem forms, the normal force's continuity
+at touchdown (damping onset), the static touchdown against the analytic catenary, a line
+on a slope against the in-plane catenary and w cos(slope), and friction against mu w L of
+a line dragged along and across itself."""
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -44,23 +45,28 @@ def test_plane_geometry_and_input_checks():
     assert moordyn.mu_axial == moordyn.mu_lateral == 0.5
     for kw, field in ((dict(depth=-1.0), "depth"), (dict(depth=10.0, slope_deg=90.0), "slope_deg"),
                       (dict(depth=10.0, mu_lateral=-0.1), "mu_lateral"),
-                      (dict(depth=10.0, friction_velocity=0.0), "friction_velocity")):
+                      (dict(depth=10.0, friction_velocity=0.0), "friction_velocity"),
+                      (dict(depth=10.0, damping_onset=-1e-3), "damping_onset"),
+                      (dict(depth=10.0, damping_onset=np.inf), "damping_onset")):
         with pytest.raises(ValueError, match=field):
             Seabed(**kw)
 
 
 def contact_state(seed=0):
-    """Two lines on one mesh, partly in the bed of a sloped, frictional sea bed, moving."""
+    """Two lines on one mesh, partly in the bed of a sloped, frictional sea bed, moving;
+    several nodes inside the damping's fade-in 0 < g < onset."""
     lines = LineSet([Line.from_catenary(touchdown(), CHAIN, 16, name="a"),
                      Line.from_catenary(touchdown([20.0, 30.0, -10.0]), CHAIN, 9, name="b")],
                     law="engineering")
+    onset = 6.0  # m: the slope buries the laid chain 2-12 m deep
     bed = Seabed(DEPTH, damping=3e4, mu_axial=0.4, mu_lateral=0.9, slope_deg=2.0,
-                 slope_heading_deg=40.0, friction_velocity=0.02)
+                 slope_heading_deg=40.0, friction_velocity=0.02, damping_onset=onset)
     rng = np.random.default_rng(seed)
     u = rng.normal(scale=0.05, size=lines.ndofs)  # m, against ~ 0.6 m to the slope
     ud = rng.normal(scale=0.03, size=lines.ndofs)  # m/s, about v0: the curved part of friction
     g = bed.penetration(lines.points + u[lines.nodal_dofs])
-    assert 10 < np.sum(g > 0) < len(g) - 5 and np.min(np.abs(g)) > 1e-4  # clear of the kink
+    assert 10 < np.sum(g > 0) < len(g) - 5 and np.sum((g > 0) & (g < onset)) >= 3
+    assert np.min(np.abs(g)) > 1e-4 and np.min(np.abs(g - onset)) > 1e-4  # clear of kinks
     return lines, bed, u, ud
 
 
@@ -92,6 +98,35 @@ def test_kernel_equals_forms(dense):
     for a, b in zip(fast, forms):
         a, b = (m.toarray() if hasattr(m, "toarray") else m for m in (a, b))
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_normal_force_is_continuous_at_touchdown(fast):
+    """A node of a straight line above a flat bed, moving into it at 0.3 m/s: the bed
+    force on it changes by less than 1e-6 c W v (W = its 10 m share of line length)
+    between penetrations -1e-9 and +1e-9 m (MoorDyn's law, onset 0, jumps by c W v), and
+    beyond the onset it is the full W (k g - c n.udot)."""
+    k, c, onset, v = 1e5, 2e4, 0.01, -0.3  # N/m2, N s/m2, m, m/s
+    z = -DEPTH + 1.0
+    line = Line.from_polyline(np.linspace([0.0, 0.0, z], [100.0, 0.0, z], 11), CHAIN)
+    lines = LineSet([line], law="engineering")
+    node = lines.nodal_dofs[5]  # interior: W = 10 m
+    ud = np.zeros(lines.ndofs)
+    ud[node[2]] = v
+
+    def bed_force(g, bed_onset):  # N, z-component on the node, at penetration g (m)
+        bed = Seabed(DEPTH, stiffness=k, damping=c, damping_onset=bed_onset)
+        u = np.zeros(lines.ndofs)
+        u[node[2]] = bed.penetration(lines.points[5]) - g
+        return -seabed_term(lines, bed, fast=fast).evaluate(lines, u, ud, 0.0, False)[0][node[2]]
+
+    W = 10.0
+    assert abs(bed_force(1e-9, onset) - bed_force(-1e-9, onset)) < 1e-6 * c * W * abs(v)
+    assert bed_force(1e-9, 0.0) - bed_force(-1e-9, 0.0) == pytest.approx(-c * W * v, rel=1e-6)
+    for g in (onset, 2.0 * onset):
+        assert bed_force(g, onset) == pytest.approx(W * (k * g - c * v), rel=1e-12)
+    assert bed_force(0.5 * onset, onset) == pytest.approx(W * (k - c * v / onset) * 0.5 * onset,
+                                                          rel=1e-12)
 
 
 def laid_length(system, bed, x, s0):

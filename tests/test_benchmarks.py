@@ -1,0 +1,91 @@
+"""The validation report (benchmarks/validate.py) and the benchmarks' shared set-up.
+
+The report must hold one row per comparison, every one passing, and its quick form must
+run in under a minute; a row outside its tolerance must read FAIL.
+"""
+import re
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("moorpy", reason="the report runs MoorPy side by side")
+pytest.importorskip("moordyn", reason="the report runs MoorDyn side by side")
+
+BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+sys.path.insert(0, str(BENCHMARKS))
+
+import _cases  # noqa: E402
+import validate  # noqa: E402
+
+ROW = re.compile(r"^\| (?!check \||---)(.+) \|$")
+
+
+def report(quick):
+    """(rows per check function, rows, markdown, seconds) of a run of the checks."""
+    started = time.perf_counter()
+    per_check, rows = {}, []
+    for section, check, fast in validate.CHECKS:
+        if quick and not fast:
+            continue
+        result = check()
+        result = result if isinstance(result, list) else [result]
+        per_check[check] = result
+        rows += [(section, row) for row in result]
+    seconds = time.perf_counter() - started
+    text = validate.markdown(rows, seconds, validate.environment(), quick)
+    return per_check, rows, text, seconds
+
+
+def assert_complete_and_passing(per_check, rows, text):
+    table = [line for line in text.splitlines() if ROW.match(line)]
+    assert len(table) == len(rows)  # one table row per check row, nothing dropped
+    for check, result in per_check.items():
+        assert result, f"{check.__name__} gave no row"
+    for line, (_, row) in zip(table, rows):
+        result = line.rsplit("|", 2)[1].strip()
+        assert result == "pass", (row.check, row.reference, row.value, row.error, row.tolerance)
+        assert np.isfinite(row.value) and np.isfinite(row.reference)
+
+
+def test_quick_report_has_every_check_passing_within_a_minute():
+    per_check, rows, text, seconds = report(quick=True)
+    assert seconds < 60
+    assert len(rows) >= 40
+    assert_complete_and_passing(per_check, rows, text)
+    for heading in ("date", "commit", "versions", "machine"):
+        assert f"- {heading}: " in text
+    assert "MoorDyn 2.7" in text and "MoorPy 1.3" in text
+
+
+@pytest.mark.slow
+def test_full_report_has_every_check_passing():
+    per_check, rows, text, _ = report(quick=False)
+    assert_complete_and_passing(per_check, rows, text)
+
+
+def test_a_row_outside_its_tolerance_fails():
+    rel = validate.Row("x", 100.0, "source", 101.5, 1e-2, unit="N")
+    assert rel.error == pytest.approx(0.015) and rel.status == "FAIL"
+    absolute = validate.Row("order", 2.0, "source", 1.85, 0.1, "abs")
+    assert absolute.error == pytest.approx(0.15) and absolute.status == "FAIL"
+    assert validate.Row("x", 100.0, "source", 100.5, 1e-2).status == "pass"
+    text = validate.markdown([("S", rel)], 0.0, validate.environment(), True)
+    assert "| FAIL |" in text and "1 fail" in text
+
+
+def test_heave_velocity_and_acceleration_are_derivatives():
+    """The benchmarks' fairlead heave: velocity and acceleration are the central
+    differences of the motion, all three start from zero, full amplitude after the ramp."""
+    h = 1e-5
+    for t in (0.3, 4.0, 9.9, 10.1, 13.7):
+        z, v, a = _cases.heave(t)
+        assert v == pytest.approx((_cases.heave(t + h)[0] - _cases.heave(t - h)[0]) / (2 * h),
+                                  rel=1e-6, abs=1e-9)
+        assert a == pytest.approx((_cases.heave(t + h)[1] - _cases.heave(t - h)[1]) / (2 * h),
+                                  rel=1e-5, abs=1e-8)
+    assert _cases.heave(0.0) == pytest.approx((0.0, 0.0, 0.0), abs=1e-15)
+    peak = _cases.RAMP + _cases.PERIOD / 4
+    assert _cases.heave(peak)[0] == pytest.approx(_cases.HEAVE)
