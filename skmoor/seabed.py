@@ -305,13 +305,13 @@ class SeabedKernel:
         self._pattern = (unique % self.ndofs,
                          np.searchsorted(unique // self.ndofs, np.arange(self.ndofs + 1)))
         self._keys, self._nnz = keys, len(unique)
-        self.moving = self.c > 0 or self.mu_a > 0 or self.mu_l > 0
+        self.friction = self.mu_a > 0 or self.mu_l > 0
+        self.moving = self.c > 0 or self.friction
 
     def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
         """(R, K, Kv) of the sea bed on the full cable DOFs (see the forms above)."""
         ud = np.zeros(self.ndofs) if ud is None else ud
         x = self.X + u[self.ends]  # (2, nel, 3)
-        rp = np.broadcast_to((x[1] - x[0]) / self.h[:, None], x.shape)
         vel = ud[self.ends]
         n = self.n
         g = self.offset - x @ n  # (2, nel)
@@ -319,40 +319,48 @@ class SeabedKernel:
         Hc, dHc = _fade(g, self.onset)
         vn = vel @ n
         W = 0.5 * self.h  # quadrature weight of each end
-        first = (np.moveaxis(rp, -1, 0), np.moveaxis(vel, -1, 0), n[:, None, None], self.v0)
-        a, inv, va, vl, ra, rho = _slip(*first)  # component axis first
-        a, vl = np.moveaxis(a, 0, -1), np.moveaxis(vl, 0, -1)  # (2, nel, 3)
-        F = (self.mu_a * va / ra)[..., None] * a + self.mu_l * vl / rho[..., None]
-        N = self.k * g * H
         push = -(self.k * g * H - self.c * vn * Hc)
-        f = W[:, None] * (push[..., None] * n + N[..., None] * F)  # (2, nel, 3)
+        N = self.k * g * H
+        if self.friction:
+            rp = np.broadcast_to((x[1] - x[0]) / self.h[:, None], x.shape)
+            first = (np.moveaxis(rp, -1, 0), np.moveaxis(vel, -1, 0), n[:, None, None], self.v0)
+            a, inv, va, vl, ra, rho = _slip(*first)  # component axis first
+            a, vl = np.moveaxis(a, 0, -1), np.moveaxis(vl, 0, -1)  # (2, nel, 3)
+            F = (self.mu_a * va / ra)[..., None] * a + self.mu_l * vl / rho[..., None]
+            f = W[:, None] * (push[..., None] * n + N[..., None] * F)  # (2, nel, 3)
+        else:
+            f = (W * push)[..., None] * n
         R = np.bincount(self.ends.ravel(), f.ravel(), self.ndofs)
         if not tangent:
             return R, None, None
         # 3x3 blocks per quadrature point, rows: test function, columns: trial
         nn = np.outer(n, n)
-        Q = np.eye(3) - nn - _outer(a, a)
-        a_vl, vl_vl = _outer(a, vl), _outer(vl, vl)
-        va, ra, rho = (q[..., None, None] for q in (va, ra, rho))
-        # d/du through a, per unit change of the element chord (du_1 - du_0) / h
-        G = (self.mu_a * (self.v0**2 / ra**3 * a_vl + va / ra * Q)
-             + self.mu_l * (-(a_vl + va * Q) / rho + va / rho**3 * vl_vl))
-        G = (W * N * inv / self.h)[..., None, None] * G
         # d/du through the penetration: the spring, the damping's fade-in and the
         # friction's normal force
-        B = ((W * self.k * H)[..., None, None] * (nn - F[..., :, None] * n)
+        B = ((W * self.k * H)[..., None, None] * nn
              - (W * self.c * vn * dHc)[..., None, None] * nn)
+        C = (W * self.c * Hc)[..., None, None] * nn
         ke = np.zeros((len(self.h), 6, 6))
-        ke[:, :3, :3] += B[0] - G[0]
-        ke[:, :3, 3:] += G[0]
-        ke[:, 3:, 3:] += B[1] + G[1]
-        ke[:, 3:, :3] -= G[1]
+        if self.friction:
+            B = B - (W * self.k * H)[..., None, None] * (F[..., :, None] * n)
+            Q = np.eye(3) - nn - _outer(a, a)
+            a_vl, vl_vl = _outer(a, vl), _outer(vl, vl)
+            va, ra, rho = (q[..., None, None] for q in (va, ra, rho))
+            # d/du through a, per unit change of the element chord (du_1 - du_0) / h
+            G = (self.mu_a * (self.v0**2 / ra**3 * a_vl + va / ra * Q)
+                 + self.mu_l * (-(a_vl + va * Q) / rho + va / rho**3 * vl_vl))
+            G = (W * N * inv / self.h)[..., None, None] * G
+            ke[:, :3, :3] -= G[0]
+            ke[:, :3, 3:] += G[0]
+            ke[:, 3:, 3:] += G[1]
+            ke[:, 3:, :3] -= G[1]
+            C = C + (W * N)[..., None, None] * (self.mu_a * self.v0**2 / ra**3 * _outer(a, a)
+                                                + self.mu_l * (Q / rho - vl_vl / rho**3))
+        ke[:, :3, :3] += B[0]
+        ke[:, 3:, 3:] += B[1]
         K = self._assemble(ke, dense)
         if not self.moving:
             return R, K, None
-        C = ((W * self.c * Hc)[..., None, None] * nn
-             + (W * N)[..., None, None] * (self.mu_a * self.v0**2 / ra**3 * _outer(a, a)
-                                           + self.mu_l * (Q / rho - vl_vl / rho**3)))
         ce = np.zeros((len(self.h), 6, 6))
         ce[:, :3, :3], ce[:, 3:, 3:] = C[0], C[1]
         return R, K, self._assemble(ce, dense)

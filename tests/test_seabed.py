@@ -52,14 +52,15 @@ def test_plane_geometry_and_input_checks():
             Seabed(**kw)
 
 
-def contact_state(seed=0):
-    """Two lines on one mesh, partly in the bed of a sloped, frictional sea bed, moving;
-    several nodes inside the damping's fade-in 0 < g < onset."""
+def contact_state(seed=0, friction=True):
+    """Two lines on one mesh, partly in the bed of a sloped, frictional (or frictionless)
+    sea bed, moving; several nodes inside the damping's fade-in 0 < g < onset."""
     lines = LineSet([Line.from_catenary(touchdown(), CHAIN, 16, name="a"),
                      Line.from_catenary(touchdown([20.0, 30.0, -10.0]), CHAIN, 9, name="b")],
                     law="engineering")
     onset = 6.0  # m: the slope buries the laid chain 2-12 m deep
-    bed = Seabed(DEPTH, damping=3e4, mu_axial=0.4, mu_lateral=0.9, slope_deg=2.0,
+    mu = (0.4, 0.9) if friction else (0.0, 0.0)
+    bed = Seabed(DEPTH, damping=3e4, mu_axial=mu[0], mu_lateral=mu[1], slope_deg=2.0,
                  slope_heading_deg=40.0, friction_velocity=0.02, damping_onset=onset)
     rng = np.random.default_rng(seed)
     u = rng.normal(scale=0.05, size=lines.ndofs)  # m, against ~ 0.6 m to the slope
@@ -70,11 +71,12 @@ def contact_state(seed=0):
     return lines, bed, u, ud
 
 
+@pytest.mark.parametrize("friction", [True, False])
 @pytest.mark.parametrize("fast", [True, False])
-def test_tangents_are_central_differences(fast):
-    """K = dR/du and Kv = dR/dudot of contact and friction (both directions, sloped bed)
-    match central differences of the residual to 1e-6."""
-    lines, bed, u, ud = contact_state()
+def test_tangents_are_central_differences(fast, friction):
+    """K = dR/du and Kv = dR/dudot of contact and friction (both directions, sloped bed;
+    and without friction) match central differences of the residual to 1e-6."""
+    lines, bed, u, ud = contact_state(friction=friction)
     term = seabed_term(lines, bed, fast=fast)
     _, K, Kv = term.evaluate(lines, u, ud, 0.0, True, False)
     rng = np.random.default_rng(5)
@@ -89,10 +91,12 @@ def test_tangents_are_central_differences(fast):
         assert np.max(np.abs(Kv @ d - dR_dv)) < 1e-6 * np.max(np.abs(dR_dv))
 
 
+@pytest.mark.parametrize("friction", [True, False])
 @pytest.mark.parametrize("dense", [False, True])
-def test_kernel_equals_forms(dense):
-    """The numpy kernel gives the scikit-fem assembly of the forms to round-off."""
-    lines, bed, u, ud = contact_state(seed=3)
+def test_kernel_equals_forms(dense, friction):
+    """The numpy kernel gives the scikit-fem assembly of the forms to round-off (with and
+    without friction: the kernel skips the friction terms when both mu are zero)."""
+    lines, bed, u, ud = contact_state(seed=3, friction=friction)
     fast = seabed_term(lines, bed).evaluate(lines, u, ud, 0.0, True, dense)
     forms = seabed_term(lines, bed, fast=False).evaluate(lines, u, ud, 0.0, True, dense)
     for a, b in zip(fast, forms):
