@@ -31,6 +31,12 @@ def cmd_run(args) -> int:
     out = Path(args.out)
     info = write_outputs(results, out)
     _plots(results, out)
+    return _finish(results, info, out, args)
+
+
+def _finish(results, info, out, args) -> int:
+    """ParaView files and renders unless switched off; the summary; exit status 1 when the
+    run stopped early."""
     if not args.no_export:
         _export(results, out)
     if not args.no_animation:
@@ -54,13 +60,7 @@ def _run_deck(args) -> int:
     results, info = run_deck(args.case, duration=args.duration, dt=args.dt, motion=motion,
                              out=out, output_interval=args.output_interval,
                              progress=not args.quiet)
-    if not args.no_export:
-        _export(results, out)
-    if not args.no_animation:
-        _animate(results, out, args.quiet)
-    print(json.dumps(info, indent=2))
-    print(f"wrote {out}/")
-    return 0 if results.meta.get("stopped") is None else 1
+    return _finish(results, info, out, args)
 
 
 def cmd_sweep(args) -> int:

@@ -33,16 +33,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from .catenary import solve_catenary
 from .coupling import System
 from .deck import Deck, read_deck
-from .dynamics import DivergenceError, Scheme, integrate
+from .dynamics import Scheme
 from .hydro import line_hydrodynamics
 from .line import Line, LineSet, LineType
 from .results import Results
-from .run import INTERRUPTED, write_outputs
+from .run import INTERRUPTED, record_run, write_outputs
 from .seabed import Seabed, seabed_term
 from .statics import solve_static
 from .waves import Sea
@@ -320,21 +319,10 @@ def simulate_deck(model: DeckModel, *, duration=60.0, dt=None, output_interval=N
     system = model.system
     static = solve_static(system)
     recorder = _Recorder(model)
-    stopped = None
     n_steps = int(np.ceil(duration / dt - 1e-9))
-    bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=model.deck.source[:30])
-    try:
-        for state in integrate(system, static.x, np.zeros(system.n), dt, duration,
-                               scheme=scheme or Scheme.newmark()):
-            if state.step % every == 0:
-                recorder.record(state)
-            bar.update(1 if state.step else 0)
-    except KeyboardInterrupt:
-        stopped = INTERRUPTED
-    except DivergenceError as err:
-        stopped = str(err)
-    finally:
-        bar.close()
+    stopped = record_run(system, static.x, dt=dt, duration=duration, every=every,
+                         record=recorder.record, scheme=scheme or Scheme.newmark(),
+                         progress=progress, label=model.deck.source)
     first = recorder.rows["fair"][0] if recorder.rows["fair"] else []
     meta = {"case": model.deck.source, "deck": True, "dt": dt, "scheme": "newmark"
             if scheme is None else str(scheme), "wall_time": time.perf_counter() - started,

@@ -62,23 +62,11 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     scheme = Scheme.named(solver["scheme"], solver.get("rho_inf", 0.8))
     started = time.perf_counter()
     eq = eq or equilibrium(model)
-    system = model.system
     recorder = _Recorder(model)
-    stopped = None
     n_steps = int(np.ceil(duration / dt - 1e-9))
-    bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=model.case.name[:30])
-    try:
-        for state in integrate(system, eq.x, np.zeros(system.n), dt, duration, C=eq.C,
-                               scheme=scheme):
-            if state.step % every == 0:
-                recorder.record(state)
-            bar.update(1 if state.step else 0)
-    except KeyboardInterrupt:
-        stopped = INTERRUPTED
-    except DivergenceError as err:
-        stopped = str(err)
-    finally:
-        bar.close()
+    stopped = record_run(model.system, eq.x, dt=dt, duration=duration, every=every,
+                         record=recorder.record, C=eq.C, scheme=scheme, progress=progress,
+                         label=model.case.name)
     meta = {"case": model.case.name, "draft": model.draft, "dt": dt, "scheme": solver["scheme"],
             "natural_periods": eq.modes.periods.tolist(), "rayleigh": list(eq.rayleigh),
             "wall_time": time.perf_counter() - started, "steps": n_steps,
@@ -87,6 +75,28 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
             "steady_periods": solver.get("steady_periods", 5),
             "fairlead_tension_static": [c.T_fairlead for c in model.catenaries]}
     return recorder.results(meta)
+
+
+def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
+               progress=True, label="") -> str | None:
+    """Integrate ``system`` from rest at x0 for ``duration`` s with step dt, calling
+    ``record(state)`` every ``every`` steps, under a progress bar. Returns None, or why it
+    stopped early: Ctrl-C or a diverging step keep what was recorded."""
+    n_steps = int(np.ceil(duration / dt - 1e-9))
+    bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=label[:30])
+    try:
+        for state in integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
+                               scheme=scheme):
+            if state.step % every == 0:
+                record(state)
+            bar.update(1 if state.step else 0)
+    except KeyboardInterrupt:
+        return INTERRUPTED
+    except DivergenceError as err:
+        return str(err)
+    finally:
+        bar.close()
+    return None
 
 
 def static_results(model: Model, eq: Equilibrium | None = None) -> Results:
