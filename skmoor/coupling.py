@@ -241,6 +241,13 @@ class System:
             out[self.nf:, self.nf:] = J.T @ A[np.ix_(fair, fair)] @ J
         return out
 
+    def _reduce_sparse(self, A, x):
+        """P^T A P for a sparse A (a row and column selection without a body)."""
+        if not self.nb:
+            return A[self.free][:, self.free]
+        P = self.P(x)
+        return (P.T @ A @ P).tocsr()
+
     def P(self, x):
         """du/dx (ndofs, n): identity on free DOFs, attachment Jacobians at fairleads."""
         if not self.nb:
@@ -308,9 +315,8 @@ class System:
             K = self._reduce_dense(K_full, J)
             Kv = None if Kv_full is None else self._reduce_dense(Kv_full, J)
         else:
-            P = self.P(x)
-            K = (P.T @ K_full @ P).tocsr()
-            Kv = None if Kv_full is None else (P.T @ Kv_full @ P).tocsr()
+            K, Kv = (None if A is None else self._reduce_sparse(sp.csr_matrix(A), x)
+                     for A in (K_full, Kv_full))
         if self.nb:
             H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
             K = K + self._embed_body(H + self.K_body + body_K, dense)
