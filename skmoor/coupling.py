@@ -127,6 +127,7 @@ class System:
         self._damped = lines.damped
         dofs = lines.nodal_dofs
         self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3)
+        self._fairlead_flat = self.fairlead_dofs.ravel()
         held = np.concatenate([dofs[lines.anchor_nodes].ravel(), self.fairlead_dofs.ravel()])
         self.free = np.setdiff1d(np.arange(lines.ndofs), held)
         self.nf = len(self.free)
@@ -202,7 +203,10 @@ class System:
 
     def full_velocity(self, x, v, t=0.0, dt=1e-6):
         """(ndofs,) cable velocity, m/s."""
-        ud = self._expand(v, self._jacobian(x))
+        return self._velocity(x, v, t, self._jacobian(x), dt)
+
+    def _velocity(self, x, v, t, J, dt=1e-6):
+        ud = self._expand(v, J)
         if self.mode == "prescribed":
             ud[self.fairlead_dofs] = (self.fairlead_displacement(x, t + dt)
                                       - self.fairlead_displacement(x, t - dt)) / (2 * dt)
@@ -219,7 +223,7 @@ class System:
         out = np.zeros(self.lines.ndofs)
         out[self.free] = y[: self.nf]
         if J is not None:
-            out[self.fairlead_dofs.ravel()] = J @ y[self.nf:]
+            out[self._fairlead_flat] = J @ y[self.nf:]
         return out
 
     def _reduce(self, R_full, J):
@@ -227,7 +231,7 @@ class System:
         out = np.empty(self.n)
         out[: self.nf] = R_full[self.free]
         if J is not None:
-            out[self.nf:] = J.T @ R_full[self.fairlead_dofs.ravel()]
+            out[self.nf:] = J.T @ R_full[self._fairlead_flat]
         return out
 
     def _reduce_dense(self, A, J):
@@ -292,9 +296,14 @@ class System:
         derivatives K = dR/dx and Kv = dR/dv (None when zero); sparse, or dense arrays
         when ``dense`` (faster below a few thousand unknowns)."""
         v = np.zeros(self.n) if v is None else v
-        u = self.full_displacement(x, t)
-        J = self._jacobian(x)
-        ud = self.full_velocity(x, v, t) if self._needs_velocity else None
+        if self.nb:
+            fairleads, J = self._attachment(x)
+        else:
+            fairleads, J = self.fairlead_displacement(x, t), None
+        u = np.zeros(self.lines.ndofs)
+        u[self.free] = x[: self.nf]
+        u[self._fairlead_flat] = fairleads.ravel()
+        ud = self._velocity(x, v, t, J) if self._needs_velocity else None
         R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, dense)
         R = self._reduce(R_full, J)
         if self.nb:

@@ -127,6 +127,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     dense = system.M.shape[0] < DENSE_BELOW
     M = system.M.toarray() if dense else system.M.tocsr()
     C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
+    damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
     C = C.toarray() if dense else C
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
     R, _, _ = system.residual(x, v, t, tangent=False)
@@ -148,7 +149,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             a1 = (y - x_pred) / (beta * dt**2)
             v1 = v_pred + gamma * dt * a1
             R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, dense=dense)
-            B = (1 - am) * (M @ a1) + (1 - af) * (C @ v1 + R1) + inertia_old
+            B = (1 - am) * (M @ a1) + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
             if not tangent:
                 return B, None
             Cv = C if Kv1 is None else C + Kv1
