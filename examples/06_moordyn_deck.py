@@ -51,13 +51,13 @@ def moordyn_tension():
 
 
 peer = moordyn_tension()
-fig, ax = plt.subplots(figsize=(8, 3.5))
+fig, ax = plt.subplots(figsize=(8, 4))
 ax.plot(results.t, tension / 1e3, label="skmoor (implicit, dt = 50 ms)")
 if peer is not None:
     ax.plot(peer[0], peer[1] / 1e3, "--", label="MoorDyn v2 (explicit, dtM = 1 ms)")
 ax.set(xlabel="t [s]", ylabel="fairlead tension [kN]",
        title=f"{DECK.name}: fairlead heave {AMPLITUDE:g} m, period {PERIOD:g} s")
-ax.legend()
+ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, frameon=False)
 fig.tight_layout()
 fig.savefig(OUT / "chain_heave.png", dpi=110)
 
