@@ -23,11 +23,10 @@ unstretched length whose discrete chain has skmoor's static fairlead tension (a 
 of 6e-6 L at 11 segments, 5e-7 L at 40), and its initial-condition solver settles the
 line (TmaxIC = 100 s).
 
-Discretization: the comparison is made at 40 segments. At the paper's 11, skmoor's
-in-plane stiffness is 6 % too high (membrane locking, see test_peers_moorpy.py), and in
-this case, where 2 and 3 times the forcing frequency sit near in-plane natural
-frequencies, the tension amplitudes then differ by 3-5 % and the histories drift apart
-(test_tension_at_paper_segments, expected to fail until that is fixed).
+Discretization: the comparison is made at 40 segments, and again at the paper's 11
+(test_tension_at_paper_segments). The cable terms are integrated at element mid-points,
+which removed the membrane locking that once made skmoor's in-plane stiffness 6 % too
+high at 11 elements (see test_peers_moorpy.py).
 """
 import time
 
