@@ -331,6 +331,7 @@ def simulate_deck(model: DeckModel, *, duration=60.0, dt=None, output_interval=N
             "fairlead_tension_catenary": [c.T_fairlead for c in model.catenaries],
             "anchor_tension_catenary": [c.T_anchor for c in model.catenaries],
             "coupled": [f"{kind} {ident}" for kind, ident in model.coupled],
+            "has_body": bool(model.coupled) and model.coupled[0][0] == "body",
             "notes": list(model.deck.notes)}
     return recorder.results(meta)
 

@@ -172,11 +172,13 @@ def write_outputs(results: Results, out) -> dict:
     results.save(out / "results.npz")
     info = summary(results)
     (out / "summary.json").write_text(json.dumps(info, indent=2))
-    header = ["t", "surge", "sway", "heave", "roll", "pitch", "yaw", "max_tension"]
-    header += [f"fairlead_tension_{n}" for n in results.line_names]
+    body = results.meta.get("has_body", True)  # a deck with coupled points only: no body
+    header = ["t"] + (["surge", "sway", "heave", "roll", "pitch", "yaw"] if body else [])
+    header += ["max_tension"] + [f"fairlead_tension_{n}" for n in results.line_names]
     header += [f"anchor_tension_{n}" for n in results.line_names]
-    table = np.column_stack([results.t, results.body, results.max_tension,
-                             results.fairlead_tension, results.anchor_tension])
+    table = np.column_stack([results.t] + ([results.body] if body else [])
+                            + [results.max_tension, results.fairlead_tension,
+                               results.anchor_tension])
     np.savetxt(out / "timeseries.csv", table, delimiter=",", header=",".join(header),
                comments="", fmt="%.9g")
     return info

@@ -228,6 +228,7 @@ def test_run_deck_cli(tmp_path):
     table = np.genfromtxt(out / "timeseries.csv", delimiter=",", names=True)
     assert np.allclose(np.diff(table["t"]), 0.1)
     assert np.ptp(table["fairlead_tension_line1"]) > 1e4  # the heave moves it
+    assert "surge" not in table.dtype.names  # coupled points only: no body columns
     assert (out / "results.npz").exists()
     assert main(["run", str(deck), "--out", str(out), "--heave", "2", "--quiet"]) == 2
 
