@@ -102,21 +102,22 @@ def _rotation_derivatives_cached(angles):
 def rotation_and_slopes(angles) -> tuple[np.ndarray, np.ndarray]:
     """R = Rz Ry Rx and dR/dangle_a (3, 3, 3) for finite ``angles`` (rad), written out,
     without input checks or caching: the time loop's fast path."""
-    a, b, c = (float(angle) for angle in angles)
+    a, b, c = np.asarray(angles, float).tolist()
     ca, sa, cb, sb, cc, sc = math.cos(a), math.sin(a), math.cos(b), math.sin(b), math.cos(c), math.sin(c)
-    R = np.array([[cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc],
-                  [cb * sc, sa * sb * sc + ca * cc, ca * sb * sc - sa * cc],
-                  [-sb, sa * cb, ca * cb]])
-    dR = np.array([[[0.0, ca * sb * cc + sa * sc, ca * sc - sa * sb * cc],
-                    [0.0, ca * sb * sc - sa * cc, -sa * sb * sc - ca * cc],
-                    [0.0, ca * cb, -sa * cb]],
-                   [[-sb * cc, sa * cb * cc, ca * cb * cc],
-                    [-sb * sc, sa * cb * sc, ca * cb * sc],
-                    [-cb, -sa * sb, -ca * sb]],
-                   [[-cb * sc, -sa * sb * sc - ca * cc, sa * cc - ca * sb * sc],
-                    [cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc],
-                    [0.0, 0.0, 0.0]]])
-    return R, dR
+    out = np.array([
+        cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc,  # R
+        cb * sc, sa * sb * sc + ca * cc, ca * sb * sc - sa * cc,
+        -sb, sa * cb, ca * cb,
+        0.0, ca * sb * cc + sa * sc, ca * sc - sa * sb * cc,  # dR/drx
+        0.0, ca * sb * sc - sa * cc, -sa * sb * sc - ca * cc,
+        0.0, ca * cb, -sa * cb,
+        -sb * cc, sa * cb * cc, ca * cb * cc,  # dR/dry
+        -sb * sc, sa * cb * sc, ca * cb * sc,
+        -cb, -sa * sb, -ca * sb,
+        -cb * sc, -sa * sb * sc - ca * cc, sa * cc - ca * sb * sc,  # dR/drz
+        cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc,
+        0.0, 0.0, 0.0]).reshape(4, 3, 3)
+    return out[0], out[1:]
 
 
 def rotation_matrix(angles) -> np.ndarray:

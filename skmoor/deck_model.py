@@ -354,9 +354,9 @@ class _Recorder:
         if model.motion is not None and model.coupled and model.coupled[0][0] == "body":
             body = np.asarray(model.motion(state.t), float)[:6]
         nodes = lines.nodal_dofs
+        tension, strain = lines.element_tension_and_strain(u)
         for key, value in (("t", state.t), ("body", body), ("u", u[nodes]), ("v", ud[nodes]),
-                           ("tension", lines.element_tension(u)),
-                           ("strain", lines.element_strain(u)),
+                           ("tension", tension), ("strain", strain),
                            ("fair", np.linalg.norm(fair, axis=1)),
                            ("anchor", np.linalg.norm(anchor, axis=1))):
             self.rows[key].append(value)

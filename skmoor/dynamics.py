@@ -12,6 +12,7 @@ hint instead of carrying NaN on.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -179,16 +180,18 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
     iteration when ``full``, else when convergence slows). Returns (x1, iterations),
     (None, maxiter) when it does not converge, (False, k) on a non-finite step."""
     B, A = balance(x1, tangent=full or matrix.factor is None)
-    previous = np.inf
+    previous = scale = np.inf
     for it in range(1, maxiter + 1):
         if A is not None:
             matrix.update(A)
         dx = matrix.solve(-B)
-        if not np.all(np.isfinite(dx)):
+        size = np.max(np.abs(dx))
+        if not math.isfinite(size):
             return False, it
         x1 = x1 + dx
-        size = np.max(np.abs(dx))
-        if size <= tol * np.max(np.abs(x1 - x0)) + 1e-12:
+        if it == 1:  # the step's change, to scale the tolerance
+            scale = np.max(np.abs(x1 - x0))
+        if size <= tol * scale + 1e-12:
             return x1, it
         slow = size > CONTRACTION * previous
         previous = size

@@ -218,6 +218,7 @@ class LineSet:
         self.cable_fields = self._fields(self.cable_basis)
         self._reference = asm(forms.reference_force, self.basis, **self.fields)
         self._nodal_basis = self._nodal_fields = None
+        self._element_lengths = np.diff(self.mesh.p[0, self.mesh.t], axis=0)[0]
 
     @property
     def nodal_basis(self):
@@ -303,13 +304,18 @@ class LineSet:
 
     def element_tension(self, u):
         """(nel,) tension at each element's mid-point, N."""
-        f = self.cable_fields
-        return forms.tension(f["Xp"][:, :, 0], f["T"][:, 0], f["EA"][:, 0],
-                             self.element_slopes(u), self.law)
+        return self.element_tension_and_strain(u)[0]
 
     def element_strain(self, u):
         """(nel,) strain of Eq. 3 at each element's mid-point, -."""
         return forms.strain(self.cable_fields["Xp"][:, :, 0], self.element_slopes(u))
+
+    def element_tension_and_strain(self, u):
+        """(nel,) tension (N) and strain of Eq. 3 (-) at each element's mid-point."""
+        f, up = self.cable_fields, self.element_slopes(u)
+        Xp = f["Xp"][:, :, 0]
+        return (forms.tension(Xp, f["T"][:, 0], f["EA"][:, 0], up, self.law),
+                forms.strain(Xp, up))
 
     def element_slopes(self, u):
         """(3, nel) u' on each element (constant for P1)."""
@@ -319,7 +325,8 @@ class LineSet:
 
     @property
     def element_lengths(self) -> np.ndarray:
-        return np.diff(self.mesh.p[0, self.mesh.t], axis=0)[0]
+        """(nel,) element lengths in s, m."""
+        return self._element_lengths
 
 
 def read_line_mesh(path, line_type: LineType, name=None, tension=0.0) -> Line:

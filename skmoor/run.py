@@ -126,8 +126,9 @@ class _Recorder:
         self.rows["body"].append(system.q(state.x).copy())
         self.rows["u"].append(u[nodes])
         self.rows["v"].append(ud[nodes])
-        self.rows["tension"].append(lines.element_tension(u))
-        self.rows["strain"].append(lines.element_strain(u))
+        tension, strain = lines.element_tension_and_strain(u)
+        self.rows["tension"].append(tension)
+        self.rows["strain"].append(strain)
         self.rows["fair"].append(np.linalg.norm(fair, axis=1))
         self.rows["anchor"].append(np.linalg.norm(anchor, axis=1))
 
