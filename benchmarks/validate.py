@@ -279,28 +279,9 @@ def check_moorpy_stiffness_order():
 def check_moorpy_stretchy_line():
     """Fairlead stiffness of a line strained 4 % (engineering strain law, 40 elements)
     against MoorPy's analytic line stiffness KB."""
-    import moorpy as mp
-    from peers import condensed_fairlead_stiffness
+    from test_peers_moorpy import stretchy_line_stiffness
 
-    from skmoor.catenary import solve_catenary
-    from skmoor.coupling import System
-    from skmoor.line import Line, LineSet, LineType
-    from skmoor.statics import solve_static
-
-    anchor, fairlead = np.array([0.0, 0.0, -100.0]), np.array([60.0, 0.0, -10.0])
-    lt = LineType(EA=5e6, mass=50.0, diameter=0.1)
-    cat = solve_catenary(anchor, fairlead, lt.weight, lt.EA, sag_ratio=1 / 60, seabed_z=-100.0)
-    system = System(LineSet([Line.from_catenary(cat, lt, 40)], law="engineering"),
-                    fairleads="fixed")
-    K_sk = condensed_fairlead_stiffness(system, solve_static(system).x)
-    ms = mp.System(depth=100.0, rho=lt.rho_water, g=lt.g)
-    ms.setLineType(name="stretchy", lineType=dict(m=lt.mass, d_vol=lt.diameter, EA=lt.EA))
-    ms.addPoint(1, anchor)
-    ms.addPoint(1, fairlead)
-    ms.addLine(cat.L, "stretchy", pointA=1, pointB=2)
-    ms.initialize()
-    line = ms.lineList[0]
-    line.staticSolve(tol=1e-12)
+    K_sk, line, _ = stretchy_line_stiffness("engineering", 40)
     return [Row(f"stretchy line (T/EA = 4 %), 40 el.: fairlead stiffness {name}",
                 float(line.KB[i, i]), MOORPY + " (Line.KB)", float(K_sk[i, i]), 1e-3, unit="N/m")
             for i, name in ((0, "xx"), (2, "zz"))]
@@ -397,29 +378,17 @@ def check_seabed_touchdown():
     with touchdown, tests/test_seabed.py): static FE solve with the fairlead where the
     catenary has it and moved 5 m away / closer, against the analytic catenary with
     touchdown of the moved fairlead: fairlead tension and laid length."""
-    from test_seabed import CHAIN, DEPTH, FAIRLEAD, LENGTH, laid_length, touchdown
-
-    from skmoor.coupling import System
-    from skmoor.line import Line, LineSet
-    from skmoor.seabed import Seabed, seabed_term
-    from skmoor.statics import solve_static
+    from test_seabed import touchdown_solution
 
     nel = 150
     rows = []
     for shift in (0.0, -5.0, 5.0):
-        lines = LineSet([Line.from_catenary(touchdown(), CHAIN, nel)], law="engineering")
-        bed = Seabed(DEPTH, stiffness=CHAIN.weight / 1e-4)  # 0.1 mm penetration
-        system = System(lines, fairleads="prescribed", motion=lambda t: [[shift, 0.0, 0.0]],
-                        terms=[seabed_term(lines, bed)])
-        x = solve_static(system).x
-        exact = touchdown(FAIRLEAD + [shift, 0.0, 0.0])
-        fairlead, _ = system.reactions(x)
-        s0 = np.linspace(0.0, LENGTH, nel + 1)
+        tension, laid, exact = touchdown_solution(shift, nel)
         label = f"chain on the sea bed, fairlead moved {shift:+g} m, {nel} el.:"
         rows += [Row(f"{label} fairlead tension", exact.T_fairlead, IRVINE + " with touchdown",
-                     float(np.linalg.norm(fairlead[0])), 5e-3, unit="N"),
+                     tension, 5e-3, unit="N"),
                  Row(f"{label} laid length", exact.laid_length, IRVINE + " with touchdown",
-                     float(laid_length(system, bed, x, s0)), 5e-3, unit="m")]
+                     laid, 5e-3, unit="m")]
     return rows
 
 
