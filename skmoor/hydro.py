@@ -37,6 +37,7 @@ from skfem.helpers import dot
 
 from .coupling import BodyTerm, Term
 from .forms import d_ds
+from .kernels import ElementPattern
 from .validation import check_finite, check_positive
 from .waves import Sea
 
@@ -223,14 +224,7 @@ class LineHydroKernel:
         self.wphi = dx[:, None, :] * self.phi
         self.wphi2 = self.wphi[:, [0, 0, 1]] * self.phi[[0, 1, 1]]
         self.ndofs = lines.ndofs
-        rows = np.repeat(self.edofs[:, :, None], 6, axis=2).ravel()
-        cols = np.repeat(self.edofs[:, None, :], 6, axis=1).ravel()
-        keys = rows.astype(np.int64) * self.ndofs + cols
-        unique = np.unique(keys)
-        self._scatter = np.searchsorted(unique, keys)
-        self._pattern = (unique % self.ndofs, np.searchsorted(unique // self.ndofs,
-                                                              np.arange(self.ndofs + 1)))
-        self.nnz, self._flat = len(unique), keys
+        self.pattern = ElementPattern(lines)
         self._ke = np.empty((len(h), 6, 6))
         self._mass = added_mass_matrix(lines, lumped_mass)
 
@@ -238,11 +232,7 @@ class LineHydroKernel:
         """Scatter element blocks [[00, 01], [10, 11]] (each (nel, 3, 3))."""
         ke = self._ke
         ke[:, :3, :3], ke[:, :3, 3:], ke[:, 3:, :3], ke[:, 3:, 3:] = blocks
-        if dense:
-            n = self.ndofs
-            return np.bincount(self._flat, ke.ravel(), n * n).reshape(n, n)
-        data = np.bincount(self._scatter, ke.ravel(), self.nnz)
-        return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
+        return self.pattern.assemble(ke, dense)
 
     def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
         """Residual (N) and its derivatives d/du, d/dudot (N/m, N s/m)."""

@@ -12,6 +12,33 @@ import scipy.sparse as sp
 from . import forms
 
 
+class ElementPattern:
+    """The fixed sparsity pattern of per-element 6x6 blocks on a LineSet, DOFs ordered
+    [node i x, y, z, node j x, y, z] (i, j the element's ends). Every kernel of the time
+    loop (cable, hydrodynamics, sea bed) scatters into it."""
+
+    def __init__(self, lineset):
+        nodal, t = lineset.nodal_dofs, lineset.mesh.t
+        self.ndofs = n = lineset.ndofs
+        self.edofs = np.concatenate([nodal[t[0]], nodal[t[1]]], axis=1)  # (nel, 6)
+        rows = np.repeat(self.edofs[:, :, None], 6, axis=2).ravel()
+        cols = np.repeat(self.edofs[:, None, :], 6, axis=1).ravel()
+        keys = rows.astype(np.int64) * n + cols
+        unique = np.unique(keys)
+        self._scatter = np.searchsorted(unique, keys)
+        self._pattern = (unique % n, np.searchsorted(unique // n, np.arange(n + 1)))
+        self.nnz = len(unique)
+        self._flat = keys  # positions in a dense (ndofs, ndofs) array
+
+    def assemble(self, ke, dense=False):
+        """(nel, 6, 6) element blocks summed into a CSR matrix, or a dense array."""
+        if dense:
+            return np.bincount(self._flat, ke.ravel(), self.ndofs**2).reshape(self.ndofs,
+                                                                             self.ndofs)
+        data = np.bincount(self._scatter, ke.ravel(), self.nnz)
+        return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
+
+
 class CableKernel:
     """Internal force and tangent of all lines of a :class:`~skmoor.line.LineSet`."""
 
@@ -32,16 +59,7 @@ class CableKernel:
         self.dofs_i, self.dofs_j = nodal[t[0]], nodal[t[1]]  # (nel, 3)
         self.h = h
         self.ndofs = lineset.ndofs
-        edofs = np.concatenate([self.dofs_i, self.dofs_j], axis=1)  # (nel, 6)
-        rows = np.repeat(edofs[:, :, None], 6, axis=2).ravel()
-        cols = np.repeat(edofs[:, None, :], 6, axis=1).ravel()
-        keys = rows.astype(np.int64) * self.ndofs + cols
-        unique = np.unique(keys)
-        self._scatter = np.searchsorted(unique, keys)
-        indptr = np.searchsorted(unique // self.ndofs, np.arange(self.ndofs + 1))
-        self._pattern = (unique % self.ndofs, indptr)
-        self.nnz = len(unique)
-        self._flat = keys  # positions in a dense (ndofs, ndofs) array
+        self.pattern = ElementPattern(lineset)
         # the displacement-free part of Eq. 9: the reference force minus int T X'.du' ds
         # on the mid-point rule (the T r' term of Eq. 11 carries +T X' at u = 0)
         self.constant = lineset.reference_force() - self._scatter_flux(
@@ -95,9 +113,4 @@ class CableKernel:
 
     def _assemble(self, k, dense):
         """Scatter per-element 3x3 blocks k (of the slopes) into the global matrix."""
-        ke = np.block([[k, -k], [-k, k]])  # (nel, 6, 6)
-        if dense:
-            K = np.bincount(self._flat, weights=ke.ravel(), minlength=self.ndofs**2)
-            return K.reshape(self.ndofs, self.ndofs)
-        data = np.bincount(self._scatter, weights=ke.ravel(), minlength=self.nnz)
-        return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
+        return self.pattern.assemble(np.block([[k, -k], [-k, k]]), dense)

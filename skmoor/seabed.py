@@ -35,11 +35,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 from skfem import BilinearForm, LinearForm
 from skfem.helpers import dot
 
 from .coupling import Term
+from .kernels import ElementPattern
 from .forms import d_ds
 from .validation import check_finite, check_positive
 
@@ -296,15 +296,7 @@ class SeabedKernel:
         self.h = lines.element_lengths
         self.ends = dofs[t]  # (2, nel, 3): DOFs of each element's two nodes
         self.X = lines.points[t]  # (2, nel, 3)
-        edofs = np.concatenate([self.ends[0], self.ends[1]], axis=1)  # (nel, 6)
-        rows = np.repeat(edofs[:, :, None], 6, axis=2).ravel()
-        cols = np.repeat(edofs[:, None, :], 6, axis=1).ravel()
-        keys = rows.astype(np.int64) * self.ndofs + cols
-        unique = np.unique(keys)
-        self._scatter = np.searchsorted(unique, keys)
-        self._pattern = (unique % self.ndofs,
-                         np.searchsorted(unique // self.ndofs, np.arange(self.ndofs + 1)))
-        self._keys, self._nnz = keys, len(unique)
+        self.pattern = ElementPattern(lines)
         self.friction = self.mu_a > 0 or self.mu_l > 0
         self.moving = self.c > 0 or self.friction
 
@@ -358,17 +350,10 @@ class SeabedKernel:
                                                 + self.mu_l * (Q / rho - vl_vl / rho**3))
         ke[:, :3, :3] += B[0]
         ke[:, 3:, 3:] += B[1]
-        K = self._assemble(ke, dense)
+        K = self.pattern.assemble(ke, dense)
         if not self.moving:
             return R, K, None
         ce = np.zeros((len(self.h), 6, 6))
         ce[:, :3, :3], ce[:, 3:, 3:] = C[0], C[1]
-        return R, K, self._assemble(ce, dense)
+        return R, K, self.pattern.assemble(ce, dense)
 
-    def _assemble(self, blocks, dense):
-        """(nel, 6, 6) element blocks into a CSR matrix, or a dense array."""
-        if dense:
-            return np.bincount(self._keys, blocks.ravel(),
-                               self.ndofs**2).reshape(self.ndofs, self.ndofs)
-        data = np.bincount(self._scatter, blocks.ravel(), self._nnz)
-        return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
