@@ -280,11 +280,30 @@ class System:
     def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, dense=False):
         """Full cable residual internal - external (N) and its u- and v-derivatives
         (sparse, or dense arrays when ``dense``)."""
-        f, K, Kv = self.kernel.evaluate(u, ud if self._damped else None, tangent, dense)
+        cable_ud = ud if self._damped else None
+        if not tangent:
+            R = self.kernel.evaluate(u, cable_ud, tangent=False)[0] - load_factor * self.weight
+            for term in self.terms:
+                R = R + term.evaluate(self.lines, u, ud, t, False, dense)[0]
+            return R, None, None
+        # the kernels' element blocks are summed and assembled once on the shared pattern
+        f, K_blocks, Kv_blocks = self.kernel.element_blocks(u, cable_ud)
         R = f - load_factor * self.weight
+        assembled = []
         for term in self.terms:
-            Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent, dense)
+            if hasattr(term, "element_blocks"):
+                Rt, Kt, Cv = term.element_blocks(self.lines, u, ud, t)
+                K_blocks = K_blocks + Kt
+                if Cv is not None:
+                    Kv_blocks = Cv if Kv_blocks is None else Kv_blocks + Cv
+            else:
+                Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, True, dense)
+                assembled.append((Kt, Cv))
             R = R + Rt
+        pattern = self.kernel.pattern
+        K = pattern.assemble(K_blocks, dense)
+        Kv = None if Kv_blocks is None else pattern.assemble(Kv_blocks, dense)
+        for Kt, Cv in assembled:
             if Kt is not None:
                 K = K + Kt
             if Cv is not None:

@@ -225,17 +225,25 @@ class LineHydroKernel:
         self.wphi2 = self.wphi[:, [0, 0, 1]] * self.phi[[0, 1, 1]]
         self.ndofs = lines.ndofs
         self.pattern = ElementPattern(lines)
-        self._ke = np.empty((len(h), 6, 6))
         self._mass = added_mass_matrix(lines, lumped_mass)
-
-    def _matrix(self, blocks, dense):
-        """Scatter element blocks [[00, 01], [10, 11]] (each (nel, 3, 3))."""
-        ke = self._ke
-        ke[:, :3, :3], ke[:, :3, 3:], ke[:, 3:, :3], ke[:, 3:, 3:] = blocks
-        return self.pattern.assemble(ke, dense)
 
     def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
         """Residual (N) and its derivatives d/du, d/dudot (N/m, N s/m)."""
+        if not tangent:
+            return self._evaluate(u, ud, t, False)
+        R, K, Kv = self._evaluate(u, ud, t, True)
+        return R, self.pattern.assemble(K, dense), self.pattern.assemble(Kv, dense)
+
+    def element_blocks(self, lines, u, ud, t):
+        """As :meth:`evaluate`, the derivatives as (nel, 6, 6) blocks on :attr:`pattern`."""
+        return self._evaluate(u, ud, t, True)
+
+    @staticmethod
+    def _blocks(b00, b01, b10, b11):
+        """(nel, 6, 6) element blocks [[00, 01], [10, 11]] of (nel, 3, 3) parts."""
+        return np.block([[b00, b01], [b10, b11]])
+
+    def _evaluate(self, u, ud, t, tangent):
         U = u[self.edofs].reshape(-1, 2, 3)
         rp = self.Xp + ((U[:, 1] - U[:, 0]) / self.h[:, None])[:, None, :]
         length = np.sqrt(np.einsum("eqk,eqk->eq", rp, rp))
@@ -282,8 +290,8 @@ class LineHydroKernel:
         g = weights @ G.reshape(*c1.shape, 9)  # (nel, 2, 9)
         g[..., ::4] += weights @ c1[..., None]
         g, kv = g.reshape(-1, 2, 3, 3), kv.reshape(-1, 3, 3, 3)
-        return (R, self._matrix((g[:, 0], -g[:, 0], g[:, 1], -g[:, 1]), dense),
-                self._matrix((kv[:, 0], kv[:, 1], kv[:, 1], kv[:, 2]), dense))
+        return (R, self._blocks(g[:, 0], -g[:, 0], g[:, 1], -g[:, 1]),
+                self._blocks(kv[:, 0], kv[:, 1], kv[:, 1], kv[:, 2]))
 
     def mass_matrix(self, lines):
         """The added mass (sparse, kg), or None when every Ca is zero."""

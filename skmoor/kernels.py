@@ -74,27 +74,40 @@ class CableKernel:
         the axial damping (``forms.axial_damping``), N; with ``tangent`` its exact
         derivatives with respect to u (Eq. 17 and the damping's part, N/m) and to ud
         (N s/m, None without ud): CSR, or dense arrays when ``dense``."""
-        up = self.slopes(u)
-        rp = self.Xp + up  # (nel, 3)
-        eps = ((self.Xp + 0.5 * up) * up).sum(-1)
-        S = forms.stress_resultant(eps, self.T, self.EA, self.law)
-        axial = self.T + S
-        if ud is not None:
-            rate_slopes = self.slopes(ud)
-            rate = (rp * rate_slopes).sum(-1)  # strain rate, 1/s
-            axial = axial + self.BA * rate
-        f = self._scatter_flux(((self.dx_h * axial)[:, None] * rp).ravel()) + self.constant
         if not tangent:
-            return f, None, None
+            return self._force(u, ud)[0], None, None
+        f, K, Kv = self.element_blocks(u, ud)
+        return (f, self.pattern.assemble(K, dense),
+                None if Kv is None else self.pattern.assemble(Kv, dense))
+
+    def element_blocks(self, u, ud=None):
+        """As :meth:`evaluate` with the derivatives as (nel, 6, 6) element blocks on
+        :attr:`pattern`, for summing with other kernels' before one assembly."""
+        f, (up, rp, eps, S, rate_slopes, rate) = self._force(u, ud)
         dS = forms.stress_resultant_slope(eps, self.T, self.EA, self.law)
         rr = rp[:, :, None] * rp[:, None, :]
         k = (self.dx_h2 * dS)[:, None, None] * rr
         k += (self.dx_h2 * (self.T + S))[:, None, None] * np.eye(3)
         if ud is None:
-            return f, self._assemble(k, dense), None
+            return f, _slope_blocks(k), None
         b = (self.dx_h2 * self.BA)[:, None, None]
         k += b * (rp[:, :, None] * rate_slopes[:, None, :] + rate[:, None, None] * np.eye(3))
-        return f, self._assemble(k, dense), self._assemble(b * rr, dense)
+        return f, _slope_blocks(k), _slope_blocks(b * rr)
+
+    def _force(self, u, ud):
+        """The force (N) and the element state it was computed from."""
+        up = self.slopes(u)
+        rp = self.Xp + up  # (nel, 3)
+        eps = ((self.Xp + 0.5 * up) * up).sum(-1)
+        S = forms.stress_resultant(eps, self.T, self.EA, self.law)
+        axial = self.T + S
+        rate_slopes = rate = None
+        if ud is not None:
+            rate_slopes = self.slopes(ud)
+            rate = (rp * rate_slopes).sum(-1)  # strain rate, 1/s
+            axial = axial + self.BA * rate
+        f = self._scatter_flux(((self.dx_h * axial)[:, None] * rp).ravel()) + self.constant
+        return f, (up, rp, eps, S, rate_slopes, rate)
 
     def _scatter_flux(self, g):
         """Nodal forces of per-element axial fluxes g (nel*3,): +g at the end node, -g at
@@ -111,6 +124,8 @@ class CableKernel:
         f, K, _ = self.evaluate(u, dense=dense)
         return f, K
 
-    def _assemble(self, k, dense):
-        """Scatter per-element 3x3 blocks k (of the slopes) into the global matrix."""
-        return self.pattern.assemble(np.block([[k, -k], [-k, k]]), dense)
+
+def _slope_blocks(k):
+    """(nel, 6, 6) element blocks of per-element 3x3 blocks k acting on the slopes
+    (u_j - u_i) / h: [[k, -k], [-k, k]]."""
+    return np.block([[k, -k], [-k, k]])

@@ -302,6 +302,17 @@ class SeabedKernel:
 
     def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
         """(R, K, Kv) of the sea bed on the full cable DOFs (see the forms above)."""
+        if not tangent:
+            return self._evaluate(u, ud, False)
+        R, K, Kv = self._evaluate(u, ud, True)
+        return (R, self.pattern.assemble(K, dense),
+                None if Kv is None else self.pattern.assemble(Kv, dense))
+
+    def element_blocks(self, lines, u, ud, t):
+        """As :meth:`evaluate`, the derivatives as (nel, 6, 6) blocks on :attr:`pattern`."""
+        return self._evaluate(u, ud, True)
+
+    def _evaluate(self, u, ud, tangent):
         ud = np.zeros(self.ndofs) if ud is None else ud
         x = self.X + u[self.ends]  # (2, nel, 3)
         vel = ud[self.ends]
@@ -350,10 +361,9 @@ class SeabedKernel:
                                                 + self.mu_l * (Q / rho - vl_vl / rho**3))
         ke[:, :3, :3] += B[0]
         ke[:, 3:, 3:] += B[1]
-        K = self.pattern.assemble(ke, dense)
         if not self.moving:
-            return R, K, None
+            return R, ke, None
         ce = np.zeros((len(self.h), 6, 6))
         ce[:, :3, :3], ce[:, 3:, 3:] = C[0], C[1]
-        return R, K, self.pattern.assemble(ce, dense)
+        return R, ke, ce
 
