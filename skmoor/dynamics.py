@@ -115,10 +115,11 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
 
     system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., dense=...)
     -> (R, K, Kv)``. C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when
-    the largest correction is below tol times the largest change over the step (plus
-    1e-12 m). Newton is modified: the factorized matrix is kept over iterations and steps
-    and refreshed when a correction shrinks by less than ``CONTRACTION``; a step that does
-    not converge so is retried with full Newton. Systems below ``DENSE_BELOW`` unknowns
+    the largest correction is below tol times the largest change over the step (as it
+    stands after the first correction; plus 1e-12 m). Newton is modified: the factorized
+    matrix is kept over iterations and steps and refreshed when a correction is larger
+    than ``CONTRACTION`` times the one before; a step that does not converge so is
+    retried with full Newton. Systems below ``DENSE_BELOW`` unknowns
     are solved with dense matrices.
     """
     if not dt > 0:
