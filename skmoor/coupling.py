@@ -173,9 +173,14 @@ class System:
 
     def full_displacement(self, x, t=0.0):
         """(ndofs,) cable displacement for reduced state x at time t, m."""
+        return self._displacement(x, self.fairlead_displacement(x, t))
+
+    def _displacement(self, x, fairleads):
+        """(ndofs,) cable displacement from the free DOFs of x and (nlines, 3) fairlead
+        displacements."""
         u = np.zeros(self.lines.ndofs)
         u[self.free] = x[: self.nf]
-        u[self.fairlead_dofs] = self.fairlead_displacement(x, t)
+        u[self._fairlead_flat] = fairleads.ravel()
         return u
 
     def _attachment(self, x):
@@ -236,7 +241,7 @@ class System:
 
     def _reduce_dense(self, A, J):
         """P^T A P for a dense (ndofs, ndofs) A, without forming P."""
-        free, fair = self.free, self.fairlead_dofs.ravel()
+        free, fair = self.free, self._fairlead_flat
         out = np.empty((self.n, self.n))
         out[: self.nf, : self.nf] = A[np.ix_(free, free)]
         if J is not None:
@@ -319,9 +324,7 @@ class System:
             fairleads, J = self._attachment(x)
         else:
             fairleads, J = self.fairlead_displacement(x, t), None
-        u = np.zeros(self.lines.ndofs)
-        u[self.free] = x[: self.nf]
-        u[self._fairlead_flat] = fairleads.ravel()
+        u = self._displacement(x, fairleads)
         ud = self._velocity(x, v, t, J) if self._needs_velocity else None
         R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, dense)
         R = self._reduce(R_full, J)

@@ -366,14 +366,19 @@ def _decompose(word):
     return m.group(1).upper(), (int(m.group(2)) if m.group(2) else None), m.group(3).upper()
 
 
+def _next_id(e, entries):
+    """The entry's ID, which must count up from 1 within its section."""
+    number = e.integer_at(0, "ID")
+    if number != len(entries) + 1:
+        raise e.error(f"ID: must count up from 1 (expected {len(entries) + 1}, got {number})")
+    return number
+
+
 def _body(e, deck):
     if len(e.words) < 14:
         raise e.error("entry: needs the 14 columns ID Attachment X0 Y0 Z0 r0 p0 y0 Mass "
                       f"CG* I* Volume CdA* Ca*, got {len(e.words)}")
-    number = e.integer_at(0, "ID")
-    if number != len(deck.bodies) + 1:
-        raise e.error(f"ID: must count up from 1 (expected {len(deck.bodies) + 1}, "
-                      f"got {number})")
+    number = _next_id(e, deck.bodies)
     letters, _, _ = _decompose(e.words[1])
     deck.bodies.append(DeckBody(
         id=number, kind=BODY_KINDS.get(letters, "free"),
@@ -389,10 +394,7 @@ def _point(e, deck):
     if len(e.words) not in (9, 12):
         raise e.error("entry: needs the 9 columns ID Attachment X Y Z Mass Volume CdA Ca "
                       f"(or 12 with FX FY FZ before CdA), got {len(e.words)}")
-    number = e.integer_at(0, "ID")
-    if number != len(deck.points) + 1:
-        raise e.error(f"ID: must count up from 1 (expected {len(deck.points) + 1}, "
-                      f"got {number})")
+    number = _next_id(e, deck.points)
     letters, body, _ = _decompose(e.words[1])
     if letters == "BODY":
         if body is None or not 1 <= body <= len(deck.bodies):
@@ -420,10 +422,7 @@ def _line(e, deck):
     if len(e.words) < 7:
         raise e.error("entry: needs the 7 columns ID LineType AttachA AttachB UnstrLen "
                       f"NumSegs LineOutputs, got {len(e.words)}")
-    number = e.integer_at(0, "ID")
-    if number != len(deck.lines) + 1:
-        raise e.error(f"ID: must count up from 1 (expected {len(deck.lines) + 1}, "
-                      f"got {number})")
+    number = _next_id(e, deck.lines)
     if e.words[1] not in deck.line_types:
         raise e.error(f"LineType: {e.words[1]!r} is not in LINE TYPES "
                       f"({', '.join(deck.line_types) or 'none'})")
