@@ -1,4 +1,4 @@
-"""Time of one tangent + residual of the cable: scikit-fem forms vs the vectorized kernel.
+"""Time of one tangent + residual of the cable: scikit-fem forms vs the compiled kernel.
 
 Both evaluate the same physics (tests/test_forms.py holds them equal to 1e-12): the forms
 path is ``LineSet.internal_force(u)`` + ``LineSet.tangent_stiffness(u)`` (two scikit-fem

@@ -23,7 +23,7 @@ import scipy.sparse as sp
 from skfem import asm
 
 from . import body as rigid
-from .kernels import CableKernel
+from .kernels import CableKernel, ElementPattern
 
 
 @dataclass
@@ -40,7 +40,8 @@ class Term:
     'nodal' (``LineSet.nodal_basis``).
 
     Anything with the method ``evaluate`` below (and optionally ``mass_matrix``) can be
-    a term, e.g. a numpy kernel of the same forms.
+    a term; a compiled kernel of the same forms also has ``add_to`` (see
+    :mod:`skmoor.kernels`), which the System calls instead.
     """
 
     residual: object
@@ -124,6 +125,7 @@ class System:
         self.motion, self.body_load = motion, body_load
         self.terms, self.body_terms = list(terms), list(body_terms)
         self.kernel = CableKernel(lines)
+        self._block_shape = (lines.mesh.t.shape[1], 6, 6)
         self._damped = lines.damped
         dofs = lines.nodal_dofs
         self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3)
@@ -133,6 +135,7 @@ class System:
         self.nf = len(self.free)
         self.nb = 6 if self.body is not None else 0
         self.n = self.nf + self.nb
+        self._free_pattern = None if self.nb else ElementPattern(lines, keep=self.free)
         if self.body is not None:
             self.r_local = lines.points[lines.fairlead_nodes] - self.body.reference_point
             self._jacobian_template = np.zeros((len(self.r_local), 3, 6))
@@ -140,6 +143,7 @@ class System:
             self.K_body = self.body.hydrostatic_stiffness(generalized=True)
             self.F_body0 = self.body.static_force()
         self._attachment_cache = (None, None, None)
+        self._prescribed_cache = (None, None, None)
         self.weight = lines.weight_load()
         self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
         self._free_block = sp.csr_matrix((np.ones(self.nf), (self.free, np.arange(self.nf))),
@@ -203,8 +207,17 @@ class System:
         if self.mode == "body":
             return self._attachment(x)[0]
         if self.mode == "prescribed":
-            return np.asarray(self.motion(t), float).reshape(-1, 3)
+            return self._prescribed(t)[0]
         return np.zeros(self.fairlead_dofs.shape)
+
+    def _prescribed(self, t, dt=1e-6):
+        """Prescribed fairlead displacements (m) and velocities (central differences over
+        dt, m/s) at time t, (nlines, 3) each; the last time's are kept (Newton revisits it)."""
+        if self._prescribed_cache[0] != (t, dt):
+            def at(time):
+                return np.asarray(self.motion(time), float).reshape(-1, 3)
+            self._prescribed_cache = ((t, dt), at(t), (at(t + dt) - at(t - dt)) / (2 * dt))
+        return self._prescribed_cache[1:]
 
     def full_velocity(self, x, v, t=0.0, dt=1e-6):
         """(ndofs,) cable velocity, m/s."""
@@ -213,8 +226,7 @@ class System:
     def _velocity(self, x, v, t, J, dt=1e-6):
         ud = self._expand(v, J)
         if self.mode == "prescribed":
-            ud[self.fairlead_dofs] = (self.fairlead_displacement(x, t + dt)
-                                      - self.fairlead_displacement(x, t - dt)) / (2 * dt)
+            ud[self.fairlead_dofs] = self._prescribed(t, dt)[1]
         return ud
 
     def _jacobian(self, x):
@@ -285,35 +297,35 @@ class System:
     def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, dense=False):
         """Full cable residual internal - external (N) and its u- and v-derivatives
         (sparse, or dense arrays when ``dense``)."""
-        cable_ud = ud if self._damped else None
+        R, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, tangent, dense)
         if not tangent:
-            R = self.kernel.evaluate(u, cable_ud, tangent=False)[0] - load_factor * self.weight
-            for term in self.terms:
-                R = R + term.evaluate(self.lines, u, ud, t, False, dense)[0]
             return R, None, None
-        # the kernels' element blocks are summed and assembled once on the shared pattern
-        f, K_blocks, Kv_blocks = self.kernel.element_blocks(u, cable_ud)
-        R = f - load_factor * self.weight
+        pattern = self.kernel.pattern
+        K = pattern.assemble(Ke, dense)
+        Kv = pattern.assemble(Ce, dense) if self._needs_velocity else None
+        for Kt, Cv in assembled:
+            K = K if Kt is None else K + Kt
+            Kv = Kv if Cv is None else (Cv if Kv is None else Kv + Cv)
+        return R, K, Kv
+
+    def _line_blocks(self, u, ud, t, load_factor, tangent, dense):
+        """The cable residual (N) with the element blocks of its derivatives (d/du, d/dv;
+        None without ``tangent``) that the kernels add into, and the (K, Kv) pairs the
+        form terms assemble themselves (full DOFs)."""
+        R = -load_factor * self.weight
+        Ke = Ce = None
+        if tangent:
+            Ke, Ce = np.zeros(self._block_shape), np.zeros(self._block_shape)
+        self.kernel.add_to(u, ud if self._damped else None, R, Ke, Ce)
         assembled = []
         for term in self.terms:
-            if hasattr(term, "element_blocks"):
-                Rt, Kt, Cv = term.element_blocks(self.lines, u, ud, t)
-                K_blocks = K_blocks + Kt
-                if Cv is not None:
-                    Kv_blocks = Cv if Kv_blocks is None else Kv_blocks + Cv
+            if hasattr(term, "add_to"):
+                term.add_to(self.lines, u, ud, t, R, Ke, Ce)
             else:
-                Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, True, dense)
+                Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent, dense)
+                R += Rt
                 assembled.append((Kt, Cv))
-            R = R + Rt
-        pattern = self.kernel.pattern
-        K = pattern.assemble(K_blocks, dense)
-        Kv = None if Kv_blocks is None else pattern.assemble(Kv_blocks, dense)
-        for Kt, Cv in assembled:
-            if Kt is not None:
-                K = K + Kt
-            if Cv is not None:
-                Kv = Cv if Kv is None else Kv + Cv
-        return R, K, Kv
+        return R, Ke, Ce, assembled
 
     def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, dense=False):
         """Reduced residual R(x, v, t) (no inertia, no Rayleigh damping) and its
@@ -326,7 +338,10 @@ class System:
             fairleads, J = self.fairlead_displacement(x, t), None
         u = self._displacement(x, fairleads)
         ud = self._velocity(x, v, t, J) if self._needs_velocity else None
-        R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, dense)
+        if self.nb or not tangent:
+            R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, dense)
+        else:  # no body: the element blocks go straight into the free-DOF matrices
+            R_full, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, True, dense)
         R = self._reduce(R_full, J)
         if self.nb:
             q = self.q(x)
@@ -342,18 +357,25 @@ class System:
                 body_Kv = body_Kv if Kvb is None else body_Kv + Kvb
         if not tangent:
             return R, None, None
+        if not self.nb:
+            K = self._free_pattern.assemble(Ke, dense)
+            Kv = self._free_pattern.assemble(Ce, dense) if self._needs_velocity else None
+            reduce = self._reduce_dense if dense else self._reduce_sparse
+            for Kt, Cv in assembled:
+                K = K if Kt is None else K + reduce(Kt, None)
+                Kv = Kv if Cv is None else reduce(Cv, None) + (0 if Kv is None else Kv)
+            return R, K, Kv
         if dense:
             K = self._reduce_dense(K_full, J)
             Kv = None if Kv_full is None else self._reduce_dense(Kv_full, J)
         else:
             K, Kv = (None if A is None else self._reduce_sparse(sp.csr_matrix(A), x)
                      for A in (K_full, Kv_full))
-        if self.nb:
-            H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
-            K = K + self._embed_body(H + self.K_body + body_K, dense)
-            if np.any(self.body.linear_damping) or np.any(body_Kv):
-                D = self._embed_body(self.body.linear_damping + body_Kv, dense)
-                Kv = D if Kv is None else Kv + D
+        H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
+        K = K + self._embed_body(H + self.K_body + body_K, dense)
+        if np.any(self.body.linear_damping) or np.any(body_Kv):
+            D = self._embed_body(self.body.linear_damping + body_Kv, dense)
+            Kv = D if Kv is None else Kv + D
         return R, K, Kv
 
     def reactions(self, x, v=None, t=0.0):

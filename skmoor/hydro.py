@@ -34,10 +34,11 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import BilinearForm, LinearForm, asm
 from skfem.helpers import dot
+from numba import njit
 
 from .coupling import BodyTerm, Term
 from .forms import d_ds
-from .kernels import ElementPattern
+from .kernels import NO_BLOCKS, ElementPattern
 from .validation import check_finite, check_positive
 from .waves import Sea
 
@@ -200,8 +201,8 @@ class SeaTerm(Term):
 
 
 class LineHydroKernel:
-    """The forms above (drag, fluid inertia, added mass) as a numpy kernel: the same
-    Gauss points, element by element, scattered into a fixed sparsity pattern.
+    """The forms above (drag, fluid inertia, added mass) as a compiled kernel (see
+    :mod:`skmoor.kernels`): the same Gauss points, element by element.
     ``evaluate(lines, u, ud, t, tangent, dense) -> (R, K, Kv)`` as :class:`Term`."""
 
     def __init__(self, lines, sea=None, lumped_mass=True):
@@ -209,93 +210,112 @@ class LineHydroKernel:
         self.sea = sea
         self.moving_water = sea is not None and not sea.still
         self.has_waves = sea is not None and sea.has_waves
-        self.Xp = np.moveaxis(lines.fields["Xp"], 0, -1)  # (nel, nqp, 3)
+        self.Xp = np.ascontiguousarray(np.moveaxis(lines.fields["Xp"], 0, -1))  # (nel, nqp, 3)
         self.points, self.nodal_dofs = lines.points, lines.nodal_dofs
-        self.enodes = lines.mesh.t.T  # (nel, 2)
+        self.enodes = np.ascontiguousarray(lines.mesh.t.T)  # (nel, 2)
         self.edofs = self.nodal_dofs[self.enodes].reshape(-1, 6)  # (nel, 6)
         xi = basis.X[0]
         self.phi = np.stack([1.0 - xi, xi])  # (2, nqp) P1 shape functions
         c = coefficients(lines)
         self.kn, self.kt = c["drag_n"], c["drag_t"]
         self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
-        dx, h = basis.dx, lines.element_lengths
-        self.h = h
-        # (nel, 2, nqp) weight x shape function phi_a; (nel, 3, nqp) x phi_a phi_b, ab = 00, 01, 11
-        self.wphi = dx[:, None, :] * self.phi
-        self.wphi2 = self.wphi[:, [0, 0, 1]] * self.phi[[0, 1, 1]]
-        self.ndofs = lines.ndofs
+        self.h = lines.element_lengths
+        self.wphi = basis.dx[:, None, :] * self.phi  # (nel, 2, nqp) weight x phi_a
+        self.ndofs, self.nel = lines.ndofs, len(self.h)
         self.pattern = ElementPattern(lines)
+        self._still = np.zeros((len(self.points), 3))
+        self._no_velocity = np.zeros(self.ndofs)
         self._mass = added_mass_matrix(lines, lumped_mass)
 
     def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
         """Residual (N) and its derivatives d/du, d/dudot (N/m, N s/m)."""
+        R = np.zeros(self.ndofs)
         if not tangent:
-            return self._evaluate(u, ud, t, False)
-        R, K, Kv = self._evaluate(u, ud, t, True)
-        return R, self.pattern.assemble(K, dense), self.pattern.assemble(Kv, dense)
-
-    def element_blocks(self, lines, u, ud, t):
-        """As :meth:`evaluate`, the derivatives as (nel, 6, 6) blocks on :attr:`pattern`."""
-        return self._evaluate(u, ud, t, True)
-
-    @staticmethod
-    def _blocks(b00, b01, b10, b11):
-        """(nel, 6, 6) element blocks [[00, 01], [10, 11]] of (nel, 3, 3) parts."""
-        return np.block([[b00, b01], [b10, b11]])
-
-    def _evaluate(self, u, ud, t, tangent):
-        U = u[self.edofs].reshape(-1, 2, 3)
-        rp = self.Xp + ((U[:, 1] - U[:, 0]) / self.h[:, None])[:, None, :]
-        length = np.sqrt(np.einsum("eqk,eqk->eq", rp, rp))
-        tau = rp / length[..., None]
-        v = (np.zeros(rp.shape) if ud is None
-             else -(self.phi.T @ ud[self.edofs].reshape(-1, 2, 3)))
-        if self.moving_water:
-            water, acc = self.sea.kinematics(self.points + u[self.nodal_dofs], t)
-            v += self.phi.T @ water[self.enodes]
-            acc = self.phi.T @ acc[self.enodes]
-        a = np.einsum("eqk,eqk->eq", v, tau)
-        vn = v - a[..., None] * tau
-        speed = np.sqrt(np.einsum("eqk,eqk->eq", vn, vn))
-        absa = np.abs(a)
-        # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
-        cn, ct = self.kn * speed, self.kt * absa * a
-        force = cn[..., None] * vn + ct[..., None] * tau
-        if self.has_waves:
-            aa = np.einsum("eqk,eqk->eq", acc, tau)
-            an = acc - aa[..., None] * tau
-            force += self.mn[..., None] * an + ((self.mn + self.dm) * aa)[..., None] * tau
-        R = -np.bincount(self.edofs.ravel(), (self.wphi @ force).ravel(), self.ndofs)
-        if not tangent:
+            self.add_to(lines, u, ud, t, R)
             return R, None, None
-        # Kv = d/dudot = alpha I + beta tau tau^T + gamma v_n v_n^T  (the form's matrix)
-        vnvn = vn[..., :, None] * vn[..., None, :]
-        beta = 2.0 * self.kt * absa - cn
-        gamma = self.kn / _nonzero(speed)
-        B = (tau[..., :, None] * (beta[..., None] * tau)[..., None, :]
-             + gamma[..., None, None] * vnvn)
-        kv = self.wphi2 @ B.reshape(*cn.shape, 9)  # (nel, 3, 9)
-        kv[..., ::4] += self.wphi2 @ cn[..., None]  # + alpha I, alpha = drag_n |v_n|
-        # dF/du' |r'| = c1 P + beta tau v_n^T - drag_n a / |v_n| v_n v_n^T (+ dm (tau a_n^T + aa P))
-        #            = c1 I + tau y^T + c3 v_n v_n^T,  y = beta v_n - c1 tau (+ dm a_n)
-        c1 = (self.kt * absa - cn) * a
-        y = beta[..., None] * vn
-        if self.has_waves:
-            c1 = c1 + self.dm * aa
-            y += self.dm[..., None] * an
-        y -= c1[..., None] * tau
-        G = tau[..., :, None] * y[..., None, :] - (gamma * a)[..., None, None] * vnvn
-        # K_e[a, b] = -sum_q w phi_a dphi_b/ds dF/du', dphi_b/ds = -+1/h
-        weights = self.wphi / (length * self.h[:, None])[:, None, :]
-        g = weights @ G.reshape(*c1.shape, 9)  # (nel, 2, 9)
-        g[..., ::4] += weights @ c1[..., None]
-        g, kv = g.reshape(-1, 2, 3, 3), kv.reshape(-1, 3, 3, 3)
-        return (R, self._blocks(g[:, 0], -g[:, 0], g[:, 1], -g[:, 1]),
-                self._blocks(kv[:, 0], kv[:, 1], kv[:, 1], kv[:, 2]))
+        Ke, Ce = np.zeros((self.nel, 6, 6)), np.zeros((self.nel, 6, 6))
+        self.add_to(lines, u, ud, t, R, Ke, Ce)
+        return R, self.pattern.assemble(Ke, dense), self.pattern.assemble(Ce, dense)
+
+    def add_to(self, lines, u, ud, t, R, Ke=None, Ce=None):
+        """Adds the residual into R and, with Ke, Ce, its derivatives into the element
+        blocks (the kernel protocol of :mod:`skmoor.kernels`)."""
+        water = acceleration = self._still
+        if self.moving_water:
+            water, acceleration = self.sea.kinematics(self.points + u[self.nodal_dofs], t)
+        _morison(self.Xp, self.h, self.phi, self.wphi, self.kn, self.kt, self.mn, self.dm,
+                 self.edofs, self.enodes, u, self._no_velocity if ud is None else ud,
+                 water, acceleration, self.has_waves, R,
+                 NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
 
     def mass_matrix(self, lines):
         """The added mass (sparse, kg), or None when every Ca is zero."""
         return self._mass
+
+
+@njit(cache=True)
+def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acceleration,
+             has_waves, R, Ke, Ce):
+    """Adds morison_drag (+ fluid_inertia with waves) into R and their derivatives
+    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce."""
+    tangent = Ke.shape[0] > 0
+    rp, tau, v, vn = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    acc, an, y = np.empty(3), np.empty(3), np.empty(3)
+    for e in range(h.size):
+        for q in range(phi.shape[1]):
+            length = 0.0
+            for c in range(3):
+                rp[c] = Xp[e, q, c] + (u[edofs[e, 3 + c]] - u[edofs[e, c]]) / h[e]
+                length += rp[c] ** 2
+            length = np.sqrt(length)
+            a = 0.0  # v = u_w - udot along tau
+            aa = 0.0  # water acceleration along tau
+            for c in range(3):
+                tau[c] = rp[c] / length
+                v[c] = 0.0
+                acc[c] = 0.0
+                for node in range(2):
+                    v[c] += phi[node, q] * (water[enodes[e, node], c] - ud[edofs[e, 3 * node + c]])
+                    acc[c] += phi[node, q] * acceleration[enodes[e, node], c]
+                a += v[c] * tau[c]
+                aa += acc[c] * tau[c]
+            speed = 0.0
+            for c in range(3):
+                vn[c] = v[c] - a * tau[c]
+                an[c] = acc[c] - aa * tau[c]
+                speed += vn[c] ** 2
+            speed = np.sqrt(speed)
+            # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
+            cn, ct = kn[e, q] * speed, kt[e, q] * abs(a) * a
+            for c in range(3):
+                force = cn * vn[c] + ct * tau[c]
+                if has_waves:
+                    force += mn[e, q] * an[c] + (mn[e, q] + dm[e, q]) * aa * tau[c]
+                for node in range(2):
+                    R[edofs[e, 3 * node + c]] -= wphi[e, node, q] * force
+            if not tangent:
+                continue
+            # d/dudot: alpha I + beta tau tau^T + gamma v_n v_n^T, alpha = drag_n |v_n|
+            beta = 2.0 * kt[e, q] * abs(a) - cn
+            gamma = kn[e, q] / speed if speed > 0 else kn[e, q]
+            # d/du' |r'|: c1 I + tau y^T - gamma a v_n v_n^T, y = beta v_n - c1 tau (+ dm a_n)
+            c1 = (kt[e, q] * abs(a) - cn) * a + (dm[e, q] * aa if has_waves else 0.0)
+            for c in range(3):
+                y[c] = beta * vn[c] - c1 * tau[c] + (dm[e, q] * an[c] if has_waves else 0.0)
+            for i in range(2):
+                for j in range(2):
+                    rate_weight = wphi[e, i, q] * phi[j, q]
+                    # K_e[i, j] = -w phi_i dphi_j/ds dF/du', dphi_j/ds = -+1/h
+                    slope_weight = (wphi[e, i, q] / (length * h[e])) * (1.0 if j == 0 else -1.0)
+                    for p in range(3):
+                        for s in range(3):
+                            B = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]
+                            G = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
+                            if p == s:
+                                B += cn
+                                G += c1
+                            Ce[e, 3 * i + p, 3 * j + s] += rate_weight * B
+                            Ke[e, 3 * i + p, 3 * j + s] += slope_weight * G
 
 
 def _check_sea(lines, sea):
@@ -315,7 +335,7 @@ def line_hydrodynamics(lines, sea=None, *, fast=True, lumped_mass=True):
     fluid inertia (when ``sea`` has waves) and added mass, coefficients from each line's
     LineType (MoorDyn v2 conventions, see the module docstring). sea=None: still water.
 
-    fast: one :class:`LineHydroKernel` (numpy, for the time loop); else :class:`SeaTerm`
+    fast: one :class:`LineHydroKernel` (compiled, for the time loop); else :class:`SeaTerm`
     objects on the forms (the definition). lumped_mass: block-lump the added mass as the
     System lumps the line's mass (keep the two alike).
     """

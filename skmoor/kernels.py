@@ -1,46 +1,71 @@
-"""Fast path of the standard cable forms for the time loop.
+"""Compiled fast path of the forms for the time loop.
 
-Same physics as ``forms.cable_force`` and ``forms.cable_tangent`` on the same (mid-point)
-quadrature, plus the LineSet's reference force, evaluated element by element with numpy
-(P1: u' is constant on an element, one quadrature point) and scattered into a sparse
-matrix whose pattern is fixed once. The tests hold it
-equal to the scikit-fem assembly to round-off.
+The scikit-fem forms (``forms``, ``hydro``, ``seabed``) define the physics; the kernels
+evaluate the same integrands on the same quadrature points element by element in loops
+compiled by numba, add the residual into a DOF vector and the derivatives into per-element
+6x6 blocks, and :class:`ElementPattern` scatters the blocks into a matrix whose pattern is
+fixed once. The tests hold every kernel equal to the assembly of its forms to round-off.
+
+Kernel protocol (what :class:`~skmoor.coupling.System` calls): ``add_to(lines, u, ud, t,
+R, Ke, Ce)`` adds the residual (N) into R (ndofs,) and, when Ke is not None, its
+derivatives with respect to u (N/m) and to the velocity (N s/m) into the (nel, 6, 6)
+blocks Ke and Ce, DOFs ordered [node i x, y, z, node j x, y, z].
 """
 import numpy as np
 import scipy.sparse as sp
+from numba import njit
 
 from . import forms
 
+NO_BLOCKS = np.zeros((0, 6, 6))  # stands for "no tangent" in the compiled loops
+
 
 class ElementPattern:
-    """The fixed sparsity pattern of per-element 6x6 blocks on a LineSet, DOFs ordered
-    [node i x, y, z, node j x, y, z] (i, j the element's ends). Every kernel of the time
-    loop (cable, hydrodynamics, sea bed) scatters into it."""
+    """The fixed sparsity pattern of per-element 6x6 blocks on a LineSet, restricted to
+    the DOFs ``keep`` (all by default; entries in other rows or columns are dropped, as
+    for the free DOFs of a System whose fairleads are not on a body)."""
 
-    def __init__(self, lineset):
+    def __init__(self, lineset, keep=None):
         nodal, t = lineset.nodal_dofs, lineset.mesh.t
-        self.ndofs = n = lineset.ndofs
-        self.edofs = np.concatenate([nodal[t[0]], nodal[t[1]]], axis=1)  # (nel, 6)
-        rows = np.repeat(self.edofs[:, :, None], 6, axis=2).ravel()
-        cols = np.repeat(self.edofs[:, None, :], 6, axis=1).ravel()
-        keys = rows.astype(np.int64) * n + cols
-        unique = np.unique(keys)
-        self._scatter = np.searchsorted(unique, keys)
+        edofs = np.concatenate([nodal[t[0]], nodal[t[1]]], axis=1)  # (nel, 6)
+        position = np.arange(lineset.ndofs)
+        if keep is not None:
+            position = np.full(lineset.ndofs, -1)
+            position[keep] = np.arange(len(keep))
+        self.ndofs = n = int(position.max()) + 1
+        rows = position[np.repeat(edofs[:, :, None], 6, axis=2).ravel()]
+        cols = position[np.repeat(edofs[:, None, :], 6, axis=1).ravel()]
+        kept = (rows >= 0) & (cols >= 0)
+        keys = np.where(kept, rows.astype(np.int64) * n + cols, -1)
+        unique = np.unique(keys[kept])
+        self._sparse = np.where(kept, np.searchsorted(unique, keys), -1)
+        self._dense = keys  # positions in a dense (ndofs, ndofs) array
         self._pattern = (unique % n, np.searchsorted(unique // n, np.arange(n + 1)))
         self.nnz = len(unique)
-        self._flat = keys  # positions in a dense (ndofs, ndofs) array
 
     def assemble(self, ke, dense=False):
         """(nel, 6, 6) element blocks summed into a CSR matrix, or a dense array."""
         if dense:
-            return np.bincount(self._flat, ke.ravel(), self.ndofs**2).reshape(self.ndofs,
-                                                                             self.ndofs)
-        data = np.bincount(self._scatter, ke.ravel(), self.nnz)
+            return _scatter(ke.ravel(), self._dense, self.ndofs**2).reshape(self.ndofs,
+                                                                            self.ndofs)
+        data = _scatter(ke.ravel(), self._sparse, self.nnz)
         return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
 
 
+@njit(cache=True)
+def _scatter(values, index, size):
+    """out[index[k]] += values[k], skipping index -1."""
+    out = np.zeros(size)
+    for k in range(index.size):
+        if index[k] >= 0:
+            out[index[k]] += values[k]
+    return out
+
+
 class CableKernel:
-    """Internal force and tangent of all lines of a :class:`~skmoor.line.LineSet`."""
+    """Internal force and tangent of all lines of a :class:`~skmoor.line.LineSet`: the
+    forms ``cable_force`` + the reference force (Eq. 9), ``cable_tangent`` (Eq. 17) and
+    ``axial_damping`` with its derivatives, on the mid-point quadrature."""
 
     def __init__(self, lineset):
         f = lineset.cable_fields
@@ -50,70 +75,44 @@ class CableKernel:
         self.law = lineset.law
         self.Xp = f["Xp"][:, :, 0].T.copy()  # (nel, 3)
         self.T, self.EA, self.BA = f["T"][:, 0], f["EA"][:, 0], f["BA"][:, 0]  # (nel,)
-        h = lineset.element_lengths
-        self.dx_h = lineset.cable_basis.dx[:, 0] / h  # quadrature weight / h = 1
-        self.dx_h2 = self.dx_h / h
+        self.h = lineset.element_lengths
+        self.weight = lineset.cable_basis.dx[:, 0]  # quadrature weight = h
         t = lineset.mesh.t
         nodal = lineset.nodal_dofs
-        self.node_dofs = nodal  # (nnodes, 3)
         self.dofs_i, self.dofs_j = nodal[t[0]], nodal[t[1]]  # (nel, 3)
-        self.h = h
         self.ndofs = lineset.ndofs
+        self.nel = len(self.h)
         self.pattern = ElementPattern(lineset)
+        self._no_velocity = np.zeros(self.ndofs)
         # the displacement-free part of Eq. 9: the reference force minus int T X'.du' ds
         # on the mid-point rule (the T r' term of Eq. 11 carries +T X' at u = 0)
-        self.constant = lineset.reference_force() - self._scatter_flux(
-            ((self.dx_h * self.T)[:, None] * self.Xp).ravel())
+        self.constant = lineset.reference_force()
+        _cable(self.Xp, self.T, self.EA, self.BA, self.h, self.weight, self.law,
+               self.dofs_i, self.dofs_j, np.zeros(self.ndofs), self._no_velocity, False,
+               self.constant, NO_BLOCKS, NO_BLOCKS, -1.0)
 
-    def slopes(self, u):
-        """(nel, 3) u' on each element."""
-        return (u[self.dofs_j] - u[self.dofs_i]) / self.h[:, None]
+    def add_to(self, u, ud, R, Ke=None, Ce=None):
+        """Add the internal force (Eq. 9) and, given the velocity ud, the axial damping
+        into R (N); with Ke their u-derivatives (N/m), with Ce the ud-derivatives (N s/m)."""
+        R += self.constant
+        _cable(self.Xp, self.T, self.EA, self.BA, self.h, self.weight, self.law,
+               self.dofs_i, self.dofs_j, u, self._no_velocity if ud is None else ud,
+               ud is not None, R, NO_BLOCKS if Ke is None else Ke,
+               NO_BLOCKS if Ce is None else Ce, 1.0)
 
     def evaluate(self, u, ud=None, tangent=True, dense=False):
         """Internal force (Eq. 9 = Eq. 11 + reference part) plus, given the velocity ud,
         the axial damping (``forms.axial_damping``), N; with ``tangent`` its exact
         derivatives with respect to u (Eq. 17 and the damping's part, N/m) and to ud
         (N s/m, None without ud): CSR, or dense arrays when ``dense``."""
+        R = np.zeros(self.ndofs)
         if not tangent:
-            return self._force(u, ud)[0], None, None
-        f, K, Kv = self.element_blocks(u, ud)
-        return (f, self.pattern.assemble(K, dense),
-                None if Kv is None else self.pattern.assemble(Kv, dense))
-
-    def element_blocks(self, u, ud=None):
-        """As :meth:`evaluate` with the derivatives as (nel, 6, 6) element blocks on
-        :attr:`pattern`, for summing with other kernels' before one assembly."""
-        f, (up, rp, eps, S, rate_slopes, rate) = self._force(u, ud)
-        dS = forms.stress_resultant_slope(eps, self.T, self.EA, self.law)
-        rr = rp[:, :, None] * rp[:, None, :]
-        k = (self.dx_h2 * dS)[:, None, None] * rr
-        k += (self.dx_h2 * (self.T + S))[:, None, None] * np.eye(3)
-        if ud is None:
-            return f, _slope_blocks(k), None
-        b = (self.dx_h2 * self.BA)[:, None, None]
-        k += b * (rp[:, :, None] * rate_slopes[:, None, :] + rate[:, None, None] * np.eye(3))
-        return f, _slope_blocks(k), _slope_blocks(b * rr)
-
-    def _force(self, u, ud):
-        """The force (N) and the element state it was computed from."""
-        up = self.slopes(u)
-        rp = self.Xp + up  # (nel, 3)
-        eps = ((self.Xp + 0.5 * up) * up).sum(-1)
-        S = forms.stress_resultant(eps, self.T, self.EA, self.law)
-        axial = self.T + S
-        rate_slopes = rate = None
-        if ud is not None:
-            rate_slopes = self.slopes(ud)
-            rate = (rp * rate_slopes).sum(-1)  # strain rate, 1/s
-            axial = axial + self.BA * rate
-        f = self._scatter_flux(((self.dx_h * axial)[:, None] * rp).ravel()) + self.constant
-        return f, (up, rp, eps, S, rate_slopes, rate)
-
-    def _scatter_flux(self, g):
-        """Nodal forces of per-element axial fluxes g (nel*3,): +g at the end node, -g at
-        the start node."""
-        return (np.bincount(self.dofs_j.ravel(), g, self.ndofs)
-                - np.bincount(self.dofs_i.ravel(), g, self.ndofs))
+            self.add_to(u, ud, R)
+            return R, None, None
+        Ke, Ce = np.zeros((self.nel, 6, 6)), np.zeros((self.nel, 6, 6))
+        self.add_to(u, ud, R, Ke, Ce)
+        return (R, self.pattern.assemble(Ke, dense),
+                None if ud is None else self.pattern.assemble(Ce, dense))
 
     def force(self, u):
         """Internal force vector (Eq. 9 = Eq. 11 + reference part), N."""
@@ -125,7 +124,61 @@ class CableKernel:
         return f, K
 
 
-def _slope_blocks(k):
-    """(nel, 6, 6) element blocks of per-element 3x3 blocks k acting on the slopes
-    (u_j - u_i) / h: [[k, -k], [-k, k]]."""
-    return np.block([[k, -k], [-k, k]])
+@njit(cache=True)
+def _stress(eps, EA, law):
+    """S(eps) and dS/deps (``forms.stress_resultant`` and its slope), N."""
+    if law == forms.PAPER:
+        return EA * eps, EA
+    stretch = np.sqrt(1.0 + 2.0 * eps)
+    return EA * (1.0 - 1.0 / stretch), EA / stretch**3
+
+
+@njit(cache=True)
+def _cable(Xp, T, EA, BA, h, weight, law, dofs_i, dofs_j, u, ud, damped, R, Ke, Ce, sign):
+    """Adds sign x (Eq. 11 + axial damping) into R and their derivatives into Ke, Ce
+    (when those have rows); one mid-point per element, weight[e] / h[e] = 1 for P1."""
+    tangent = Ke.shape[0] > 0
+    rp = np.empty(3)
+    rate_slopes = np.empty(3)
+    k = np.empty((3, 3))
+    for e in range(h.size):
+        eps = 0.0
+        rate = 0.0
+        for c in range(3):
+            up = (u[dofs_j[e, c]] - u[dofs_i[e, c]]) / h[e]
+            rp[c] = Xp[e, c] + up
+            eps += (Xp[e, c] + 0.5 * up) * up
+            rate_slopes[c] = (ud[dofs_j[e, c]] - ud[dofs_i[e, c]]) / h[e]
+            rate += rp[c] * rate_slopes[c]
+        S, dS = _stress(eps, EA[e], law)
+        axial = T[e] + S + (BA[e] * rate if damped else 0.0)
+        flux = sign * weight[e] / h[e] * axial
+        for c in range(3):
+            R[dofs_j[e, c]] += flux * rp[c]
+            R[dofs_i[e, c]] -= flux * rp[c]
+        if not tangent:
+            continue
+        # d/du' (Eq. 17): S' r' r'^T + (T + S) I, plus the damping's BA (r' rate'^T + rate I)
+        w2 = weight[e] / h[e] ** 2
+        b = BA[e] if damped else 0.0
+        for p in range(3):
+            for q in range(3):
+                k[p, q] = w2 * (dS * rp[p] * rp[q] + b * rp[p] * rate_slopes[q])
+            k[p, p] += w2 * (T[e] + S + b * rate)
+        _add_slope_blocks(Ke, e, k)
+        if damped:
+            for p in range(3):
+                for q in range(3):
+                    k[p, q] = w2 * b * rp[p] * rp[q]
+            _add_slope_blocks(Ce, e, k)
+
+
+@njit(cache=True)
+def _add_slope_blocks(blocks, e, k):
+    """Adds [[k, -k], [-k, k]] (a 3x3 k acting on the slope (u_j - u_i) / h) to blocks[e]."""
+    for p in range(3):
+        for q in range(3):
+            blocks[e, p, q] += k[p, q]
+            blocks[e, p, q + 3] -= k[p, q]
+            blocks[e, p + 3, q] -= k[p, q]
+            blocks[e, p + 3, q + 3] += k[p, q]

@@ -1,5 +1,5 @@
 """Sea-bed contact: a penalty spring-damper normal to a flat or sloped plane and
-regularised Coulomb friction, as scikit-fem forms and as a fast numpy kernel.
+regularised Coulomb friction, as scikit-fem forms and as a compiled kernel.
 
 The bed is the plane through (0, 0, -depth) rising at ``slope_deg`` towards
 ``slope_heading_deg``, with upward unit normal n. At a point x = X + u of the line
@@ -37,10 +37,11 @@ from dataclasses import dataclass
 import numpy as np
 from skfem import BilinearForm, LinearForm
 from skfem.helpers import dot
+from numba import njit
 
 from .coupling import Term
-from .kernels import ElementPattern
 from .forms import d_ds
+from .kernels import NO_BLOCKS, ElementPattern
 from .validation import check_finite, check_positive
 
 DEFAULT_PENETRATION = 1e-3  # m: the default stiffness lets the heaviest line sink this far
@@ -154,11 +155,6 @@ def _slip(rp, ud, n, v0):
     va = dot(a, vt)
     vl = vt - va * a
     return a, inv, va, vl, np.sqrt(va**2 + v0**2), np.sqrt(dot(vl, vl) + v0**2)
-
-
-def _outer(p, q):
-    """(..., 3, 3) outer products of (..., 3) vectors."""
-    return p[..., :, None] * q[..., None, :]
 
 
 def _state(w):
@@ -279,9 +275,9 @@ def seabed_term(lines, seabed, *, fast=True):
 
 
 class SeabedKernel:
-    """Fast path of the seabed forms: ``evaluate(lines, u, ud, t, tangent, dense) ->
-    (R N, K N/m, Kv N s/m)``, element by element with numpy at the nodal quadrature points
-    (2 per element: node i of element e with weight h_e / 2)."""
+    """Compiled fast path of the seabed forms (see :mod:`skmoor.kernels`):
+    ``evaluate(lines, u, ud, t, tangent, dense) -> (R N, K N/m, Kv N s/m)`` at the nodal
+    quadrature points (2 per element: node i of element e with weight h_e / 2)."""
 
     def __init__(self, lines, seabed):
         self.seabed = seabed
@@ -289,81 +285,107 @@ class SeabedKernel:
         self.onset = seabed.onset(lines)
         self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
         self.v0 = float(seabed.friction_velocity)
-        self.n, self.offset = seabed.normal, seabed.offset
+        self.n, self.offset = seabed.normal, float(seabed.offset)
         t = lines.mesh.t  # (2, nel)
-        dofs = lines.nodal_dofs
         self.ndofs = lines.ndofs
         self.h = lines.element_lengths
-        self.ends = dofs[t]  # (2, nel, 3): DOFs of each element's two nodes
-        self.X = lines.points[t]  # (2, nel, 3)
+        self.nel = len(self.h)
+        self.ends = np.ascontiguousarray(lines.nodal_dofs[t])  # (2, nel, 3) DOFs of each end
+        self.X = np.ascontiguousarray(lines.points[t])  # (2, nel, 3)
         self.pattern = ElementPattern(lines)
         self.friction = self.mu_a > 0 or self.mu_l > 0
         self.moving = self.c > 0 or self.friction
+        self._no_velocity = np.zeros(self.ndofs)
 
     def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
         """(R, K, Kv) of the sea bed on the full cable DOFs (see the forms above)."""
+        R = np.zeros(self.ndofs)
         if not tangent:
-            return self._evaluate(u, ud, False)
-        R, K, Kv = self._evaluate(u, ud, True)
-        return (R, self.pattern.assemble(K, dense),
-                None if Kv is None else self.pattern.assemble(Kv, dense))
-
-    def element_blocks(self, lines, u, ud, t):
-        """As :meth:`evaluate`, the derivatives as (nel, 6, 6) blocks on :attr:`pattern`."""
-        return self._evaluate(u, ud, True)
-
-    def _evaluate(self, u, ud, tangent):
-        ud = np.zeros(self.ndofs) if ud is None else ud
-        x = self.X + u[self.ends]  # (2, nel, 3)
-        vel = ud[self.ends]
-        n = self.n
-        g = self.offset - x @ n  # (2, nel)
-        H = (g > 0).astype(float)
-        Hc, dHc = _fade(g, self.onset)
-        vn = vel @ n
-        W = 0.5 * self.h  # quadrature weight of each end
-        push = -(self.k * g * H - self.c * vn * Hc)
-        N = self.k * g * H
-        if self.friction:
-            rp = np.broadcast_to((x[1] - x[0]) / self.h[:, None], x.shape)
-            first = (np.moveaxis(rp, -1, 0), np.moveaxis(vel, -1, 0), n[:, None, None], self.v0)
-            a, inv, va, vl, ra, rho = _slip(*first)  # component axis first
-            a, vl = np.moveaxis(a, 0, -1), np.moveaxis(vl, 0, -1)  # (2, nel, 3)
-            F = (self.mu_a * va / ra)[..., None] * a + self.mu_l * vl / rho[..., None]
-            f = W[:, None] * (push[..., None] * n + N[..., None] * F)  # (2, nel, 3)
-        else:
-            f = (W * push)[..., None] * n
-        R = np.bincount(self.ends.ravel(), f.ravel(), self.ndofs)
-        if not tangent:
+            self.add_to(lines, u, ud, t, R)
             return R, None, None
-        # 3x3 blocks per quadrature point, rows: test function, columns: trial
-        nn = np.outer(n, n)
-        # d/du through the penetration: the spring, the damping's fade-in and the
-        # friction's normal force
-        B = ((W * self.k * H)[..., None, None] * nn
-             - (W * self.c * vn * dHc)[..., None, None] * nn)
-        C = (W * self.c * Hc)[..., None, None] * nn
-        ke = np.zeros((len(self.h), 6, 6))
-        if self.friction:
-            B = B - (W * self.k * H)[..., None, None] * (F[..., :, None] * n)
-            Q = np.eye(3) - nn - _outer(a, a)
-            a_vl, vl_vl = _outer(a, vl), _outer(vl, vl)
-            va, ra, rho = (q[..., None, None] for q in (va, ra, rho))
-            # d/du through a, per unit change of the element chord (du_1 - du_0) / h
-            G = (self.mu_a * (self.v0**2 / ra**3 * a_vl + va / ra * Q)
-                 + self.mu_l * (-(a_vl + va * Q) / rho + va / rho**3 * vl_vl))
-            G = (W * N * inv / self.h)[..., None, None] * G
-            ke[:, :3, :3] -= G[0]
-            ke[:, :3, 3:] += G[0]
-            ke[:, 3:, 3:] += G[1]
-            ke[:, 3:, :3] -= G[1]
-            C = C + (W * N)[..., None, None] * (self.mu_a * self.v0**2 / ra**3 * _outer(a, a)
-                                                + self.mu_l * (Q / rho - vl_vl / rho**3))
-        ke[:, :3, :3] += B[0]
-        ke[:, 3:, 3:] += B[1]
-        if not self.moving:
-            return R, ke, None
-        ce = np.zeros((len(self.h), 6, 6))
-        ce[:, :3, :3], ce[:, 3:, 3:] = C[0], C[1]
-        return R, ke, ce
+        Ke, Ce = np.zeros((self.nel, 6, 6)), np.zeros((self.nel, 6, 6))
+        self.add_to(lines, u, ud, t, R, Ke, Ce)
+        return (R, self.pattern.assemble(Ke, dense),
+                self.pattern.assemble(Ce, dense) if self.moving else None)
 
+    def add_to(self, lines, u, ud, t, R, Ke=None, Ce=None):
+        """Adds the residual into R and, with Ke, Ce, its derivatives into the element
+        blocks (the kernel protocol of :mod:`skmoor.kernels`)."""
+        _seabed(self.X, self.ends, self.h, self.n, self.offset, self.k, self.c, self.onset,
+                self.mu_a, self.mu_l, self.v0, self.friction, u,
+                self._no_velocity if ud is None else ud, R,
+                NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
+
+
+@njit(cache=True)
+def _seabed(X, ends, h, n, offset, k, c, onset, mu_a, mu_l, v0, friction, u, ud, R, Ke, Ce):
+    """Adds seabed_residual into R and seabed_stiffness / seabed_damping into Ke, Ce at
+    the two ends of each element (weights h / 2)."""
+    tangent = Ke.shape[0] > 0
+    x, vel, rp = np.zeros(3), np.zeros(3), np.zeros(3)
+    a, vl, F = np.zeros(3), np.zeros(3), np.zeros(3)
+    for e in range(h.size):
+        W = 0.5 * h[e]
+        for end in range(2):
+            g, vn = offset, 0.0
+            for i in range(3):
+                x[i] = X[end, e, i] + u[ends[end, e, i]]
+                vel[i] = ud[ends[end, e, i]]
+                g -= n[i] * x[i]
+                vn += n[i] * vel[i]
+            H = 1.0 if g > 0 else 0.0
+            if onset == 0:  # the damping's share Hc(g) and dHc/dg (_fade)
+                Hc, dHc = H, 0.0
+            else:
+                Hc = min(max(g / onset, 0.0), 1.0)
+                dHc = 1.0 / onset if g > 0 and g < onset else 0.0
+            push = -(k * g * H - c * vn * Hc)
+            N = k * g * H
+            if friction and H > 0:  # _slip and _friction_direction
+                for i in range(3):
+                    rp[i] = (X[1, e, i] + u[ends[1, e, i]] - X[0, e, i] - u[ends[0, e, i]]) / h[e]
+                n_rp = n[0] * rp[0] + n[1] * rp[1] + n[2] * rp[2]
+                length = 0.0
+                for i in range(3):
+                    a[i] = rp[i] - n_rp * n[i]
+                    length += a[i] ** 2
+                length = np.sqrt(length)
+                inv = 1.0 / length if length > _VERTICAL else 0.0
+                va = 0.0
+                for i in range(3):
+                    a[i] *= inv
+                    va += a[i] * (vel[i] - vn * n[i])
+                rho = 0.0
+                for i in range(3):
+                    vl[i] = vel[i] - vn * n[i] - va * a[i]
+                    rho += vl[i] ** 2
+                ra, rho = np.sqrt(va**2 + v0**2), np.sqrt(rho + v0**2)
+                for i in range(3):
+                    F[i] = mu_a * va / ra * a[i] + mu_l * vl[i] / rho
+            else:
+                F[:] = 0.0
+            for i in range(3):
+                R[ends[end, e, i]] += W * (push * n[i] + N * F[i])
+            if not tangent:
+                continue
+            o = 3 * end
+            for p in range(3):
+                for q in range(3):
+                    # through the penetration: the spring, the damping's fade-in, the
+                    # friction's normal force; the damping's rate
+                    Ke[e, o + p, o + q] += W * ((k * H - c * vn * dHc) * n[p] * n[q]
+                                                - k * H * F[p] * n[q])
+                    Ce[e, o + p, o + q] += W * c * Hc * n[p] * n[q]
+            if not (friction and H > 0):
+                continue
+            # d/du through a, per unit change of the chord (du_1 - du_0) / h, and d/dudot
+            scale = W * N * inv / h[e]
+            for p in range(3):
+                for q in range(3):
+                    Q = (1.0 if p == q else 0.0) - n[p] * n[q] - a[p] * a[q]
+                    G = (mu_a * (v0**2 / ra**3 * a[p] * vl[q] + va / ra * Q)
+                         + mu_l * (-(a[p] * vl[q] + va * Q) / rho + va / rho**3 * vl[p] * vl[q]))
+                    Ke[e, o + p, q] -= scale * G
+                    Ke[e, o + p, 3 + q] += scale * G
+                    Ce[e, o + p, o + q] += W * N * (mu_a * v0**2 / ra**3 * a[p] * a[q]
+                                                    + mu_l * (Q / rho - vl[p] * vl[q] / rho**3))

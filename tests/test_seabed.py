@@ -1,8 +1,10 @@
 """Sea-bed contact (skmoor.seabed): the plane's geometry, tangents against central finite
-differences, the numpy kernel against the scikit-fem forms, the normal force's continuity
+differences, the compiled kernel against the scikit-fem forms, the normal force's continuity
 at touchdown (damping onset), the static touchdown against the analytic catenary, a line
 on a slope against the in-plane catenary and w cos(slope), and friction against mu w L of
 a line dragged along and across itself."""
+import dataclasses
+
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -52,11 +54,11 @@ def test_plane_geometry_and_input_checks():
             Seabed(**kw)
 
 
-def contact_state(seed=0, friction=True):
+def contact_state(seed=0, friction=True, line_type=CHAIN):
     """Two lines on one mesh, partly in the bed of a sloped, frictional (or frictionless)
     sea bed, moving; several nodes inside the damping's fade-in 0 < g < onset."""
-    lines = LineSet([Line.from_catenary(touchdown(), CHAIN, 16, name="a"),
-                     Line.from_catenary(touchdown([20.0, 30.0, -10.0]), CHAIN, 9, name="b")],
+    lines = LineSet([Line.from_catenary(touchdown(), line_type, 16, name="a"),
+                     Line.from_catenary(touchdown([20.0, 30.0, -10.0]), line_type, 9, name="b")],
                     law="engineering")
     onset = 6.0  # m: the slope buries the laid chain 2-12 m deep
     mu = (0.4, 0.9) if friction else (0.0, 0.0)
@@ -94,7 +96,7 @@ def test_tangents_are_central_differences(fast, friction):
 @pytest.mark.parametrize("friction", [True, False])
 @pytest.mark.parametrize("dense", [False, True])
 def test_kernel_equals_forms(dense, friction):
-    """The numpy kernel gives the scikit-fem assembly of the forms to round-off (with and
+    """The compiled kernel gives the scikit-fem assembly of the forms to round-off (with and
     without friction: the kernel skips the friction terms when both mu are zero)."""
     lines, bed, u, ud = contact_state(seed=3, friction=friction)
     fast = seabed_term(lines, bed).evaluate(lines, u, ud, 0.0, True, dense)
@@ -102,6 +104,35 @@ def test_kernel_equals_forms(dense, friction):
     for a, b in zip(fast, forms):
         a, b = (m.toarray() if hasattr(m, "toarray") else m for m in (a, b))
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
+
+
+@pytest.mark.parametrize("dense", [False, True])
+def test_system_without_body_assembles_the_free_dofs_directly(dense):
+    """A System with fixed fairleads puts its kernels' element blocks straight into the
+    free-DOF matrices (and reduces a form term's matrices): K = dR/dx and Kv = dR/dv match
+    central differences of the reduced residual, with the cable's axial damping, the bed,
+    the compiled drag and the drag as forms all on."""
+    from skmoor.hydro import line_hydrodynamics
+
+    damped = dataclasses.replace(CHAIN, BA=1e-3 * CHAIN.EA, Cd_n=1.2, Cd_t=0.4)
+    lines, bed, u, ud = contact_state(seed=4, line_type=damped)
+    assert lines.damped
+    system = System(lines, fairleads="fixed",
+                    terms=[seabed_term(lines, bed), *line_hydrodynamics(lines),
+                           *line_hydrodynamics(lines, fast=False)])
+    x, v = u[system.free], ud[system.free]
+    _, K, Kv = system.residual(x, v, dense=dense)
+    K, Kv = (A if dense else A.toarray() for A in (K, Kv))
+    rng = np.random.default_rng(2)
+    e = 1e-6
+    for _ in range(3):
+        d = rng.normal(size=system.n)
+        dR_dx = (system.residual(x + e * d, v, tangent=False)[0]
+                 - system.residual(x - e * d, v, tangent=False)[0]) / (2 * e)
+        dR_dv = (system.residual(x, v + e * d, tangent=False)[0]
+                 - system.residual(x, v - e * d, tangent=False)[0]) / (2 * e)
+        assert np.max(np.abs(K @ d - dR_dx)) < 1e-6 * np.max(np.abs(dR_dx))
+        assert np.max(np.abs(Kv @ d - dR_dv)) < 1e-6 * np.max(np.abs(dR_dv))
 
 
 @pytest.mark.parametrize("fast", [True, False])
