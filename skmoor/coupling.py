@@ -23,6 +23,7 @@ import scipy.sparse as sp
 from skfem import asm
 
 from . import body as rigid
+from .banded import LAYOUTS, as_layout
 from .kernels import CableKernel, ElementPattern
 
 
@@ -66,19 +67,18 @@ class Term:
         extra = self.fields(t) if callable(self.fields) else self.fields
         return basis, dict(base, t=t, **extra)
 
-    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
+    def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
         """(R, K, Kv) on the full cable DOFs: residual (N), d/du and d/dudot (None when
-        zero or not asked for; dense arrays when ``dense``)."""
+        zero or not asked for) as ``layout`` ('sparse', 'dense' or 'band', see
+        :func:`~skmoor.banded.as_layout`)."""
         basis, w = self._basis_and_fields(lines, t)
         w.update(u=u, du=np.zeros_like(u) if ud is None else ud)
         R = asm(self.residual, basis, **w)
         K = Kv = None
         if tangent and self.stiffness is not None:
-            K = asm(self.stiffness, basis, **w)
-            K = K.toarray() if dense else K
+            K = as_layout(asm(self.stiffness, basis, **w), layout, lines.bandwidth)
         if tangent and self.damping is not None:
-            Kv = asm(self.damping, basis, **w)
-            Kv = Kv.toarray() if dense else Kv
+            Kv = as_layout(asm(self.damping, basis, **w), layout, lines.bandwidth)
         return R, K, Kv
 
     def mass_matrix(self, lines):
@@ -125,7 +125,7 @@ class System:
         self.motion, self.body_load = motion, body_load
         self.terms, self.body_terms = list(terms), list(body_terms)
         self.kernel = CableKernel(lines)
-        self._block_shape = (lines.mesh.t.shape[1], 6, 6)
+        self._block_shape = (self.kernel.pattern.nel, 6, 6)
         self._damped = lines.damped
         dofs = lines.nodal_dofs
         self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3)
@@ -294,24 +294,19 @@ class System:
         return bool(self.terms) or self._damped
 
     # --- the nonlinear system
-    def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, dense=False):
-        """Full cable residual internal - external (N) and its u- and v-derivatives
-        (sparse, or dense arrays when ``dense``)."""
-        R, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, tangent, dense)
+    def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, layout="sparse"):
+        """Full cable residual internal - external (N) and its u- and v-derivatives in
+        ``layout`` ('sparse', 'dense' or 'band')."""
+        R, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, tangent, layout)
         if not tangent:
             return R, None, None
-        pattern = self.kernel.pattern
-        K = pattern.assemble(Ke, dense)
-        Kv = pattern.assemble(Ce, dense) if self._needs_velocity else None
-        for Kt, Cv in assembled:
-            K = K if Kt is None else K + Kt
-            Kv = Kv if Cv is None else (Cv if Kv is None else Kv + Cv)
-        return R, K, Kv
+        return (R, *self._sum(self.kernel.pattern, Ke, Ce, assembled, layout,
+                              self.lines.bandwidth))
 
-    def _line_blocks(self, u, ud, t, load_factor, tangent, dense):
+    def _line_blocks(self, u, ud, t, load_factor, tangent, layout):
         """The cable residual (N) with the element blocks of its derivatives (d/du, d/dv;
         None without ``tangent``) that the kernels add into, and the (K, Kv) pairs the
-        form terms assemble themselves (full DOFs)."""
+        form terms assemble themselves (full DOFs, sparse unless ``layout`` is dense)."""
         R = -load_factor * self.weight
         Ke = Ce = None
         if tangent:
@@ -322,15 +317,40 @@ class System:
             if hasattr(term, "add_to"):
                 term.add_to(self.lines, u, ud, t, R, Ke, Ce)
             else:
-                Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent, dense)
+                Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent,
+                                           "dense" if layout == "dense" else "sparse")
                 R += Rt
                 assembled.append((Kt, Cv))
         return R, Ke, Ce, assembled
 
-    def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, dense=False):
+    def _sum(self, pattern, Ke, Ce, assembled, layout, bandwidth, reduce=None):
+        """K, Kv in ``layout``: the element blocks assembled on ``pattern`` plus the form
+        terms' matrices (passed through ``reduce`` first when given)."""
+        K = pattern.assemble(Ke, layout)
+        Kv = pattern.assemble(Ce, layout) if self._needs_velocity else None
+        for Kt, Cv in assembled:
+            if Kt is not None:
+                K = K + as_layout(Kt if reduce is None else reduce(Kt), layout, bandwidth)
+            if Cv is not None:
+                Cv = as_layout(Cv if reduce is None else reduce(Cv), layout, bandwidth)
+                Kv = Cv if Kv is None else Kv + Cv
+        return K, Kv
+
+    @property
+    def bandwidth(self):
+        """Half-bandwidth of the reduced matrices without a body (None with one: its
+        rows and columns couple all fairleads)."""
+        return None if self.nb else self._free_pattern.bandwidth
+
+    def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, layout="sparse"):
         """Reduced residual R(x, v, t) (no inertia, no Rayleigh damping) and its
-        derivatives K = dR/dx and Kv = dR/dv (None when zero); sparse, or dense arrays
-        when ``dense`` (faster below a few thousand unknowns)."""
+        derivatives K = dR/dx and Kv = dR/dv (None when zero) in ``layout``: 'sparse'
+        (CSR), 'dense' (arrays, faster below a few hundred unknowns) or, without a body,
+        'band' (:class:`~skmoor.banded.Band`, half-bandwidth :attr:`bandwidth`)."""
+        if layout not in LAYOUTS:
+            raise ValueError(f"System.residual layout: {layout!r} is not one of {LAYOUTS}")
+        if layout == "band" and self.nb:
+            raise ValueError("System.residual layout: 'band' needs a System without a body")
         v = np.zeros(self.n) if v is None else v
         if self.nb:
             fairleads, J = self._attachment(x)
@@ -339,9 +359,9 @@ class System:
         u = self._displacement(x, fairleads)
         ud = self._velocity(x, v, t, J) if self._needs_velocity else None
         if self.nb or not tangent:
-            R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, dense)
+            R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, layout)
         else:  # no body: the element blocks go straight into the free-DOF matrices
-            R_full, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, True, dense)
+            R_full, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, True, layout)
         R = self._reduce(R_full, J)
         if self.nb:
             q = self.q(x)
@@ -357,20 +377,17 @@ class System:
                 body_Kv = body_Kv if Kvb is None else body_Kv + Kvb
         if not tangent:
             return R, None, None
+        dense = layout == "dense"
         if not self.nb:
-            K = self._free_pattern.assemble(Ke, dense)
-            Kv = self._free_pattern.assemble(Ce, dense) if self._needs_velocity else None
             reduce = self._reduce_dense if dense else self._reduce_sparse
-            for Kt, Cv in assembled:
-                K = K if Kt is None else K + reduce(Kt, None)
-                Kv = Kv if Cv is None else reduce(Cv, None) + (0 if Kv is None else Kv)
+            K, Kv = self._sum(self._free_pattern, Ke, Ce, assembled, layout, self.bandwidth,
+                              reduce=lambda A: reduce(A, None))
             return R, K, Kv
         if dense:
             K = self._reduce_dense(K_full, J)
             Kv = None if Kv_full is None else self._reduce_dense(Kv_full, J)
         else:
-            K, Kv = (None if A is None else self._reduce_sparse(sp.csr_matrix(A), x)
-                     for A in (K_full, Kv_full))
+            K, Kv = (None if A is None else self._reduce_sparse(A, x) for A in (K_full, Kv_full))
         H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
         K = K + self._embed_body(H + self.K_body + body_K, dense)
         if np.any(self.body.linear_damping) or np.any(body_Kv):

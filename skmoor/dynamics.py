@@ -16,10 +16,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 from scipy.linalg import lapack
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+
+from .banded import as_layout
 
 
 class DivergenceError(RuntimeError):
@@ -86,17 +87,29 @@ DENSE_BELOW = 200  # unknowns: below this, dense LAPACK beats sparse overhead (m
 CONTRACTION = 0.2  # modified Newton refreshes the tangent when |dx| shrinks slower than this
 
 
+def matrix_layout(system):
+    """'band' for a system with a narrow band (``system.bandwidth``, lines without a
+    body: banded LAPACK, O(n)), else 'dense' below ``DENSE_BELOW`` unknowns, else 'sparse'."""
+    n = system.M.shape[0]
+    bandwidth = getattr(system, "bandwidth", None)
+    if bandwidth is not None and 8 * bandwidth <= n:
+        return "band"
+    return "dense" if n < DENSE_BELOW else "sparse"
+
+
 class _IterationMatrix:
     """The Newton matrix A = c_x M + (1 - af)(c_v (C + Kv) + K), factorized once and reused
     across iterations and steps (modified Newton) until convergence slows down."""
 
-    def __init__(self, dense):
-        self.dense, self.factor = dense, None
+    def __init__(self, layout):
+        self.layout, self.factor = layout, None
 
     def update(self, A):
-        if self.dense:  # LAPACK directly: scipy's wrappers cost more than the solve here
+        if self.layout == "dense":  # LAPACK directly: scipy's wrappers cost more here
             lu, piv, info = lapack.dgetrf(A)
             self.factor = None if info > 0 else (lu, piv)  # info > 0: singular
+        elif self.layout == "band":
+            self.factor = A.factorize()
         else:
             self.factor = spla.splu(sp.csc_matrix(A))
 
@@ -104,8 +117,10 @@ class _IterationMatrix:
         """A^-1 b, NaN (caught by the caller) when A is singular."""
         if self.factor is None:
             return np.full_like(b, np.nan)
-        if self.dense:
+        if self.layout == "dense":
             return lapack.dgetrs(*self.factor, b)[0]
+        if self.layout == "band":
+            return self.factor(b)
         return self.factor.solve(b)
 
 
@@ -113,32 +128,34 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
               maxiter=20):
     """Yield a :class:`State` per step from (x0, v0) at t0 until t_end.
 
-    system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., dense=...)
-    -> (R, K, Kv)``. C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when
+    system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., layout=...)
+    -> (R, K, Kv)`` (layouts: :func:`matrix_layout`). C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when
     the largest correction is below tol times the largest change over the step (as it
     stands after the first correction; plus 1e-12 m). Newton is modified: the factorized
     matrix is kept over iterations and steps and refreshed when a correction is larger
     than ``CONTRACTION`` times the one before; a step that does not converge so is
-    retried with full Newton. Systems below ``DENSE_BELOW`` unknowns
-    are solved with dense matrices.
+    retried with full Newton.
     """
     if not dt > 0:
         raise ValueError(f"integrate dt: must be positive, got {dt}")
     scheme = scheme or Scheme.newmark()
     am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
-    dense = system.M.shape[0] < DENSE_BELOW
-    M = system.M.toarray() if dense else system.M.tocsr()
+    layout = matrix_layout(system)
+    bandwidth = getattr(system, "bandwidth", None)
+    M = as_layout(system.M, layout, bandwidth)
     C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
     damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
-    C = C.toarray() if dense else C
+    C = as_layout(C, layout, bandwidth)
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
     R, _, _ = system.residual(x, v, t, tangent=False)
     force_old = C @ v + R
-    a = _dense_solve(M, -force_old) if dense else spla.spsolve(M.tocsc(), -force_old)
+    mass = _IterationMatrix(layout)
+    mass.update(M)
+    a = mass.solve(-force_old)
     yield State(t, 0, x, v, a)
     c_x = (1 - am) / (beta * dt**2)
     c_v = gamma / (beta * dt)
-    matrix = _IterationMatrix(dense)
+    matrix = _IterationMatrix(layout)
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
     for step in range(1, n_steps + 1):
         t1 = t0 + step * dt
@@ -150,7 +167,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             """alpha-level balance at x1 = y, and (when asked) its tangent."""
             a1 = (y - x_pred) / (beta * dt**2)
             v1 = v_pred + gamma * dt * a1
-            R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, dense=dense)
+            R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, layout=layout)
             B = (1 - am) * (M @ a1) + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
             if not tangent:
                 return B, None
@@ -198,14 +215,6 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
         previous = size
         B, A = balance(x1, tangent=full or slow)
     return None, maxiter
-
-
-def _dense_solve(A, b):
-    """LU solve of a dense system; NaN (caught by the caller) when singular."""
-    try:
-        return sla.solve(A, b, check_finite=False)
-    except sla.LinAlgError:
-        return np.full_like(b, np.nan)
 
 
 def _hint(t, step, dt, what):

@@ -189,10 +189,10 @@ class SeaTerm(Term):
     water: str = "velocity"
     lumped: bool = True
 
-    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
+    def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
         name = "uw" if self.water == "velocity" else "aw"
         fields = dict(self.fields, **{name: nodal_water(lines, self.sea, u, t, self.water)})
-        return Term.evaluate(replace(self, fields=fields), lines, u, ud, t, tangent, dense)
+        return Term.evaluate(replace(self, fields=fields), lines, u, ud, t, tangent, layout)
 
     def mass_matrix(self, lines):
         if self.mass is None:
@@ -203,7 +203,7 @@ class SeaTerm(Term):
 class LineHydroKernel:
     """The forms above (drag, fluid inertia, added mass) as a compiled kernel (see
     :mod:`skmoor.kernels`): the same Gauss points, element by element.
-    ``evaluate(lines, u, ud, t, tangent, dense) -> (R, K, Kv)`` as :class:`Term`."""
+    ``evaluate(lines, u, ud, t, tangent, layout) -> (R, K, Kv)`` as :class:`Term`."""
 
     def __init__(self, lines, sea=None, lumped_mass=True):
         basis = lines.basis
@@ -221,21 +221,16 @@ class LineHydroKernel:
         self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
         self.h = lines.element_lengths
         self.wphi = basis.dx[:, None, :] * self.phi  # (nel, 2, nqp) weight x phi_a
-        self.ndofs, self.nel = lines.ndofs, len(self.h)
+        self.ndofs = lines.ndofs
         self.pattern = ElementPattern(lines)
         self._still = np.zeros((len(self.points), 3))
         self._no_velocity = np.zeros(self.ndofs)
         self._mass = added_mass_matrix(lines, lumped_mass)
 
-    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
+    def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
         """Residual (N) and its derivatives d/du, d/dudot (N/m, N s/m)."""
-        R = np.zeros(self.ndofs)
-        if not tangent:
-            self.add_to(lines, u, ud, t, R)
-            return R, None, None
-        Ke, Ce = np.zeros((self.nel, 6, 6)), np.zeros((self.nel, 6, 6))
-        self.add_to(lines, u, ud, t, R, Ke, Ce)
-        return R, self.pattern.assemble(Ke, dense), self.pattern.assemble(Ce, dense)
+        return self.pattern.evaluate(lambda R, Ke, Ce: self.add_to(lines, u, ud, t, R, Ke, Ce),
+                                     tangent, layout, rate=True)
 
     def add_to(self, lines, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element

@@ -16,6 +16,7 @@ import scipy.sparse as sp
 from numba import njit
 
 from . import forms
+from .banded import Band
 
 NO_BLOCKS = np.zeros((0, 6, 6))  # stands for "no tangent" in the compiled loops
 
@@ -28,6 +29,7 @@ class ElementPattern:
     def __init__(self, lineset, keep=None):
         nodal, t = lineset.nodal_dofs, lineset.mesh.t
         edofs = np.concatenate([nodal[t[0]], nodal[t[1]]], axis=1)  # (nel, 6)
+        self.nel = len(edofs)
         position = np.arange(lineset.ndofs)
         if keep is not None:
             position = np.full(lineset.ndofs, -1)
@@ -42,14 +44,34 @@ class ElementPattern:
         self._dense = keys  # positions in a dense (ndofs, ndofs) array
         self._pattern = (unique % n, np.searchsorted(unique // n, np.arange(n + 1)))
         self.nnz = len(unique)
+        # half-bandwidth, and positions in LAPACK band storage (Fortran order, banded.Band)
+        self.bandwidth = bw = int(np.max(np.abs(rows - cols)[kept]))
+        self._band = np.where(kept, (2 * bw + rows - cols) + cols * Band.rows(bw, bw), -1)
 
-    def assemble(self, ke, dense=False):
-        """(nel, 6, 6) element blocks summed into a CSR matrix, or a dense array."""
-        if dense:
-            return _scatter(ke.ravel(), self._dense, self.ndofs**2).reshape(self.ndofs,
-                                                                            self.ndofs)
+    def evaluate(self, add_to, tangent=True, layout="sparse", rate=True):
+        """(R, K, Kv) of a kernel's ``add_to(R, Ke, Ce)`` on the full DOFs: R (ndofs,),
+        K and Kv assembled in ``layout`` (None without ``tangent``, Kv None unless
+        ``rate``)."""
+        R = np.zeros(self.ndofs)
+        if not tangent:
+            add_to(R, None, None)
+            return R, None, None
+        Ke, Ce = np.zeros((self.nel, 6, 6)), np.zeros((self.nel, 6, 6))
+        add_to(R, Ke, Ce)
+        return R, self.assemble(Ke, layout), self.assemble(Ce, layout) if rate else None
+
+    def assemble(self, ke, layout="sparse"):
+        """(nel, 6, 6) element blocks summed into a matrix: 'sparse' (CSR), 'dense' (an
+        array) or 'band' (a :class:`~skmoor.banded.Band`, kl = ku = :attr:`bandwidth`)."""
+        n = self.ndofs
+        if layout == "dense":
+            return _scatter(ke.ravel(), self._dense, n * n).reshape(n, n)
+        if layout == "band":
+            rows, bw = Band.rows(self.bandwidth, self.bandwidth), self.bandwidth
+            ab = _scatter(ke.ravel(), self._band, rows * n).reshape((rows, n), order="F")
+            return Band(ab, bw, bw)
         data = _scatter(ke.ravel(), self._sparse, self.nnz)
-        return sp.csr_matrix((data, *self._pattern), shape=(self.ndofs, self.ndofs))
+        return sp.csr_matrix((data, *self._pattern), shape=(n, n))
 
 
 @njit(cache=True)
@@ -81,7 +103,6 @@ class CableKernel:
         nodal = lineset.nodal_dofs
         self.dofs_i, self.dofs_j = nodal[t[0]], nodal[t[1]]  # (nel, 3)
         self.ndofs = lineset.ndofs
-        self.nel = len(self.h)
         self.pattern = ElementPattern(lineset)
         self._no_velocity = np.zeros(self.ndofs)
         # the displacement-free part of Eq. 9: the reference force minus int T X'.du' ds
@@ -100,27 +121,21 @@ class CableKernel:
                ud is not None, R, NO_BLOCKS if Ke is None else Ke,
                NO_BLOCKS if Ce is None else Ce, 1.0)
 
-    def evaluate(self, u, ud=None, tangent=True, dense=False):
+    def evaluate(self, u, ud=None, tangent=True, layout="sparse"):
         """Internal force (Eq. 9 = Eq. 11 + reference part) plus, given the velocity ud,
         the axial damping (``forms.axial_damping``), N; with ``tangent`` its exact
         derivatives with respect to u (Eq. 17 and the damping's part, N/m) and to ud
-        (N s/m, None without ud): CSR, or dense arrays when ``dense``."""
-        R = np.zeros(self.ndofs)
-        if not tangent:
-            self.add_to(u, ud, R)
-            return R, None, None
-        Ke, Ce = np.zeros((self.nel, 6, 6)), np.zeros((self.nel, 6, 6))
-        self.add_to(u, ud, R, Ke, Ce)
-        return (R, self.pattern.assemble(Ke, dense),
-                None if ud is None else self.pattern.assemble(Ce, dense))
+        (N s/m, None without ud), in ``layout`` (see :meth:`ElementPattern.assemble`)."""
+        return self.pattern.evaluate(lambda R, Ke, Ce: self.add_to(u, ud, R, Ke, Ce),
+                                     tangent, layout, rate=ud is not None)
 
     def force(self, u):
         """Internal force vector (Eq. 9 = Eq. 11 + reference part), N."""
         return self.evaluate(u, tangent=False)[0]
 
-    def force_and_tangent(self, u, dense=False):
+    def force_and_tangent(self, u, layout="sparse"):
         """Internal force (N) and its exact tangent (Eq. 17, N/m)."""
-        f, K, _ = self.evaluate(u, dense=dense)
+        f, K, _ = self.evaluate(u, layout=layout)
         return f, K
 
 

@@ -324,6 +324,13 @@ class LineSet:
         return ((U[t[1]] - U[t[0]]) / self.element_lengths[:, None]).T
 
     @property
+    def bandwidth(self) -> int:
+        """Half-bandwidth of the line matrices (5 for one P1 line, node-major DOFs)."""
+        t = self.mesh.t
+        edofs = np.concatenate([self.nodal_dofs[t[0]], self.nodal_dofs[t[1]]], axis=1)
+        return int(np.max(edofs.max(axis=1) - edofs.min(axis=1)))
+
+    @property
     def element_lengths(self) -> np.ndarray:
         """(nel,) element lengths in s, m."""
         return self._element_lengths

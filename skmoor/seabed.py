@@ -276,7 +276,7 @@ def seabed_term(lines, seabed, *, fast=True):
 
 class SeabedKernel:
     """Compiled fast path of the seabed forms (see :mod:`skmoor.kernels`):
-    ``evaluate(lines, u, ud, t, tangent, dense) -> (R N, K N/m, Kv N s/m)`` at the nodal
+    ``evaluate(lines, u, ud, t, tangent, layout) -> (R N, K N/m, Kv N s/m)`` at the nodal
     quadrature points (2 per element: node i of element e with weight h_e / 2)."""
 
     def __init__(self, lines, seabed):
@@ -289,7 +289,6 @@ class SeabedKernel:
         t = lines.mesh.t  # (2, nel)
         self.ndofs = lines.ndofs
         self.h = lines.element_lengths
-        self.nel = len(self.h)
         self.ends = np.ascontiguousarray(lines.nodal_dofs[t])  # (2, nel, 3) DOFs of each end
         self.X = np.ascontiguousarray(lines.points[t])  # (2, nel, 3)
         self.pattern = ElementPattern(lines)
@@ -297,16 +296,10 @@ class SeabedKernel:
         self.moving = self.c > 0 or self.friction
         self._no_velocity = np.zeros(self.ndofs)
 
-    def evaluate(self, lines, u, ud, t, tangent=True, dense=False):
+    def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
         """(R, K, Kv) of the sea bed on the full cable DOFs (see the forms above)."""
-        R = np.zeros(self.ndofs)
-        if not tangent:
-            self.add_to(lines, u, ud, t, R)
-            return R, None, None
-        Ke, Ce = np.zeros((self.nel, 6, 6)), np.zeros((self.nel, 6, 6))
-        self.add_to(lines, u, ud, t, R, Ke, Ce)
-        return (R, self.pattern.assemble(Ke, dense),
-                self.pattern.assemble(Ce, dense) if self.moving else None)
+        return self.pattern.evaluate(lambda R, Ke, Ce: self.add_to(lines, u, ud, t, R, Ke, Ce),
+                                     tangent, layout, rate=self.moving)
 
     def add_to(self, lines, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element

@@ -43,12 +43,12 @@ def state(lines, seed=0):
     return 0.5 * rng.standard_normal(lines.ndofs), 1.5 * rng.standard_normal(lines.ndofs)
 
 
-def total(terms, lines, u, ud, t, dense=False):
-    R, K, Kv = 0.0, 0.0, 0.0
+def total(terms, lines, u, ud, t, layout="sparse"):
+    R, K, Kv = 0.0, None, None
     for term in terms:
-        r, k, kv = term.evaluate(lines, u, ud, t, True, dense)
-        R, K = R + r, K + k
-        Kv = Kv + (0.0 if kv is None else kv)
+        r, k, kv = term.evaluate(lines, u, ud, t, True, layout)
+        R, K = R + r, k if K is None else K + k
+        Kv = Kv if kv is None else (kv if Kv is None else Kv + kv)
     return R, K, Kv
 
 
@@ -60,10 +60,10 @@ def test_kernel_equals_forms(lines, sea):
     fast, = line_hydrodynamics(lines, sea)
     forms = line_hydrodynamics(lines, sea, fast=False)
     assert len(forms) == (2 if sea is not None and sea.has_waves else 1)
-    for dense in (False, True):
-        R1, K1, V1 = total([fast], lines, u, ud, 4.0, dense)
-        R2, K2, V2 = total(forms, lines, u, ud, 4.0, dense)
-        if not dense:
+    for layout in ("sparse", "dense", "band"):
+        R1, K1, V1 = total([fast], lines, u, ud, 4.0, layout)
+        R2, K2, V2 = total(forms, lines, u, ud, 4.0, layout)
+        if layout != "dense":
             K1, V1, K2, V2 = (A.toarray() for A in (K1, V1, K2, V2))
         for a, b in ((R1, R2), (K1, K2), (V1, V2)):
             assert np.abs(a - b).max() <= 1e-13 * np.abs(b).max()

@@ -80,7 +80,7 @@ def test_tangents_are_central_differences(fast, friction):
     and without friction) match central differences of the residual to 1e-6."""
     lines, bed, u, ud = contact_state(friction=friction)
     term = seabed_term(lines, bed, fast=fast)
-    _, K, Kv = term.evaluate(lines, u, ud, 0.0, True, False)
+    _, K, Kv = term.evaluate(lines, u, ud, 0.0, True)
     rng = np.random.default_rng(5)
     e = 1e-6
     for _ in range(3):
@@ -94,20 +94,20 @@ def test_tangents_are_central_differences(fast, friction):
 
 
 @pytest.mark.parametrize("friction", [True, False])
-@pytest.mark.parametrize("dense", [False, True])
-def test_kernel_equals_forms(dense, friction):
+@pytest.mark.parametrize("layout", ["sparse", "dense", "band"])
+def test_kernel_equals_forms(layout, friction):
     """The compiled kernel gives the scikit-fem assembly of the forms to round-off (with and
     without friction: the kernel skips the friction terms when both mu are zero)."""
     lines, bed, u, ud = contact_state(seed=3, friction=friction)
-    fast = seabed_term(lines, bed).evaluate(lines, u, ud, 0.0, True, dense)
-    forms = seabed_term(lines, bed, fast=False).evaluate(lines, u, ud, 0.0, True, dense)
+    fast = seabed_term(lines, bed).evaluate(lines, u, ud, 0.0, True, layout)
+    forms = seabed_term(lines, bed, fast=False).evaluate(lines, u, ud, 0.0, True, layout)
     for a, b in zip(fast, forms):
         a, b = (m.toarray() if hasattr(m, "toarray") else m for m in (a, b))
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
 
 
-@pytest.mark.parametrize("dense", [False, True])
-def test_system_without_body_assembles_the_free_dofs_directly(dense):
+@pytest.mark.parametrize("layout", ["sparse", "dense", "band"])
+def test_system_without_body_assembles_the_free_dofs_directly(layout):
     """A System with fixed fairleads puts its kernels' element blocks straight into the
     free-DOF matrices (and reduces a form term's matrices): K = dR/dx and Kv = dR/dv match
     central differences of the reduced residual, with the cable's axial damping, the bed,
@@ -121,8 +121,8 @@ def test_system_without_body_assembles_the_free_dofs_directly(dense):
                     terms=[seabed_term(lines, bed), *line_hydrodynamics(lines),
                            *line_hydrodynamics(lines, fast=False)])
     x, v = u[system.free], ud[system.free]
-    _, K, Kv = system.residual(x, v, dense=dense)
-    K, Kv = (A if dense else A.toarray() for A in (K, Kv))
+    _, K, Kv = system.residual(x, v, layout=layout)
+    K, Kv = (A if layout == "dense" else A.toarray() for A in (K, Kv))
     rng = np.random.default_rng(2)
     e = 1e-6
     for _ in range(3):
