@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+from numba import njit
 
 __all__ = [
     "rotation_matrix",
@@ -99,11 +100,13 @@ def _rotation_derivatives_cached(angles):
     return D[0, 0, 0], d1, d2
 
 
-def rotation_and_slopes(angles) -> tuple[np.ndarray, np.ndarray]:
-    """R = Rz Ry Rx and dR/dangle_a (3, 3, 3) for finite ``angles`` (rad), written out,
-    without input checks or caching: the time loop's fast path."""
-    a, b, c = np.asarray(angles, float).tolist()
-    ca, sa, cb, sb, cc, sc = math.cos(a), math.sin(a), math.cos(b), math.sin(b), math.cos(c), math.sin(c)
+@njit(cache=True)
+def rotation_and_slopes(angles):
+    """R = Rz Ry Rx and dR/dangle_a (3, 3, 3) for finite ``angles`` (3,) (rad), written
+    out, without input checks or caching: the time loop's fast path (compiled)."""
+    ca, sa = math.cos(angles[0]), math.sin(angles[0])
+    cb, sb = math.cos(angles[1]), math.sin(angles[1])
+    cc, sc = math.cos(angles[2]), math.sin(angles[2])
     out = np.array([
         cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc,  # R
         cb * sc, sa * sb * sc + ca * cc, ca * sb * sc - sa * cc,
@@ -118,6 +121,27 @@ def rotation_and_slopes(angles) -> tuple[np.ndarray, np.ndarray]:
         cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc,
         0.0, 0.0, 0.0]).reshape(4, 3, 3)
     return out[0], out[1:]
+
+
+@njit(cache=True)
+def attachment_state(q, r):
+    """Displacements q[:3] + R r - r (n, 3) of body points r (n, 3) and their stacked
+    Jacobians d/dq (3 n, 6), for finite q (6,): the time loop's fast path of
+    :func:`attachment_displacement` and :func:`attachment_jacobian`."""
+    R, dR = rotation_and_slopes(q[3:])
+    n = r.shape[0]
+    displacement = np.empty((n, 3))
+    J = np.zeros((3 * n, 6))
+    for p in range(n):
+        for k in range(3):
+            moved = 0.0
+            for l in range(3):
+                moved += R[k, l] * r[p, l]
+                for a in range(3):
+                    J[3 * p + k, 3 + a] += dR[a, k, l] * r[p, l]
+            displacement[p, k] = q[k] + moved - r[p, k]
+            J[3 * p + k, k] = 1.0
+    return displacement, J
 
 
 def rotation_matrix(angles) -> np.ndarray:

@@ -138,8 +138,6 @@ class System:
         self._free_pattern = None if self.nb else ElementPattern(lines, keep=self.free)
         if self.body is not None:
             self.r_local = lines.points[lines.fairlead_nodes] - self.body.reference_point
-            self._jacobian_template = np.zeros((len(self.r_local), 3, 6))
-            self._jacobian_template[:, :, :3] = np.eye(3)
             self.K_body = self.body.hydrostatic_stiffness(generalized=True)
             self.F_body0 = self.body.static_force()
         self._attachment_cache = (None, None, None)
@@ -195,11 +193,7 @@ class System:
         if self._attachment_cache[0] != key:
             if not math.isfinite(q.sum()):
                 raise ValueError(f"System: body DOFs are not finite: {q}")
-            R, dR = rigid.rotation_and_slopes(q[3:])
-            r = self.r_local
-            J = self._jacobian_template.copy()  # identity in the translations
-            J[:, :, 3:] = (dR @ r.T).T  # (n, 3, a): dR_a r
-            self._attachment_cache = (key, q[:3] + r @ R.T - r, J.reshape(-1, 6))
+            self._attachment_cache = (key, *rigid.attachment_state(q, self.r_local))
         return self._attachment_cache[1], self._attachment_cache[2]
 
     def fairlead_displacement(self, x, t=0.0):

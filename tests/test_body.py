@@ -323,3 +323,16 @@ def test_fast_rotation_and_slopes_match_the_product_and_finite_differences():
             step[a] = 1e-6
             fd = (rotation_and_slopes(angles + step)[0] - rotation_and_slopes(angles - step)[0]) / 2e-6
             np.testing.assert_allclose(dR[a], fd, atol=1e-8)
+
+
+def test_fast_attachment_state_matches_the_checked_functions():
+    """attachment_state (the time loop's compiled path) gives attachment_displacement and
+    attachment_jacobian for several points at once."""
+    from skmoor.body import attachment_displacement, attachment_jacobian, attachment_state
+
+    rng = np.random.default_rng(4)
+    r = rng.normal(scale=20.0, size=(4, 3))
+    q = np.concatenate([rng.normal(size=3), rng.normal(scale=0.3, size=3)])
+    displacement, J = attachment_state(q, r)
+    np.testing.assert_allclose(displacement, attachment_displacement(q, r), atol=1e-12)
+    np.testing.assert_allclose(J, attachment_jacobian(q, r).reshape(-1, 6), atol=1e-12)
