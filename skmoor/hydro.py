@@ -221,10 +221,9 @@ class LineHydroKernel:
         self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
         self.h = lines.element_lengths
         self.wphi = basis.dx[:, None, :] * self.phi  # (nel, 2, nqp) weight x phi_a
-        self.ndofs = lines.ndofs
         self.pattern = ElementPattern(lines)
         self._still = np.zeros((len(self.points), 3))
-        self._no_velocity = np.zeros(self.ndofs)
+        self._no_velocity = np.zeros(lines.ndofs)
         self._mass = added_mass_matrix(lines, lumped_mass)
 
     def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):

@@ -280,21 +280,19 @@ class SeabedKernel:
     quadrature points (2 per element: node i of element e with weight h_e / 2)."""
 
     def __init__(self, lines, seabed):
-        self.seabed = seabed
         self.k, self.c = seabed.coefficients(lines)
         self.onset = seabed.onset(lines)
         self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
         self.v0 = float(seabed.friction_velocity)
         self.n, self.offset = seabed.normal, float(seabed.offset)
         t = lines.mesh.t  # (2, nel)
-        self.ndofs = lines.ndofs
         self.h = lines.element_lengths
         self.ends = np.ascontiguousarray(lines.nodal_dofs[t])  # (2, nel, 3) DOFs of each end
         self.X = np.ascontiguousarray(lines.points[t])  # (2, nel, 3)
         self.pattern = ElementPattern(lines)
         self.friction = self.mu_a > 0 or self.mu_l > 0
         self.moving = self.c > 0 or self.friction
-        self._no_velocity = np.zeros(self.ndofs)
+        self._no_velocity = np.zeros(lines.ndofs)
 
     def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
         """(R, K, Kv) of the sea bed on the full cable DOFs (see the forms above)."""
