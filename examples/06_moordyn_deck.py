@@ -25,8 +25,8 @@ AMPLITUDE, PERIOD = 2.0, 10.0  # m, s
 
 deck = skmoor.read_deck(DECK)
 motion, velocity = heave_motion(deck, AMPLITUDE, PERIOD)  # faded in over one period
-results = skmoor.simulate_deck(skmoor.build_deck(deck, motion=motion), duration=DURATION,
-                               dt=0.05, output_interval=0.05, progress=False)
+results = skmoor.simulate(skmoor.build(deck, motion=motion), duration=DURATION,
+                          dt=0.05, output_interval=0.05, progress=False)
 tension = results.fairlead_tension[:, 0]
 
 

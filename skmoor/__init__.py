@@ -1,10 +1,11 @@
 """skmoor: nonlinear dynamics of moored floating structures on scikit-fem.
 
-The data flow: case (TOML) -> model (lines, body, coupling) -> solver (statics, modes,
-dynamics) -> Results -> export / plots / animation.
+The data flow: case (TOML) or MoorDyn deck -> model (a network of points, lines and
+bodies, and the System that couples them) -> solver (statics, modes, dynamics) ->
+Results -> export / plots / animation.
 
     import skmoor
-    case = skmoor.paper_case()              # or skmoor.Case.from_toml("case.toml")
+    case = skmoor.paper_case()              # or "case.toml", or a MoorDyn deck "lines.dat"
     model = skmoor.build(case)
     results = skmoor.simulate(model, duration=60.0)
     print(skmoor.summary(results)["amplitude"])
@@ -21,16 +22,18 @@ _threadpool_limits(int(_os.environ.get("SKMOOR_BLAS_THREADS", 1)), user_api="bla
 from .body import RigidBody  # noqa: E402
 from .case import Case, paper_case
 from .catenary import Catenary, solve_catenary
-from .coupling import BodyTerm, System, Term
+from .coupling import BodyTerm, Ends, PointMass, System, Term
 from .deck import read_deck, write_deck
-from .deck_model import build_deck, run_deck, simulate_deck
+from .deck_model import heave_motion, read_motion
 from .dynamics import DivergenceError, Scheme, integrate
 from .hydro import body_hydrodynamics, line_hydrodynamics
 from .line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
-from .model import Model, build
+from .model import Model, build, from_network
+from .network import Body, MooringLine, Network, Point
 from .modes import eigenmodes
 from .results import Results
-from .run import equilibrium, run_case, simulate, static_results, summary, write_outputs
+from .run import (equilibrium, mooring_stiffness, run_case, simulate, static_results, summary,
+                  write_outputs)
 from .seabed import Seabed, seabed_term
 from .statics import ConvergenceError, solve_static
 from .waves import AiryWave, Current, JonswapWave, Sea
@@ -44,5 +47,6 @@ __all__ = [
     "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
     "Scheme", "DivergenceError", "BodyTerm", "Sea", "Current", "AiryWave", "JonswapWave",
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
-    "write_deck", "build_deck", "simulate_deck", "run_deck",
+    "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
+    "from_network", "mooring_stiffness", "Ends", "PointMass",
 ]

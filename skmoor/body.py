@@ -232,7 +232,16 @@ class Hydrostatics:
                             ("waterplane_second_moments", (3,))]:
             setattr(self, name, _finite_array(f"Hydrostatics.{name}", getattr(self, name), shape))
         self.volume = _positive("Hydrostatics.volume", self.volume)
-        self.waterplane_area = _positive("Hydrostatics.waterplane_area", self.waterplane_area)
+        self.waterplane_area = float(self.waterplane_area)
+        if not (math.isfinite(self.waterplane_area) and self.waterplane_area >= 0):
+            raise ValueError("Hydrostatics.waterplane_area: must be a finite number >= 0 m2 "
+                             f"(0 for a submerged body), got {self.waterplane_area}")
+
+    @classmethod
+    def submerged(cls, volume: float, center_of_buoyancy, reference_point) -> "Hydrostatics":
+        """A fully submerged body of ``volume`` (m3) buoyant at ``center_of_buoyancy``
+        (global, m): no waterplane (MoorDyn's and MoorPy's body Volume)."""
+        return cls(reference_point, volume, center_of_buoyancy, 0.0, np.zeros(2), np.zeros(3))
 
     def stiffness(self, mass: float, center_of_mass, rho: float = 1025.0, g: float = 9.81,
                   generalized: bool = False) -> np.ndarray:

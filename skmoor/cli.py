@@ -9,24 +9,46 @@ from pathlib import Path
 DEFAULT_OUT = "skmoor-out"
 
 
-def _load_case(path):
+def _source(path):
+    """The paper's case (no path), a case file or a MoorDyn deck."""
     from . import Case, paper_case
+    from .deck import is_deck, read_deck
 
-    return paper_case() if path is None else Case.from_toml(path)
+    if path is None:
+        return paper_case()
+    if is_deck(path):
+        return read_deck(path)
+    return Case.from_toml(path)
+
+
+def _motion(args, source):
+    """The coupled objects' motion of a deck run: --motion FILE or --heave AMP --period T."""
+    from .deck import Deck
+    from .deck_model import heave_motion, read_motion
+
+    if args.motion is None and args.heave is None:
+        return None
+    if not isinstance(source, Deck):
+        raise ValueError("--motion / --heave: only for a MoorDyn deck (a case's coupled "
+                         "objects move by its own settings)")
+    if args.motion is not None and args.heave is not None:
+        raise ValueError("--motion, --heave: give one of them")
+    if args.motion is not None:
+        n = (6 * sum(b.kind == "coupled" for b in source.bodies)
+             + 3 * sum(p.kind == "coupled" for p in source.points))
+        return read_motion(args.motion, n)
+    if args.period is None:
+        raise ValueError("--heave: give the heave period with --period T (s)")
+    return heave_motion(source, args.heave, args.period)[0]
 
 
 def cmd_run(args) -> int:
     from . import build, simulate, write_outputs
-    from .deck import is_deck
 
-    if args.case is not None and is_deck(args.case):
-        return _run_deck(args)
-    if args.heave is not None:
-        raise ValueError("--heave: only for a MoorDyn deck (a case file's body moves itself)")
-    case = _load_case(args.case)
+    source = _source(args.case)
     settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
                 if getattr(args, k) is not None}
-    model = build(case)
+    model = build(source, motion=_motion(args, source))
     results = simulate(model, progress=not args.quiet, **settings)
     out = Path(args.out)
     info = write_outputs(results, out)
@@ -44,23 +66,6 @@ def _finish(results, info, out, args) -> int:
     print(json.dumps(info, indent=2))
     print(f"wrote {out}/")
     return 0 if results.meta.get("stopped") is None else 1
-
-
-def _run_deck(args) -> int:
-    """``skmoor run deck.dat``: the deck's coupled points and bodies still, or heaving."""
-    from .deck import read_deck
-    from .deck_model import heave_motion, run_deck
-
-    motion = None
-    if args.heave is not None:
-        if args.period is None:
-            raise ValueError("--heave: give the heave period with --period T (s)")
-        motion, _ = heave_motion(read_deck(args.case), args.heave, args.period)
-    out = Path(args.out)
-    results, info = run_deck(args.case, duration=args.duration, dt=args.dt, motion=motion,
-                             out=out, output_interval=args.output_interval,
-                             progress=not args.quiet)
-    return _finish(results, info, out, args)
 
 
 def cmd_sweep(args) -> int:
@@ -138,6 +143,10 @@ def parser() -> argparse.ArgumentParser:
                      help="deck only: heave the coupled points / bodies AMP m (faded in over "
                      "one period; without it they stay still)")
     run.add_argument("--period", type=float, metavar="T", help="deck only: heave period, s")
+    run.add_argument("--motion", metavar="FILE",
+                     help="deck only: motion of the coupled bodies and points, a table: time "
+                     "(s), then their displacements in MoorDyn's coupled-DOF order (6 per "
+                     "coupled body: m, m, m, rad, rad, rad; then 3 per coupled point, m)")
     run.set_defaults(func=cmd_run)
 
     sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",

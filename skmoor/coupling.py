@@ -1,14 +1,16 @@
-"""The coupling block: lines + rigid body reduced to one nonlinear system.
+"""The coupling block: a network of lines, points and rigid bodies reduced to one
+nonlinear system.
 
-Unknowns x = [free cable DOFs, body DOFs q = (x, y, z, rx, ry, rz)]. Anchors are fixed;
-each fairlead either follows the body with exact rigid-body kinematics
-(position = body position + R(rotation) r_local), is fixed, or follows a prescribed
-motion. With u(x) the full cable displacement and P = du/dx:
+Each line end sits on a fixed point, a prescribed (coupled) point, a free point (its own
+3 DOFs, shared by every line that ends there) or a dynamic body, with exact rigid-body
+kinematics (position = body position + R(rotation) r_local). With u(x) the full cable
+displacement and P = du/dx:
 
-    R_red = P^T R_lines(u) + R_body(q),
+    R_red = P^T R_lines(u) + R_points + R_bodies(q),
     K_red = P^T K_lines P + sum_k f_k . d2p_k/dq2 + K_hydrostatic,
-    M_red = P0^T M_lines P0 + M_body + added mass (P0 = P at q = 0, constant);
-    the body residual adds hydrostatics, its linear damping and the applied loads.
+    M_red = P0^T M_lines P0 + point masses + body masses (P0 = P at q = 0, constant);
+    the body residual adds hydrostatics, its linear damping and the applied loads; a
+    free point's, its net buoyancy (rho V - m) g and its drag.
 
 (``skfem.mpc`` drops the slave equations, so the reduction is written out here.)
 """
@@ -93,60 +95,209 @@ class Term:
 class BodyTerm:
     """A load on the rigid body: ``evaluate(q, qdot, t) -> (F, K, Kv)`` with F the
     6-vector of loads on the body (N, N m) and K = -dF/dq, Kv = -dF/dqdot (6x6 or None);
-    ``added_mass``: a constant 6x6 (kg, kg m, kg m2) added to the body's mass."""
+    ``added_mass``: a constant 6x6 (kg, kg m, kg m2) added to the body's mass; ``body``:
+    the index of the dynamic body it acts on."""
 
     load: object
     added_mass: object = None
+    body: int = 0
 
     def evaluate(self, q, qdot, t):
         return self.load(q, qdot, t)
 
 
-class System:
-    """Lines (a :class:`~skmoor.line.LineSet`) and an optional rigid body, reduced.
+@dataclass
+class PointMass:
+    """What acts on a free point of the network (MoorDyn's and MoorPy's point): mass (kg),
+    volume (m3, its buoyancy rho g V), CdA (m2: drag 0.5 rho CdA |U - v| (U - v), U the
+    current at the point) and Ca (added mass rho V Ca)."""
 
-    fairleads: 'body' (attached to ``body``), 'fixed', or 'prescribed' with
-    ``motion(t) -> (nlines, 3)`` fairlead displacements, m.
-    body_load(t, q, qdot) -> 6-vector of applied body loads (N, N m), optional.
-    terms: extra cable terms (:class:`Term` or anything with its ``evaluate``);
-    body_terms: extra body loads with tangents (:class:`BodyTerm`).
-    Add terms after construction with :meth:`add_term` (it updates the mass matrix).
+    mass: float = 0.0
+    volume: float = 0.0
+    CdA: float = 0.0
+    Ca: float = 0.0
+    rho: float = 1025.0
+    g: float = 9.81
+
+    def __post_init__(self):
+        for name in ("mass", "volume", "CdA", "Ca", "rho", "g"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float, np.floating)) and math.isfinite(value)
+                    and value >= 0):
+                raise ValueError(f"point {name}: must be a finite number >= 0, got {value!r}")
+
+
+@dataclass
+class Ends:
+    """What each line end of a :class:`System` is held by, one entry per line for end A
+    (the first node) and end B (the last):
+
+    ``("fixed",)``; ``("prescribed", slot)`` (moved by ``motion(t)[slot]``); ``("point", p)``
+    (free point p: its own 3 DOFs); ``("body", b)`` (on dynamic body b, where the line's
+    reference state puts the end).
+    """
+
+    a: list
+    b: list
+
+    def __post_init__(self):
+        if len(self.a) != len(self.b):
+            raise ValueError(f"Ends: {len(self.a)} A ends and {len(self.b)} B ends")
+        for end in self.a + self.b:
+            if end[0] not in ("fixed", "prescribed", "point", "body"):
+                raise ValueError(f"Ends: {end[0]!r} is not 'fixed', 'prescribed', 'point' "
+                                 "or 'body'")
+
+    @classmethod
+    def anchor_fairlead(cls, nlines, fairleads):
+        """Every line from a fixed anchor (end A) to a fairlead (end B) that is 'fixed',
+        'prescribed' (slot = line index) or on 'body' 0."""
+        if fairleads == "body":
+            b = [("body", 0)] * nlines
+        elif fairleads == "prescribed":
+            b = [("prescribed", k) for k in range(nlines)]
+        else:
+            b = [("fixed",)] * nlines
+        return cls([("fixed",)] * nlines, b)
+
+
+class System:
+    """The network's equations: lines (one :class:`~skmoor.line.LineSet`) whose ends sit
+    on fixed, prescribed or free points or on rigid bodies, reduced to one nonlinear system.
+
+    Unknowns x = [line DOFs | 6 DOFs per body]: the line DOFs are the free line nodes and
+    the free points (3 each, numbered where a line first reaches them, so that a chain of
+    lines keeps a narrow band). ends: an :class:`Ends`; or the anchor -> fairlead shorthand
+    ``fairleads`` = 'body' (on ``body``), 'fixed' or 'prescribed' (by ``motion``).
+    bodies: dynamic :class:`~skmoor.body.RigidBody` objects (``body`` alone: one).
+    points: a :class:`PointMass` per free point. motion(t) -> (nslots, 3) displacements of
+    the prescribed ends, m. body_load(t, q, qdot) -> 6-vector (N, N m) on body 0, or a list
+    with one (or None) per body. terms: cable terms (:class:`Term` or kernels);
+    body_terms: :class:`BodyTerm` objects (each on its ``body`` index). sea: the water
+    whose current drags the free points (None: still). Add terms with :meth:`add_term`.
     """
 
     def __init__(self, lines, body=None, *, fairleads="body", motion=None,
-                 body_load=None, terms=(), body_terms=(), lumped_mass=True):
-        if fairleads not in ("body", "fixed", "prescribed"):
-            raise ValueError(f"System fairleads: {fairleads!r} is not 'body', 'fixed' or 'prescribed'")
-        if fairleads == "body" and body is None:
-            raise ValueError("System body: fairleads='body' needs a RigidBody")
-        if fairleads == "prescribed" and not callable(motion):
-            raise ValueError("System motion: fairleads='prescribed' needs motion(t) -> (nlines, 3)")
-        self.lines, self.body, self.mode = lines, (body if fairleads == "body" else None), fairleads
-        self.motion, self.body_load = motion, body_load
+                 body_load=None, terms=(), body_terms=(), lumped_mass=True, ends=None,
+                 bodies=None, points=(), sea=None):
+        if ends is None:
+            if fairleads not in ("body", "fixed", "prescribed"):
+                raise ValueError(f"System fairleads: {fairleads!r} is not 'body', 'fixed' "
+                                 "or 'prescribed'")
+            if fairleads == "body" and body is None:
+                raise ValueError("System body: fairleads='body' needs a RigidBody")
+            bodies = [body] if fairleads == "body" else []
+            ends = Ends.anchor_fairlead(len(lines.lines), fairleads)
+        else:
+            bodies = list(bodies if bodies is not None else ([body] if body else []))
+        if len(ends.a) != len(lines.lines):
+            raise ValueError(f"System ends: {len(ends.a)} entries for {len(lines.lines)} lines")
+        self.lines, self.ends, self.bodies = lines, ends, bodies
+        self.body = bodies[0] if bodies else None
+        self.point_masses = list(points)
+        self.motion, self.sea = motion, sea
+        if any(e[0] == "prescribed" for e in ends.a + ends.b) and not callable(motion):
+            raise ValueError("System motion: prescribed line ends need motion(t) -> (n, 3)")
+        self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
+                           else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
         self.terms, self.body_terms = list(terms), list(body_terms)
         self.kernel = CableKernel(lines)
         self._block_shape = (self.kernel.pattern.nel, 6, 6)
         self._damped = lines.damped
-        dofs = lines.nodal_dofs
-        self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3)
-        self._fairlead_flat = self.fairlead_dofs.ravel()
-        held = np.concatenate([dofs[lines.anchor_nodes].ravel(), self.fairlead_dofs.ravel()])
-        self.free = np.setdiff1d(np.arange(lines.ndofs), held)
-        self.nf = len(self.free)
-        self.nb = 6 if self.body is not None else 0
-        self.n = self.nf + self.nb
-        self._free_pattern = None if self.nb else ElementPattern(lines, keep=self.free)
-        if self.body is not None:
-            self.r_local = lines.points[lines.fairlead_nodes] - self.body.reference_point
-            self.K_body = self.body.hydrostatic_stiffness(generalized=True)
-            self.F_body0 = self.body.static_force()
+        self._number_dofs()
         self._attachment_cache = (None, None, None)
         self._prescribed_cache = (None, None, None)
+        self.K_bodies = [b.hydrostatic_stiffness(generalized=True) for b in bodies]
+        self.F_bodies0 = [b.static_force() for b in bodies]
+        self.K_body = self.K_bodies[0] if bodies else None
         self.weight = lines.weight_load()
         self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
-        self._free_block = sp.csr_matrix((np.ones(self.nf), (self.free, np.arange(self.nf))),
-                                         shape=(lines.ndofs, self.n))
+        self._free_pattern = None if self.nb else ElementPattern(lines, position=self._position)
         self._assemble_mass()
+
+    def _number_dofs(self):
+        """Reduced numbering: line DOFs node by node (a free point where a line first
+        reaches it), then 6 per body; where each held end goes."""
+        lines, ends = self.lines, self.ends
+        dofs = lines.nodal_dofs
+        held = {}
+        for k, (a, b) in enumerate(zip(ends.a, ends.b)):
+            held[int(lines.anchor_nodes[k])] = a
+            held[int(lines.fairlead_nodes[k])] = b
+        npoints = len(self.point_masses)
+        position = np.full(lines.ndofs, -1)
+        self.point_columns = np.full((npoints, 3), -1)
+        self.point_reference = np.zeros((npoints, 3))  # m
+        columns = 0
+        body_ends, prescribed_ends = [], []
+        for node in range(len(dofs)):
+            end = held.get(node)
+            if end is None:
+                position[dofs[node]] = np.arange(columns, columns + 3)
+                columns += 3
+            elif end[0] == "point":
+                p = end[1]
+                if not 0 <= p < npoints:
+                    raise ValueError(f"System ends: free point {p} does not exist "
+                                     f"({npoints} points given)")
+                if self.point_columns[p, 0] < 0:
+                    self.point_columns[p] = np.arange(columns, columns + 3)
+                    self.point_reference[p] = lines.points[node]
+                    columns += 3
+                elif np.linalg.norm(lines.points[node] - self.point_reference[p]) > 1e-6:
+                    raise ValueError(f"System ends: the lines at free point {p} start from "
+                                     f"different positions ({self.point_reference[p]} and "
+                                     f"{lines.points[node]}, m)")
+                position[dofs[node]] = self.point_columns[p]
+            elif end[0] == "body":
+                if not 0 <= end[1] < len(self.bodies):
+                    raise ValueError(f"System ends: body {end[1]} does not exist "
+                                     f"({len(self.bodies)} dynamic bodies given)")
+                body_ends.append((end[1], node,
+                                  lines.points[node] - self.bodies[end[1]].reference_point))
+            elif end[0] == "prescribed":
+                prescribed_ends.append((int(end[1]), node))
+        unused = np.flatnonzero(self.point_columns[:, 0] < 0)
+        if len(unused):
+            raise ValueError(f"System points: free point {int(unused[0])} has no line")
+        self._position = position
+        self.free = np.flatnonzero(position >= 0)
+        self._columns = position[self.free]
+        self.nf = columns
+        self._identity = len(self.free) == columns  # no two DOFs share a column
+        self.nb = 6 * len(self.bodies)
+        self.n = self.nf + self.nb
+        body_ends.sort(key=lambda e: e[0])
+        self._body_nodes = np.array([node for _, node, _ in body_ends], int)
+        self._body_of_end = np.array([b for b, _, _ in body_ends], int)
+        self.body_end_dofs = dofs[self._body_nodes] if body_ends else np.zeros((0, 3), int)
+        self._body_flat = self.body_end_dofs.ravel()
+        self._r_local = [np.array([r for b, _, r in body_ends if b == k]).reshape(-1, 3)
+                         for k in range(len(self.bodies))]
+        self._body_rows = [np.flatnonzero(self._body_of_end == k) for k in range(len(self.bodies))]
+        self.r_local = self._r_local[0] if self.bodies else None
+        self._prescribed_slots = np.array([slot for slot, _ in prescribed_ends], int)
+        self._prescribed_dofs = (dofs[[node for _, node in prescribed_ends]]
+                                 if prescribed_ends else np.zeros((0, 3), int))
+        self._prescribed_flat = self._prescribed_dofs.ravel()
+        self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3), end B
+        self.anchor_dofs = dofs[lines.anchor_nodes]  # (nlines, 3), end A
+        self._free_block = sp.csr_matrix((np.ones(len(self.free)), (self.free, self._columns)),
+                                         shape=(lines.ndofs, self.n))
+        self._selection = None if self._identity else sp.csr_matrix(
+            (np.ones(len(self.free)), (self._columns, np.arange(len(self.free)))),
+            shape=(self.nf, len(self.free)))
+
+    @property
+    def body_load(self):
+        """The applied load on body 0: f(t, q, qdot) -> 6-vector (N, N m), or None."""
+        return self.body_loads[0] if self.body_loads else None
+
+    @body_load.setter
+    def body_load(self, load):
+        if not self.bodies:
+            raise ValueError("System body_load: the system has no dynamic body")
+        self.body_loads[0] = load
 
     def add_term(self, term):
         """Add a cable :class:`Term` or a :class:`BodyTerm` (and its mass)."""
@@ -154,62 +305,83 @@ class System:
         self._assemble_mass()
 
     def _assemble_mass(self):
-        """M_red = P0^T (M_lines + term masses) P0 + body mass + added masses, kg."""
+        """M_red = P0^T (M_lines + term masses) P0 + point and body masses, kg."""
         M_lines = self.M_lines
         for term in self.terms:
             extra = term.mass_matrix(self.lines) if hasattr(term, "mass_matrix") else None
             if extra is not None:
                 M_lines = M_lines + extra
-        self.M = self._reduce_constant(M_lines)
-        if self.body is not None:
-            body_mass = self.body.mass_matrix() + self.body.added_mass
+        M = self._reduce_constant(M_lines).tolil()
+        for p, point in enumerate(self.point_masses):
+            for c in self.point_columns[p]:
+                M[c, c] += point.mass + point.rho * point.volume * point.Ca
+        for k, body in enumerate(self.bodies):
+            body_mass = body.mass_matrix() + body.added_mass
             for term in self.body_terms:
-                if term.added_mass is not None:
+                if term.added_mass is not None and term.body == k:
                     body_mass = body_mass + np.asarray(term.added_mass, float)
-            self.M = (self.M + self._embed_body(body_mass)).tocsr()
+            block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
+            M[block, block] = M[block, block].toarray() + body_mass
+        self.M = M.tocsr()
 
     # --- maps between reduced and full cable DOFs
-    def q(self, x):
-        """Body DOFs of a reduced vector (zeros without a body)."""
-        return x[self.nf:] if self.nb else np.zeros(6)
+    def q(self, x, body=0):
+        """DOFs of body ``body`` in a reduced vector (zeros without bodies), m / rad."""
+        if not self.nb:
+            return np.zeros(6)
+        return x[self.nf + 6 * body: self.nf + 6 * body + 6]
+
+    def point_displacement(self, x):
+        """(npoints, 3) free-point displacements in a reduced vector, m."""
+        return x[self.point_columns] if len(self.point_columns) else np.zeros((0, 3))
 
     def full_displacement(self, x, t=0.0):
         """(ndofs,) cable displacement for reduced state x at time t, m."""
-        return self._displacement(x, self.fairlead_displacement(x, t))
+        return self._displacement(x, self._attachment(x)[0] if self.nb else None, t)
 
-    def _displacement(self, x, fairleads):
-        """(ndofs,) cable displacement from the free DOFs of x and (nlines, 3) fairlead
-        displacements."""
+    def _displacement(self, x, body_ends, t):
+        """(ndofs,) cable displacement from x, the (n, 3) displacements of the body ends
+        and the prescribed ends at time t."""
         u = np.zeros(self.lines.ndofs)
-        u[self.free] = x[: self.nf]
-        u[self._fairlead_flat] = fairleads.ravel()
+        u[self.free] = x[: self.nf] if self._identity else x[self._columns]
+        if body_ends is not None:
+            u[self._body_flat] = body_ends.ravel()
+        if len(self._prescribed_flat):
+            u[self._prescribed_flat] = self._prescribed(t)[0].ravel()
         return u
 
     def _attachment(self, x):
-        """Fairlead displacements (nlines, 3) and stacked Jacobians (3 nlines, 6) at the
-        body DOFs of x, computed once per state."""
+        """Body-end displacements (n, 3) and their Jacobian (3 n, 6 nbodies) at the body
+        DOFs of x, computed once per state."""
         q = x[self.nf:]
         key = q.tobytes()
         if self._attachment_cache[0] != key:
             if not math.isfinite(q.sum()):
                 raise ValueError(f"System: body DOFs are not finite: {q}")
-            self._attachment_cache = (key, *rigid.attachment_state(q, self.r_local))
+            if len(self.bodies) == 1:
+                state = rigid.attachment_state(q, self._r_local[0])
+            else:
+                disp = np.zeros((len(self._body_nodes), 3))
+                J = np.zeros((3 * len(self._body_nodes), self.nb))
+                for k, rows in enumerate(self._body_rows):
+                    if len(rows):
+                        d, Jk = rigid.attachment_state(q[6 * k: 6 * k + 6], self._r_local[k])
+                        disp[rows] = d
+                        J[3 * rows[0]: 3 * rows[-1] + 3, 6 * k: 6 * k + 6] = Jk
+                state = (disp, J)
+            self._attachment_cache = (key, *state)
         return self._attachment_cache[1], self._attachment_cache[2]
 
     def fairlead_displacement(self, x, t=0.0):
-        """(nlines, 3) fairlead displacements, m."""
-        if self.mode == "body":
-            return self._attachment(x)[0]
-        if self.mode == "prescribed":
-            return self._prescribed(t)[0]
-        return np.zeros(self.fairlead_dofs.shape)
+        """(nlines, 3) displacements of the lines' B ends, m."""
+        return self.full_displacement(x, t)[self.fairlead_dofs]
 
     def _prescribed(self, t, dt=1e-6):
-        """Prescribed fairlead displacements (m) and velocities (central differences over
-        dt, m/s) at time t, (nlines, 3) each; the last time's are kept (Newton revisits it)."""
+        """Displacements (m) and velocities (central differences over dt, m/s) of the
+        prescribed ends at time t, (n, 3) each; the last time's are kept (Newton revisits it)."""
         if self._prescribed_cache[0] != (t, dt):
             def at(time):
-                return np.asarray(self.motion(time), float).reshape(-1, 3)
+                return np.asarray(self.motion(time), float).reshape(-1, 3)[self._prescribed_slots]
             self._prescribed_cache = ((t, dt), at(t), (at(t + dt) - at(t - dt)) / (2 * dt))
         return self._prescribed_cache[1:]
 
@@ -219,12 +391,12 @@ class System:
 
     def _velocity(self, x, v, t, J, dt=1e-6):
         ud = self._expand(v, J)
-        if self.mode == "prescribed":
-            ud[self.fairlead_dofs] = self._prescribed(t, dt)[1]
+        if len(self._prescribed_flat):
+            ud[self._prescribed_flat] = self._prescribed(t, dt)[1].ravel()
         return ud
 
     def _jacobian(self, x):
-        """(3 nlines, 6) fairlead Jacobians stacked, or None without a body."""
+        """(3 n, 6 nbodies) Jacobian of the body ends, or None without bodies."""
         if not self.nb:
             return None
         return self._attachment(x)[1]
@@ -232,44 +404,54 @@ class System:
     def _expand(self, y, J):
         """P y for a reduced vector y, without forming P."""
         out = np.zeros(self.lines.ndofs)
-        out[self.free] = y[: self.nf]
+        out[self.free] = y[: self.nf] if self._identity else y[self._columns]
         if J is not None:
-            out[self._fairlead_flat] = J @ y[self.nf:]
+            out[self._body_flat] = J @ y[self.nf:]
         return out
 
     def _reduce(self, R_full, J):
         """P^T R_full, without forming P."""
         out = np.empty(self.n)
-        out[: self.nf] = R_full[self.free]
+        if self._identity:
+            out[: self.nf] = R_full[self.free]
+        else:
+            out[: self.nf] = np.bincount(self._columns, R_full[self.free], minlength=self.nf)
         if J is not None:
-            out[self.nf:] = J.T @ R_full[self._fairlead_flat]
+            out[self.nf:] = J.T @ R_full[self._body_flat]
         return out
+
+    def _select(self, A):
+        """S A S^T: rows and columns of free DOFs summed into their reduced columns."""
+        if self._identity:
+            return A
+        return (self._selection @ (self._selection @ A).T).T
 
     def _reduce_dense(self, A, J):
         """P^T A P for a dense (ndofs, ndofs) A, without forming P."""
-        free, fair = self.free, self._fairlead_flat
+        free, ends = self.free, self._body_flat
         out = np.empty((self.n, self.n))
-        out[: self.nf, : self.nf] = A[np.ix_(free, free)]
+        out[: self.nf, : self.nf] = self._select(A[np.ix_(free, free)])
         if J is not None:
-            out[: self.nf, self.nf:] = A[np.ix_(free, fair)] @ J
-            out[self.nf:, : self.nf] = J.T @ A[np.ix_(fair, free)]
-            out[self.nf:, self.nf:] = J.T @ A[np.ix_(fair, fair)] @ J
+            S = (lambda B: B) if self._identity else (lambda B: self._selection @ B)
+            out[: self.nf, self.nf:] = S(A[np.ix_(free, ends)] @ J)
+            out[self.nf:, : self.nf] = S((J.T @ A[np.ix_(ends, free)]).T).T
+            out[self.nf:, self.nf:] = J.T @ A[np.ix_(ends, ends)] @ J
         return out
 
     def _reduce_sparse(self, A, x):
-        """P^T A P for a sparse A (a row and column selection without a body)."""
-        if not self.nb:
+        """P^T A P for a sparse A (a row and column selection without bodies)."""
+        if not self.nb and self._identity:
             return A[self.free][:, self.free]
         P = self.P(x)
         return (P.T @ A @ P).tocsr()
 
     def P(self, x):
-        """du/dx (ndofs, n): identity on free DOFs, attachment Jacobians at fairleads."""
+        """du/dx (ndofs, n): the free DOFs' columns, the body ends' Jacobians."""
         if not self.nb:
             return self._free_block
-        J = rigid.attachment_jacobian(self.q(x), self.r_local)  # (nlines, 3, 6)
-        rows = np.repeat(self.fairlead_dofs.ravel(), 6)
-        cols = np.tile(self.nf + np.arange(6), self.fairlead_dofs.size)
+        J = self._jacobian(x)
+        rows = np.repeat(self._body_flat, self.nb)
+        cols = np.tile(self.nf + np.arange(self.nb), len(self._body_flat))
         body = sp.csr_matrix((J.ravel(), (rows, cols)), shape=self._free_block.shape)
         return self._free_block + body
 
@@ -277,11 +459,8 @@ class System:
         P0 = self.P(np.zeros(self.n))
         return (P0.T @ A @ P0).tocsr()
 
-    def _embed_body(self, A6, dense=False):
-        """A 6x6 body block in an (n, n) matrix."""
-        out = np.zeros((self.n, self.n))
-        out[self.nf:, self.nf:] = A6
-        return out if dense else sp.csr_matrix(out)
+    def _body_block(self, k):
+        return slice(self.nf + 6 * k, self.nf + 6 * k + 6)
 
     @property
     def _needs_velocity(self):
@@ -332,43 +511,74 @@ class System:
 
     @property
     def bandwidth(self):
-        """Half-bandwidth of the reduced matrices without a body (None with one: its
-        rows and columns couple all fairleads)."""
+        """Half-bandwidth of the reduced matrices without bodies (None with one: its
+        rows and columns couple all its line ends)."""
         return None if self.nb else self._free_pattern.bandwidth
+
+    def _point_loads(self, x, v, t, load_factor):
+        """(npoints, 3) loads on the free points (N): net buoyancy and drag, and the
+        drag's d/dv (npoints, 3, 3, N s/m)."""
+        F = np.zeros((len(self.point_masses), 3))
+        dF = np.zeros((len(self.point_masses), 3, 3))
+        for p, point in enumerate(self.point_masses):
+            rho = point.rho
+            F[p, 2] = load_factor * (rho * point.volume - point.mass) * point.g
+            if point.CdA:
+                relative = -v[self.point_columns[p]]
+                if self.sea is not None and not self.sea.still:
+                    here = self.point_reference[p] + x[self.point_columns[p]]
+                    relative = relative + self.sea.velocity(here, t)
+                speed = np.linalg.norm(relative)
+                k = 0.5 * rho * point.CdA
+                F[p] += k * speed * relative
+                if speed > 0:  # d/dv of k |w| w with w = U - v
+                    dF[p] = -k * (speed * np.eye(3) + np.outer(relative, relative) / speed)
+        return F, dF
 
     def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, layout="sparse"):
         """Reduced residual R(x, v, t) (no inertia, no Rayleigh damping) and its
         derivatives K = dR/dx and Kv = dR/dv (None when zero) in ``layout``: 'sparse'
-        (CSR), 'dense' (arrays, faster below a few hundred unknowns) or, without a body,
+        (CSR), 'dense' (arrays, faster below a few hundred unknowns) or, without bodies,
         'band' (:class:`~skmoor.banded.Band`, half-bandwidth :attr:`bandwidth`)."""
         if layout not in LAYOUTS:
             raise ValueError(f"System.residual layout: {layout!r} is not one of {LAYOUTS}")
         if layout == "band" and self.nb:
-            raise ValueError("System.residual layout: 'band' needs a System without a body")
+            raise ValueError("System.residual layout: 'band' needs a System without bodies")
         v = np.zeros(self.n) if v is None else v
         if self.nb:
-            fairleads, J = self._attachment(x)
+            ends, J = self._attachment(x)
         else:
-            fairleads, J = self.fairlead_displacement(x, t), None
-        u = self._displacement(x, fairleads)
+            ends, J = None, None
+        u = self._displacement(x, ends, t)
         ud = self._velocity(x, v, t, J) if self._needs_velocity else None
         if self.nb or not tangent:
             R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, layout)
-        else:  # no body: the element blocks go straight into the free-DOF matrices
+        else:  # no body: the element blocks go straight into the reduced matrices
             R_full, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, True, layout)
         R = self._reduce(R_full, J)
-        if self.nb:
-            q = self.q(x)
-            R[self.nf:] += self.K_body @ q - load_factor * self.F_body0
-            R[self.nf:] += self.body.linear_damping @ v[self.nf:]
-            if self.body_load is not None:
-                R[self.nf:] -= self.body_load(t, q, v[self.nf:])
-            body_K = body_Kv = 0.0
+        point_rate = None
+        if self.point_masses:
+            F, dF = self._point_loads(x, v, t, load_factor)
+            R[self.point_columns] -= F
+            point_rate = dF if np.any(dF) else None
+        body_K, body_Kv = [], []
+        for k, body in enumerate(self.bodies):
+            block = self._body_block(k)
+            q, qdot = x[block], v[block]
+            R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
+            R[block] += body.linear_damping @ qdot
+            if self.body_loads[k] is not None:
+                R[block] -= self.body_loads[k](t, q, qdot)
+            Kk = Kvk = 0.0
             for term in self.body_terms:
-                F, Kb, Kvb = term.evaluate(q, v[self.nf:], t)
-                R[self.nf:] -= F
-                body_K = body_K if Kb is None else body_K + Kb
-                body_Kv = body_Kv if Kvb is None else body_Kv + Kvb
+                if term.body != k:
+                    continue
+                F, Kb, Kvb = term.evaluate(q, qdot, t)
+                R[block] -= F
+                Kk = Kk if Kb is None else Kk + Kb
+                Kvk = Kvk if Kvb is None else Kvk + Kvb
+            body_K.append(Kk)
+            body_Kv.append(Kvk)
         if not tangent:
             return R, None, None
         dense = layout == "dense"
@@ -376,25 +586,56 @@ class System:
             reduce = self._reduce_dense if dense else self._reduce_sparse
             K, Kv = self._sum(self._free_pattern, Ke, Ce, assembled, layout, self.bandwidth,
                               reduce=lambda A: reduce(A, None))
+            if point_rate is not None:
+                Kv = self._add_point_rate(Kv, point_rate, layout)
             return R, K, Kv
         if dense:
             K = self._reduce_dense(K_full, J)
             Kv = None if Kv_full is None else self._reduce_dense(Kv_full, J)
         else:
             K, Kv = (None if A is None else self._reduce_sparse(A, x) for A in (K_full, Kv_full))
-        H = rigid.attachment_hessian(self.q(x), self.r_local, R_full[self.fairlead_dofs])
-        K = K + self._embed_body(H + self.K_body + body_K, dense)
-        if np.any(self.body.linear_damping) or np.any(body_Kv):
-            D = self._embed_body(self.body.linear_damping + body_Kv, dense)
+        K_bodies = np.zeros((self.nb, self.nb))
+        D_bodies = np.zeros((self.nb, self.nb))
+        end_forces = R_full[self.body_end_dofs]
+        for k, body in enumerate(self.bodies):
+            b = slice(6 * k, 6 * k + 6)
+            rows = self._body_rows[k]
+            H = (rigid.attachment_hessian(x[self._body_block(k)], self._r_local[k],
+                                          end_forces[rows]) if len(rows) else 0.0)
+            K_bodies[b, b] = H + self.K_bodies[k] + body_K[k]
+            D_bodies[b, b] = body.linear_damping + body_Kv[k]
+        K = K + self._embed_bodies(K_bodies, dense)
+        if np.any(D_bodies):
+            D = self._embed_bodies(D_bodies, dense)
             Kv = D if Kv is None else Kv + D
+        if point_rate is not None:
+            Kv = self._add_point_rate(Kv, point_rate, layout)
         return R, K, Kv
 
+    def _embed_bodies(self, A, dense=False):
+        """The (6 nbodies)^2 body block in an (n, n) matrix."""
+        out = np.zeros((self.n, self.n))
+        out[self.nf:, self.nf:] = A
+        return out if dense else sp.csr_matrix(out)
+
+    def _add_point_rate(self, Kv, dF, layout):
+        """Kv minus the points' drag derivatives (the residual carries -F)."""
+        rows, cols, vals = [], [], []
+        for p, block in enumerate(dF):
+            c = self.point_columns[p]
+            rows.append(np.repeat(c, 3))
+            cols.append(np.tile(c, 3))
+            vals.append(-block.ravel())
+        A = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                          shape=(self.n, self.n))
+        A = as_layout(A, layout, self.bandwidth)
+        return A if Kv is None else Kv + A
+
     def reactions(self, x, v=None, t=0.0):
-        """(nlines, 3) forces the lines exert on their fairleads, and (nlines, 3) on their
-        anchors, N (quasi-static: internal force minus loads at the end node)."""
+        """(nlines, 3) forces the lines exert on their B ends, and (nlines, 3) on their
+        A ends, N (quasi-static: internal force minus loads at the end node)."""
         v = np.zeros(self.n) if v is None else v
         u = self.full_displacement(x, t)
         ud = self.full_velocity(x, v, t) if self._needs_velocity else None
         R_full, _, _ = self.line_residual(u, ud, t, tangent=False)
-        dofs = self.lines.nodal_dofs
-        return -R_full[self.fairlead_dofs], -R_full[dofs[self.lines.anchor_nodes]]
+        return -R_full[self.fairlead_dofs], -R_full[self.anchor_dofs]

@@ -23,8 +23,8 @@ sea bed). In TOML:
 """
 from __future__ import annotations
 
-from .hydro import body_hydrodynamics, line_hydrodynamics
-from .seabed import Seabed, seabed_term
+from .hydro import body_hydrodynamics
+from .seabed import Seabed
 from .waves import AiryWave, Current, JonswapWave, Sea
 
 LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t")
@@ -93,19 +93,12 @@ def has_line_hydrodynamics(data: dict) -> bool:
                for name in LINE_COEFFICIENTS)
 
 
-def terms(data: dict, lines, body) -> tuple[list, list]:
-    """(cable terms, body terms) for a case's lines (LineSet) and body (RigidBody)."""
-    water_sea = sea(data)
-    cable, rigid = [], []
-    if has_line_hydrodynamics(data):
-        cable += line_hydrodynamics(lines, water_sea)
-    bed = seabed(data)
-    if bed is not None:
-        cable.append(seabed_term(lines, bed))
+def body_terms(data: dict, body, water_sea=None) -> list:
+    """The BodyTerms of a body section (``data["body"]``): its quadratic drag, if any."""
     spec = data["body"]
-    if "drag_coefficients" in spec or "drag_areas" in spec:
-        rigid.append(_named("body", lambda: body_hydrodynamics(
-            drag_coefficients=spec.get("drag_coefficients"), drag_areas=spec.get("drag_areas"),
-            sea=water_sea, reference_point=body.reference_point,
-            rho=float(data["water"]["density"]))))
-    return cable, rigid
+    if "drag_coefficients" not in spec and "drag_areas" not in spec:
+        return []
+    return [_named("body", lambda: body_hydrodynamics(
+        drag_coefficients=spec.get("drag_coefficients"), drag_areas=spec.get("drag_areas"),
+        sea=water_sea, reference_point=body.reference_point,
+        rho=float(data["water"]["density"])))]

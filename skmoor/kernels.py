@@ -22,18 +22,16 @@ NO_BLOCKS = np.zeros((0, 6, 6))  # stands for "no tangent" in the compiled loops
 
 
 class ElementPattern:
-    """The fixed sparsity pattern of per-element 6x6 blocks on a LineSet, restricted to
-    the DOFs ``keep`` (all by default; entries in other rows or columns are dropped, as
-    for the free DOFs of a System whose fairleads are not on a body)."""
+    """The fixed sparsity pattern of per-element 6x6 blocks on a LineSet, mapped by
+    ``position`` (ndofs,): the row / column each cable DOF goes to, -1 to drop it (as the
+    held DOFs of a System without bodies); several DOFs may share one (line ends on one
+    free point). Default: the identity."""
 
-    def __init__(self, lineset, keep=None):
+    def __init__(self, lineset, position=None):
         nodal, t = lineset.nodal_dofs, lineset.mesh.t
         edofs = np.concatenate([nodal[t[0]], nodal[t[1]]], axis=1)  # (nel, 6)
         self.nel = len(edofs)
-        position = np.arange(lineset.ndofs)
-        if keep is not None:
-            position = np.full(lineset.ndofs, -1)
-            position[keep] = np.arange(len(keep))
+        position = np.arange(lineset.ndofs) if position is None else np.asarray(position)
         self.ndofs = n = int(position.max()) + 1
         rows = position[np.repeat(edofs[:, :, None], 6, axis=2).ravel()]
         cols = position[np.repeat(edofs[:, None, :], 6, axis=1).ravel()]

@@ -132,6 +132,15 @@ class Line:
         return cls(name, line_type, catenary.stretched_arclength(s0), catenary.position(s0),
                    tangent, tension, stretch)
 
+    def reversed(self) -> "Line":
+        """The same reference state numbered from the other end (tangent flipped)."""
+        total = self.s[-1] + self.s[0]
+        tangent, tension, stretch = self.tangent, self.tension, self.stretch
+        return Line(self.name, self.line_type, total - self.s[::-1], self.X[::-1].copy(),
+                    lambda s: -tangent(total - np.asarray(s)),
+                    lambda s: tension(total - np.asarray(s)),
+                    lambda s: stretch(total - np.asarray(s)))
+
     @classmethod
     def from_polyline(cls, points, line_type: LineType, name="line", tension=0.0):
         """Reference state = a polyline (anchor first), straight between nodes, with a
@@ -217,7 +226,7 @@ class LineSet:
         self.fields = self._fields(self.basis)
         self.cable_fields = self._fields(self.cable_basis)
         self._reference = asm(forms.reference_force, self.basis, **self.fields)
-        self._nodal_basis = self._nodal_fields = None
+        self._nodal_basis = self._nodal_fields = self._bandwidth = None
         self._element_lengths = np.diff(self.mesh.p[0, self.mesh.t], axis=0)[0]
 
     @property
@@ -326,9 +335,11 @@ class LineSet:
     @property
     def bandwidth(self) -> int:
         """Half-bandwidth of the line matrices (5 for one P1 line, node-major DOFs)."""
-        t = self.mesh.t
-        edofs = np.concatenate([self.nodal_dofs[t[0]], self.nodal_dofs[t[1]]], axis=1)
-        return int(np.max(edofs.max(axis=1) - edofs.min(axis=1)))
+        if self._bandwidth is None:
+            t = self.mesh.t
+            edofs = np.concatenate([self.nodal_dofs[t[0]], self.nodal_dofs[t[1]]], axis=1)
+            self._bandwidth = int(np.max(edofs.max(axis=1) - edofs.min(axis=1)))
+        return self._bandwidth
 
     @property
     def element_lengths(self) -> np.ndarray:

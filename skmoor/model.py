@@ -1,36 +1,133 @@
-"""From a :class:`~skmoor.case.Case` to a coupled model: the draft, the lines' reference
-catenaries, the rigid body and the :class:`~skmoor.coupling.System` that joins them."""
+"""From a case or a MoorDyn deck to one kind of model: a :class:`~skmoor.network.Network`
+of points, lines and bodies, built into a :class:`~skmoor.coupling.System`.
+
+:func:`build` takes a :class:`~skmoor.case.Case`, a :class:`~skmoor.deck.Deck` or a path
+(``.toml`` case or MoorDyn deck). A case is either the paper's parametric layout (sag
+ratio, chord angle, box: it generates the anchors, the fairleads on the body and the
+lines, with the draft from vertical equilibrium, paper Eq. 1) or the explicit tables
+``[[points]]``, ``[[lines]]``, ``[[bodies]]`` (see :mod:`skmoor.inputs`).
+"""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
 
 from . import environment
-from .body import RigidBody
+from .body import RigidBody, hull_hydrostatics, uniform_box_inertia
 from .catenary import solve_catenary
-from .coupling import System
-from .line import Line, LineSet, LineType
+from .line import LineType
+from .network import Body, MooringLine, Network, Point, build_system
+
+SOLVER_DEFAULTS = {"duration": 200.0, "dt": 0.05, "output_interval": 0.1,
+                   "scheme": "generalized-alpha", "rho_inf": 0.9, "steady_periods": 5}
 
 
 @dataclass
 class Model:
-    """A built case: ``system`` (reduced lines + body), ``lines`` (LineSet), ``body``,
-    ``catenaries`` (the analytic reference of each line), ``draft`` (m)."""
+    """A built network: ``system`` (the reduced equations), ``lines`` (LineSet, one line
+    per network line, in order), ``network`` (points, lines, bodies), ``catenaries`` (the
+    analytic catenary of each line between its ends as given, None where there is none),
+    ``settings`` (solver, damping, load: the case's, or defaults for a deck), ``name``,
+    ``depth`` (m), ``draft`` (m, the paper layout's) and ``source`` (the Case or Deck)."""
 
-    case: object
-    system: System
-    lines: LineSet
-    body: RigidBody
+    name: str
+    system: object
+    lines: object
+    network: Network
     catenaries: list
-    draft: float
+    settings: dict
+    depth: float
+    draft: float | None = None
+    source: object = None
+    notes: list = field(default_factory=list)
+
+    @property
+    def case(self):
+        """The Case the model was built from (None for a deck)."""
+        from .case import Case
+        return self.source if isinstance(self.source, Case) else None
+
+    @property
+    def body(self):
+        """The first dynamic body's RigidBody, or None."""
+        return self.system.body
 
     @property
     def forcing_period(self) -> float | None:
-        omega = self.case.load.get("omega")
+        omega = self.settings.get("load", {}).get("omega")
         return 2 * np.pi / omega if omega else None
 
+    @property
+    def solver(self) -> dict:
+        return {**SOLVER_DEFAULTS, **self.settings.get("solver", {})}
+
+    @property
+    def damping(self) -> dict:
+        return self.settings.get("damping", {"ratio": 0.0})
+
+
+def build(source, *, motion=None, sea=None) -> Model:
+    """The model of a Case, a Deck or a path to either (``.toml``: a case; else a deck).
+    motion: fn(t) -> coupled-DOF displacements (see :mod:`skmoor.network`); sea: a
+    :class:`~skmoor.waves.Sea` for a deck (default: still water of its depth)."""
+    from .case import Case
+    from .deck import Deck, read_deck
+
+    if isinstance(source, (str, Path)):
+        path = Path(source)
+        source = Case.from_toml(path) if path.suffix == ".toml" else read_deck(path)
+    if isinstance(source, Deck):
+        from .deck_model import default_time_step, deck_network
+        network, settings = deck_network(source, motion=motion, sea=sea)
+        try:
+            model = from_network(network, name=source.source, settings=settings,
+                                 source=source, notes=list(source.notes))
+        except ValueError as err:
+            raise _on_deck_line(source, err) from None
+        model.settings["solver"].setdefault("dt", default_time_step(model))
+        return model
+    if not isinstance(source, Case):
+        raise ValueError(f"build: expected a Case, a Deck or a path, got {type(source).__name__}")
+    if "points" in source.data:
+        network = explicit_network(source)
+        if motion is not None:
+            network.motion = motion
+        return from_network(network, name=source.name, settings=_settings(source),
+                            source=source)
+    return _paper_layout(source, motion)
+
+
+def _on_deck_line(deck, err) -> ValueError:
+    """A network error about 'line lineN' or 'point pointN' told at its deck line."""
+    import re
+
+    message = str(err)
+    match = re.match(r"(line|point) (line|point)(\d+)(: )?", message)
+    if not match:
+        return ValueError(f"{deck.source}: {message}")
+    table = deck.lines if match.group(2) == "line" else deck.points
+    entry = table[int(match.group(3)) - 1]
+    section = "LINES" if match.group(2) == "line" else "POINTS"
+    return ValueError(f"{deck.source} line {entry.where}: {section} {entry.id}: "
+                      f"{message[match.end():]}")
+
+
+def from_network(network: Network, *, name="network", settings=None, draft=None,
+                 source=None, notes=()) -> Model:
+    """Build a Network into a Model (statics not yet solved: see :func:`skmoor.equilibrium`)."""
+    system, lineset, catenaries = build_system(network)
+    return Model(name, system, lineset, network, catenaries, dict(settings or {}),
+                 network.depth, draft, source, list(notes))
+
+
+def _settings(case) -> dict:
+    return {"solver": case.solver, "damping": case.damping, "load": case.load}
+
+
+# ------------------------------------------------------------ the paper's layout
 
 def line_type(case, name) -> LineType:
     """The LineType ``name`` of a case (from EA, mass, diameter or from E, diameter, density;
@@ -58,10 +155,32 @@ def _anchor(spec, fairlead, depth):
     return fairlead + np.array([run * np.cos(heading), run * np.sin(heading), -rise])
 
 
+def _hull_keel(case) -> float:
+    """Lowest z of the case's hull mesh in the body frame (m), or -height/2 for the box."""
+    hull = case.body.get("hull")
+    if hull is None:
+        return -case.body["size"][2] / 2
+    import pyvista as pv
+    return float(pv.read(_hull_path(case)).bounds[4]) if hull else 0.0
+
+
+def _hull_path(case) -> Path:
+    path = Path(case.body["hull"])
+    if not path.is_absolute() and case.directory is not None:
+        path = case.directory / path
+    if not path.is_file():
+        raise ValueError(f"body.hull: no such mesh file {path}")
+    return path
+
+
+def _com(case, draft) -> np.ndarray:
+    """Centre of mass (the body's reference point) with the keel at z = -draft, m."""
+    return np.array([0.0, 0.0, -draft - _hull_keel(case)])
+
+
 def reference_catenaries(case, draft):
-    """(specs, catenaries, types) of all lines with the box floating at ``draft`` (m)."""
-    height = case.body["size"][2]
-    com = np.array([0.0, 0.0, height / 2 - draft])
+    """(specs, catenaries, types) of all lines with the body floating at ``draft`` (m)."""
+    com = _com(case, draft)
     depth = case.water["depth"]
     specs, cats, types = case.line_specs(), [], []
     lengths = {}  # lines alike in their plane share the length a sag ratio gives
@@ -85,44 +204,84 @@ def reference_catenaries(case, draft):
     return specs, cats, types
 
 
+def _hydrostatics(case, draft, reference_point):
+    if case.body.get("hull") is None:
+        return None
+    return hull_hydrostatics(_hull_path(case), reference_point=reference_point,
+                             offset=reference_point)
+
+
+def _displaced_volume(case, draft) -> float:
+    if case.body.get("hull") is None:
+        length, width, _ = case.body["size"]
+        return draft * length * width
+    return _hydrostatics(case, draft, _com(case, draft)).volume
+
+
 def equilibrium_draft(case) -> float:
-    """Draft of the box from vertical equilibrium (paper Eq. 1):
-    rho g h_s A = M g + sum of the lines' vertical pulls, m."""
+    """Draft of the body from vertical equilibrium (paper Eq. 1):
+    rho g V(h_s) = M g + sum of the lines' vertical pulls, m (V: the box's h_s A, or the
+    hull mesh's displaced volume)."""
     rho, g = case.water["density"], case.water["gravity"]
-    length, width, height = case.body["size"]
     mass = case.body["mass"]
+    height = -2 * _hull_keel(case) if case.body.get("hull") else case.body["size"][2]
 
     def imbalance(h):
         _, cats, _ = reference_catenaries(case, h)
-        return rho * g * h * length * width - mass * g - sum(c.V_fairlead for c in cats)
+        return rho * g * _displaced_volume(case, h) - mass * g - sum(c.V_fairlead for c in cats)
 
     top = 0.999 * height
     if imbalance(top) < 0:
-        raise ValueError("body.mass: the box sinks (buoyancy at full immersion is below the "
+        raise ValueError("body.mass: the body sinks (buoyancy at full immersion is below the "
                          "weight plus the lines' pull)")
     return brentq(imbalance, 1e-6 * height, top, xtol=1e-12)
 
 
-def build(case) -> Model:
-    """The coupled model of ``case`` in its reference state (lines on their catenaries)."""
+def paper_body(case, draft) -> RigidBody:
+    """The case's rigid body floating at ``draft``: the box, or the hull mesh it names."""
+    spec, rho, g = case.body, case.water["density"], case.water["gravity"]
+    if spec.get("hull") is None:
+        length, width, height = spec["size"]
+        return RigidBody.box(length, width, height, spec["mass"], draft, rho=rho, g=g)
+    com = _com(case, draft)
+    inertia = (np.diag(spec["inertia"]) if "inertia" in spec
+               else uniform_box_inertia(spec["mass"], *spec["size"]))
+    return RigidBody(spec["mass"], com, inertia, hydrostatics=_hydrostatics(case, draft, com),
+                     rho=rho, g=g, box_size=np.asarray(spec["size"], float)
+                     if "size" in spec else None)
+
+
+def _paper_layout(case, motion=None) -> Model:
     body_data = case.body
     draft = body_data.get("draft", "equilibrium")
     draft = equilibrium_draft(case) if draft == "equilibrium" else float(draft)
     specs, cats, types = reference_catenaries(case, draft)
-    lines = LineSet([Line.from_catenary(c, t, s.n_elements, name=s.name)
-                     for s, c, t in zip(specs, cats, types)], law=case.strain_law)
-    length, width, height = body_data["size"]
-    body = RigidBody.box(length, width, height, body_data["mass"], draft,
-                         rho=case.water["density"], g=case.water["gravity"])
-    cable_terms, body_terms = environment.terms(case.data, lines, body)
-    system = System(lines, body, body_load=body_load(case), terms=cable_terms,
-                    body_terms=body_terms)
-    return Model(case, system, lines, body, cats, draft)
+    rigid = paper_body(case, draft)
+    com = rigid.reference_point
+    water_sea = environment.sea(case.data)
+    body_terms = environment.body_terms(case.data, rigid, water_sea)
+    body = Body("body", "dynamic", com, rigid=rigid, terms=body_terms, load=body_load(case),
+                rotation="skmoor")
+    points, lines = [], []
+    for spec, cat, lt in zip(specs, cats, types):
+        points.append(Point(f"{spec.name}.anchor", "fixed", cat.anchor))
+        points.append(Point(f"{spec.name}.fairlead", "body", cat.fairlead - com, body="body"))
+        lines.append(MooringLine(spec.name, lt, points[-2].name, points[-1].name, cat.L,
+                                 int(spec.n_elements)))
+    network = Network(points, lines, [body], depth=case.water["depth"],
+                      rho=case.water["density"], g=case.water["gravity"],
+                      seabed=environment.seabed(case.data), sea=water_sea,
+                      hydro=environment.has_line_hydrodynamics(case.data),
+                      strain_law=case.strain_law, motion=motion)
+    system, lineset, _ = build_system(network, positions={
+        p.name: network.global_position(p) for p in points})
+    return Model(case.name, system, lineset, network, cats, _settings(case), network.depth,
+                 draft, case)
 
 
-def body_load(case):
+def body_load(case, load=None):
     """The case's applied body load as f(t, q, qdot) -> 6-vector (N, N m), or None."""
-    load = case.load
+    load = case.load if load is None else load
     if not load or load.get("amplitude", 0) == 0:
         return None
     amplitude, omega = float(load["amplitude"]), float(load["omega"])
@@ -132,3 +291,85 @@ def body_load(case):
         return amplitude * np.sin(omega * t) * direction
 
     return applied
+
+
+# ------------------------------------------------------------ the explicit tables
+
+def explicit_network(case) -> Network:
+    """The Network of a case with ``[[points]]``, ``[[lines]]`` and ``[[bodies]]`` tables."""
+    data, water = case.data, case.water
+    rho, g, depth = water["density"], water["gravity"], water["depth"]
+    water_sea = environment.sea(data)
+    shared = data.get("mooring", {})
+    bodies = []
+    load = data.get("load", {})
+    loaded = load.get("body") if load else None
+    for i, spec in enumerate(data.get("bodies", [])):
+        bodies.append(_explicit_body(case, spec, rho, g, water_sea))
+    dynamic = [b for b in bodies if b.kind == "dynamic"]
+    if load and load.get("amplitude", 0):
+        target = next((b for b in dynamic if b.name == loaded), None) if loaded else (
+            dynamic[0] if dynamic else None)
+        if target is None:
+            raise ValueError(f"load.body: {loaded!r} is not a dynamic body")
+        target.load = body_load(case, load)
+    points = [Point(p["name"], p.get("kind", "fixed"), p["position"], body=p.get("body"),
+                    mass=float(p.get("mass", 0.0)), volume=float(p.get("volume", 0.0)),
+                    CdA=float(p.get("CdA", 0.0)), Ca=float(p.get("Ca", 0.0)))
+              for p in data["points"]]
+    for p in points:
+        if p.kind == "body" and (p.mass or p.volume):
+            raise ValueError(f"points {p.name}: mass and volume of a point on a body are not "
+                             "supported (add them to the body)")
+    lines = [MooringLine(ln["name"], line_type(case, ln["type"]), ln["a"], ln["b"],
+                         float(ln["length"]), int(ln.get("n_elements", shared.get("n_elements", 20))))
+             for ln in data["lines"]]
+    return Network(points, lines, bodies, depth=depth, rho=rho, g=g,
+                   seabed=environment.seabed(data), sea=water_sea,
+                   hydro=environment.has_line_hydrodynamics(data),
+                   strain_law=shared.get("strain_law", "engineering"))
+
+
+def _explicit_body(case, spec, rho, g, sea) -> Body:
+    name, kind = spec["name"], spec.get("kind", "dynamic")
+    position = np.asarray(spec.get("position", [0.0, 0.0, 0.0]), float)
+    attitude = np.radians(spec.get("attitude", [0.0, 0.0, 0.0]))
+    if kind != "dynamic":
+        return Body(name, kind, position, attitude, rotation="skmoor")
+    if np.any(attitude):
+        raise ValueError(f"bodies {name}.attitude: a dynamic body starts upright (give its "
+                         "points in the rotated frame instead)")
+    mass = float(spec["mass"])
+    com = position + np.asarray(spec.get("center_of_mass", [0.0, 0.0, 0.0]), float)
+    inertia = np.asarray(spec["inertia"], float)
+    inertia = np.diag(inertia) if inertia.shape == (3,) else inertia
+    box = None
+    if "size" in spec:
+        from .body import box_hydrostatics
+        length, width, height = spec["size"]
+        draft = height / 2 - position[2]
+        hydro = box_hydrostatics(length, width, height, draft, reference_point=position,
+                                 center_xy=position[:2])
+        box = np.asarray(spec["size"], float)
+    elif "hull" in spec:
+        path = Path(spec["hull"])
+        if not path.is_absolute() and case.directory is not None:
+            path = case.directory / path
+        if not path.is_file():
+            raise ValueError(f"bodies {name}.hull: no such mesh file {path}")
+        hydro = hull_hydrostatics(path, reference_point=position, offset=position)
+    elif spec.get("volume", 0):
+        from .body import Hydrostatics
+        cob = position + np.asarray(spec.get("center_of_buoyancy", [0.0, 0.0, 0.0]), float)
+        hydro = Hydrostatics.submerged(float(spec["volume"]), cob, position)
+    else:
+        hydro = None
+    added = spec.get("added_mass")
+    added = None if added is None else (np.diag(added) if np.shape(added) == (6,) else added)
+    damping = spec.get("linear_damping")
+    damping = None if damping is None else (np.diag(damping) if np.shape(damping) == (6,)
+                                            else damping)
+    rigid = RigidBody(mass, com, inertia, reference_point=position, hydrostatics=hydro,
+                      added_mass=added, linear_damping=damping, rho=rho, g=g, box_size=box)
+    terms = environment.body_terms({"water": case.water, "body": spec}, rigid, sea)
+    return Body(name, "dynamic", position, rigid=rigid, terms=terms, rotation="skmoor")

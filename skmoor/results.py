@@ -20,7 +20,7 @@ class Results:
     """Sampled states of a coupled run (or a single static state with ``nt == 1``).
 
     t                   (nt,)            time, s
-    body                (nt, 6)          body displacement [x, y, z, rx, ry, rz] from the reference, m / rad
+    body                (nt, 6)          first body's displacement [x, y, z, rx, ry, rz] from its reference, m / rad (zeros without one; the body drawn)
     points              (nnodes, 3)      reference (static) node positions, m
     cells               (nel, 2)         element connectivity
     line_of_cell        (nel,)           line index of each element
@@ -29,13 +29,19 @@ class Results:
     velocity            (nt, nnodes, 3)  node velocity, m/s
     tension             (nt, nel)        element tension, N
     strain              (nt, nel)        element strain (relative to the reference), -
-    fairlead_tension    (nt, nlines)     tension at the fairlead end, N
-    anchor_tension      (nt, nlines)     tension at the anchor end, N
+    fairlead_tension    (nt, nlines)     tension at end B (the fairlead end), N
+    anchor_tension      (nt, nlines)     tension at end A (the anchor end), N
     body_center         (3,)             reference position of the body's reference point, m
     body_box            (3,)             box dimensions (Lx, Ly, Lz) in m for drawing, or zeros
     body_box_center     (3,)             box centre relative to the body's reference point, m
     depth               float            water depth, m
     meta                dict             free-form (case name, solver settings, wall time ...)
+    body_names          [nbodies]        names of all bodies (dynamic, coupled, fixed)
+    body_reference      (nbodies, 3)     reference-point positions of the bodies, m
+    bodies              (nt, nbodies, 6) each body's displacement from its reference, m / rad
+    point_names         [npoints]        names of all points of the network
+    point_reference     (npoints, 3)     point positions in the reference state, m
+    point_displacement  (nt, npoints, 3) point displacements from it, m
     """
 
     t: np.ndarray
@@ -55,6 +61,23 @@ class Results:
     body_box_center: np.ndarray = field(default_factory=lambda: np.zeros(3))
     depth: float = 0.0
     meta: dict = field(default_factory=dict)
+    body_names: list = field(default_factory=list)
+    body_reference: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    bodies: np.ndarray = None
+    point_names: list = field(default_factory=list)
+    point_reference: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    point_displacement: np.ndarray = None
+
+    def __post_init__(self):
+        nt = len(self.t)
+        if self.bodies is None:
+            self.bodies = np.zeros((nt, len(self.body_names), 6))
+        if self.point_displacement is None:
+            self.point_displacement = np.zeros((nt, len(self.point_names), 3))
+
+    def point_positions(self, i: int) -> np.ndarray:
+        """(npoints, 3) positions of the network's points at sample ``i``, m."""
+        return self.point_reference + self.point_displacement[i]
 
     @property
     def max_tension(self) -> np.ndarray:
@@ -90,9 +113,9 @@ class Results:
         """Write to ``path`` (``.npz``); returns the path."""
         path = Path(path)
         arrays = {f.name: np.asarray(getattr(self, f.name)) for f in fields(self)
-                  if f.name not in ("meta", "line_names", "depth")}
-        np.savez_compressed(path, **arrays, depth=np.float64(self.depth),
-                            line_names=np.array(self.line_names, dtype=str),
+                  if f.name not in ("meta", "depth") + _NAMES}
+        names = {key: np.array(getattr(self, key), dtype=str) for key in _NAMES}
+        np.savez_compressed(path, **arrays, depth=np.float64(self.depth), **names,
                             meta=np.array(json.dumps(self.meta, default=_jsonable)))
         return path
 
@@ -101,15 +124,17 @@ class Results:
         """Read a file written by :meth:`save`."""
         with np.load(Path(path), allow_pickle=False) as data:
             kw = {f.name: data[f.name] for f in fields(cls)
-                  if f.name not in ("meta", "line_names", "depth")}
+                  if f.name not in ("meta", "depth") + _NAMES and f.name in data}
             kw["depth"] = float(data["depth"])
-            kw["line_names"] = [str(s) for s in data["line_names"]]
+            for key in _NAMES:
+                kw[key] = [str(s) for s in data[key]] if key in data else []
             kw["meta"] = json.loads(str(data["meta"]))
         return cls(**kw)
 
 
 _TIME_ARRAYS = ("t", "body", "displacement", "velocity", "tension", "strain",
-                "fairlead_tension", "anchor_tension")
+                "fairlead_tension", "anchor_tension", "bodies", "point_displacement")
+_NAMES = ("line_names", "body_names", "point_names")
 
 
 def _jsonable(x):

@@ -1,9 +1,10 @@
-"""Run a case: static equilibrium -> modes -> damping -> time integration -> Results.
+"""Run a model: static equilibrium -> modes -> damping -> time integration -> Results.
 
-:func:`simulate` returns a :class:`~skmoor.results.Results`; :func:`run_case` also
-writes ``summary.json``, ``timeseries.csv`` and ``results.npz`` into an output folder.
-A Ctrl-C or a diverging step keeps what was computed: the results up to the last
-recorded sample are returned (and written) with ``meta["stopped"]`` saying why.
+One path for every model (a case, the paper's layout, a MoorDyn deck): :func:`simulate`
+returns a :class:`~skmoor.results.Results`; :func:`run_case` also writes
+``summary.json``, ``timeseries.csv`` and ``results.npz`` into an output folder. A Ctrl-C
+or a diverging step keeps what was computed: the results up to the last recorded sample
+are returned (and written) with ``meta["stopped"]`` saying why.
 """
 from __future__ import annotations
 
@@ -15,11 +16,12 @@ from pathlib import Path
 import numpy as np
 from tqdm.auto import tqdm
 
+from . import body as rigid
 from .dynamics import DivergenceError, Scheme, State, integrate, rayleigh_coefficients
 from .model import Model, build
 from .modes import Modes, eigenmodes
-from .results import Results
-from .statics import solve_static
+from .results import BODY_DOFS, Results
+from .statics import ConvergenceError, solve_static
 
 
 INTERRUPTED = "interrupted (Ctrl-C)"
@@ -27,35 +29,65 @@ INTERRUPTED = "interrupted (Ctrl-C)"
 
 @dataclass
 class Equilibrium:
-    """Static equilibrium of a model: state x, tangent K, modes, damping matrix C."""
+    """Static equilibrium of a model: state x, tangent K, modes (None when the state has
+    a free rigid mode, e.g. an unrestrained yaw), damping matrix C, Rayleigh (a0, a1)."""
 
     x: np.ndarray
     K: object
-    modes: Modes
+    modes: Modes | None
     C: object
     rayleigh: tuple
 
 
+def static_state(system, x0=None):
+    """The static solution of a System: Newton from the reference state, then with load
+    continuation, then also with a vanishing tension stiffness (for slack lines)."""
+    attempts = [dict(), dict(steps=8), dict(steps=8, pretension=_pretension(system))]
+    error = None
+    for options in attempts:
+        try:
+            return solve_static(system, x0, **options)
+        except (ConvergenceError, ValueError) as err:
+            error = err
+    raise ConvergenceError(f"{error}. The network has no static equilibrium near the "
+                           "positions given: check the line lengths and the points' "
+                           "positions, masses and volumes") from None
+
+
+def _pretension(system) -> float:
+    """A tension of the order of the heaviest line's weight (N), for starting Newton."""
+    return max(abs(line.line_type.weight) * line.length for line in system.lines.lines) or 1.0
+
+
 def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
-    """Static solve from the reference state, modes about it and Rayleigh damping
-    (case ``damping.ratio`` at the first two natural frequencies, or given
-    ``damping.alpha`` / ``damping.beta``)."""
+    """Static solve of the whole network, modes about it and Rayleigh damping (the
+    settings' ``damping.ratio`` at the first two natural frequencies, or ``damping.alpha``
+    / ``damping.beta``)."""
     system = model.system
-    static = solve_static(system)
+    static = static_state(system)
     _, K, _ = system.residual(static.x)
-    modes = eigenmodes(K, system.M, k=n_modes)
-    damping = model.case.damping
+    damping = model.damping
+    ratio = float(damping.get("ratio", 0.0))
+    try:
+        modes = eigenmodes(K, system.M, k=n_modes)
+    except ValueError:
+        if ratio and "alpha" not in damping and "beta" not in damping:
+            raise
+        modes = None
     if "alpha" in damping or "beta" in damping:
         a0, a1 = float(damping.get("alpha", 0.0)), float(damping.get("beta", 0.0))
+    elif ratio:
+        a0, a1 = rayleigh_coefficients(ratio, *modes.omega[:2])
     else:
-        a0, a1 = rayleigh_coefficients(float(damping.get("ratio", 0.0)), *modes.omega[:2])
-    return Equilibrium(static.x, K, modes, a0 * system.M + a1 * K, (a0, a1))
+        a0 = a1 = 0.0
+    C = a0 * system.M + a1 * K if (a0 or a1) else None
+    return Equilibrium(static.x, K, modes, C, (a0, a1))
 
 
 def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
              progress=True, eq: Equilibrium | None = None) -> Results:
-    """Time history of ``model`` from static rest; settings default to the case's."""
-    solver = model.case.solver
+    """Time history of ``model`` from static rest; settings default to the model's."""
+    solver = model.solver
     duration = float(duration or solver["duration"])
     dt = float(dt or solver["dt"])
     every = max(1, int(round(float(output_interval or solver["output_interval"]) / dt)))
@@ -66,15 +98,37 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     n_steps = int(np.ceil(duration / dt - 1e-9))
     stopped = record_run(model.system, eq.x, dt=dt, duration=duration, every=every,
                          record=recorder.record, C=eq.C, scheme=scheme, progress=progress,
-                         label=model.case.name)
-    meta = {"case": model.case.name, "draft": model.draft, "dt": dt, "scheme": solver["scheme"],
-            "natural_periods": eq.modes.periods.tolist(), "rayleigh": list(eq.rayleigh),
-            "wall_time": time.perf_counter() - started, "steps": n_steps,
-            "stopped": stopped, "interrupted": stopped == INTERRUPTED,
-            "forcing_period": model.forcing_period,
-            "steady_periods": solver.get("steady_periods", 5),
-            "fairlead_tension_static": [c.T_fairlead for c in model.catenaries]}
+                         label=model.name)
+    meta = _meta(model, eq)
+    meta.update({"dt": dt, "scheme": solver["scheme"], "wall_time": time.perf_counter() - started,
+                 "steps": n_steps, "stopped": stopped, "interrupted": stopped == INTERRUPTED,
+                 "forcing_period": model.forcing_period,
+                 "steady_periods": solver.get("steady_periods", 5)})
     return recorder.results(meta)
+
+
+def _meta(model: Model, eq: Equilibrium) -> dict:
+    """What every run reports of its model and its static state."""
+    fair, anchor = model.system.reactions(eq.x)
+    return {"case": model.name, "draft": model.draft,
+            "natural_periods": [] if eq.modes is None else eq.modes.periods.tolist(),
+            "rayleigh": list(eq.rayleigh),
+            "fairlead_tension_static": np.linalg.norm(fair, axis=1).tolist(),
+            "anchor_tension_static": np.linalg.norm(anchor, axis=1).tolist(),
+            "fairlead_tension_catenary": [_catenary_tension(c, line, "b") for c, line
+                                          in zip(model.catenaries, model.lines.lines)],
+            "anchor_tension_catenary": [_catenary_tension(c, line, "a") for c, line
+                                        in zip(model.catenaries, model.lines.lines)],
+            "notes": list(model.notes)}
+
+
+def _catenary_tension(cat, line, end):
+    """The analytic catenary's tension (N) at a line's end 'a' or 'b', None without one."""
+    if cat is None:
+        return None
+    where = line.X[-1] if end == "b" else line.X[0]
+    at_fairlead = np.linalg.norm(where - cat.fairlead) < np.linalg.norm(where - cat.anchor)
+    return float(cat.T_fairlead if at_fairlead else cat.T_anchor)
 
 
 def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
@@ -105,87 +159,188 @@ def static_results(model: Model, eq: Equilibrium | None = None) -> Results:
     recorder = _Recorder(model)
     zero = np.zeros(model.system.n)
     recorder.record(State(0.0, 0, eq.x, zero, zero))
-    return recorder.results({"case": model.case.name, "draft": model.draft, "static": True,
-                             "natural_periods": eq.modes.periods.tolist()})
+    return recorder.results({**_meta(model, eq), "static": True})
+
+
+def mooring_stiffness(model: Model, eq: Equilibrium | None = None, body=None) -> np.ndarray:
+    """(6, 6) stiffness of the mooring at a dynamic body's reference point about the
+    static state (N/m, N/rad, N m/rad; generalized loads J^T f, q = [x, y, z, rx, ry, rz]):
+    the reduced tangent condensed to that body's DOFs (every other DOF in equilibrium),
+    less the body's own hydrostatics and weight. body: its name (default: the first)."""
+    eq = eq or equilibrium(model)
+    system, network = model.system, model.network
+    dynamic = [b.name for b in network.bodies if b.kind == "dynamic"]
+    if not dynamic:
+        raise ValueError("mooring_stiffness: the model has no dynamic body")
+    name = dynamic[0] if body is None else body
+    if name not in dynamic:
+        raise ValueError(f"mooring_stiffness body: {name!r} is not a dynamic body {dynamic}")
+    k = dynamic.index(name)
+    _, K, _ = system.residual(eq.x, layout="dense")
+    keep = np.arange(system.nf + 6 * k, system.nf + 6 * k + 6)
+    rest = np.setdiff1d(np.arange(system.n), keep)
+    condensed = (K[np.ix_(keep, keep)]
+                 - K[np.ix_(keep, rest)] @ np.linalg.solve(K[np.ix_(rest, rest)],
+                                                           K[np.ix_(rest, keep)]))
+    return condensed - system.K_bodies[k]
 
 
 class _Recorder:
-    """Collects sampled states into arrays for :class:`Results`."""
+    """Collects sampled states into arrays for :class:`Results`: the lines, every body
+    and every point of the network."""
 
     def __init__(self, model: Model):
         self.model = model
-        self.rows = {k: [] for k in ("t", "body", "u", "v", "tension", "strain", "fair", "anchor")}
+        network = model.network
+        self.rows = {k: [] for k in ("t", "bodies", "points", "u", "v", "tension", "strain",
+                                     "fair", "anchor")}
+        self._dynamic = {b.name: k for k, b in enumerate(
+            b for b in network.bodies if b.kind == "dynamic")}
+        self._coupled, start = {}, 0
+        for obj in network.coupled:
+            size = 6 if obj in network.bodies else 3
+            self._coupled[obj.name] = slice(start, start + size)
+            start += size
+        self._point_reference = np.array([network.global_position(p) for p in network.points]
+                                         ).reshape(-1, 3)
+        system = model.system
+        self._free = {}
+        k = 0
+        for p in network.points:
+            if p.kind == "free":
+                self._free[p.name] = k
+                k += 1
+        self._system = system
+
+    def _bodies(self, x, y):
+        network, out = self.model.network, []
+        for body in network.bodies:
+            if body.kind == "dynamic":
+                out.append(self._system.q(x, self._dynamic[body.name]).copy())
+            elif body.kind == "coupled":
+                out.append(y[self._coupled[body.name]])
+            else:
+                out.append(np.zeros(6))
+        return np.array(out).reshape(-1, 6)
+
+    def _points(self, x, y, bodies):
+        network = self.model.network
+        out = np.zeros((len(network.points), 3))
+        index = {b.name: k for k, b in enumerate(network.bodies)}
+        for i, p in enumerate(network.points):
+            if p.kind == "free":
+                out[i] = x[self._system.point_columns[self._free[p.name]]]
+            elif p.kind == "coupled":
+                out[i] = y[self._coupled[p.name]]
+            elif p.kind == "body":
+                body = network.body(p.body)
+                q = bodies[index[body.name]]
+                if body.kind == "dynamic":
+                    r = self._point_reference[i] - body.rigid.reference_point
+                    out[i] = rigid.attachment_displacement(q, r[None, :])[0]
+                elif body.kind == "coupled":
+                    out[i] = (q[:3] + body.rotation_matrix(body.attitude + q[3:]) @ p.position
+                              - body.rotation_matrix() @ p.position)
+        return out
 
     def record(self, state):
-        system, lines = self.model.system, self.model.lines
+        system, lines, network = self._system, self.model.lines, self.model.network
         u = system.full_displacement(state.x, state.t)
         ud = system.full_velocity(state.x, state.v, state.t)
         fair, anchor = system.reactions(state.x, state.v, state.t)
+        y = (np.zeros(network.n_coupled_dofs) if network.motion is None
+             else np.asarray(network.motion(state.t), float).ravel())
+        bodies = self._bodies(state.x, y)
         nodes = lines.nodal_dofs
-        self.rows["t"].append(state.t)
-        self.rows["body"].append(system.q(state.x).copy())
-        self.rows["u"].append(u[nodes])
-        self.rows["v"].append(ud[nodes])
         tension, strain = lines.element_tension_and_strain(u)
-        self.rows["tension"].append(tension)
-        self.rows["strain"].append(strain)
-        self.rows["fair"].append(np.linalg.norm(fair, axis=1))
-        self.rows["anchor"].append(np.linalg.norm(anchor, axis=1))
+        for key, value in (("t", state.t), ("bodies", bodies),
+                           ("points", self._points(state.x, y, bodies)),
+                           ("u", u[nodes]), ("v", ud[nodes]), ("tension", tension),
+                           ("strain", strain), ("fair", np.linalg.norm(fair, axis=1)),
+                           ("anchor", np.linalg.norm(anchor, axis=1))):
+            self.rows[key].append(value)
 
     def results(self, meta) -> Results:
         r, model = {k: np.array(v) for k, v in self.rows.items()}, self.model
-        body = model.body
-        return Results(t=r["t"], body=r["body"], points=model.lines.points,
-                       cells=model.lines.mesh.t.T.copy(), line_of_cell=model.lines.line_of_cell,
-                       line_names=[line.name for line in model.lines.lines],
+        network, lines = model.network, model.lines
+        nt = len(r["t"])
+        bodies = r["bodies"].reshape(nt, len(network.bodies), 6)
+        drawn = model.body  # the first dynamic body's RigidBody, drawn as its box
+        meta = {**meta, "has_body": bool(network.bodies),
+                "point_kinds": [p.kind for p in network.points]}
+        return Results(t=r["t"], body=bodies[:, 0] if network.bodies else np.zeros((nt, 6)),
+                       points=lines.points, cells=lines.mesh.t.T.copy(),
+                       line_of_cell=lines.line_of_cell,
+                       line_names=[line.name for line in lines.lines],
                        displacement=r["u"], velocity=r["v"], tension=r["tension"],
                        strain=r["strain"], fairlead_tension=r["fair"], anchor_tension=r["anchor"],
-                       body_center=body.reference_point.copy(),
-                       body_box=np.zeros(3) if body.box_size is None else body.box_size,
-                       body_box_center=body.box_center, depth=model.case.water["depth"],
-                       meta=meta)
+                       body_center=(drawn.reference_point.copy() if drawn is not None
+                                    else np.zeros(3)),
+                       body_box=(drawn.box_size if drawn is not None and drawn.box_size is not None
+                                 else np.zeros(3)),
+                       body_box_center=drawn.box_center if drawn is not None else np.zeros(3),
+                       depth=model.depth, meta=meta,
+                       body_names=[b.name for b in network.bodies],
+                       body_reference=np.array([b.position for b in network.bodies]).reshape(-1, 3),
+                       bodies=bodies, point_names=[p.name for p in network.points],
+                       point_reference=self._point_reference,
+                       point_displacement=r["points"].reshape(nt, len(network.points), 3))
 
 
 def summary(results: Results) -> dict:
-    """The run's key numbers (SI, angles in rad), as written to ``summary.json``."""
+    """The run's key numbers (SI, angles in rad), as written to ``summary.json``:
+    ``fairlead_tension_static`` is the FE static state's (end B of each line);
+    ``fairlead_tension_catenary`` the analytic catenary's where one exists (else null)."""
     meta = results.meta
     period = meta.get("forcing_period")
     n = int(meta.get("steady_periods", 5))
     amplitude, steady_max = {}, None
     if period and results.t[-1] - results.t[0] >= n * period:
-        amplitude = {name: results.amplitude(results.body_series(name), period, n)
-                     for name in ("surge", "heave", "pitch")}
+        if meta.get("has_body", True):
+            amplitude = {name: results.amplitude(results.body_series(name), period, n)
+                         for name in ("surge", "heave", "pitch")}
         steady_max = float(results.max_tension[results.t >= results.t[-1] - n * period].max())
     return {"case": meta.get("case"), "draft": meta.get("draft"),
             "fairlead_tension_static": meta.get("fairlead_tension_static"),
+            "anchor_tension_static": meta.get("anchor_tension_static"),
+            "fairlead_tension_catenary": meta.get("fairlead_tension_catenary"),
+            "line_names": list(results.line_names), "body_names": list(results.body_names),
             "natural_periods": meta.get("natural_periods"), "amplitude": amplitude,
             "max_tension": float(results.max_tension.max()),
             "max_tension_steady": steady_max,
             "wall_time": meta.get("wall_time"), "simulated_time": float(results.t[-1]),
             "steps": meta.get("steps"), "dt": meta.get("dt"), "stopped": meta.get("stopped"),
-            "interrupted": bool(meta.get("interrupted"))}
+            "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", [])}
 
 
 def write_outputs(results: Results, out) -> dict:
-    """Write results.npz, summary.json and timeseries.csv into folder ``out``."""
+    """Write results.npz, summary.json and timeseries.csv into folder ``out``.
+
+    timeseries.csv columns: t; for each body its six DOFs ``NAME.surge`` ... ``NAME.yaw``
+    (m, rad); max_tension; ``fairlead_tension_LINE`` (end B) and ``anchor_tension_LINE``
+    (end A) of each line (N); ``NAME.x``, ``NAME.y``, ``NAME.z`` displacements of each
+    free point (m)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     results.save(out / "results.npz")
     info = summary(results)
     (out / "summary.json").write_text(json.dumps(info, indent=2))
-    body = results.meta.get("has_body", True)  # a deck with coupled points only: no body
-    header = ["t"] + (["surge", "sway", "heave", "roll", "pitch", "yaw"] if body else [])
+    nt = len(results.t)
+    header = ["t"] + [f"{b}.{dof}" for b in results.body_names for dof in BODY_DOFS]
     header += ["max_tension"] + [f"fairlead_tension_{n}" for n in results.line_names]
     header += [f"anchor_tension_{n}" for n in results.line_names]
-    table = np.column_stack([results.t] + ([results.body] if body else [])
-                            + [results.max_tension, results.fairlead_tension,
-                               results.anchor_tension])
+    kinds = results.meta.get("point_kinds", [])
+    free = [k for k, kind in enumerate(kinds) if kind == "free"]
+    header += [f"{results.point_names[k]}.{c}" for k in free for c in "xyz"]
+    table = np.column_stack([results.t, results.bodies.reshape(nt, -1), results.max_tension,
+                             results.fairlead_tension, results.anchor_tension,
+                             results.point_displacement[:, free].reshape(nt, -1)])
     np.savetxt(out / "timeseries.csv", table, delimiter=",", header=",".join(header),
                comments="", fmt="%.9g")
     return info
 
 
 def run_case(case, out="skmoor-out", *, progress=True, **settings) -> tuple[Results, dict]:
-    """Build, solve and write ``case``; returns (results, summary)."""
+    """Build, solve and write ``case`` (a Case, a Deck or a path); returns (results, summary)."""
     results = simulate(build(case), progress=progress, **settings)
     return results, write_outputs(results, out)

@@ -37,7 +37,8 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
                               "lumped-mass dynamic peer")
 
 from skmoor.deck import read_deck, write_deck  # noqa: E402
-from skmoor.deck_model import build_deck, heave_motion, simulate_deck  # noqa: E402
+from skmoor import build, simulate  # noqa: E402
+from skmoor.deck_model import heave_motion  # noqa: E402
 
 DECKS = Path(__file__).parents[1] / "examples" / "decks"
 PERIOD = 10.0  # s
@@ -67,8 +68,8 @@ def side_by_side(depth, amplitude, duration, dt, workdir):
     deck = read_deck(DECKS / f"chain_{depth}m.dat")
     path = write_deck(deck, workdir / "chain.dat")
     motion, velocity = heave_motion(deck, amplitude, PERIOD)
-    results = simulate_deck(build_deck(path, motion=motion), duration=duration, dt=dt,
-                            output_interval=dt)
+    results = simulate(build(path, motion=motion), duration=duration, dt=dt,
+                       output_interval=dt, progress=False)
     assert results.meta["stopped"] is None, results.meta["stopped"]
     t_md, T_md = run_moordyn(path, motion, velocity, duration)
     after = results.t >= SETTLED - 1e-9

@@ -28,7 +28,8 @@ def test_run_writes_summary_timeseries_and_plot(short_run):
     assert len(info["fairlead_tension_static"]) == 4
     assert info["max_tension"] > max(info["fairlead_tension_static"])
     header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
-    assert header[:8] == ["t", "surge", "sway", "heave", "roll", "pitch", "yaw", "max_tension"]
+    assert header[:8] == ["t", "body.surge", "body.sway", "body.heave", "body.roll",
+                          "body.pitch", "body.yaw", "max_tension"]
     assert (out / "time_histories.png").stat().st_size > 10_000
     assert (out / "results.npz").exists()
 

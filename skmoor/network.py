@@ -1,0 +1,443 @@
+"""A mooring as a network (MoorPy's and MoorDyn's object model): :class:`Point` objects,
+:class:`MooringLine` objects between any two of them, and :class:`Body` objects.
+
+Points are ``fixed``; ``free`` (a line junction, or a clump weight or buoy with mass,
+volume, CdA and Ca); ``coupled`` (moved by a given motion); or on a ``body`` (at a
+position in the body frame, relative to its reference point). Bodies are ``dynamic``
+(6 DOF: a :class:`~skmoor.body.RigidBody` with its loads), ``coupled`` (prescribed motion)
+or ``fixed``. A multi-segment line is lines joined at free points; a shared line runs
+between two bodies.
+
+:func:`build_network` turns a :class:`Network` into a :class:`~skmoor.model.Model`: the
+free points are first settled on analytic catenaries (the catenary-network first guess),
+each line's reference state is the elastic catenary between its ends there (seabed
+touchdown included; a weightless or buoyant line: straight and taut, or a stress-free
+sagging polyline when slack), and one :class:`~skmoor.coupling.System` joins them.
+
+Coupled motion (``Network.motion``): fn(t) -> displacements of the coupled objects from
+their given positions in MoorDyn's order of coupled DOFs: 6 per coupled body (x, y, z in
+m; roll, pitch, yaw in rad, applied as MoorDyn does: R = Rx Ry Rz of the attitude plus
+the angles), then 3 per coupled point.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import root
+
+from .body import RigidBody
+from .catenary import solve_catenary
+from .coupling import BodyTerm, Ends, PointMass, System
+from .hydro import line_hydrodynamics
+from .line import Line, LineSet, LineType
+from .seabed import seabed_term
+
+POINT_KINDS = ("fixed", "free", "coupled", "body")
+BODY_KINDS = ("dynamic", "coupled", "fixed")
+
+
+@dataclass
+class Point:
+    """A point of the network. position: global (m), or for kind 'body' in the body's
+    frame relative to its reference point. mass kg, volume m3, CdA m2, Ca (-): loads of a
+    free point (a body point's are not modelled: refused when non-zero)."""
+
+    name: str
+    kind: str
+    position: np.ndarray
+    body: str | None = None
+    mass: float = 0.0
+    volume: float = 0.0
+    CdA: float = 0.0
+    Ca: float = 0.0
+
+    def __post_init__(self):
+        if self.kind not in POINT_KINDS:
+            raise ValueError(f"point {self.name}: kind {self.kind!r} is not one of {POINT_KINDS}")
+        self.position = _vector(f"point {self.name} position", self.position)
+        if (self.kind == "body") != (self.body is not None):
+            raise ValueError(f"point {self.name}: a point of kind 'body' names its body, "
+                             "other kinds do not")
+
+
+@dataclass
+class MooringLine:
+    """A line from point ``a`` to point ``b`` (names): its LineType, unstretched length
+    (m) and number of elements."""
+
+    name: str
+    line_type: LineType
+    a: str
+    b: str
+    length: float
+    n_elements: int
+
+    def __post_init__(self):
+        if not (isinstance(self.length, (int, float)) and math.isfinite(self.length)
+                and self.length > 0):
+            raise ValueError(f"line {self.name} length: must be a positive number of m, "
+                             f"got {self.length!r}")
+        if isinstance(self.n_elements, bool) or not isinstance(self.n_elements, (int, np.integer)) \
+                or self.n_elements < 1:
+            raise ValueError(f"line {self.name} n_elements: must be an integer >= 1, "
+                             f"got {self.n_elements!r}")
+        if self.a == self.b:
+            raise ValueError(f"line {self.name}: both ends on point {self.a}")
+
+
+@dataclass
+class Body:
+    """A body: kind 'dynamic' (``rigid``: its RigidBody, whose reference point is the
+    body's position), 'coupled' or 'fixed' (``position``, m, and ``attitude``, rad, of
+    its reference point). terms: BodyTerms (drag, ...); load(t, q, qdot) -> 6-vector."""
+
+    name: str
+    kind: str
+    position: np.ndarray
+    attitude: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    rigid: RigidBody | None = None
+    terms: list = field(default_factory=list)
+    load: object = None
+    rotation: str = "moordyn"  # order of the attitude angles: 'moordyn' (Rx Ry Rz) or 'skmoor'
+
+    def __post_init__(self):
+        if self.kind not in BODY_KINDS:
+            raise ValueError(f"body {self.name}: kind {self.kind!r} is not one of {BODY_KINDS}")
+        self.position = _vector(f"body {self.name} position", self.position)
+        self.attitude = _vector(f"body {self.name} attitude", self.attitude)
+        if self.kind == "dynamic" and self.rigid is None:
+            raise ValueError(f"body {self.name}: a dynamic body needs its mass properties")
+
+    def rotation_matrix(self, angles=None) -> np.ndarray:
+        """Rotation of the body frame for ``angles`` (default: the attitude), rad."""
+        angles = self.attitude if angles is None else angles
+        if self.rotation == "moordyn":
+            return moordyn_rotation(angles)
+        from .body import rotation_matrix
+        return rotation_matrix(angles)
+
+
+@dataclass
+class Network:
+    """Points, lines and bodies in water of ``depth`` (m), density rho, gravity g.
+
+    seabed: a :class:`~skmoor.seabed.Seabed` or None; sea: a :class:`~skmoor.waves.Sea`
+    (currents and waves on the lines, when their coefficients are non-zero); hydro: add
+    the lines' Morison terms when any coefficient is non-zero; strain_law: 'paper' or
+    'engineering'; motion: see the module docstring.
+    """
+
+    points: list
+    lines: list
+    bodies: list = field(default_factory=list)
+    depth: float = 100.0
+    rho: float = 1025.0
+    g: float = 9.81
+    seabed: object = None
+    sea: object = None
+    hydro: bool = True
+    strain_law: str = "engineering"
+    motion: object = None
+
+    def __post_init__(self):
+        for kind, items in (("point", self.points), ("line", self.lines), ("body", self.bodies)):
+            names = [item.name for item in items]
+            repeated = sorted({n for n in names if names.count(n) > 1})
+            if repeated:
+                raise ValueError(f"{kind} names: {repeated[0]!r} is used more than once")
+        points = {p.name: p for p in self.points}
+        bodies = {b.name: b for b in self.bodies}
+        for p in self.points:
+            if p.kind == "body" and p.body not in bodies:
+                raise ValueError(f"point {p.name} body: {p.body!r} is not a body "
+                                 f"({sorted(bodies) or 'none defined'})")
+        for line in self.lines:
+            for end in (line.a, line.b):
+                if end not in points:
+                    raise ValueError(f"line {line.name}: point {end!r} is not defined")
+        for p in self.points:
+            if p.kind == "free" and not any(p.name in (ln.a, ln.b) for ln in self.lines):
+                raise ValueError(f"point {p.name}: a free point with no line")
+
+    def point(self, name) -> Point:
+        return next(p for p in self.points if p.name == name)
+
+    def body(self, name) -> Body:
+        return next(b for b in self.bodies if b.name == name)
+
+    def global_position(self, point: Point) -> np.ndarray:
+        """Position of a point at the given state (m)."""
+        if point.kind != "body":
+            return point.position.copy()
+        body = self.body(point.body)
+        return body.position + body.rotation_matrix() @ point.position
+
+    @property
+    def coupled(self) -> list:
+        """The coupled objects in MoorDyn's coupled-DOF order: bodies, then points."""
+        return ([b for b in self.bodies if b.kind == "coupled"]
+                + [p for p in self.points if p.kind == "coupled"])
+
+    @property
+    def n_coupled_dofs(self) -> int:
+        return sum(6 if isinstance(c, Body) else 3 for c in self.coupled)
+
+    def coupled_positions(self) -> np.ndarray:
+        """MoorDyn's coupled-DOF vector of the given positions (body angles in rad)."""
+        parts = [np.r_[c.position, c.attitude] if isinstance(c, Body) else c.position
+                 for c in self.coupled]
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def moordyn_rotation(angles) -> np.ndarray:
+    """MoorDyn's body rotation for (roll, pitch, yaw) in rad: R = Rx Ry Rz."""
+    (cx, cy, cz), (sx, sy, sz) = np.cos(angles), np.sin(angles)
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]])
+    ry = np.array([[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]])
+    rz = np.array([[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]])
+    return rx @ ry @ rz
+
+
+def _vector(name, value) -> np.ndarray:
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: expected three numbers, got {value!r}") from None
+    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: expected three finite numbers, got {value!r}")
+    return arr
+
+
+# ------------------------------------------------------------ reference states
+
+def _on_bed(z, seabed_z, scale):
+    return seabed_z is not None and abs(z - seabed_z) <= 1e-6 * max(scale, 1.0)
+
+
+def line_catenary(line_type: LineType, length, a, b, seabed_z=None):
+    """(catenary, flipped) of a weighted line between a and b (m): the elastic catenary
+    solved from its lower end (with touchdown when that end is on the bed at seabed_z),
+    flipped = True when that is end b; None when there is none (weightless or buoyant,
+    or slack on the bed)."""
+    w = line_type.weight
+    if w <= 0:
+        return None, False
+    flipped = b[2] < a[2]
+    low, high = (b, a) if flipped else (a, b)
+    bed = seabed_z if _on_bed(low[2], seabed_z, length) else None
+    try:
+        cat = solve_catenary(low, high, w, line_type.EA, length=length, seabed_z=bed)
+    except ValueError:
+        return None, flipped
+    return cat, flipped
+
+
+def reference_line(name, line_type: LineType, length, n_elements, a, b, seabed_z=None):
+    """(Line from a to b, its analytic catenary or None): the line's reference state."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    cat, flipped = line_catenary(line_type, length, a, b, seabed_z)
+    if cat is not None:
+        line = Line.from_catenary(cat, line_type, n_elements, name=name)
+        return (line.reversed() if flipped else line), cat
+    chord = float(np.linalg.norm(b - a))
+    if chord == 0:
+        raise ValueError(f"line {name}: both ends at the same place {a}")
+    if chord >= length:  # straight and taut, tension EA (stretch - 1)
+        stretch = chord / length
+        if stretch > 1.5:
+            raise ValueError(f"line {name}: its ends are {chord:.6g} m apart, {100 * (stretch - 1):.3g} % "
+                             f"beyond its length {length:.6g} m")
+        s = np.linspace(0.0, chord, n_elements + 1)
+        X = a + s[:, None] / chord * (b - a)
+        tangent = (b - a) / chord
+        T = line_type.EA * (stretch - 1)
+        return Line(name, line_type, s, X, lambda sq: np.broadcast_to(tangent, np.shape(sq) + (3,)),
+                    lambda sq: np.full(np.shape(sq), T),
+                    lambda sq: np.full(np.shape(sq), stretch)), None
+    return Line.from_polyline(_sagging(a, b, length, n_elements, line_type.weight, seabed_z),
+                              line_type, name=name), None
+
+
+def _sagging(a, b, length, n, weight, seabed_z):
+    """A stress-free polyline of ``length`` (m) from a to b, sagging down (up for a buoyant
+    line) as a parabola, kept above the bed: the slack line's first guess."""
+    t = np.linspace(0.0, 1.0, n + 1)[:, None]
+    direction = np.array([0.0, 0.0, 1.0 if weight < 0 else -1.0])
+
+    def shape(d):
+        X = a + t * (b - a) + d * 4 * t * (1 - t) * direction
+        if seabed_z is not None:
+            X[:, 2] = np.maximum(X[:, 2], seabed_z)
+        return X
+
+    def excess(d):
+        return np.linalg.norm(np.diff(shape(d), axis=0), axis=1).sum() - length
+
+    low, high = 0.0, length
+    if excess(high) < 0:  # the bed stops it: lay the rest in plan, bent sideways
+        raise ValueError(f"a line of {length:.6g} m between {a} and {b} cannot be laid out "
+                         "as a first guess: give its ends further apart")
+    for _ in range(200):
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if excess(mid) < 0 else (low, mid)
+        if high - low < 1e-12 * length:
+            break
+    return shape(high)
+
+
+def line_end_forces(line_type: LineType, length, a, b, seabed_z=None):
+    """(f_a, f_b): static forces (N) the line exerts on its ends at a and b, from the
+    analytic catenary, a taut weightless line, or (slack) half its weight at each end."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    cat, flipped = line_catenary(line_type, length, a, b, seabed_z)
+    if cat is not None:
+        f_low, f_high = cat.anchor_force(), cat.fairlead_force()
+        return (f_high, f_low) if flipped else (f_low, f_high)
+    chord = np.linalg.norm(b - a)
+    if line_type.weight < 0 and chord < length:  # buoyant and slack: mirror the catenary
+        mirror = np.array([1.0, 1.0, -1.0])
+        upside = LineType(line_type.EA, line_type.mass, line_type.diameter,
+                          weight=-line_type.weight, rho_water=line_type.rho_water, g=line_type.g)
+        fa, fb = line_end_forces(upside, length, a * mirror, b * mirror)
+        return fa * mirror, fb * mirror
+    if chord >= length:
+        pull = line_type.EA * (chord / length - 1) * (b - a) / chord
+        half = np.array([0.0, 0.0, -0.5 * line_type.weight * length])
+        return pull + half, -pull + half
+    half = np.array([0.0, 0.0, -0.5 * line_type.weight * length])
+    return half, half.copy()
+
+
+def settle_points(network: Network) -> dict:
+    """Free-point positions (m) where the analytic line end forces balance each point's
+    net buoyancy (the catenary-network first guess; bodies held where they are given).
+    Returns {name: position}; the given positions where the solve does not converge."""
+    free = [p for p in network.points if p.kind == "free"]
+    given = {p.name: network.global_position(p) for p in network.points}
+    if not free:
+        return given
+    index = {p.name: k for k, p in enumerate(free)}
+    bed = -network.depth
+    scale = max(max(ln.line_type.weight * ln.length, ln.line_type.EA * 1e-6)
+                for ln in network.lines)
+
+    def imbalance(z):
+        where = dict(given)
+        for p in free:
+            where[p.name] = z[3 * index[p.name]: 3 * index[p.name] + 3]
+        F = np.zeros(3 * len(free))
+        for p in free:
+            F[3 * index[p.name] + 2] += (network.rho * p.volume - p.mass) * network.g
+        for ln in network.lines:
+            fa, fb = line_end_forces(ln.line_type, ln.length, where[ln.a], where[ln.b], bed)
+            for end, f in ((ln.a, fa), (ln.b, fb)):
+                if end in index:
+                    F[3 * index[end]: 3 * index[end] + 3] += f
+        return F / scale
+
+    z0 = np.concatenate([given[p.name] for p in free])
+    try:
+        with np.errstate(all="ignore"):
+            sol = root(imbalance, z0, method="hybr", options={"xtol": 1e-12})
+    except (ValueError, ArithmeticError):
+        return given
+    if not sol.success or np.max(np.abs(imbalance(sol.x))) > 1e-6:
+        return given
+    settled = dict(given)
+    for p in free:
+        z = sol.x[3 * index[p.name]: 3 * index[p.name] + 3].copy()
+        z[2] = max(z[2], bed)
+        settled[p.name] = z
+    return settled
+
+
+# ------------------------------------------------------------ network -> System
+
+def build_system(network: Network, positions: dict | None = None):
+    """(System, LineSet, catenaries) of a network whose points sit at ``positions``
+    (default: settled by :func:`settle_points`)."""
+    positions = settle_points(network) if positions is None else positions
+    bed = -network.depth
+    lines, catenaries = [], []
+    for ln in network.lines:
+        try:
+            line, cat = reference_line(ln.name, ln.line_type, ln.length, int(ln.n_elements),
+                                       positions[ln.a], positions[ln.b], bed)
+        except ValueError as err:
+            message = str(err)
+            raise ValueError(message if message.startswith(f"line {ln.name}")
+                             else f"line {ln.name}: {message}") from None
+        lines.append(line)
+        catenaries.append(cat)
+    lineset = LineSet(lines, law=network.strain_law)
+    dynamic = [b for b in network.bodies if b.kind == "dynamic"]
+    body_index = {b.name: k for k, b in enumerate(dynamic)}
+    free = [p for p in network.points if p.kind == "free"]
+    point_index = {p.name: k for k, p in enumerate(free)}
+    slots = []  # prescribed ends: (coupled object, point)
+    points = {p.name: p for p in network.points}
+
+    def end(name):
+        p = points[name]
+        if p.kind == "fixed":
+            return ("fixed",)
+        if p.kind == "free":
+            return ("point", point_index[name])
+        body = network.body(p.body) if p.kind == "body" else None
+        if body is not None and body.kind == "dynamic":
+            return ("body", body_index[body.name])
+        if body is not None and body.kind == "fixed":
+            return ("fixed",)
+        slots.append(p)
+        return ("prescribed", len(slots) - 1)
+
+    ends = Ends([end(ln.a) for ln in network.lines], [end(ln.b) for ln in network.lines])
+    motion = _slot_motion(network, slots) if slots else None
+    masses = [PointMass(p.mass, p.volume, p.CdA, p.Ca, rho=network.rho, g=network.g)
+              for p in free]
+    terms = []
+    if network.seabed is not None:
+        terms.append(seabed_term(lineset, network.seabed))
+    if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
+                             for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
+        terms += line_hydrodynamics(lineset, network.sea)
+    body_terms = []
+    for k, body in enumerate(dynamic):
+        for term in body.terms:
+            body_terms.append(BodyTerm(term.load, term.added_mass, body=k))
+    system = System(lineset, ends=ends, bodies=[b.rigid for b in dynamic], points=masses,
+                    motion=motion, body_load=[b.load for b in dynamic], terms=terms,
+                    body_terms=body_terms, sea=network.sea)
+    return system, lineset, catenaries
+
+
+def _slot_motion(network: Network, slots):
+    """motion(t) -> (nslots, 3) displacements of the prescribed ends from the network's
+    coupled-DOF motion (zeros without one)."""
+    offsets, start = {}, 0
+    for obj in network.coupled:
+        size = 6 if isinstance(obj, Body) else 3
+        offsets[(type(obj).__name__, obj.name)] = slice(start, start + size)
+        start += size
+    n = start
+
+    def motion(t):
+        y = np.zeros(n) if network.motion is None else np.asarray(network.motion(t), float).ravel()
+        if y.shape != (n,):
+            raise ValueError(f"motion: expected {n} coupled DOFs "
+                             f"({', '.join(o.name for o in network.coupled)}), got {y.shape}")
+        out = np.zeros((len(slots), 3))
+        for k, p in enumerate(slots):
+            if p.kind == "coupled":
+                out[k] = y[offsets[("Point", p.name)]]
+                continue
+            body = network.body(p.body)
+            q = y[offsets[("Body", body.name)]]
+            r = p.position
+            out[k] = (q[:3] + body.rotation_matrix(body.attitude + q[3:]) @ r
+                      - body.rotation_matrix() @ r)
+        return out
+
+    return motion
