@@ -93,7 +93,9 @@ def _six(values, kind):
     """MoorDyn's expansion of a body's CdA (1, 2, 3 or 6 values) or Ca (1 or 3)."""
     v = [float(x) for x in values]
     if kind == "CdA":
-        return {1: v * 6, 2: [v[0]] * 3 + [v[1]] * 3, 3: v + v, 6: v}[len(v)]
+        if len(v) == 2:
+            return [v[0]] * 3 + [v[1]] * 3
+        return v * 6 if len(v) == 1 else v + v if len(v) == 3 else v
     return (v * 3 if len(v) == 1 else v) + [0.0, 0.0, 0.0]
 
 
@@ -173,15 +175,11 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
 
 
 def _seabed(deck: Deck, network: Network):
-    """MoorDyn's bottom for the deck's lines (one diameter), or None when kBot = 0."""
+    """MoorDyn's bottom for the deck's lines (pressures kBot, cBot on each line's
+    diameter), or None when kBot = 0."""
     if deck.option("kBot") == 0:
         return None
     depth = deck.depth
-    diameters = sorted({line.line_type.diameter for line in network.lines})
-    if len(diameters) > 1:
-        raise ValueError(f"{deck.source}: lines of different diameters ({diameters} m) "
-                         "on MoorDyn's bottom (pressures kBot, cBot on d l) are not "
-                         "supported yet")
     mu = deck.option("FrictionCoefficient")
     mu_axial, mu_lateral = deck.option("mu_kA", mu), deck.option("mu_kT", mu)
     friction = {}
@@ -190,8 +188,8 @@ def _seabed(deck: Deck, network: Network):
                       for line in network.lines)
         friction = dict(mu_axial=mu_axial, mu_lateral=mu_lateral,
                         friction_velocity=segment / deck.option("FricDamp"))
-    return Seabed(depth, stiffness=deck.option("kBot") * diameters[0],
-                  damping=deck.option("cBot") * diameters[0], **friction)
+    return Seabed(depth, stiffness=deck.option("kBot"), damping=deck.option("cBot"),
+                  per_diameter=True, **friction)
 
 
 def heave_motion(deck: Deck, amplitude: float, period: float, ramp=None):
@@ -265,10 +263,10 @@ def default_time_step(model, period=None) -> float:
     dt = 0.05
     bed = model.network.seabed
     if bed is not None:
-        k, _ = bed.coefficients(model.lines)
-        m = max(lt.mass + lt.Ca_n * lt.rho_water * lt.area
-                for lt in (line.line_type for line in model.lines.lines))
-        dt = min(dt, 2 * np.pi * np.sqrt(m / k) / 8)
+        k, _ = bed.cell_coefficients(model.lines)
+        m = np.array([lt.mass + lt.Ca_n * lt.rho_water * lt.area for lt in
+                      (line.line_type for line in model.lines.lines)])[model.lines.line_of_cell]
+        dt = min(dt, float(np.min(2 * np.pi * np.sqrt(m / k) / 8)))
     if period:
         dt = min(dt, period / 100)
     return float(dt)

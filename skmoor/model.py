@@ -31,7 +31,9 @@ class Model:
     per network line, in order), ``network`` (points, lines, bodies), ``catenaries`` (the
     analytic catenary of each line between its ends as given, None where there is none),
     ``settings`` (solver, damping, load: the case's, or defaults for a deck), ``name``,
-    ``depth`` (m), ``draft`` (m, the paper layout's) and ``source`` (the Case or Deck)."""
+    ``depth`` (m), ``draft`` (m, the paper layout's), ``source`` (the Case or Deck) and
+    ``positions`` (each point's position in the reference state, m: the free points
+    settled on catenaries)."""
 
     name: str
     system: object
@@ -43,6 +45,7 @@ class Model:
     draft: float | None = None
     source: object = None
     notes: list = field(default_factory=list)
+    positions: dict = field(default_factory=dict)  # point name -> reference position, m
 
     @property
     def case(self):
@@ -118,9 +121,9 @@ def _on_deck_line(deck, err) -> ValueError:
 def from_network(network: Network, *, name="network", settings=None, draft=None,
                  source=None, notes=()) -> Model:
     """Build a Network into a Model (statics not yet solved: see :func:`skmoor.equilibrium`)."""
-    system, lineset, catenaries = build_system(network)
+    system, lineset, catenaries, positions = build_system(network)
     return Model(name, system, lineset, network, catenaries, dict(settings or {}),
-                 network.depth, draft, source, list(notes))
+                 network.depth, draft, source, list(notes), positions)
 
 
 def _settings(case) -> dict:
@@ -273,10 +276,10 @@ def _paper_layout(case, motion=None) -> Model:
                       seabed=environment.seabed(case.data), sea=water_sea,
                       hydro=environment.has_line_hydrodynamics(case.data),
                       strain_law=case.strain_law, motion=motion)
-    system, lineset, _ = build_system(network, positions={
+    system, lineset, _, positions = build_system(network, positions={
         p.name: network.global_position(p) for p in points})
     return Model(case.name, system, lineset, network, cats, _settings(case), network.depth,
-                 draft, case)
+                 draft, case, positions=positions)
 
 
 def body_load(case, load=None):

@@ -356,8 +356,8 @@ def settle_points(network: Network) -> dict:
 # ------------------------------------------------------------ network -> System
 
 def build_system(network: Network, positions: dict | None = None):
-    """(System, LineSet, catenaries) of a network whose points sit at ``positions``
-    (default: settled by :func:`settle_points`)."""
+    """(System, LineSet, catenaries, positions) of a network whose points sit at
+    ``positions`` ({name: (3,) m}; default: settled by :func:`settle_points`)."""
     positions = settle_points(network) if positions is None else positions
     bed = -network.depth
     lines, catenaries = [], []
@@ -410,7 +410,7 @@ def build_system(network: Network, positions: dict | None = None):
     system = System(lineset, ends=ends, bodies=[b.rigid for b in dynamic], points=masses,
                     motion=motion, body_load=[b.load for b in dynamic], terms=terms,
                     body_terms=body_terms, sea=network.sea)
-    return system, lineset, catenaries
+    return system, lineset, catenaries, positions
 
 
 def _slot_motion(network: Network, slots):

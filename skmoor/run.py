@@ -170,11 +170,13 @@ def mooring_stiffness(model: Model, eq: Equilibrium | None = None, body=None) ->
     eq = eq or equilibrium(model)
     system, network = model.system, model.network
     dynamic = [b.name for b in network.bodies if b.kind == "dynamic"]
-    if not dynamic:
-        raise ValueError("mooring_stiffness: the model has no dynamic body")
-    name = dynamic[0] if body is None else body
+    coupled = [b.name for b in network.bodies if b.kind == "coupled"]
+    name = (dynamic + coupled)[0] if body is None and dynamic + coupled else body
+    if name in coupled:
+        return _coupled_stiffness(model, eq, network.body(name))
     if name not in dynamic:
-        raise ValueError(f"mooring_stiffness body: {name!r} is not a dynamic body {dynamic}")
+        raise ValueError(f"mooring_stiffness body: {name!r} is not a dynamic or coupled "
+                         f"body {dynamic + coupled}")
     k = dynamic.index(name)
     _, K, _ = system.residual(eq.x, layout="dense")
     keep = np.arange(system.nf + 6 * k, system.nf + 6 * k + 6)
@@ -183,6 +185,47 @@ def mooring_stiffness(model: Model, eq: Equilibrium | None = None, body=None) ->
                  - K[np.ix_(keep, rest)] @ np.linalg.solve(K[np.ix_(rest, rest)],
                                                            K[np.ix_(rest, keep)]))
     return condensed - system.K_bodies[k]
+
+
+def _coupled_stiffness(model: Model, eq: Equilibrium, body, step=1e-4) -> np.ndarray:
+    """-dF/dq of a coupled body by central differences: each of its DOFs moved by +-step
+    (m, rad), the rest of the network solved again statically, F = [sum f, sum r x f] of
+    the lines' forces f on its points at r from its reference point."""
+    system, network = model.system, model.network
+    n = network.n_coupled_dofs
+    start = 0
+    for obj in network.coupled:
+        if obj is body:
+            break
+        start += 6 if obj in network.bodies else 3
+    ends = [(k, end) for k, line in enumerate(network.lines) for end, point in
+            (("a", line.a), ("b", line.b)) if network.point(point).kind == "body"
+            and network.point(point).body == body.name]
+    given, x = network.motion, eq.x
+    K = np.zeros((6, 6))
+    try:
+        for j in range(6):
+            loads = []
+            for sign in (1.0, -1.0):
+                y = np.zeros(n)
+                y[start + j] = sign * step
+                network.motion = lambda t, y=y: y
+                system._prescribed_cache = (None, None, None)
+                x = static_state(system, x).x
+                fb, fa = system.reactions(x)
+                F = np.zeros(6)
+                for k, end in ends:
+                    f = fb[k] if end == "b" else fa[k]
+                    node = model.lines.fairlead_nodes[k] if end == "b" else model.lines.anchor_nodes[k]
+                    r = model.lines.points[node] + system.full_displacement(x)[
+                        model.lines.nodal_dofs[node]] - body.position - y[start:start + 3]
+                    F += np.r_[f, np.cross(r, f)]
+                loads.append(F)
+            K[:, j] = -(loads[0] - loads[1]) / (2 * step)
+    finally:
+        network.motion = given
+        system._prescribed_cache = (None, None, None)
+    return K
 
 
 class _Recorder:
@@ -201,7 +244,7 @@ class _Recorder:
             size = 6 if obj in network.bodies else 3
             self._coupled[obj.name] = slice(start, start + size)
             start += size
-        self._point_reference = np.array([network.global_position(p) for p in network.points]
+        self._point_reference = np.array([model.positions[p.name] for p in network.points]
                                          ).reshape(-1, 3)
         system = model.system
         self._free = {}

@@ -59,8 +59,9 @@ class Seabed:
     and across the line. slope_deg: rise of the plane, degrees, towards the horizontal
     heading slope_heading_deg (degrees from +x towards +y). friction_velocity: slip
     velocity v0 of the regularisation, m/s. damping_onset: penetration over which the
-    damping fades in, m (default: a tenth of the heaviest line's static penetration w / k;
-    0: MoorDyn's jump at touchdown).
+    damping fades in, m (default: a tenth of the largest static penetration w / k;
+    0: MoorDyn's jump at touchdown). per_diameter: stiffness and damping are pressures
+    (Pa/m, Pa s/m) on each line's diameter, as MoorDyn's kBot and cBot.
     """
 
     depth: float
@@ -72,6 +73,7 @@ class Seabed:
     slope_heading_deg: float = 0.0
     friction_velocity: float = 1e-3
     damping_onset: float | None = None
+    per_diameter: bool = False
 
     def __post_init__(self):
         check_positive("Seabed.depth", self.depth)
@@ -100,6 +102,14 @@ class Seabed:
         check_positive("Seabed.from_moordyn.diameter", diameter)
         return cls(depth, stiffness=kBot * diameter, damping=cBot * diameter,
                    mu_axial=FrictionCoefficient, mu_lateral=FrictionCoefficient, **kw)
+
+    def cell_coefficients(self, lines):
+        """(nel,) stiffness (N/m2) and damping (N s/m2) of each element of a LineSet."""
+        k, c = self.coefficients(lines)
+        if not self.per_diameter:
+            return np.full(len(lines.line_of_cell), k), np.full(len(lines.line_of_cell), c)
+        d = np.array([line.line_type.diameter for line in lines.lines])[lines.line_of_cell]
+        return k * d, c * d
 
     @property
     def normal(self) -> np.ndarray:
@@ -136,11 +146,13 @@ class Seabed:
         return float(k), float(c)
 
     def onset(self, lines) -> float:
-        """The damping onset (m) with the default resolved for a LineSet."""
+        """The damping onset (m) with the default resolved for a LineSet: a tenth of the
+        largest static penetration w / k of its lines."""
         if self.damping_onset is not None:
             return float(self.damping_onset)
-        k, _ = self.coefficients(lines)
-        return 0.1 * max(abs(line.line_type.weight) for line in lines.lines) / k
+        k, _ = self.cell_coefficients(lines)
+        w = np.array([abs(line.line_type.weight) for line in lines.lines])[lines.line_of_cell]
+        return float(0.1 * np.max(w / k))
 
 
 # --- the pointwise physics, component axis first: x, rp, ud (3, ...), n (3, 1, ...)
@@ -264,12 +276,14 @@ def seabed_term(lines, seabed, *, fast=True):
     to round-off)."""
     if fast:
         return SeabedKernel(lines, seabed)
-    k, c = seabed.coefficients(lines)
+    k, c = seabed.cell_coefficients(lines)
+    nqp = lines.nodal_basis.X.shape[1]
     fields = dict(X=_reference_positions(lines), bed_n=seabed.normal[:, None, None],
-                  bed_offset=seabed.offset, k_bed=k, c_bed=c, bed_onset=seabed.onset(lines),
+                  bed_offset=seabed.offset, k_bed=np.repeat(k[:, None], nqp, axis=1),
+                  c_bed=np.repeat(c[:, None], nqp, axis=1), bed_onset=seabed.onset(lines),
                   mu_a=float(seabed.mu_axial), mu_l=float(seabed.mu_lateral),
                   v0=float(seabed.friction_velocity))
-    moving = c > 0 or seabed.mu_axial > 0 or seabed.mu_lateral > 0
+    moving = np.any(c > 0) or seabed.mu_axial > 0 or seabed.mu_lateral > 0
     return Term(seabed_residual, seabed_stiffness, seabed_damping if moving else None,
                 fields=fields, quadrature="nodal")
 
@@ -280,7 +294,7 @@ class SeabedKernel:
     quadrature points (2 per element: node i of element e with weight h_e / 2)."""
 
     def __init__(self, lines, seabed):
-        self.k, self.c = seabed.coefficients(lines)
+        self.k, self.c = seabed.cell_coefficients(lines)
         self.onset = seabed.onset(lines)
         self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
         self.v0 = float(seabed.friction_velocity)
@@ -291,7 +305,7 @@ class SeabedKernel:
         self.X = np.ascontiguousarray(lines.points[t])  # (2, nel, 3)
         self.pattern = ElementPattern(lines)
         self.friction = self.mu_a > 0 or self.mu_l > 0
-        self.moving = self.c > 0 or self.friction
+        self.moving = bool(np.any(self.c > 0)) or self.friction
         self._no_velocity = np.zeros(lines.ndofs)
 
     def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
@@ -330,8 +344,8 @@ def _seabed(X, ends, h, n, offset, k, c, onset, mu_a, mu_l, v0, friction, u, ud,
             else:
                 Hc = min(max(g / onset, 0.0), 1.0)
                 dHc = 1.0 / onset if g > 0 and g < onset else 0.0
-            push = -(k * g * H - c * vn * Hc)
-            N = k * g * H
+            push = -(k[e] * g * H - c[e] * vn * Hc)
+            N = k[e] * g * H
             if friction and H > 0:  # _slip and _friction_direction
                 for i in range(3):
                     rp[i] = (X[1, e, i] + u[ends[1, e, i]] - X[0, e, i] - u[ends[0, e, i]]) / h[e]
@@ -364,9 +378,9 @@ def _seabed(X, ends, h, n, offset, k, c, onset, mu_a, mu_l, v0, friction, u, ud,
                 for q in range(3):
                     # through the penetration: the spring, the damping's fade-in, the
                     # friction's normal force; the damping's rate
-                    Ke[e, o + p, o + q] += W * ((k * H - c * vn * dHc) * n[p] * n[q]
-                                                - k * H * F[p] * n[q])
-                    Ce[e, o + p, o + q] += W * c * Hc * n[p] * n[q]
+                    Ke[e, o + p, o + q] += W * ((k[e] * H - c[e] * vn * dHc) * n[p] * n[q]
+                                                - k[e] * H * F[p] * n[q])
+                    Ce[e, o + p, o + q] += W * c[e] * Hc * n[p] * n[q]
             if not (friction and H > 0):
                 continue
             # d/du through a, per unit change of the chord (du_1 - du_0) / h, and d/dudot
