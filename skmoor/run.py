@@ -39,14 +39,15 @@ class Equilibrium:
     rayleigh: tuple
 
 
-def static_state(system, x0=None):
+def static_state(system, x0=None, held=None):
     """The static solution of a System: Newton from the reference state, then with load
-    continuation, then also with a vanishing tension stiffness (for slack lines)."""
+    continuation, then also with a vanishing tension stiffness (for slack lines). held:
+    reduced DOFs kept where x0 has them."""
     attempts = [dict(), dict(steps=8), dict(steps=8, pretension=_pretension(system))]
     error = None
     for options in attempts:
         try:
-            return solve_static(system, x0, **options)
+            return solve_static(system, x0, held=held, **options)
         except (ConvergenceError, ValueError) as err:
             error = err
     raise ConvergenceError(f"{error}. The network has no static equilibrium near the "
@@ -84,9 +85,21 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
     return Equilibrium(static.x, K, modes, C, (a0, a1))
 
 
+def released_state(model: Model) -> np.ndarray:
+    """The reduced state with the free points and dynamic bodies held where the model
+    gives them and the lines in static equilibrium between them (a release from rest)."""
+    system = model.system
+    held = np.concatenate([system.point_columns.ravel(), np.arange(system.nf, system.n)])
+    return static_state(system, np.zeros(system.n), held=held.astype(int)).x
+
+
 def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
-             progress=True, eq: Equilibrium | None = None) -> Results:
-    """Time history of ``model`` from static rest; settings default to the model's."""
+             progress=True, eq: Equilibrium | None = None, start="equilibrium") -> Results:
+    """Time history of ``model`` from rest; settings default to the model's. start:
+    'equilibrium' (the static state) or 'given' (free points and bodies released from
+    their given positions, the lines in equilibrium between them: a pendulum let go)."""
+    if start not in ("equilibrium", "given"):
+        raise ValueError(f"simulate start: {start!r} is not 'equilibrium' or 'given'")
     solver = model.solver
     duration = float(duration or solver["duration"])
     dt = float(dt or solver["dt"])
@@ -94,9 +107,10 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     scheme = Scheme.named(solver["scheme"], solver.get("rho_inf", 0.8))
     started = time.perf_counter()
     eq = eq or equilibrium(model)
+    x0 = eq.x if start == "equilibrium" else released_state(model)
     recorder = _Recorder(model)
     n_steps = int(np.ceil(duration / dt - 1e-9))
-    stopped = record_run(model.system, eq.x, dt=dt, duration=duration, every=every,
+    stopped = record_run(model.system, x0, dt=dt, duration=duration, every=every,
                          record=recorder.record, C=eq.C, scheme=scheme, progress=progress,
                          label=model.name)
     meta = _meta(model, eq)
@@ -246,14 +260,23 @@ class _Recorder:
             start += size
         self._point_reference = np.array([model.positions[p.name] for p in network.points]
                                          ).reshape(-1, 3)
-        system = model.system
-        self._free = {}
-        k = 0
-        for p in network.points:
+        self._system = system = model.system
+        index = {b.name: k for k, b in enumerate(network.bodies)}
+        free = iter(range(len(system.point_masses)))
+        self._plan = []  # per point: how its displacement is found
+        for i, p in enumerate(network.points):
+            body = network.body(p.body) if p.kind == "body" else None
             if p.kind == "free":
-                self._free[p.name] = k
-                k += 1
-        self._system = system
+                self._plan.append(("free", system.point_columns[next(free)]))
+            elif p.kind == "coupled":
+                self._plan.append(("coupled", self._coupled[p.name]))
+            elif body is not None and body.kind == "dynamic":
+                r = self._point_reference[i] - body.rigid.reference_point
+                self._plan.append(("dynamic", index[body.name], np.ascontiguousarray(r[None, :])))
+            elif body is not None and body.kind == "coupled":
+                self._plan.append(("moved", index[body.name], body, p.position))
+            else:
+                self._plan.append(("fixed",))
 
     def _bodies(self, x, y):
         network, out = self.model.network, []
@@ -267,23 +290,19 @@ class _Recorder:
         return np.array(out).reshape(-1, 6)
 
     def _points(self, x, y, bodies):
-        network = self.model.network
-        out = np.zeros((len(network.points), 3))
-        index = {b.name: k for k, b in enumerate(network.bodies)}
-        for i, p in enumerate(network.points):
-            if p.kind == "free":
-                out[i] = x[self._system.point_columns[self._free[p.name]]]
-            elif p.kind == "coupled":
-                out[i] = y[self._coupled[p.name]]
-            elif p.kind == "body":
-                body = network.body(p.body)
-                q = bodies[index[body.name]]
-                if body.kind == "dynamic":
-                    r = self._point_reference[i] - body.rigid.reference_point
-                    out[i] = rigid.attachment_displacement(q, r[None, :])[0]
-                elif body.kind == "coupled":
-                    out[i] = (q[:3] + body.rotation_matrix(body.attitude + q[3:]) @ p.position
-                              - body.rotation_matrix() @ p.position)
+        out = np.zeros((len(self._plan), 3))
+        for i, plan in enumerate(self._plan):
+            kind = plan[0]
+            if kind == "free":
+                out[i] = x[plan[1]]
+            elif kind == "coupled":
+                out[i] = y[plan[1]]
+            elif kind == "dynamic":
+                out[i] = rigid.attachment_state(bodies[plan[1]], plan[2])[0][0]
+            elif kind == "moved":
+                q, body, r = bodies[plan[1]], plan[2], plan[3]
+                out[i] = (q[:3] + body.rotation_matrix(body.attitude + q[3:]) @ r
+                          - body.rotation_matrix() @ r)
         return out
 
     def record(self, state):

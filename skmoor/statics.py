@@ -81,29 +81,35 @@ def line_search(residual, x, R, dx, maxeval=10):
 
 
 def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
-                 pretension=None):
+                 pretension=None, held=None):
     """Static equilibrium of a :class:`~skmoor.coupling.System` at time t.
 
     steps > 1 ramps the weight and the body's static load in equal increments (load
     continuation), each solved from the previous one. pretension (N): a temporary
     tension stiffness that lets Newton start from a slack, stress-free line (use about
     the line's weight); it is removed before convergence, so it does not change the
-    answer.
+    answer. held: indices of reduced DOFs kept at their x0 values (e.g. free points held
+    where they are given, to release them from there).
     """
     x = np.zeros(system.n) if x0 is None else np.array(x0, float)
+    keep = np.setdiff1d(np.arange(system.n), [] if held is None else held)
     G = None
     if pretension:
         P = system.P(x)
-        G = (P.T @ system.lines.unit_tension_stiffness() @ P).tocsr()
+        G = (P.T @ system.lines.unit_tension_stiffness() @ P).tocsr()[keep][:, keep]
     total = 0
     for k in range(1, steps + 1):
         factor = k / steps
 
         def residual(y, factor=factor):
-            R, K, _ = system.residual(y, t=t, load_factor=factor)
-            return R, K
+            full = x.copy()
+            full[keep] = y
+            R, K, _ = system.residual(full, t=t, load_factor=factor)
+            return R[keep], K.tocsr()[keep][:, keep]
 
-        sol = newton(residual, x, xtol=xtol, maxiter=maxiter, shift=pretension,
+        sol = newton(residual, x[keep], xtol=xtol, maxiter=maxiter, shift=pretension,
                      shift_matrix=G, where=f"static solve, load step {k}/{steps}")
-        x, total = sol.x, total + sol.iterations
+        x = x.copy()
+        x[keep] = sol.x
+        total += sol.iterations
     return StaticSolution(x, total, sol.residual)
