@@ -233,7 +233,8 @@ def read_motion(path, n_dofs: int):
     (s) first, then the coupled DOFs' displacements from the deck's positions in MoorDyn's
     order (6 per coupled body: m, m, m, rad, rad, rad; then 3 per coupled point, m); lines
     starting with '#' are comments. Linear interpolation between rows, the first and last
-    rows held outside them."""
+    rows continued along the first / last interval for one interval beyond the table (so
+    that a run ending at its last row sees a smooth velocity), then held."""
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"--motion: no such file {path}")
@@ -251,8 +252,12 @@ def read_motion(path, n_dofs: int):
     if np.any(np.diff(t) <= 0):
         raise ValueError(f"{path.name}: the times must increase row by row")
 
+    head = np.vstack([2 * table[0] - table[1], table, 2 * table[-1] - table[-2]]) \
+        if len(table) > 1 else table
+    t = head[:, 0]
+
     def motion(time):
-        return np.array([np.interp(time, t, column) for column in table[:, 1:].T])
+        return np.array([np.interp(time, t, column) for column in head[:, 1:].T])
 
     return motion
 
