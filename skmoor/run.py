@@ -203,8 +203,9 @@ def mooring_stiffness(model: Model, eq: Equilibrium | None = None, body=None) ->
 
 def _coupled_stiffness(model: Model, eq: Equilibrium, body, step=1e-4) -> np.ndarray:
     """-dF/dq of a coupled body by central differences: each of its DOFs moved by +-step
-    (m, rad), the rest of the network solved again statically, F = [sum f, sum r x f] of
-    the lines' forces f on its points at r from its reference point."""
+    (m, rad), the rest of the network solved again statically, F = sum J(q)^T f the
+    generalized load of the lines' forces f on its points (J = d(point)/dq with
+    R = Rz Ry Rx, as for a dynamic body)."""
     system, network = model.system, model.network
     n = network.n_coupled_dofs
     start = 0
@@ -228,12 +229,12 @@ def _coupled_stiffness(model: Model, eq: Equilibrium, body, step=1e-4) -> np.nda
                 x = static_state(system, x).x
                 fb, fa = system.reactions(x)
                 F = np.zeros(6)
+                q = y[start:start + 6]
                 for k, end in ends:
                     f = fb[k] if end == "b" else fa[k]
                     node = model.lines.fairlead_nodes[k] if end == "b" else model.lines.anchor_nodes[k]
-                    r = model.lines.points[node] + system.full_displacement(x)[
-                        model.lines.nodal_dofs[node]] - body.position - y[start:start + 3]
-                    F += np.r_[f, np.cross(r, f)]
+                    r = model.lines.points[node] - body.position
+                    F += rigid.attachment_jacobian(q, r[None, :])[0].T @ f
                 loads.append(F)
             K[:, j] = -(loads[0] - loads[1]) / (2 * step)
     finally:
