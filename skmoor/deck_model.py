@@ -119,7 +119,8 @@ def _deck_body(deck: Deck, body, sea) -> Body:
     com = position + R0 @ cg
     hydro = (Hydrostatics.submerged(body.volume, com, position) if body.volume > 0 else None)
     added = deck.rho * body.volume * np.diag(_six(body.Ca, "Ca"))
-    rigid = RigidBody(body.mass, com, R0 @ np.diag(inertia) @ R0.T, reference_point=position,
+    rotated = R0 @ np.diag(inertia) @ R0.T
+    rigid = RigidBody(body.mass, com, 0.5 * (rotated + rotated.T), reference_point=position,
                       hydrostatics=hydro, added_mass=added, rho=deck.rho, g=deck.g)
     terms = []
     cda = _six(body.CdA, "CdA")
@@ -141,6 +142,9 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     """
     deck = read_deck(deck) if not isinstance(deck, Deck) else deck
     _check_options(deck)
+    if not deck.g > 0:
+        raise _fail(deck, deck.option_lines.get("g", "?"), f"option g = {deck.g:g}: "
+                    "gravity must be positive (skmoor's lines and bodies need weight)")
     sea = Sea(deck.depth, rho=deck.rho, g=deck.g) if sea is None else sea
     bodies = [_deck_body(deck, b, sea) for b in deck.bodies]
     points = []
