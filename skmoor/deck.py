@@ -295,8 +295,9 @@ def read_deck(path) -> Deck:
     for entry in entries.get("OUTPUTS", []):
         deck.outputs.extend(entry.words)
     if not deck.lines:
-        raise ValueError(f"{deck.source}: no LINES section with at least one line "
-                         "(MoorDyn needs one)")
+        raise ValueError(f"{deck.source} line {len(text)}: no LINES section with at least "
+                         "one line: skmoor models moorings, a deck of bodies and points "
+                         "alone is not supported")
     return deck
 
 

@@ -55,6 +55,40 @@ def static_state(system, x0=None, held=None):
                            "positions, masses and volumes") from None
 
 
+def unrestrained(model: Model, x=None) -> list:
+    """Names of the DOFs that the static tangent at x (default: the reference state)
+    does not hold (its near-null vectors), e.g. ``body1 rx``, ``point3 z``, ``line2 node 4``."""
+    system, network = model.system, model.network
+    if system.n > 3000:
+        return []
+    x = np.zeros(system.n) if x is None else x
+    _, K, _ = system.residual(x, layout="dense")
+    K = 0.5 * (K + K.T)
+    w, V = np.linalg.eigh(K)
+    scale = max(np.abs(w).max(), 1.0)
+    names = [""] * system.n
+    free = iter(p.name for p in network.points if p.kind == "free")
+    for columns in system.point_columns:
+        name = next(free)
+        for c, axis in zip(columns, "xyz"):
+            names[c] = f"{name} {axis}"
+    dynamic = [b.name for b in network.bodies if b.kind == "dynamic"]
+    for k, name in enumerate(dynamic):
+        for j, dof in enumerate(("x", "y", "z", "rx", "ry", "rz")):
+            names[system.nf + 6 * k + j] = f"{name} {dof}"
+    for column in range(system.nf):
+        if not names[column]:
+            dof = system.free[np.flatnonzero(system._columns == column)[0]]
+            node = int(np.flatnonzero((model.lines.nodal_dofs == dof).any(axis=1))[0])
+            line = int(np.searchsorted(model.lines.fairlead_nodes, node))
+            names[column] = f"{model.lines.lines[line].name} node {node - model.lines.anchor_nodes[line]}"
+    found = []
+    for k in np.flatnonzero(np.abs(w) < 1e-10 * scale):
+        v = np.abs(V[:, k])
+        found += [names[i] for i in np.flatnonzero(v > 0.3 * v.max()) if names[i] not in found]
+    return found
+
+
 def _pretension(system) -> float:
     """A tension of the order of the heaviest line's weight (N), for starting Newton."""
     return max(abs(line.line_type.weight) * line.length for line in system.lines.lines) or 1.0
@@ -65,7 +99,14 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
     settings' ``damping.ratio`` at the first two natural frequencies, or ``damping.alpha``
     / ``damping.beta``)."""
     system = model.system
-    static = static_state(system)
+    try:
+        static = static_state(system)
+    except ConvergenceError as err:
+        free = unrestrained(model)
+        if free:
+            raise ConvergenceError(f"{err}; unrestrained at the given state: "
+                                   f"{', '.join(free)} (nothing holds them statically)") from None
+        raise
     _, K, _ = system.residual(static.x)
     damping = model.damping
     ratio = float(damping.get("ratio", 0.0))
