@@ -1,4 +1,6 @@
-"""Case description: what to simulate, read from TOML, checked with clear errors.
+"""Case description: what to simulate, read from TOML, checked by the schema
+(:mod:`skmoor.schema`: unknown keys refused with the nearest valid name, types and
+ranges with the field and the reason).
 
 A case is a nested dict (the TOML file) turned into small dataclasses. ``Case.replace``
 changes one value by its dotted path (``"mooring.sag_ratio"``), which is what parameter
@@ -8,7 +10,6 @@ studies vary. The paper's case (Wang, Er & Iu; resolved in design.md section 4) 
 from __future__ import annotations
 
 import copy
-import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,7 +21,7 @@ else:  # pragma: no cover
 
 import numpy as np
 
-from . import environment
+from .schema import validate_case
 
 PAPER_CASE = {
     "name": "Wang, Er & Iu: moored box, d/l = 1/60, theta = 50 deg",
@@ -69,7 +70,7 @@ class Case:
 
     def __post_init__(self):
         self.data = copy.deepcopy(self.data)
-        _validate(self.data)
+        validate_case(self.data)
 
     # -- convenient views
     @property
@@ -154,111 +155,3 @@ def paper_case(**changes) -> Case:
     for key, value in changes.items():
         case = case.replace(key.replace("__", "."), value)
     return case
-
-
-# ---------------------------------------------------------------- validation
-
-def _require(data, path, kind=float, positive=False, optional=False):
-    node = data
-    for key in path.split("."):
-        if not isinstance(node, dict) or key not in node:
-            if optional:
-                return None
-            raise ValueError(f"{path}: missing")
-        node = node[key]
-    values = node if isinstance(node, list) else [node]
-    for v in values:
-        if kind is float:
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise ValueError(f"{path}: expected a number, got {v!r}")
-            if not math.isfinite(v):
-                raise ValueError(f"{path}: must be finite, got {v!r}")
-            if positive and v <= 0:
-                raise ValueError(f"{path}: must be positive, got {v!r}")
-    return node
-
-
-def _validate(d: dict) -> None:
-    if "points" in d:  # the explicit network tables: checked by the schema
-        return
-    for key in ("water.density", "water.gravity", "water.depth", "body.mass"):
-        _require(d, key, positive=True)
-    body = d.get("body", {})
-    if body.get("shape", "box") != "box" and "hull" not in body:
-        raise ValueError(f"body.shape: {body.get('shape')!r} is not 'box'; give body.hull "
-                         "(a closed surface mesh) for other shapes")
-    if body.get("shape", "box") == "box":
-        size = _require(d, "body.size", positive=True)
-        if len(size) != 3:
-            raise ValueError(f"body.size: need [length, width, height], got {size}")
-    draft = body.get("draft", "equilibrium")
-    if draft != "equilibrium":
-        _require(d, "body.draft", positive=True)
-    types = d.get("line_types")
-    if not types:
-        raise ValueError("line_types: define at least one line type")
-    for name, t in types.items():
-        if "EA" in t:
-            for key in ("EA", "mass", "diameter"):
-                _require(d, f"line_types.{name}.{key}", positive=True)
-        else:
-            for key in ("E", "diameter", "density"):
-                _require(d, f"line_types.{name}.{key}", positive=True)
-        for key in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA"):
-            if key in t and _require(d, f"line_types.{name}.{key}") < 0:
-                raise ValueError(f"line_types.{name}.{key}: must be >= 0, got {t[key]}")
-    environment.sea(d)
-    environment.seabed(d)
-    lines = d.get("lines")
-    if not lines:
-        raise ValueError("lines: define at least one line")
-    shared = d.get("mooring", {})
-    for i, entry in enumerate(lines):
-        spec = {**shared, **entry}
-        where = f"lines[{i}]" + (f" ({spec['name']})" if "name" in spec else "")
-        if "name" not in spec:
-            raise ValueError(f"{where}.name: missing")
-        if spec.get("type") not in types:
-            raise ValueError(f"{where}.type: {spec.get('type')!r} is not one of the line_types "
-                             f"{sorted(types)}")
-        for key in ("fairlead", "anchor"):
-            if spec.get(key) is not None:
-                arr = np.asarray(spec[key], float)
-                if arr.shape != (3,) or not np.all(np.isfinite(arr)):
-                    raise ValueError(f"{where}.{key}: need three finite numbers, got {spec[key]!r}")
-        if "fairlead" not in spec:
-            raise ValueError(f"{where}.fairlead: missing")
-        if (spec.get("anchor") is None) == (spec.get("chord_angle_deg") is None):
-            raise ValueError(f"{where}: give either anchor or chord_angle_deg")
-        if spec.get("chord_angle_deg") is not None:
-            a = spec["chord_angle_deg"]
-            if not (isinstance(a, (int, float)) and 0 < a <= 90):
-                raise ValueError(f"{where}.chord_angle_deg: must lie in (0, 90], got {a!r}")
-        if (spec.get("length") is None) == (spec.get("sag_ratio") is None):
-            raise ValueError(f"{where}: give either length or sag_ratio")
-        if spec.get("sag_ratio") is not None:
-            r = spec["sag_ratio"]
-            if not (isinstance(r, (int, float)) and 0 < r < 0.5):
-                raise ValueError(f"{where}.sag_ratio: must lie in (0, 0.5), got {r!r}")
-        if spec.get("length") is not None and not spec["length"] > 0:
-            raise ValueError(f"{where}.length: must be positive, got {spec['length']!r}")
-        n = spec.get("n_elements", 0)
-        if not (isinstance(n, int) and n >= 1):
-            raise ValueError(f"{where}.n_elements: must be an integer >= 1, got {n!r}")
-    if "load" in d:
-        _require(d, "load.amplitude")
-        _require(d, "load.omega")
-        direction = _require(d, "load.direction")
-        if len(direction) != 6:
-            raise ValueError(f"load.direction: need 6 components [Fx Fy Fz Mx My Mz], got {direction}")
-    if "damping" in d:
-        ratio = _require(d, "damping.ratio", optional=True)
-        if ratio is not None and not 0 <= ratio < 1:
-            raise ValueError(f"damping.ratio: must lie in [0, 1), got {ratio}")
-    solver = d.get("solver", {})
-    for key in ("duration", "dt", "output_interval"):
-        if key in solver:
-            _require(d, f"solver.{key}", positive=True)
-    if solver.get("scheme", "generalized-alpha") not in ("newmark", "generalized-alpha"):
-        raise ValueError(f"solver.scheme: {solver['scheme']!r} is not 'newmark' or "
-                         "'generalized-alpha'")

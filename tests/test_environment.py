@@ -11,12 +11,12 @@ from skmoor.seabed import SeabedKernel
 
 @pytest.mark.parametrize("change, message", [
     (dict(sea__waves=[{"type": "airy", "height": -1.0, "period": 8.0}]),
-     "sea.waves[0]: AiryWave height"),
+     "sea.waves[0].height: must be positive"),
     (dict(sea__waves=[{"type": "stokes", "height": 1.0, "period": 8.0}]), "sea.waves[0].type"),
     (dict(sea__current_heading_deg=float("nan"), sea__current_speed=1.0), "sea.current"),
-    (dict(sea__swell=1.0), "sea: unknown keys ['swell']"),
-    (dict(seabed__mu_axial=-0.5), "seabed: Seabed.mu_axial"),
-    (dict(seabed__kbot=1e6), "seabed: unknown keys ['kbot']"),
+    (dict(sea__swell=1.0), "sea.swell: unknown key"),
+    (dict(seabed__mu_axial=-0.5), "seabed.mu_axial: must be >= 0"),
+    (dict(seabed__kbot=1e6), "seabed.kbot: unknown key"),
     (dict(line_types__steel__Cd_n=-1.0), "line_types.steel.Cd_n"),
     (dict(line_types__steel__BA="big"), "line_types.steel.BA: expected a number"),
 ])
