@@ -70,7 +70,7 @@ OPTION_NAMES = {
     "inertialf_rampt": "inertialF_rampT", "outswitch": "OutSwitch",
 }
 F_ONLY = {"mu_kT", "mu_kA", "WaterKin", "inertialF", "inertialF_rampT", "OutSwitch"}
-DEFAULTS = {"g": 9.81, "rho": 1025.0, "WtrDpth": 0.0, "kBot": 3.0e6, "cBot": 3.0e5,
+DEFAULTS = {"g": 9.80665, "rho": 1025.0, "WtrDpth": 0.0, "kBot": 3.0e6, "cBot": 3.0e5,
             "FrictionCoefficient": 0.0, "FricDamp": 200.0, "StatDynFricScale": 1.0,
             "dtOut": 0.0}  # MoorDyn-C's
 

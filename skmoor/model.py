@@ -63,9 +63,13 @@ class Model:
         omega = self.settings.get("load", {}).get("omega")
         return 2 * np.pi / omega if omega else None
 
+    def __post_init__(self):
+        self.settings["solver"] = {**SOLVER_DEFAULTS, **self.settings.get("solver", {})}
+
     @property
     def solver(self) -> dict:
-        return {**SOLVER_DEFAULTS, **self.settings.get("solver", {})}
+        """The solver settings (defaults filled in; change them here or in settings)."""
+        return self.settings["solver"]
 
     @property
     def damping(self) -> dict:
@@ -90,7 +94,8 @@ def build(source, *, motion=None, sea=None) -> Model:
                                  source=source, notes=list(source.notes))
         except ValueError as err:
             raise _on_deck_line(source, err) from None
-        model.settings["solver"].setdefault("dt", default_time_step(model))
+        if "dt" not in settings["solver"]:
+            model.settings["solver"]["dt"] = default_time_step(model)
         return model
     if not isinstance(source, Case):
         raise ValueError(f"build: expected a Case, a Deck or a path, got {type(source).__name__}")

@@ -129,9 +129,20 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
 def released_state(model: Model) -> np.ndarray:
     """The reduced state with the free points and dynamic bodies held where the model
     gives them and the lines in static equilibrium between them (a release from rest)."""
-    system = model.system
+    system, network = model.system, model.network
+    x0 = np.zeros(system.n)
+    free = [p for p in network.points if p.kind == "free"]
+    for p, columns in zip(free, system.point_columns):  # given - settled reference
+        x0[columns] = network.global_position(p) - model.positions[p.name]
+    # first guess: each line's end displacements spread linearly along it
+    lines, u = model.lines, system.full_displacement(x0)
+    dofs = lines.nodal_dofs
+    for a, b in zip(lines.anchor_nodes, lines.fairlead_nodes):
+        share = np.linspace(0.0, 1.0, b - a + 1)[1:-1, None]
+        u[dofs[a + 1:b]] = (1 - share) * u[dofs[a]] + share * u[dofs[b]]
+    x0[system._columns] = u[system.free]  # (a point's column gets its own value back)
     held = np.concatenate([system.point_columns.ravel(), np.arange(system.nf, system.n)])
-    return static_state(system, np.zeros(system.n), held=held.astype(int)).x
+    return static_state(system, x0, held=held.astype(int)).x
 
 
 def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
@@ -305,20 +316,24 @@ class _Recorder:
         self._system = system = model.system
         index = {b.name: k for k, b in enumerate(network.bodies)}
         free = iter(range(len(system.point_masses)))
-        self._plan = []  # per point: how its displacement is found
+        self._plan = []  # per point: how its displacement is found (not on dynamic bodies)
+        rows, columns, on_body = [], [], {}
         for i, p in enumerate(network.points):
             body = network.body(p.body) if p.kind == "body" else None
             if p.kind == "free":
-                self._plan.append(("free", system.point_columns[next(free)]))
+                rows.append(i)
+                columns.append(system.point_columns[next(free)])
             elif p.kind == "coupled":
-                self._plan.append(("coupled", self._coupled[p.name]))
+                self._plan.append(("coupled", i, self._coupled[p.name]))
             elif body is not None and body.kind == "dynamic":
-                r = self._point_reference[i] - body.rigid.reference_point
-                self._plan.append(("dynamic", index[body.name], np.ascontiguousarray(r[None, :])))
+                on_body.setdefault(index[body.name], []).append(i)
             elif body is not None and body.kind == "coupled":
-                self._plan.append(("moved", index[body.name], body, p.position))
-            else:
-                self._plan.append(("fixed",))
+                self._plan.append(("moved", i, index[body.name], body, p.position))
+        self._free_rows = np.array(rows, int)
+        self._free_columns = np.array(columns, int).reshape(-1, 3)
+        self._on_body = [(k, np.array(i), np.ascontiguousarray(
+            self._point_reference[i] - network.bodies[k].rigid.reference_point))
+            for k, i in on_body.items()]
 
     def _bodies(self, x, y):
         network, out = self.model.network, []
@@ -332,19 +347,18 @@ class _Recorder:
         return np.array(out).reshape(-1, 6)
 
     def _points(self, x, y, bodies):
-        out = np.zeros((len(self._plan), 3))
-        for i, plan in enumerate(self._plan):
-            kind = plan[0]
-            if kind == "free":
-                out[i] = x[plan[1]]
-            elif kind == "coupled":
-                out[i] = y[plan[1]]
-            elif kind == "dynamic":
-                out[i] = rigid.attachment_state(bodies[plan[1]], plan[2])[0][0]
-            elif kind == "moved":
-                q, body, r = bodies[plan[1]], plan[2], plan[3]
-                out[i] = (q[:3] + body.rotation_matrix(body.attitude + q[3:]) @ r
-                          - body.rotation_matrix() @ r)
+        out = np.zeros((len(self._point_reference), 3))
+        if len(self._free_rows):
+            out[self._free_rows] = x[self._free_columns]
+        for k, rows, r in self._on_body:
+            out[rows] = rigid.attachment_state(bodies[k], r)[0]
+        for plan in self._plan:
+            if plan[0] == "coupled":
+                out[plan[1]] = y[plan[2]]
+            else:
+                q, body, r = bodies[plan[2]], plan[3], plan[4]
+                out[plan[1]] = (q[:3] + body.rotation_matrix(body.attitude + q[3:]) @ r
+                                - body.rotation_matrix() @ r)
         return out
 
     def record(self, state):
