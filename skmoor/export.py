@@ -1,7 +1,17 @@
-"""Lines and body over time as files for ParaView: XDMF (meshio) and VTU + PVD series.
+"""Lines, body and network points over time as files for ParaView: XDMF (meshio) and
+VTU + PVD series.
 
-Arrays written, SI: point data ``displacement`` (m) and ``velocity`` (m/s), cell data
-``tension`` (N), ``strain`` (-) and ``line`` (line index of the element).
+Arrays written on the lines, SI: point data ``displacement`` (m) and ``velocity`` (m/s),
+cell data ``tension`` (N), ``strain`` (-) and ``line`` (line index of the element).
+
+The network's points (anchors, junctions, clump weights, fairleads: ``results.point_names``)
+go into the VTU series as a third part, one vertex per point, with point data ``index``
+(the point's index in ``results.point_names``), ``kind`` (:data:`POINT_KINDS`: 0 fixed,
+1 free, 2 coupled, 3 on a body; -1 unknown), ``displacement`` (m, from
+``results.point_reference``) and ``mass`` (kg, from ``results.meta["point_masses"]``
+when the run has it, else 0). In ``motion.pvd`` the lines are part 0, the body's box
+part 1 and the points part 2 (``motion/lines_*.vtu``, ``body_*.vtu``, ``points_*.vtu``);
+ParaView shows the points with the Point Gaussian representation or the Glyph filter.
 """
 from __future__ import annotations
 
@@ -14,6 +24,7 @@ import numpy as np
 
 from .body import rotation_matrix
 
+POINT_KINDS = ("fixed", "free", "coupled", "body")  # codes 0..3 of the point data 'kind'
 # the 6 faces of a box whose 8 corners are numbered by bits (x, y, z) = (i & 1, i & 2, i & 4)
 BOX_FACES = np.array([[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4],
                       [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]])
@@ -53,11 +64,14 @@ def write_xdmf(results, path) -> Path:
 
 
 def write_vtu_series(results, folder) -> Path:
-    """One VTU of the moved lines per sample, and of the body's box when it has one, in
-    ``folder/motion/``, indexed by ``folder/motion.pvd``. Returns the path of the PVD."""
+    """One VTU of the moved lines per sample, of the body's box when it has one and of
+    the network's points when the results have them (see the module docstring), in
+    ``folder/motion/``, indexed by ``folder/motion.pvd`` (parts 0, 1, 2: lines, body,
+    points). Returns the path of the PVD."""
     folder = Path(folder)
     (folder / "motion").mkdir(parents=True, exist_ok=True)
     entries = []
+    points = _network_points(results)
     for i, t in enumerate(results.t):
         name = f"motion/lines_{i:04d}.vtu"
         meshio.write(folder / name, meshio.Mesh(
@@ -68,7 +82,29 @@ def write_vtu_series(results, folder) -> Path:
             name = f"motion/body_{i:04d}.vtu"
             meshio.write(folder / name, meshio.Mesh(box_points(results, i), [("quad", BOX_FACES)]))
             entries.append((t, 1, name))
+        if points is not None:
+            name = f"motion/points_{i:04d}.vtu"
+            displacement = np.asarray(results.point_displacement[i], float)
+            meshio.write(folder / name, meshio.Mesh(
+                results.point_reference + displacement, [("vertex", points["vertices"])],
+                point_data={**points["data"], "displacement": displacement}))
+            entries.append((t, 2, name))
     return _write_pvd(folder / "motion.pvd", entries)
+
+
+def _network_points(results):
+    """The constant part of the points' VTU (vertices and point data), None without points."""
+    n = len(results.point_names)
+    if n == 0:
+        return None
+    kinds = list(results.meta.get("point_kinds", []))
+    codes = [POINT_KINDS.index(k) if k in POINT_KINDS else -1 for k in kinds]
+    masses = results.meta.get("point_masses")
+    return {"vertices": np.arange(n).reshape(-1, 1),
+            "data": {"index": np.arange(n, dtype=np.int32),
+                     "kind": np.array(codes if len(codes) == n else [-1] * n, np.int32),
+                     "mass": (np.asarray(masses, float) if masses is not None
+                              and len(masses) == n else np.zeros(n))}}
 
 
 def export(results, outdir) -> tuple[Path, Path]:

@@ -1,5 +1,7 @@
 """Time histories and parameter studies as figures (PNG, PDF or SVG by the suffix;
-matplotlib without pyplot, so no GUI backend is ever touched)."""
+matplotlib without pyplot, so no GUI backend is ever touched): the paper's Fig. 6
+(:func:`plot_time_histories`), one body of a network with its lines' fairlead tensions
+(:func:`plot_body_and_tensions`) and the parameter studies (:func:`plot_study`)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -23,6 +25,51 @@ def plot_time_histories(results, path, title=None, figsize=(8.0, 9.0), dpi=120) 
     for ax, (y, label), letter in zip(axes, panels, "abcd"):
         ax.plot(results.t, y, color="C0", lw=1.2)
         ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        ax.set_title(f"({letter})", loc="left", fontsize="medium")
+    axes[-1].set_xlabel("time t [s]")
+    axes[-1].set_xlim(results.t[0], results.t[-1])
+    title = results.meta.get("case", "") if title is None else title
+    if title:
+        fig.suptitle(str(title))
+    return _save(fig, path)
+
+
+def plot_body_and_tensions(results, path, body=None, lines=None, title=None,
+                           figsize=(8.0, 9.0), dpi=120) -> Path:
+    """Surge x (m), heave z (m) and pitch (rad) of one body of a network and the
+    fairlead (end B) tension of the chosen lines (kN, one curve each, dashed in turn so
+    that equal ones stay visible) against time (s), stacked in 4 panels. body: its name
+    in ``results.body_names`` (default the first); lines: names in
+    ``results.line_names`` (default all). The title defaults to ``results.meta["case"]``;
+    pass ``""`` for none."""
+    names = list(results.body_names)
+    if not names:
+        raise ValueError("results have no body to plot")
+    body = names[0] if body is None else body
+    if body not in names:
+        raise ValueError(f"body {body!r} is not one of the results' bodies {names}")
+    lines = list(results.line_names) if lines is None else list(lines)
+    unknown = [name for name in lines if name not in results.line_names]
+    if unknown or not lines:
+        raise ValueError(f"lines {unknown or lines} are not among the results' lines "
+                         f"{list(results.line_names)}")
+    q = np.asarray(results.bodies)[:, names.index(body)]
+    panels = [(q[:, 0], f"{body} surge x [m]"), (q[:, 2], f"{body} heave z [m]"),
+              (q[:, 4], f"{body} pitch [rad]")]
+    fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
+    axes = fig.subplots(4, 1, sharex=True)
+    for ax, (y, label) in zip(axes, panels):
+        ax.plot(results.t, y, color="C0", lw=1.2)
+        ax.set_ylabel(label)
+    ax = axes[-1]
+    for k, name in enumerate(lines):
+        column = list(results.line_names).index(name)
+        ax.plot(results.t, np.asarray(results.fairlead_tension)[:, column] / 1e3,
+                color=f"C{k}", ls=("-", "--", "-.", ":")[k % 4], lw=1.2, label=name)
+    ax.set_ylabel("fairlead tension [kN]")
+    ax.legend(loc="upper right", fontsize="small", ncol=min(len(lines), 4))
+    for ax, letter in zip(axes, "abcd"):
         ax.grid(alpha=0.3)
         ax.set_title(f"({letter})", loc="left", fontsize="medium")
     axes[-1].set_xlabel("time t [s]")

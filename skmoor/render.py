@@ -1,8 +1,10 @@
 """Off-screen pictures and animations of a run with pyvista (no display needed).
 
 Lines are drawn as tubes coloured by tension on one colour range for the whole run,
-the body as its box, the sea bed at -depth and a translucent water surface at z = 0.
-The solver never imports this module.
+the body as its box, the network's free points (line junctions, clump weights, buoys) as
+dark spheres where they are at each frame (:func:`point_radii`: a point with mass is drawn
+larger, up to twice the size for the heaviest), the sea bed at -depth and a translucent
+water surface at z = 0. The solver never imports this module.
 """
 from __future__ import annotations
 
@@ -45,11 +47,24 @@ CMAP = "plasma"
 FONT = str(Path(matplotlib.get_data_path()) / "fonts" / "ttf" / "DejaVuSans.ttf")
 
 
-def snapshot(results, i, path, camera="iso", scale=1.0, window_size=WINDOW_SIZE) -> Path:
-    """PNG of sample ``i`` at ``path``; ``scale`` magnifies the displacements."""
+POINT_COLOUR = "#262626"
+
+
+def snapshot(results, i, path, camera="iso", scale=1.0, window_size=WINDOW_SIZE,
+             point_radius=None, zoom=1.0, focus=None, colorbar=True) -> Path:
+    """PNG of sample ``i`` at ``path``; ``scale`` magnifies the displacements.
+
+    point_radius: how the network's points are drawn (see :func:`point_radii`): None (the
+    free points at the default size), a number (their base radius, m; 0: none drawn) or
+    one radius per point of ``results.point_names`` (m; 0: not drawn). zoom: magnifies
+    the view (> 1: closer) about ``focus`` (3,) m, default the scene's centre; the tubes
+    and the default spheres are made thinner by the same factor, so they keep their size
+    on the picture. colorbar: draw the tension colour bar. A static state
+    (``static_results``) is labelled "static equilibrium" instead of its time."""
     path = _check_suffix(path, (".png",))
     i = _check_index(results, i)
-    scene = _RunScene(results, camera, scale, window_size)
+    scene = _RunScene(results, camera, scale, window_size, point_radius, zoom, focus,
+                      colorbar)
     try:
         scene.show(i)
         scene.plotter.screenshot(str(path))
@@ -59,11 +74,14 @@ def snapshot(results, i, path, camera="iso", scale=1.0, window_size=WINDOW_SIZE)
 
 
 def animate(results, path, fps=20, every=None, scale=1.0, camera="iso",
-            window_size=WINDOW_SIZE, progress=True) -> int:
-    """MP4 or GIF (by the suffix of ``path``) of every ``every``-th sample.
+            window_size=WINDOW_SIZE, progress=True, point_radius=None, zoom=1.0,
+            focus=None, start=0, colorbar=True) -> int:
+    """MP4 or GIF (by the suffix of ``path``) of every ``every``-th sample from sample
+    ``start`` on.
 
     ``every=None`` picks the step that plays the run in real time at ``fps`` frames
-    per second. Returns the number of frames."""
+    per second; point_radius, zoom, focus and colorbar as for :func:`snapshot`. Returns
+    the number of frames."""
     path = _check_suffix(path, (".gif", ".mp4"))
     _check_positive("fps", fps)
     if every is None:
@@ -71,8 +89,10 @@ def animate(results, path, fps=20, every=None, scale=1.0, camera="iso",
         every = max(1, round(1.0 / (fps * dt)))
     if int(every) != every or every < 1:
         raise ValueError(f"every must be an integer >= 1, got {every}")
-    frames = range(0, len(results.t), int(every))
-    scene = _RunScene(results, camera, scale, window_size)
+    start = _check_index(results, start) % len(results.t)
+    frames = range(start, len(results.t), int(every))
+    scene = _RunScene(results, camera, scale, window_size, point_radius, zoom, focus,
+                      colorbar)
     return _record(scene, frames, path, fps, progress)
 
 
@@ -88,6 +108,33 @@ def animate_mode(points, cells, shape, period, path, n_frames=24, scale=None, fp
     scale = mode_scale(points, shape) if scale is None else float(scale)
     scene = _ModeScene(points, cells, shape, period, n_frames, scale, camera, depth, window_size)
     return _record(scene, range(n_frames), path, fps, progress)
+
+
+def point_radii(results, base=None, masses=None) -> np.ndarray:
+    """(npoints,) radius (m) each point of ``results.point_names`` is drawn with: 0 (not
+    drawn) for the fixed, coupled and body points; for a free point ``base`` times
+    1 + (m / m_max)^(1/3), m its mass (kg) and m_max the heaviest free point's, so a point
+    without mass is drawn at ``base`` and the heaviest at twice that. masses: one per
+    point (kg), default ``results.meta["point_masses"]`` when the run has them, else all
+    zero (results do not carry the points' masses: pass them, or set that key). base:
+    default twice the tube radius of the lines (1 % of the lines' extent); 0: none."""
+    n = len(results.point_names)
+    kinds = list(results.meta.get("point_kinds", []))
+    if len(kinds) != n:  # results without the network's point kinds: draw nothing
+        return np.zeros(n)
+    free = np.array([kind == "free" for kind in kinds], bool)
+    if base is None:
+        base = 2 * _tube_radius(np.asarray(results.points))
+    base = float(base)
+    if not (np.isfinite(base) and base >= 0):
+        raise ValueError(f"point radius must be a number >= 0 m, got {base}")
+    masses = results.meta.get("point_masses") if masses is None else masses
+    masses = np.zeros(n) if masses is None else np.asarray(masses, float)
+    if masses.shape != (n,) or not np.all(np.isfinite(masses)) or np.any(masses < 0):
+        raise ValueError(f"point masses: need {n} finite numbers >= 0 kg, got {masses!r}")
+    heaviest = masses[free].max(initial=0.0)
+    growth = np.cbrt(masses / heaviest) if heaviest > 0 else np.zeros(n)
+    return np.where(free, base * (1 + growth), 0.0)
 
 
 def default_scale(results, fraction=0.05) -> float:
@@ -111,13 +158,14 @@ class _Scene:
     holds every position they will take, to fix the camera."""
 
     def __init__(self, points, cells, extent, bed_z, bar_title, clim, camera, scale, window_size,
-                 box=None):
+                 box=None, spheres=None, zoom=1.0, focus=None, colorbar=True):
         if camera not in CAMERAS:
             raise ValueError(f"camera must be one of {sorted(CAMERAS)}, got {camera!r}")
+        _check_positive("zoom", zoom)
         view = CAMERAS[camera]
         lo, hi = extent.min(axis=0), extent.max(axis=0)
         size = float(np.linalg.norm(hi - lo))
-        self.radius = 0.005 * size
+        self.radius = _tube_radius(extent) / zoom
         pl = self.plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
         font_scale = (window_size[1] / 768) ** 0.5
         pl.set_background("white", top="#a9cce3")
@@ -141,6 +189,7 @@ class _Scene:
         lo_bar, hi_bar, n_labels = _nice_range(*clim)
         pl.add_mesh(self.tubes, scalars="value", preference="cell", cmap=CMAP,
                     clim=[lo_bar, hi_bar], smooth_shading=True, ambient=0.3,
+                    show_scalar_bar=colorbar,
                     scalar_bar_args=dict(title=bar_title + "\n", color="black", fmt="%.6g",
                                          n_labels=n_labels, vertical=True, position_x=0.86,
                                          position_y=0.25, width=0.06, height=0.5,
@@ -154,6 +203,13 @@ class _Scene:
             faces = np.hstack([np.full((6, 1), 4), BOX_FACES]).ravel()
             self.box = pv.PolyData(box, faces)
             pl.add_mesh(self.box, color="#d9d9d9", show_edges=True, edge_color="#404040")
+        self.spheres = None  # the spheres' glyphs on self.centres (points with a 'radius')
+        if spheres is not None:
+            centres, radii = spheres
+            self.centres = pv.PolyData(np.asarray(centres, float))
+            self.centres.point_data["radius"] = np.asarray(radii, float)
+            self.spheres = self._glyphs()
+            pl.add_mesh(self.spheres, color=POINT_COLOUR, smooth_shading=True, specular=0.3)
         self.label = pl.add_text("", position="upper_left", font_size=10, color="black",
                                  font_file=FONT)
         if scale != 1:
@@ -167,39 +223,67 @@ class _Scene:
         if view.parallel:
             pl.enable_parallel_projection()
         pl.reset_camera()
-        pl.camera.zoom(1.15)
+        pl.camera.zoom(1.15 * zoom)
+        if focus is not None:  # aim at focus from the same direction and distance
+            focus = np.asarray(focus, float)
+            if focus.shape != (3,) or not np.all(np.isfinite(focus)):
+                raise ValueError(f"focus must be three finite numbers (m), got {focus!r}")
+            shift = focus - np.asarray(pl.camera.focal_point)
+            pl.camera.position = np.asarray(pl.camera.position) + shift
+            pl.camera.focal_point = focus
         pl.camera.SetWindowCenter(0.1, 0.0)   # shift the scene left, away from the bar
 
-    def set(self, positions, values, text, box=None):
-        """Move the lines (and the box) and set the tube colours and the label."""
+    def _glyphs(self):
+        return self.centres.glyph(scale="radius", orient=False, geom=pv.Sphere(
+            radius=1.0, theta_resolution=24, phi_resolution=16))
+
+    def set(self, positions, values, text, box=None, centres=None):
+        """Move the lines (and the box, and the spheres' centres) and set the tube colours
+        and the label."""
         self.lines.points = positions
         self.lines.cell_data["value"] = values
         self.tubes.copy_from(self.lines.tube(radius=self.radius))
         if box is not None:
             self.box.points = box
+        if centres is not None and self.spheres is not None:
+            self.centres.points = np.asarray(centres, float)
+            self.spheres.copy_from(self._glyphs())
         self.label.set_text("upper_left", text)
 
 
 class _RunScene(_Scene):
     """The scene of a run, sample by sample."""
 
-    def __init__(self, results, camera, scale, window_size):
+    def __init__(self, results, camera, scale, window_size, point_radius=None, zoom=1.0,
+                 focus=None, colorbar=True):
         _check_positive("scale", scale)
+        _check_positive("zoom", zoom)
         self.results, self.scale = results, float(scale)
         points, u = np.asarray(results.points), np.asarray(results.displacement)
         extent = np.vstack([points + self.scale * u.min(axis=0),
                             points + self.scale * u.max(axis=0)])
         clim = [np.min(results.tension) / 1e3, np.max(results.tension) / 1e3]
         box = box_points(results, 0, scale) if has_box(results) else None
+        if point_radius is None:  # the default base radius, as thin as the tubes on screen
+            point_radius = 2 * _tube_radius(extent) / zoom
+        radii = _radii(results, point_radius)
+        self.drawn = np.flatnonzero(radii > 0)  # the points drawn as spheres
+        spheres = ((self._centres(0), radii[self.drawn]) if len(self.drawn) else None)
         super().__init__(points, np.asarray(results.cells), extent,
                          _bed_z(results.depth, extent), "tension [kN]", clim, camera,
-                         self.scale, window_size, box)
+                         self.scale, window_size, box, spheres, zoom, focus, colorbar)
+
+    def _centres(self, i):
+        r = self.results
+        return (r.point_reference[self.drawn]
+                + self.scale * np.asarray(r.point_displacement[i])[self.drawn])
 
     def show(self, i):
         r = self.results
         self.set(r.points + self.scale * r.displacement[i], r.tension[i] / 1e3,
-                 f"t = {r.t[i]:.1f} s",
-                 box_points(r, i, self.scale) if self.box is not None else None)
+                 "static equilibrium" if r.meta.get("static") else f"t = {r.t[i]:.1f} s",
+                 box_points(r, i, self.scale) if self.box is not None else None,
+                 self._centres(i) if len(self.drawn) else None)
 
 
 class _ModeScene(_Scene):
@@ -255,6 +339,24 @@ def _font(prop):
     prop.SetFontFile(FONT)
     prop.BoldOff()
     prop.ShadowOff()
+
+
+def _tube_radius(positions) -> float:
+    """Radius of the line tubes, m: 0.5 % of the diagonal of the positions' bounding box."""
+    positions = np.asarray(positions, float).reshape(-1, 3)
+    return 0.005 * float(np.linalg.norm(np.ptp(positions, axis=0)))
+
+
+def _radii(results, point_radius):
+    """(npoints,) sphere radius per network point from snapshot's ``point_radius``."""
+    n = len(results.point_names)
+    if point_radius is None or np.ndim(point_radius) == 0:
+        return point_radii(results, point_radius)
+    radii = np.asarray(point_radius, float)
+    if radii.shape != (n,) or not np.all(np.isfinite(radii)) or np.any(radii < 0):
+        raise ValueError(f"point radius: need a number or {n} finite radii >= 0 m (one per "
+                         f"point), got shape {radii.shape}")
+    return radii
 
 
 def _bed_z(depth, positions):

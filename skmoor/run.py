@@ -385,7 +385,8 @@ class _Recorder:
         bodies = r["bodies"].reshape(nt, len(network.bodies), 6)
         drawn = model.body  # the first dynamic body's RigidBody, drawn as its box
         meta = {**meta, "has_body": bool(network.bodies),
-                "point_kinds": [p.kind for p in network.points]}
+                "point_kinds": [p.kind for p in network.points],
+                "point_masses": [p.mass for p in network.points]}
         return Results(t=r["t"], body=bodies[:, 0] if network.bodies else np.zeros((nt, 6)),
                        points=lines.points, cells=lines.mesh.t.T.copy(),
                        line_of_cell=lines.line_of_cell,
