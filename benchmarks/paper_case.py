@@ -129,7 +129,7 @@ class CoupledBody:
         self.mass = body.mass_matrix() + body.added_mass
         self.inverse_mass = np.linalg.inv(self.mass)
         self.K = system.K_body
-        self.F0 = system.F_body0
+        self.F0 = system.F_bodies0[0]
         self.C = scenario.body_damping
         self.load = system.body_load
         self.r_local = system.r_local

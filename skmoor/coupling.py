@@ -280,6 +280,8 @@ class System:
         self._prescribed_dofs = (dofs[[node for _, node in prescribed_ends]]
                                  if prescribed_ends else np.zeros((0, 3), int))
         self._prescribed_flat = self._prescribed_dofs.ravel()
+        self._has_prescribed = len(self._prescribed_flat) > 0
+        self._ndofs = lines.ndofs
         self.fairlead_dofs = dofs[lines.fairlead_nodes]  # (nlines, 3), end B
         self.anchor_dofs = dofs[lines.anchor_nodes]  # (nlines, 3), end A
         self._free_block = sp.csr_matrix((np.ones(len(self.free)), (self.free, self._columns)),
@@ -342,11 +344,11 @@ class System:
     def _displacement(self, x, body_ends, t):
         """(ndofs,) cable displacement from x, the (n, 3) displacements of the body ends
         and the prescribed ends at time t."""
-        u = np.zeros(self.lines.ndofs)
+        u = np.zeros(self._ndofs)
         u[self.free] = x[: self.nf] if self._identity else x[self._columns]
         if body_ends is not None:
             u[self._body_flat] = body_ends.ravel()
-        if len(self._prescribed_flat):
+        if self._has_prescribed:
             u[self._prescribed_flat] = self._prescribed(t)[0].ravel()
         return u
 
@@ -391,7 +393,7 @@ class System:
 
     def _velocity(self, x, v, t, J, dt=1e-6):
         ud = self._expand(v, J)
-        if len(self._prescribed_flat):
+        if self._has_prescribed:
             ud[self._prescribed_flat] = self._prescribed(t, dt)[1].ravel()
         return ud
 
@@ -403,7 +405,7 @@ class System:
 
     def _expand(self, y, J):
         """P y for a reduced vector y, without forming P."""
-        out = np.zeros(self.lines.ndofs)
+        out = np.zeros(self._ndofs)
         out[self.free] = y[: self.nf] if self._identity else y[self._columns]
         if J is not None:
             out[self._body_flat] = J @ y[self.nf:]

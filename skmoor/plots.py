@@ -27,6 +27,11 @@ def plot_time_histories(results, path, title=None, figsize=(8.0, 9.0), dpi=120) 
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         ax.set_title(f"({letter})", loc="left", fontsize="medium")
+    return _finish_history(fig, axes, results, title, path)
+
+
+def _finish_history(fig, axes, results, title, path) -> Path:
+    """Time axis, the title (default ``results.meta["case"]``) and the file."""
     axes[-1].set_xlabel("time t [s]")
     axes[-1].set_xlim(results.t[0], results.t[-1])
     title = results.meta.get("case", "") if title is None else title
@@ -72,12 +77,7 @@ def plot_body_and_tensions(results, path, body=None, lines=None, title=None,
     for ax, letter in zip(axes, "abcd"):
         ax.grid(alpha=0.3)
         ax.set_title(f"({letter})", loc="left", fontsize="medium")
-    axes[-1].set_xlabel("time t [s]")
-    axes[-1].set_xlim(results.t[0], results.t[-1])
-    title = results.meta.get("case", "") if title is None else title
-    if title:
-        fig.suptitle(str(title))
-    return _save(fig, path)
+    return _finish_history(fig, axes, results, title, path)
 
 
 def plot_study(rows, path, parameter_label, title=None, figsize=(9.0, 7.0), dpi=120) -> Path:

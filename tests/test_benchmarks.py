@@ -89,3 +89,16 @@ def test_heave_velocity_and_acceleration_are_derivatives():
     assert _cases.heave(0.0) == pytest.approx((0.0, 0.0, 0.0), abs=1e-15)
     peak = _cases.RAMP + _cases.PERIOD / 4
     assert _cases.heave(peak)[0] == pytest.approx(_cases.HEAVE)
+
+
+def test_paper_case_benchmark_sets_up_both_codes_on_one_body():
+    """benchmarks/paper_case.py's set-up runs on the current API, and MoorDyn's body gets
+    skmoor's static load balance: at the equilibrium the body's buoyancy - weight that
+    CoupledBody carries equals the lines' vertical pull (a renamed System attribute or a
+    dropped term would break it)."""
+    import paper_case
+
+    scenario = paper_case.Scenario("moordyn-damping")
+    body = paper_case.CoupledBody(scenario)
+    fair, _ = scenario.model.system.reactions(scenario.eq.x)
+    assert body.F0[2] - (body.K @ body.q0)[2] == pytest.approx(-fair[:, 2].sum(), rel=1e-6)
