@@ -182,6 +182,16 @@ def attachment_hessian(q, r, f) -> np.ndarray:
     return hess
 
 
+def attachment_velocity_slope(q, r, qdot) -> np.ndarray:
+    """d(J(q, r) qdot)/dq (3 n, 6): how the velocities of body points r (n, 3) change with
+    the body DOFs q at fixed qdot (only the rotation columns are non-zero, m/s per rad)."""
+    r = np.asarray(r, dtype=float).reshape(-1, 3)
+    d2 = _rotation_derivatives(q[3:])[2]  # d2R/da db, (3, 3, 3, 3)
+    out = np.zeros((r.shape[0], 3, 6))
+    out[:, :, 3:] = np.einsum("abkl,pl,a->pkb", d2, r, np.asarray(qdot, float)[3:])
+    return out.reshape(-1, 6)
+
+
 def _skew(v) -> np.ndarray:
     """Matrix S with S @ a = v x a."""
     x, y, z = v

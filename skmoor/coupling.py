@@ -607,12 +607,30 @@ class System:
             K_bodies[b, b] = H + self.K_bodies[k] + body_K[k]
             D_bodies[b, b] = body.linear_damping + body_Kv[k]
         K = K + self._embed_bodies(K_bodies, dense)
+        if Kv_full is not None and np.any(v[self.nf:]):
+            K = K + self._velocity_slope(Kv_full, x, v, J, dense)
         if np.any(D_bodies):
             D = self._embed_bodies(D_bodies, dense)
             Kv = D if Kv is None else Kv + D
         if point_rate is not None:
             Kv = self._add_point_rate(Kv, point_rate, layout)
         return R, K, Kv
+
+    def _velocity_slope(self, Kv_full, x, v, J, dense):
+        """P^T Kv_full d(udot)/dq: the body ends' velocity J(q) v changes with q."""
+        slopes = np.zeros((len(self._body_flat), self.nb))
+        for k, rows in enumerate(self._body_rows):
+            if len(rows):
+                block = self._body_block(k)
+                slopes[3 * rows[0]: 3 * rows[-1] + 3, 6 * k: 6 * k + 6] = \
+                    rigid.attachment_velocity_slope(x[block], self._r_local[k], v[block])
+        B = Kv_full[:, self._body_flat] @ slopes  # (ndofs, nb)
+        B = B.toarray() if hasattr(B, "toarray") else np.asarray(B)
+        out = np.zeros((self.n, self.n))
+        out[: self.nf, self.nf:] = (B[self.free] if self._identity
+                                    else self._selection @ B[self.free])
+        out[self.nf:, self.nf:] = J.T @ B[self._body_flat]
+        return out if dense else sp.csr_matrix(out)
 
     def _embed_bodies(self, A, dense=False):
         """The (6 nbodies)^2 body block in an (n, n) matrix."""

@@ -128,7 +128,7 @@ def from_network(network: Network, *, name="network", settings=None, draft=None,
     """Build a Network into a Model (statics not yet solved: see :func:`skmoor.equilibrium`)."""
     system, lineset, catenaries, positions = build_system(network)
     return Model(name, system, lineset, network, catenaries, dict(settings or {}),
-                 network.depth, draft, source, list(notes), positions)
+                 network.depth, draft, source, list(notes) + network.notes, positions)
 
 
 def _settings(case) -> dict:

@@ -140,6 +140,7 @@ class Network:
     hydro: bool = True
     strain_law: str = "engineering"
     motion: object = None
+    notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
 
     def __post_init__(self):
         for kind, items in (("point", self.points), ("line", self.lines), ("body", self.bodies)):
@@ -313,7 +314,8 @@ def line_end_forces(line_type: LineType, length, a, b, seabed_z=None):
 def settle_points(network: Network) -> dict:
     """Free-point positions (m) where the analytic line end forces balance each point's
     net buoyancy (the catenary-network first guess; bodies held where they are given).
-    Returns {name: position}; the given positions where the solve does not converge."""
+    Returns {name: position}; the given positions where the solve does not converge (and
+    a line in ``network.notes`` says so)."""
     free = [p for p in network.points if p.kind == "free"]
     given = {p.name: network.global_position(p) for p in network.points}
     if not free:
@@ -338,12 +340,16 @@ def settle_points(network: Network) -> dict:
         return F / scale
 
     z0 = np.concatenate([given[p.name] for p in free])
+    unsettled = ("free points not settled on catenaries (the catenary-network solve did not "
+                 "converge): the statics start from the given positions")
     try:
         with np.errstate(all="ignore"):
             sol = root(imbalance, z0, method="hybr", options={"xtol": 1e-12})
     except (ValueError, ArithmeticError):
+        network.notes.append(unsettled)
         return given
     if not sol.success or np.max(np.abs(imbalance(sol.x))) > 1e-6:
+        network.notes.append(unsettled)
         return given
     settled = dict(given)
     for p in free:

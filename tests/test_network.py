@@ -73,7 +73,8 @@ def test_network_tangents_are_the_residual_derivatives(layout):
     x[system.nf + 3: system.nf + 6] = [0.1, -0.05, 0.2]
     x[system.nf + 9:] = [-0.08, 0.12, 0.05]
     v = 0.3 * rng.standard_normal(system.n)
-    v[system.nf:] = 0.0  # (d/dx of the body ends' velocity J(q) v is not in K: see notes)
+    v[system.nf + 3: system.nf + 6] = [0.05, -0.03, 0.04]  # rotating bodies: J(q) v moves
+    v[system.nf + 9:] = [-0.02, 0.06, 0.03]
     t = 0.7
     R, K, Kv = system.residual(x, v, t, layout=layout)
     dense = (lambda A: A) if layout == "dense" else (lambda A: A.toarray())
