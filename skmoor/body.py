@@ -187,8 +187,9 @@ def attachment_velocity_slope(q, r, qdot) -> np.ndarray:
     the body DOFs q at fixed qdot (only the rotation columns are non-zero, m/s per rad)."""
     r = np.asarray(r, dtype=float).reshape(-1, 3)
     d2 = _rotation_derivatives(q[3:])[2]  # d2R/da db, (3, 3, 3, 3)
+    W = np.tensordot(np.asarray(qdot, float)[3:], d2, axes=(0, 0))  # (b, k, l)
     out = np.zeros((r.shape[0], 3, 6))
-    out[:, :, 3:] = np.einsum("abkl,pl,a->pkb", d2, r, np.asarray(qdot, float)[3:])
+    out[:, :, 3:] = (W @ r.T).transpose(2, 1, 0)  # (p, k, b)
     return out.reshape(-1, 6)
 
 

@@ -267,6 +267,8 @@ class System:
         self._identity = len(self.free) == columns  # no two DOFs share a column
         self.nb = 6 * len(self.bodies)
         self.n = self.nf + self.nb
+        self._blocks = [slice(self.nf + 6 * k, self.nf + 6 * k + 6)
+                        for k in range(len(self.bodies))]
         body_ends.sort(key=lambda e: e[0])
         self._body_nodes = np.array([node for _, node, _ in body_ends], int)
         self._body_of_end = np.array([b for b, _, _ in body_ends], int)
@@ -462,7 +464,7 @@ class System:
         return (P0.T @ A @ P0).tocsr()
 
     def _body_block(self, k):
-        return slice(self.nf + 6 * k, self.nf + 6 * k + 6)
+        return self._blocks[k]
 
     @property
     def _needs_velocity(self):
@@ -606,18 +608,33 @@ class System:
                                           end_forces[rows]) if len(rows) else 0.0)
             K_bodies[b, b] = H + self.K_bodies[k] + body_K[k]
             D_bodies[b, b] = body.linear_damping + body_Kv[k]
-        K = K + self._embed_bodies(K_bodies, dense)
-        if Kv_full is not None and np.any(v[self.nf:]):
-            K = K + self._velocity_slope(Kv_full, x, v, J, dense)
-        if np.any(D_bodies):
-            D = self._embed_bodies(D_bodies, dense)
-            Kv = D if Kv is None else Kv + D
+        slope = (self._velocity_slope(Kv_full, x, v, J)
+                 if Kv_full is not None and np.any(v[self.nf:]) else None)
+        damped = np.any(D_bodies)
+        if dense:  # K and Kv are fresh arrays: add in place
+            K[self.nf:, self.nf:] += K_bodies
+            if slope is not None:
+                K[:, self.nf:] += slope
+            if damped:
+                if Kv is None:
+                    Kv = np.zeros((self.n, self.n))
+                Kv[self.nf:, self.nf:] += D_bodies
+        else:
+            K = K + self._embed_bodies(K_bodies)
+            if slope is not None:
+                columns = np.zeros((self.n, self.n))
+                columns[:, self.nf:] = slope
+                K = K + sp.csr_matrix(columns)
+            if damped:
+                D = self._embed_bodies(D_bodies)
+                Kv = D if Kv is None else Kv + D
         if point_rate is not None:
             Kv = self._add_point_rate(Kv, point_rate, layout)
         return R, K, Kv
 
-    def _velocity_slope(self, Kv_full, x, v, J, dense):
-        """P^T Kv_full d(udot)/dq: the body ends' velocity J(q) v changes with q."""
+    def _velocity_slope(self, Kv_full, x, v, J):
+        """(n, 6 nbodies) P^T Kv_full d(udot)/dq: the body ends' velocity J(q) v changes
+        with q (the body columns of K)."""
         slopes = np.zeros((len(self._body_flat), self.nb))
         for k, rows in enumerate(self._body_rows):
             if len(rows):
@@ -626,17 +643,16 @@ class System:
                     rigid.attachment_velocity_slope(x[block], self._r_local[k], v[block])
         B = Kv_full[:, self._body_flat] @ slopes  # (ndofs, nb)
         B = B.toarray() if hasattr(B, "toarray") else np.asarray(B)
-        out = np.zeros((self.n, self.n))
-        out[: self.nf, self.nf:] = (B[self.free] if self._identity
-                                    else self._selection @ B[self.free])
-        out[self.nf:, self.nf:] = J.T @ B[self._body_flat]
-        return out if dense else sp.csr_matrix(out)
+        out = np.empty((self.n, self.nb))
+        out[: self.nf] = B[self.free] if self._identity else self._selection @ B[self.free]
+        out[self.nf:] = J.T @ B[self._body_flat]
+        return out
 
-    def _embed_bodies(self, A, dense=False):
-        """The (6 nbodies)^2 body block in an (n, n) matrix."""
+    def _embed_bodies(self, A):
+        """The (6 nbodies)^2 body block in a sparse (n, n) matrix."""
         out = np.zeros((self.n, self.n))
         out[self.nf:, self.nf:] = A
-        return out if dense else sp.csr_matrix(out)
+        return sp.csr_matrix(out)
 
     def _add_point_rate(self, Kv, dF, layout):
         """Kv minus the points' drag derivatives (the residual carries -F)."""

@@ -314,6 +314,11 @@ class _Recorder:
         self._point_reference = np.array([model.positions[p.name] for p in network.points]
                                          ).reshape(-1, 3)
         self._system = system = model.system
+        self._n_coupled = network.n_coupled_dofs
+        self._body_plan = [
+            ("dynamic", system._body_block(self._dynamic[b.name])) if b.kind == "dynamic"
+            else ("coupled", self._coupled[b.name]) if b.kind == "coupled" else ("fixed", None)
+            for b in network.bodies]
         index = {b.name: k for k, b in enumerate(network.bodies)}
         free = iter(range(len(system.point_masses)))
         self._plan = []  # per point: how its displacement is found (not on dynamic bodies)
@@ -336,15 +341,11 @@ class _Recorder:
             for k, i in on_body.items()]
 
     def _bodies(self, x, y):
-        network, out = self.model.network, []
-        for body in network.bodies:
-            if body.kind == "dynamic":
-                out.append(self._system.q(x, self._dynamic[body.name]).copy())
-            elif body.kind == "coupled":
-                out.append(y[self._coupled[body.name]])
-            else:
-                out.append(np.zeros(6))
-        return np.array(out).reshape(-1, 6)
+        out = np.zeros((len(self._body_plan), 6))
+        for k, (kind, where) in enumerate(self._body_plan):
+            if kind != "fixed":
+                out[k] = (x if kind == "dynamic" else y)[where]
+        return out
 
     def _points(self, x, y, bodies):
         out = np.zeros((len(self._point_reference), 3))
@@ -366,7 +367,7 @@ class _Recorder:
         u = system.full_displacement(state.x, state.t)
         ud = system.full_velocity(state.x, state.v, state.t)
         fair, anchor = system.reactions(state.x, state.v, state.t)
-        y = (np.zeros(network.n_coupled_dofs) if network.motion is None
+        y = (np.zeros(self._n_coupled) if network.motion is None
              else np.asarray(network.motion(state.t), float).ravel())
         bodies = self._bodies(state.x, y)
         nodes = lines.nodal_dofs
