@@ -97,9 +97,13 @@ def cmd_render(args) -> int:
 
 
 def _plots(results, out):
-    from .plots import plot_time_histories
+    """Fig. 6 of the paper for a model with a body; the lines' end tensions without."""
+    from .plots import plot_line_tensions, plot_time_histories
 
-    plot_time_histories(results, out / "time_histories.png")
+    if results.body_names:
+        plot_time_histories(results, out / "time_histories.png")
+    else:
+        plot_line_tensions(results, out / "time_histories.png")
 
 
 def _export(results, out):

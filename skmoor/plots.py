@@ -80,6 +80,23 @@ def plot_body_and_tensions(results, path, body=None, lines=None, title=None,
     return _finish_history(fig, axes, results, title, path)
 
 
+def plot_line_tensions(results, path, title=None, figsize=(8.0, 5.0), dpi=120) -> Path:
+    """The tension at end B (solid) and end A (dashed) of every line (kN) against time
+    (s): the time-history plot of a network without bodies."""
+    fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
+    ax = fig.subplots(1, 1)
+    for k, name in enumerate(results.line_names):
+        ax.plot(results.t, np.asarray(results.fairlead_tension)[:, k] / 1e3, color=f"C{k}",
+                lw=1.2, label=f"{name} end B")
+        ax.plot(results.t, np.asarray(results.anchor_tension)[:, k] / 1e3, color=f"C{k}",
+                lw=1.0, ls="--", label=f"{name} end A")
+    ax.set_ylabel("tension [kN]")
+    ax.ticklabel_format(axis="y", useOffset=False)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="best", fontsize="small", ncol=2)
+    return _finish_history(fig, [ax], results, title, path)
+
+
 def plot_study(rows, path, parameter_label, title=None, figsize=(9.0, 7.0), dpi=120) -> Path:
     """Steady-state amplitudes of surge (m), heave (m), pitch (rad) and the maximum
     tension (kN) against the studied parameter, in 2 x 2 panels.

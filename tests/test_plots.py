@@ -1,4 +1,6 @@
 """Figures of time histories and parameter studies."""
+from pathlib import Path
+
 import imageio.v3 as iio
 import pytest
 from _synthetic import synthetic_results
@@ -38,3 +40,16 @@ def test_study_bad_rows(tmp_path):
 def test_bad_suffix(tmp_path):
     with pytest.raises(ValueError, match="path"):
         plot_time_histories(synthetic_results(), tmp_path / "th.jpg")
+
+
+def test_a_network_without_bodies_plots_its_line_tensions(tmp_path):
+    """A deck of lines and points only: the CLI's plot shows each line's end tensions
+    (the body panels would be empty), written as a PNG of a real size."""
+    import skmoor
+    from skmoor.plots import plot_line_tensions
+
+    model = skmoor.build(Path(__file__).parent / "decks" / "network" / "clump_weight.dat")
+    results = skmoor.simulate(model, duration=1.0, progress=False)
+    assert not results.body_names
+    path = plot_line_tensions(results, tmp_path / "tensions.png")
+    assert path.stat().st_size > 10_000
