@@ -85,7 +85,7 @@ def skmoor_system(n):
     system = System(lines, fairleads="prescribed",
                     motion=lambda t: np.array([[0.0, 0.0, heave(t)[0]]]),
                     terms=[seabed_term(lines, bed),
-                           *line_hydrodynamics(lines)])
+                           line_hydrodynamics(lines)])
     return system, solve_static(system).x
 
 

@@ -493,7 +493,7 @@ def check_string_in_current():
     lt = LineType(EA=EA, mass=10.0, diameter=0.1, weight=0.0, Cd_n=1.2)
     lines = LineSet([_string(lt, T0, L)])
     sea = Sea(1000.0, rho=lt.rho_water, current=Current(U, heading_deg=90.0))
-    system = System(lines, fairleads="fixed", terms=line_hydrodynamics(lines, sea))
+    system = System(lines, fairleads="fixed", terms=[line_hydrodynamics(lines, sea)])
     u = system.full_displacement(solve_static(system).x)[lines.nodal_dofs]
     q = 0.5 * lt.rho_water * lt.Cd_n * lt.diameter * U**2
     H = brentq(lambda H: H - T0 - EA * 8 / 3 * (q * L / (8 * H)) ** 2, T0, 10 * T0)
@@ -513,7 +513,7 @@ def check_added_mass_frequency():
     T, L = 1e5, 100.0
     lt = LineType(EA=1e12, mass=10.0, diameter=0.1, weight=0.0, Ca_n=1.0)
     lines = LineSet([_string(lt, T, L)])
-    system = System(lines, fairleads="fixed", terms=line_hydrodynamics(lines))
+    system = System(lines, fairleads="fixed", terms=[line_hydrodynamics(lines)])
     _, K, _ = system.residual(np.zeros(system.n))
     omega = eigenmodes(K, system.M, k=2).omega[0]
     added = lt.Ca_n * lt.rho_water * lt.area

@@ -22,7 +22,7 @@ _threadpool_limits(int(_os.environ.get("SKMOOR_BLAS_THREADS", 1)), user_api="bla
 from .body import RigidBody  # noqa: E402
 from .case import Case, paper_case
 from .catenary import Catenary, solve_catenary
-from .coupling import BodyTerm, Ends, PointMass, System, Term
+from .coupling import Ends, PointMass, System
 from .deck import read_deck, write_deck
 from .deck_model import heave_motion, read_motion
 from .dynamics import DivergenceError, Scheme, integrate
@@ -36,6 +36,7 @@ from .run import (equilibrium, mooring_stiffness, run_case, simulate, static_res
                   write_outputs)
 from .seabed import Seabed, seabed_term
 from .statics import ConvergenceError, solve_static
+from .terms import BodyLoad, LineForm, PointLoad, Term, TangentCheck, check_tangent
 from .waves import AiryWave, Current, JonswapWave, Sea
 
 __version__ = "0.1.0"
@@ -45,7 +46,8 @@ __all__ = [
     "write_outputs", "equilibrium", "static_results", "Results", "LineType", "Line", "LineSet",
     "read_line_mesh", "write_line_mesh", "Catenary", "solve_catenary", "RigidBody",
     "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
-    "Scheme", "DivergenceError", "BodyTerm", "Sea", "Current", "AiryWave", "JonswapWave",
+    "Scheme", "DivergenceError", "BodyLoad", "PointLoad", "LineForm", "check_tangent",
+    "TangentCheck", "Sea", "Current", "AiryWave", "JonswapWave",
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
     "from_network", "mooring_stiffness", "Ends", "PointMass",

@@ -22,88 +22,11 @@ import math
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import asm
 
 from . import body as rigid
 from .banded import LAYOUTS, as_layout
 from .kernels import CableKernel, ElementPattern
-
-
-@dataclass
-class Term:
-    """A term added to the cable residual, written as scikit-fem forms.
-
-    residual: LinearForm of (v, w) with w.u (displacement, m), w.du (velocity, m/s),
-    w.t (time, s) and the LineSet's reference fields available, plus ``fields``; its
-    value is added to internal - external forces (N). stiffness / damping: BilinearForms,
-    its derivatives with respect to u and to the velocity (None when zero). mass:
-    BilinearForm of a constant extra mass (e.g. added mass, kg), assembled once at u = 0.
-    fields: a dict, or a function t -> dict for time-dependent data (waves, currents).
-    quadrature: 'gauss' (``LineSet.basis``), 'midpoint' (``LineSet.cable_basis``) or
-    'nodal' (``LineSet.nodal_basis``).
-
-    Anything with the method ``evaluate`` below (and optionally ``mass_matrix``) can be
-    a term; a compiled kernel of the same forms also has ``add_to`` (see
-    :mod:`skmoor.kernels`), which the System calls instead.
-    """
-
-    residual: object
-    stiffness: object = None
-    damping: object = None
-    mass: object = None
-    fields: object = field(default_factory=dict)
-    quadrature: str = "gauss"
-
-    def __post_init__(self):
-        if self.quadrature not in ("gauss", "midpoint", "nodal"):
-            raise ValueError(f"Term quadrature: {self.quadrature!r} is not 'gauss', "
-                             "'midpoint' or 'nodal'")
-
-    def _basis_and_fields(self, lines, t):
-        if self.quadrature == "midpoint":
-            basis, base = lines.cable_basis, lines.cable_fields
-        elif self.quadrature == "nodal":
-            basis, base = lines.nodal_basis, lines.nodal_fields
-        else:
-            basis, base = lines.basis, lines.fields
-        extra = self.fields(t) if callable(self.fields) else self.fields
-        return basis, dict(base, t=t, **extra)
-
-    def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
-        """(R, K, Kv) on the full cable DOFs: residual (N), d/du and d/dudot (None when
-        zero or not asked for) as ``layout`` ('sparse', 'dense' or 'band', see
-        :func:`~skmoor.banded.as_layout`)."""
-        basis, w = self._basis_and_fields(lines, t)
-        w.update(u=u, du=np.zeros_like(u) if ud is None else ud)
-        R = asm(self.residual, basis, **w)
-        K = Kv = None
-        if tangent and self.stiffness is not None:
-            K = as_layout(asm(self.stiffness, basis, **w), layout, lines.bandwidth)
-        if tangent and self.damping is not None:
-            Kv = as_layout(asm(self.damping, basis, **w), layout, lines.bandwidth)
-        return R, K, Kv
-
-    def mass_matrix(self, lines):
-        """The constant extra mass (sparse, kg), or None."""
-        if self.mass is None:
-            return None
-        basis, w = self._basis_and_fields(lines, 0.0)
-        return asm(self.mass, basis, u=np.zeros(lines.ndofs), du=np.zeros(lines.ndofs), **w)
-
-
-@dataclass
-class BodyTerm:
-    """A load on the rigid body: ``evaluate(q, qdot, t) -> (F, K, Kv)`` with F the
-    6-vector of loads on the body (N, N m) and K = -dF/dq, Kv = -dF/dqdot (6x6 or None);
-    ``added_mass``: a constant 6x6 (kg, kg m, kg m2) added to the body's mass; ``body``:
-    the index of the dynamic body it acts on."""
-
-    load: object
-    added_mass: object = None
-    body: int = 0
-
-    def evaluate(self, q, qdot, t):
-        return self.load(q, qdot, t)
+from .terms import Term
 
 
 @dataclass
@@ -172,13 +95,13 @@ class System:
     bodies: dynamic :class:`~skmoor.body.RigidBody` objects (``body`` alone: one).
     points: a :class:`PointMass` per free point. motion(t) -> (nslots, 3) displacements of
     the prescribed ends, m. body_load(t, q, qdot) -> 6-vector (N, N m) on body 0, or a list
-    with one (or None) per body. terms: cable terms (:class:`Term` or kernels);
-    body_terms: :class:`BodyTerm` objects (each on its ``body`` index). sea: the water
-    whose current drags the free points (None: still). Add terms with :meth:`add_term`.
+    with one (or None) per body. terms: :class:`~skmoor.terms.Term` objects on the lines,
+    the free points or the bodies (add more with :meth:`add_term`). sea: the water whose
+    current drags the free points (None: still).
     """
 
     def __init__(self, lines, body=None, *, fairleads="body", motion=None,
-                 body_load=None, terms=(), body_terms=(), lumped_mass=True, ends=None,
+                 body_load=None, terms=(), lumped_mass=True, ends=None,
                  bodies=None, points=(), sea=None):
         if ends is None:
             if fairleads not in ("body", "fixed", "prescribed"):
@@ -200,7 +123,7 @@ class System:
             raise ValueError("System motion: prescribed line ends need motion(t) -> (n, 3)")
         self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
                            else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
-        self.terms, self.body_terms = list(terms), list(body_terms)
+        self._terms = {"lines": [], "points": [], "bodies": []}
         self.kernel = CableKernel(lines)
         self._block_shape = (self.kernel.pattern.nel, 6, 6)
         self._damped = lines.damped
@@ -213,6 +136,8 @@ class System:
         self.weight = lines.weight_load()
         self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
         self._free_pattern = None if self.nb else ElementPattern(lines, position=self._position)
+        for term in terms:
+            self._join(term)
         self._assemble_mass()
 
     def _number_dofs(self):
@@ -303,27 +228,66 @@ class System:
             raise ValueError("System body_load: the system has no dynamic body")
         self.body_loads[0] = load
 
+    @property
+    def terms(self) -> tuple:
+        """Every term of the system (lines, points, bodies); add with :meth:`add_term`."""
+        return tuple(self._terms["lines"] + self._terms["points"] + self._terms["bodies"])
+
+    @property
+    def line_terms(self) -> tuple:
+        return tuple(self._terms["lines"])
+
+    @property
+    def point_terms(self) -> tuple:
+        return tuple(self._terms["points"])
+
+    @property
+    def body_terms(self) -> tuple:
+        return tuple(self._terms["bodies"])
+
     def add_term(self, term):
-        """Add a cable :class:`Term` or a :class:`BodyTerm` (and its mass)."""
-        (self.body_terms if isinstance(term, BodyTerm) else self.terms).append(term)
+        """Add a :class:`~skmoor.terms.Term` (lines, a free point or a body) with its mass."""
+        self._join(term)
         self._assemble_mass()
+
+    def _join(self, term):
+        if not isinstance(term, Term):
+            raise ValueError(f"System term: {type(term).__name__} is not a skmoor.terms.Term "
+                             "(see skmoor.LineForm, PointLoad, BodyLoad)")
+        kind = term.acts_on
+        if kind not in self._terms:
+            raise ValueError(f"System term {term!r}: acts_on {kind!r} is not 'lines', "
+                             "'points' or 'bodies'")
+        count = {"points": len(self.point_masses), "bodies": len(self.bodies)}.get(kind)
+        if count is not None:
+            index = term.point if kind == "points" else term.body
+            if not (isinstance(index, (int, np.integer)) and 0 <= index < count):
+                what = "free point" if kind == "points" else "dynamic body"
+                raise ValueError(f"System term {type(term).__name__}: {what} {index!r} does "
+                                 f"not exist ({count} in the system)")
+        term.bind(self)
+        self._terms[kind].append(term)
 
     def _assemble_mass(self):
         """M_red = P0^T (M_lines + term masses) P0 + point and body masses, kg."""
         M_lines = self.M_lines
-        for term in self.terms:
-            extra = term.mass_matrix(self.lines) if hasattr(term, "mass_matrix") else None
+        for term in self._terms["lines"]:
+            extra = term.mass_matrix()
             if extra is not None:
                 M_lines = M_lines + extra
         M = self._reduce_constant(M_lines).tolil()
         for p, point in enumerate(self.point_masses):
-            for c in self.point_columns[p]:
-                M[c, c] += point.mass + point.rho * point.volume * point.Ca
+            block = np.diag(np.full(3, point.mass + point.rho * point.volume * point.Ca))
+            for term in self._terms["points"]:
+                if term.point == p and term.mass_matrix() is not None:
+                    block = block + term.mass_matrix()
+            cols = self.point_columns[p]
+            M[np.ix_(cols, cols)] = M[np.ix_(cols, cols)].toarray() + block
         for k, body in enumerate(self.bodies):
             body_mass = body.mass_matrix() + body.added_mass
-            for term in self.body_terms:
-                if term.added_mass is not None and term.body == k:
-                    body_mass = body_mass + np.asarray(term.added_mass, float)
+            for term in self._terms["bodies"]:
+                if term.body == k and term.mass_matrix() is not None:
+                    body_mass = body_mass + term.mass_matrix()
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
             M[block, block] = M[block, block].toarray() + body_mass
         self.M = M.tocsr()
@@ -468,49 +432,33 @@ class System:
 
     @property
     def _needs_velocity(self):
-        return bool(self.terms) or self._damped
+        return bool(self._terms["lines"]) or self._damped
 
     # --- the nonlinear system
     def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, layout="sparse"):
         """Full cable residual internal - external (N) and its u- and v-derivatives in
         ``layout`` ('sparse', 'dense' or 'band')."""
-        R, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, tangent, layout)
+        R, Ke, Ce = self._line_blocks(u, ud, t, load_factor, tangent)
         if not tangent:
             return R, None, None
-        return (R, *self._sum(self.kernel.pattern, Ke, Ce, assembled, layout,
-                              self.lines.bandwidth))
+        return R, *self._sum(self.kernel.pattern, Ke, Ce, layout)
 
-    def _line_blocks(self, u, ud, t, load_factor, tangent, layout):
-        """The cable residual (N) with the element blocks of its derivatives (d/du, d/dv;
-        None without ``tangent``) that the kernels add into, and the (K, Kv) pairs the
-        form terms assemble themselves (full DOFs, sparse unless ``layout`` is dense)."""
+    def _line_blocks(self, u, ud, t, load_factor, tangent):
+        """The cable residual (N) with the element blocks (nel, 6, 6) of its derivatives
+        d/du and d/dv (None without ``tangent``): the cable kernel and every line term."""
         R = -load_factor * self.weight
         Ke = Ce = None
         if tangent:
             Ke, Ce = np.zeros(self._block_shape), np.zeros(self._block_shape)
         self.kernel.add_to(u, ud if self._damped else None, R, Ke, Ce)
-        assembled = []
-        for term in self.terms:
-            if hasattr(term, "add_to"):
-                term.add_to(self.lines, u, ud, t, R, Ke, Ce)
-            else:
-                Rt, Kt, Cv = term.evaluate(self.lines, u, ud, t, tangent,
-                                           "dense" if layout == "dense" else "sparse")
-                R += Rt
-                assembled.append((Kt, Cv))
-        return R, Ke, Ce, assembled
+        for term in self._terms["lines"]:
+            term.add_to(u, ud, t, R, Ke, Ce)
+        return R, Ke, Ce
 
-    def _sum(self, pattern, Ke, Ce, assembled, layout, bandwidth, reduce=None):
-        """K, Kv in ``layout``: the element blocks assembled on ``pattern`` plus the form
-        terms' matrices (passed through ``reduce`` first when given)."""
+    def _sum(self, pattern, Ke, Ce, layout):
+        """K, Kv in ``layout``: the element blocks assembled on ``pattern``."""
         K = pattern.assemble(Ke, layout)
         Kv = pattern.assemble(Ce, layout) if self._needs_velocity else None
-        for Kt, Cv in assembled:
-            if Kt is not None:
-                K = K + as_layout(Kt if reduce is None else reduce(Kt), layout, bandwidth)
-            if Cv is not None:
-                Cv = as_layout(Cv if reduce is None else reduce(Cv), layout, bandwidth)
-                Kv = Cv if Kv is None else Kv + Cv
         return K, Kv
 
     @property
@@ -519,25 +467,32 @@ class System:
         rows and columns couple all its line ends)."""
         return None if self.nb else self._free_pattern.bandwidth
 
-    def _point_loads(self, x, v, t, load_factor):
-        """(npoints, 3) loads on the free points (N): net buoyancy and drag, and the
-        drag's d/dv (npoints, 3, 3, N s/m)."""
-        F = np.zeros((len(self.point_masses), 3))
-        dF = np.zeros((len(self.point_masses), 3, 3))
+    def _points(self, x, v, t, load_factor, R, tangent):
+        """Adds the free points' loads into R (net buoyancy (rho V - m) g, drag on the
+        velocity relative to the current, and their terms); returns their derivative
+        blocks d/dx, d/dv (npoints, 3, 3) or None without ``tangent``."""
+        npoints = len(self.point_masses)
+        K = np.zeros((npoints, 3, 3)) if tangent else None
+        C = np.zeros((npoints, 3, 3)) if tangent else None
         for p, point in enumerate(self.point_masses):
-            rho = point.rho
-            F[p, 2] = load_factor * (rho * point.volume - point.mass) * point.g
+            cols = self.point_columns[p]
+            R[cols[2]] -= load_factor * (point.rho * point.volume - point.mass) * point.g
             if point.CdA:
-                relative = -v[self.point_columns[p]]
+                relative = -v[cols]
                 if self.sea is not None and not self.sea.still:
-                    here = self.point_reference[p] + x[self.point_columns[p]]
-                    relative = relative + self.sea.velocity(here, t)
+                    relative = relative + self.sea.velocity(self.point_reference[p] + x[cols], t)
                 speed = np.linalg.norm(relative)
-                k = 0.5 * rho * point.CdA
-                F[p] += k * speed * relative
-                if speed > 0:  # d/dv of k |w| w with w = U - v
-                    dF[p] = -k * (speed * np.eye(3) + np.outer(relative, relative) / speed)
-        return F, dF
+                k = 0.5 * point.rho * point.CdA
+                R[cols] -= k * speed * relative
+                if tangent and speed > 0:  # the residual's d/dv of -k |w| w, w = U - v
+                    C[p] += k * (speed * np.eye(3) + np.outer(relative, relative) / speed)
+        for term in self._terms["points"]:
+            cols = self.point_columns[term.point]
+            Rp = np.zeros(3)
+            term.add_to(x[cols], v[cols], t, Rp, None if K is None else K[term.point],
+                        None if C is None else C[term.point])
+            R[cols] += Rp
+        return K, C
 
     def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, layout="sparse"):
         """Reduced residual R(x, v, t) (no inertia, no Rayleigh damping) and its
@@ -558,13 +513,11 @@ class System:
         if self.nb or not tangent:
             R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, layout)
         else:  # no body: the element blocks go straight into the reduced matrices
-            R_full, Ke, Ce, assembled = self._line_blocks(u, ud, t, load_factor, True, layout)
+            R_full, Ke, Ce = self._line_blocks(u, ud, t, load_factor, True)
         R = self._reduce(R_full, J)
-        point_rate = None
+        point_K = point_C = None
         if self.point_masses:
-            F, dF = self._point_loads(x, v, t, load_factor)
-            R[self.point_columns] -= F
-            point_rate = dF if np.any(dF) else None
+            point_K, point_C = self._points(x, v, t, load_factor, R, tangent)
         body_K, body_Kv = [], []
         for k, body in enumerate(self.bodies):
             block = self._body_block(k)
@@ -573,26 +526,20 @@ class System:
             R[block] += body.linear_damping @ qdot
             if self.body_loads[k] is not None:
                 R[block] -= self.body_loads[k](t, q, qdot)
-            Kk = Kvk = 0.0
-            for term in self.body_terms:
-                if term.body != k:
-                    continue
-                F, Kb, Kvb = term.evaluate(q, qdot, t)
-                R[block] -= F
-                Kk = Kk if Kb is None else Kk + Kb
-                Kvk = Kvk if Kvb is None else Kvk + Kvb
+            Kk, Ck = (np.zeros((6, 6)), np.zeros((6, 6))) if tangent else (None, None)
+            Rk = np.zeros(6)
+            for term in self._terms["bodies"]:
+                if term.body == k:
+                    term.add_to(q, qdot, t, Rk, Kk, Ck)
+            R[block] += Rk
             body_K.append(Kk)
-            body_Kv.append(Kvk)
+            body_Kv.append(Ck)
         if not tangent:
             return R, None, None
         dense = layout == "dense"
         if not self.nb:
-            reduce = self._reduce_dense if dense else self._reduce_sparse
-            K, Kv = self._sum(self._free_pattern, Ke, Ce, assembled, layout, self.bandwidth,
-                              reduce=lambda A: reduce(A, None))
-            if point_rate is not None:
-                Kv = self._add_point_rate(Kv, point_rate, layout)
-            return R, K, Kv
+            K, Kv = self._sum(self._free_pattern, Ke, Ce, layout)
+            return (R, *self._add_point_blocks(K, Kv, point_K, point_C, layout))
         if dense:
             K = self._reduce_dense(K_full, J)
             Kv = None if Kv_full is None else self._reduce_dense(Kv_full, J)
@@ -628,9 +575,7 @@ class System:
             if damped:
                 D = self._embed_bodies(D_bodies)
                 Kv = D if Kv is None else Kv + D
-        if point_rate is not None:
-            Kv = self._add_point_rate(Kv, point_rate, layout)
-        return R, K, Kv
+        return (R, *self._add_point_blocks(K, Kv, point_K, point_C, layout))
 
     def _velocity_slope(self, Kv_full, x, v, J):
         """(n, 6 nbodies) P^T Kv_full d(udot)/dq: the body ends' velocity J(q) v changes
@@ -654,18 +599,19 @@ class System:
         out[self.nf:, self.nf:] = A
         return sp.csr_matrix(out)
 
-    def _add_point_rate(self, Kv, dF, layout):
-        """Kv minus the points' drag derivatives (the residual carries -F)."""
-        rows, cols, vals = [], [], []
-        for p, block in enumerate(dF):
-            c = self.point_columns[p]
-            rows.append(np.repeat(c, 3))
-            cols.append(np.tile(c, 3))
-            vals.append(-block.ravel())
-        A = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(self.n, self.n))
-        A = as_layout(A, layout, self.bandwidth)
-        return A if Kv is None else Kv + A
+    def _add_point_blocks(self, K, Kv, point_K, point_C, layout):
+        """K and Kv plus the free points' (npoints, 3, 3) derivative blocks (None: none)."""
+        out = []
+        for A, blocks in ((K, point_K), (Kv, point_C)):
+            if blocks is not None and np.any(blocks):
+                cols = self.point_columns
+                rows = np.repeat(cols, 3, axis=1).ravel()
+                B = sp.csr_matrix((blocks.ravel(), (rows, np.tile(cols, (1, 3)).ravel())),
+                                  shape=(self.n, self.n))
+                B = as_layout(B, layout, self.bandwidth)
+                A = B if A is None else A + B
+            out.append(A)
+        return out
 
     def reactions(self, x, v=None, t=0.0):
         """(nlines, 3) forces the lines exert on their B ends, and (nlines, 3) on their

@@ -94,7 +94,7 @@ def has_line_hydrodynamics(data: dict) -> bool:
 
 
 def body_terms(data: dict, body, water_sea=None) -> list:
-    """The BodyTerms of a body section (``data["body"]``): its quadratic drag, if any."""
+    """The BodyLoads of a body section (``data["body"]``): its quadratic drag, if any."""
     spec = data["body"]
     if "drag_coefficients" not in spec and "drag_areas" not in spec:
         return []

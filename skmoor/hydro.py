@@ -28,17 +28,15 @@ tau = (X' + u') / |X' + u'|.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
-
 import numpy as np
 import scipy.sparse as sp
 from skfem import BilinearForm, LinearForm, asm
-from skfem.helpers import dot
 from numba import njit
 
-from .coupling import BodyTerm, Term
-from .forms import d_ds
-from .kernels import NO_BLOCKS, ElementPattern
+from . import ops
+from .ops import d_ds, dot
+from .kernels import NO_BLOCKS
+from .terms import BodyLoad, LineForm, Term
 from .validation import check_finite, check_positive
 from .waves import Sea
 
@@ -50,7 +48,7 @@ from .waves import Sea
 def _tangent(w):
     """tau = r' / |r'| and |r'|, r' = X' + u' (the current unit tangent and stretch)."""
     rp = w.Xp + d_ds(w.u)
-    length = np.sqrt(dot(rp, rp))
+    length = ops.sqrt(dot(rp, rp))
     return rp / length, length
 
 
@@ -62,7 +60,7 @@ def _split(vec, tau):
 
 def _nonzero(x):
     """x with zeros replaced by 1, for quotients that vanish with their numerator."""
-    return np.where(x > 0, x, 1.0)
+    return ops.where(x > 0, x, 1.0)
 
 
 @LinearForm
@@ -70,8 +68,8 @@ def morison_drag(v, w):
     # -int [drag_n |v_n| v_n + drag_t |v_t| v_t] . du ds,  v = u_w - udot split along tau
     tau, _ = _tangent(w)
     a, vn = _split(w.uw - w.du, tau)
-    speed = np.sqrt(dot(vn, vn))
-    return -(w.drag_n * speed * dot(vn, v) + w.drag_t * np.abs(a) * a * dot(tau, v))
+    speed = ops.norm(vn)
+    return -(w.drag_n * speed * dot(vn, v) + w.drag_t * ops.abs(a) * a * dot(tau, v))
 
 
 @BilinearForm
@@ -79,10 +77,10 @@ def morison_drag_rate(dv, v, w):
     # d/d(udot): int [drag_n (|v_n| P + v_n v_n^T / |v_n|) + 2 drag_t |v.tau| tau tau^T] dv . du ds
     tau, _ = _tangent(w)
     a, vn = _split(w.uw - w.du, tau)
-    speed = np.sqrt(dot(vn, vn))
+    speed = ops.norm(vn)
     _, dvn = _split(dv, tau)
     return (w.drag_n * (speed * dot(dvn, v) + dot(vn, dv) * dot(vn, v) / _nonzero(speed))
-            + 2.0 * w.drag_t * np.abs(a) * dot(tau, dv) * dot(tau, v))
+            + 2.0 * w.drag_t * ops.abs(a) * dot(tau, dv) * dot(tau, v))
 
 
 @BilinearForm
@@ -90,12 +88,12 @@ def morison_drag_stiffness(du, v, w):
     # d/du via tau only (dtau = P du'/|r'|): -int [drag_n d(|v_n| v_n) + drag_t d(|v_t| v_t)].du ds
     tau, length = _tangent(w)
     a, vn = _split(w.uw - w.du, tau)
-    speed = np.sqrt(dot(vn, vn))
+    speed = ops.norm(vn)
     _, dtau = _split(d_ds(du), tau)
     dtau = dtau / length
     vd = dot(vn, dtau)
     d_normal = -(speed * a * dtau + speed * vd * tau + a * vd * vn / _nonzero(speed))
-    d_axial = 2.0 * np.abs(a) * vd * tau + np.abs(a) * a * dtau
+    d_axial = 2.0 * ops.abs(a) * vd * tau + ops.abs(a) * a * dtau
     return -dot(w.drag_n * d_normal + w.drag_t * d_axial, v)
 
 
@@ -179,35 +177,31 @@ def added_mass_matrix(lines, lumped=True):
     return lump_blocks(M, lines.nodal_dofs) if lumped else M.tocsr()
 
 
-@dataclass
-class SeaTerm(Term):
-    """A :class:`~skmoor.coupling.Term` with the water's velocity (field ``uw``) or
-    acceleration (``aw``, when ``water='acceleration'``) from :func:`nodal_water` at
-    time t; its mass is block-lumped when ``lumped``."""
+class SeaTerm(LineForm):
+    """A :class:`~skmoor.terms.LineForm` with the water's velocity (field ``uw``) or
+    acceleration (``aw``, when ``water='acceleration'``) from :func:`nodal_water` at the
+    displaced nodes at time t; its mass (the added mass) is block-lumped when ``lumped``."""
 
-    sea: object = None
-    water: str = "velocity"
-    lumped: bool = True
+    def __init__(self, residual, *, sea=None, water="velocity", lumped=True, **kw):
+        super().__init__(residual, **kw)
+        self.sea, self.water, self.lumped = sea, water, lumped
 
-    def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
+    def fields_at(self, t, u):
         name = "uw" if self.water == "velocity" else "aw"
-        fields = dict(self.fields, **{name: nodal_water(lines, self.sea, u, t, self.water)})
-        return Term.evaluate(replace(self, fields=fields), lines, u, ud, t, tangent, layout)
+        return dict(self.fields, **{name: nodal_water(self.lines, self.sea, u, t, self.water)})
 
-    def mass_matrix(self, lines):
-        if self.mass is None:
-            return None
-        return added_mass_matrix(lines, self.lumped)
+    def mass_matrix(self):
+        return None if self.mass is None else added_mass_matrix(self.lines, self.lumped)
 
 
-class LineHydroKernel:
+class LineHydroKernel(Term):
     """The forms above (drag, fluid inertia, added mass) as a compiled kernel (see
-    :mod:`skmoor.kernels`): the same Gauss points, element by element.
-    ``evaluate(lines, u, ud, t, tangent, layout) -> (R, K, Kv)`` as :class:`Term`."""
+    :mod:`skmoor.kernels`), a line :class:`~skmoor.terms.Term`: the same Gauss points,
+    element by element."""
 
     def __init__(self, lines, sea=None, lumped_mass=True):
         basis = lines.basis
-        self.sea = sea
+        self.lines, self.sea = lines, sea
         self.moving_water = sea is not None and not sea.still
         self.has_waves = sea is not None and sea.has_waves
         self.Xp = np.ascontiguousarray(np.moveaxis(lines.fields["Xp"], 0, -1))  # (nel, nqp, 3)
@@ -221,19 +215,13 @@ class LineHydroKernel:
         self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
         self.h = lines.element_lengths
         self.wphi = basis.dx[:, None, :] * self.phi  # (nel, 2, nqp) weight x phi_a
-        self.pattern = ElementPattern(lines)
         self._still = np.zeros((len(self.points), 3))
         self._no_velocity = np.zeros(lines.ndofs)
         self._mass = added_mass_matrix(lines, lumped_mass)
 
-    def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
-        """Residual (N) and its derivatives d/du, d/dudot (N/m, N s/m)."""
-        return self.pattern.evaluate(lambda R, Ke, Ce: self.add_to(lines, u, ud, t, R, Ke, Ce),
-                                     tangent, layout, rate=True)
-
-    def add_to(self, lines, u, ud, t, R, Ke=None, Ce=None):
+    def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
-        blocks (the kernel protocol of :mod:`skmoor.kernels`)."""
+        blocks (the term protocol, :mod:`skmoor.terms`)."""
         water = acceleration = self._still
         if self.moving_water:
             water, acceleration = self.sea.kinematics(self.points + u[self.nodal_dofs], t)
@@ -242,7 +230,7 @@ class LineHydroKernel:
                  water, acceleration, self.has_waves, R,
                  NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
 
-    def mass_matrix(self, lines):
+    def mass_matrix(self):
         """The added mass (sparse, kg), or None when every Ca is zero."""
         return self._mass
 
@@ -324,26 +312,31 @@ def _check_sea(lines, sea):
                              f"{line.name!r}'s LineType.rho_water {line.line_type.rho_water}")
 
 
-def line_hydrodynamics(lines, sea=None, *, fast=True, lumped_mass=True):
-    """Terms for a System on ``lines`` (a LineSet): Morison drag on the relative velocity,
-    fluid inertia (when ``sea`` has waves) and added mass, coefficients from each line's
-    LineType (MoorDyn v2 conventions, see the module docstring). sea=None: still water.
-
-    fast: one :class:`LineHydroKernel` (compiled, for the time loop); else :class:`SeaTerm`
-    objects on the forms (the definition). lumped_mass: block-lump the added mass as the
-    System lumps the line's mass (keep the two alike).
-    """
+def line_hydrodynamics(lines, sea=None, *, lumped_mass=True):
+    """The line term for a System on ``lines`` (a LineSet): Morison drag on the relative
+    velocity, fluid inertia (when ``sea`` has waves) and added mass, coefficients from each
+    line's LineType (MoorDyn v2 conventions, see the module docstring), as one compiled
+    :class:`LineHydroKernel`. sea=None: still water. lumped_mass: block-lump the added
+    mass as the System lumps the line's mass (keep the two alike)."""
     _check_sea(lines, sea)
-    if fast:
-        return [LineHydroKernel(lines, sea, lumped_mass)]
+    return LineHydroKernel(lines, sea, lumped_mass)
+
+
+def form_terms(lines, sea=None, *, lumped_mass=True, path="auto"):
+    """The same physics as :func:`line_hydrodynamics` as :class:`SeaTerm` forms (the
+    definition): drag (+ fluid inertia with waves); ``path`` as :class:`LineForm` ('auto':
+    scikit-fem's assembly with the hand-written tangents)."""
+    _check_sea(lines, sea)
     c = coefficients(lines)
     has_mass = np.any(c["added_n"]) or np.any(c["added_t"])
-    terms = [SeaTerm(morison_drag, stiffness=morison_drag_stiffness, damping=morison_drag_rate,
+    hand = path in ("auto", "assembly")
+    terms = [SeaTerm(morison_drag, stiffness=morison_drag_stiffness if hand else None,
+                     damping=morison_drag_rate if hand else None,
                      mass=added_mass if has_mass else None, fields=c, sea=sea,
-                     lumped=lumped_mass)]
+                     lumped=lumped_mass, path=path, lines=lines)]
     if sea is not None and sea.has_waves:
-        terms.append(SeaTerm(fluid_inertia, stiffness=fluid_inertia_stiffness, fields=c,
-                             sea=sea, water="acceleration"))
+        terms.append(SeaTerm(fluid_inertia, stiffness=fluid_inertia_stiffness if hand else None,
+                             fields=c, sea=sea, water="acceleration", path=path, lines=lines))
     return terms
 
 
@@ -362,7 +355,7 @@ def _six(name, value):
 
 def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=None, sea=None,
                        reference_point=(0.0, 0.0, 0.0), rho=1025.0):
-    """A :class:`~skmoor.coupling.BodyTerm`: quadratic drag on the body's velocity relative
+    """A :class:`~skmoor.terms.BodyLoad`: quadratic drag on the body's velocity relative
     to the water and a constant added mass, MoorDyn v2's body convention
     (source/Body.cpp): F = 1/2 rho diag(Cd A)[:3] |v_r| v_r with v_r = u_w(x_ref + q[:3], t)
     - qdot[:3], and M = 1/2 rho diag(Cd A)[3:] |w_r| w_r with w_r = -qdot[3:]
@@ -371,7 +364,7 @@ def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=No
     drag_coefficients (-), drag_areas (m2 translational; m5 rotational): 3 or 6 values
     each, multiplied; added_mass: (6, 6) about the reference point (kg, kg m, kg m2);
     reference_point (m): where q is measured and the water velocity taken. The tangent
-    K = -dF/dq neglects the water velocity's gradient (None); Kv = -dF/dqdot is exact.
+    dF/dq neglects the water velocity's gradient (None); dF/dqdot is exact.
     """
     check_positive("body_hydrodynamics rho", rho)
     point = np.asarray(reference_point, float)
@@ -396,18 +389,25 @@ def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=No
         check_finite("body_hydrodynamics added_mass", added_mass)
     moving_water = sea is not None and not sea.still
 
-    def load(q, qdot, t):
-        relative = -np.asarray(qdot, float)
+    def relative(q, qdot, t):
+        out = -np.asarray(qdot, float)
         if moving_water:
-            relative[:3] += sea.velocity(point + q[:3], t)
-        F, Kv = np.zeros(6), np.zeros((6, 6))
-        for block in (slice(0, 3), slice(3, 6)):
-            vr = relative[block]
-            speed = np.linalg.norm(vr)
-            k = 0.5 * rho * cda[block][:, None]
-            F[block] = k[:, 0] * speed * vr
-            # -dF/dqdot = 1/2 rho diag(Cd A) (|v_r| I + v_r v_r^T / |v_r|)
-            Kv[block, block] = k * (speed * np.eye(3) + np.outer(vr, vr) / (speed or 1.0))
-        return F, None, Kv
+            out[:3] += sea.velocity(point + q[:3], t)
+        return out
 
-    return BodyTerm(load, added_mass)
+    def load(q, qdot, t):
+        vr = relative(q, qdot, t)
+        return 0.5 * rho * cda * np.concatenate([np.linalg.norm(vr[:3]) * vr[:3],
+                                                 np.linalg.norm(vr[3:]) * vr[3:]])
+
+    def tangent(q, qdot, t):
+        vr, dF_dv = relative(q, qdot, t), np.zeros((6, 6))
+        for block in (slice(0, 3), slice(3, 6)):
+            w = vr[block]
+            speed = np.linalg.norm(w)
+            # dF/dqdot = -1/2 rho diag(Cd A) (|v_r| I + v_r v_r^T / |v_r|)
+            dF_dv[block, block] = -0.5 * rho * cda[block][:, None] * (
+                speed * np.eye(3) + np.outer(w, w) / (speed or 1.0))
+        return None, dF_dv
+
+    return BodyLoad(load, added_mass=added_mass, tangent=tangent)

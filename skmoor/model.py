@@ -75,6 +75,25 @@ class Model:
     def damping(self) -> dict:
         return self.settings.get("damping", {"ratio": 0.0})
 
+    def add(self, term):
+        """Add a :class:`~skmoor.terms.Term` (a LineForm, PointLoad, BodyLoad, ...) to the
+        model's equations, with its mass: it acts in statics, modes and dynamics alike.
+        A PointLoad's ``point`` or a BodyLoad's ``body`` may be a name. Returns the term."""
+        kind = getattr(term, "acts_on", None)
+        if kind in ("points", "bodies"):
+            attribute = "point" if kind == "points" else "body"
+            names = ([p.name for p in self.network.points if p.kind == "free"] if kind == "points"
+                     else [b.name for b in self.network.bodies if b.kind == "dynamic"])
+            index = getattr(term, attribute)
+            if isinstance(index, str):
+                if index not in names:
+                    what = "free point" if kind == "points" else "dynamic body"
+                    raise ValueError(f"Model.add {type(term).__name__}.{attribute}: no {what} "
+                                     f"{index!r} (have {names or 'none'})")
+                setattr(term, attribute, names.index(index))
+        self.system.add_term(term)
+        return term
+
 
 def build(source, *, motion=None, sea=None) -> Model:
     """The model of a Case, a Deck or a path to either (``.toml``: a case; else a deck).

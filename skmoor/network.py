@@ -21,6 +21,7 @@ the angles), then 3 per coupled point.
 """
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 
@@ -29,7 +30,7 @@ from scipy.optimize import root
 
 from .body import RigidBody
 from .catenary import solve_catenary
-from .coupling import BodyTerm, Ends, PointMass, System
+from .coupling import Ends, PointMass, System
 from .hydro import line_hydrodynamics
 from .line import Line, LineSet, LineType
 from .seabed import seabed_term
@@ -91,7 +92,7 @@ class MooringLine:
 class Body:
     """A body: kind 'dynamic' (``rigid``: its RigidBody, whose reference point is the
     body's position), 'coupled' or 'fixed' (``position``, m, and ``attitude``, rad, of
-    its reference point). terms: BodyTerms (drag, ...); load(t, q, qdot) -> 6-vector."""
+    its reference point). terms: BodyLoads (drag, ...); load(t, q, qdot) -> 6-vector."""
 
     name: str
     kind: str
@@ -408,14 +409,15 @@ def build_system(network: Network, positions: dict | None = None):
         terms.append(seabed_term(lineset, network.seabed))
     if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
-        terms += line_hydrodynamics(lineset, network.sea)
-    body_terms = []
+        terms.append(line_hydrodynamics(lineset, network.sea))
     for k, body in enumerate(dynamic):
         for term in body.terms:
-            body_terms.append(BodyTerm(term.load, term.added_mass, body=k))
+            term = copy.copy(term)
+            term.body = k
+            terms.append(term)
     system = System(lineset, ends=ends, bodies=[b.rigid for b in dynamic], points=masses,
                     motion=motion, body_load=[b.load for b in dynamic], terms=terms,
-                    body_terms=body_terms, sea=network.sea)
+                    sea=network.sea)
     return system, lineset, catenaries, positions
 
 

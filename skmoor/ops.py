@@ -18,7 +18,9 @@ def _jax(*args):
 
 
 def _values(*args):
-    return [getattr(a, "value", a) if hasattr(a, "grad") else a for a in args]
+    """Plain arrays of fields: a JAX field's value (a NumPy DiscreteField is an array)."""
+    return [a.value if hasattr(a, "grad") and not isinstance(a, np.ndarray) else a
+            for a in args]
 
 
 def xp(*args):

@@ -36,12 +36,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from skfem import BilinearForm, LinearForm
-from skfem.helpers import dot
 from numba import njit
 
-from .coupling import Term
-from .forms import d_ds
-from .kernels import NO_BLOCKS, ElementPattern
+from . import ops
+from .kernels import NO_BLOCKS
+from .ops import d_ds, dot
+from .terms import LineForm, Term
 from .validation import check_finite, check_positive
 
 DEFAULT_PENETRATION = 1e-3  # m: the default stiffness lets the heaviest line sink this far
@@ -160,13 +160,13 @@ def _slip(rp, ud, n, v0):
     """Axial direction a, 1/|P r'| (0 for an element standing on the bed), axial slip v_a,
     lateral slip v_l and the regularisation roots sqrt(v_a^2 + v0^2), sqrt(|v_l|^2 + v0^2)."""
     b = rp - dot(n, rp) * n
-    length = np.sqrt(dot(b, b))
-    inv = np.where(length > _VERTICAL, 1.0 / np.maximum(length, _VERTICAL), 0.0)
+    length = ops.norm(b)
+    inv = ops.where(length > _VERTICAL, 1.0 / ops.maximum(length, _VERTICAL), 0.0)
     a = b * inv
     vt = ud - dot(n, ud) * n
     va = dot(a, vt)
     vl = vt - va * a
-    return a, inv, va, vl, np.sqrt(va**2 + v0**2), np.sqrt(dot(vl, vl) + v0**2)
+    return a, inv, va, vl, ops.sqrt(va**2 + v0**2), ops.sqrt(dot(vl, vl) + v0**2)
 
 
 def _state(w):
@@ -181,8 +181,8 @@ def _fade(g, onset):
     """Hc(g) = clip(g / onset, 0, 1), the damping's share (H(g) for onset 0), and dHc/dg
     (1/m, 0 outside 0 < g < onset)."""
     if onset == 0:
-        return (g > 0).astype(float), np.zeros_like(g)
-    return np.clip(g / onset, 0.0, 1.0), ((g > 0) & (g < onset)) / onset
+        return (g > 0).astype(float), 0.0 * g
+    return ops.clip(g / onset, 0.0, 1.0), ((g > 0) & (g < onset)) / onset
 
 
 def _friction_direction(a, va, vl, ra, rho, mu_a, mu_l):
@@ -270,12 +270,15 @@ def _reference_positions(lines):
     return X
 
 
-def seabed_term(lines, seabed, *, fast=True):
-    """The sea bed as a term of ``System(terms=[...])``: a :class:`SeabedKernel` (fast) or
-    a :class:`~skmoor.coupling.Term` on the forms above with nodal quadrature (same numbers
-    to round-off)."""
-    if fast:
-        return SeabedKernel(lines, seabed)
+def seabed_term(lines, seabed):
+    """The sea bed as a line term of a System: the compiled :class:`SeabedKernel`."""
+    return SeabedKernel(lines, seabed)
+
+
+def form_term(lines, seabed, *, path="auto"):
+    """The sea bed as a :class:`~skmoor.terms.LineForm` on the forms above with nodal
+    quadrature (the definition; the same numbers as the kernel to round-off). path:
+    'auto' uses the hand-written tangents on scikit-fem's assembly."""
     k, c = seabed.cell_coefficients(lines)
     nqp = lines.nodal_basis.X.shape[1]
     fields = dict(X=_reference_positions(lines), bed_n=seabed.normal[:, None, None],
@@ -283,17 +286,20 @@ def seabed_term(lines, seabed, *, fast=True):
                   c_bed=np.repeat(c[:, None], nqp, axis=1), bed_onset=seabed.onset(lines),
                   mu_a=float(seabed.mu_axial), mu_l=float(seabed.mu_lateral),
                   v0=float(seabed.friction_velocity))
+    hand = path in ("auto", "assembly")
     moving = np.any(c > 0) or seabed.mu_axial > 0 or seabed.mu_lateral > 0
-    return Term(seabed_residual, seabed_stiffness, seabed_damping if moving else None,
-                fields=fields, quadrature="nodal")
+    return LineForm(seabed_residual, stiffness=seabed_stiffness if hand else None,
+                    damping=seabed_damping if hand and moving else None, fields=fields,
+                    quadrature="nodal", path=path, lines=lines, name="seabed")
 
 
-class SeabedKernel:
-    """Compiled fast path of the seabed forms (see :mod:`skmoor.kernels`):
-    ``evaluate(lines, u, ud, t, tangent, layout) -> (R N, K N/m, Kv N s/m)`` at the nodal
-    quadrature points (2 per element: node i of element e with weight h_e / 2)."""
+class SeabedKernel(Term):
+    """Compiled fast path of the seabed forms (see :mod:`skmoor.kernels`), a line
+    :class:`~skmoor.terms.Term`, at the nodal quadrature points (2 per element: node i of
+    element e with weight h_e / 2)."""
 
     def __init__(self, lines, seabed):
+        self.lines = lines
         self.k, self.c = seabed.cell_coefficients(lines)
         self.onset = seabed.onset(lines)
         self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
@@ -303,19 +309,13 @@ class SeabedKernel:
         self.h = lines.element_lengths
         self.ends = np.ascontiguousarray(lines.nodal_dofs[t])  # (2, nel, 3) DOFs of each end
         self.X = np.ascontiguousarray(lines.points[t])  # (2, nel, 3)
-        self.pattern = ElementPattern(lines)
         self.friction = self.mu_a > 0 or self.mu_l > 0
         self.moving = bool(np.any(self.c > 0)) or self.friction
         self._no_velocity = np.zeros(lines.ndofs)
 
-    def evaluate(self, lines, u, ud, t, tangent=True, layout="sparse"):
-        """(R, K, Kv) of the sea bed on the full cable DOFs (see the forms above)."""
-        return self.pattern.evaluate(lambda R, Ke, Ce: self.add_to(lines, u, ud, t, R, Ke, Ce),
-                                     tangent, layout, rate=self.moving)
-
-    def add_to(self, lines, u, ud, t, R, Ke=None, Ce=None):
+    def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
-        blocks (the kernel protocol of :mod:`skmoor.kernels`)."""
+        blocks (the term protocol, :mod:`skmoor.terms`)."""
         _seabed(self.X, self.ends, self.h, self.n, self.offset, self.k, self.c, self.onset,
                 self.mu_a, self.mu_l, self.v0, self.friction, u,
                 self._no_velocity if ud is None else ud, R,

@@ -48,7 +48,7 @@ def heaving_chain(n=24):
     bed = Seabed(60.0)
     return System(lines, fairleads="prescribed",
                   motion=lambda t: np.array([[0.0, 0.0, 2.0 * np.sin(0.6 * t)]]),
-                  terms=[seabed_term(lines, bed), *line_hydrodynamics(lines)])
+                  terms=[seabed_term(lines, bed), line_hydrodynamics(lines)])
 
 
 def test_layouts_give_the_same_motion(monkeypatch):

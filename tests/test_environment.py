@@ -28,7 +28,7 @@ def test_bad_environment_input_names_the_field(change, message):
 def test_sections_switch_the_terms_on(tmp_path):
     """A TOML case with the sections builds the hydrodynamic and sea-bed kernels and a
     body drag term; the paper's case has none."""
-    assert skmoor.build(skmoor.paper_case()).system.terms == []
+    assert skmoor.build(skmoor.paper_case()).system.terms == ()
     text = (tmp_path / "base.toml")
     text.write_text(open("examples/paper_case.toml").read() + """
 [sea]
@@ -39,7 +39,7 @@ mu_axial = 0.3
     case = skmoor.Case.from_toml(text).replace("line_types.steel.Cd_n", 1.2)
     system = skmoor.build(case.replace("body.drag_coefficients", [1.0, 1.0, 1.0])
                           .replace("body.drag_areas", [50.0, 130.0, 260.0])).system
-    kinds = {type(term) for term in system.terms}
+    kinds = {type(term) for term in system.line_terms}
     assert kinds == {LineHydroKernel, SeabedKernel}
     assert len(system.body_terms) == 1
 

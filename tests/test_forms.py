@@ -6,7 +6,8 @@ from skfem import BilinearForm, LinearForm
 from skfem.helpers import dot
 
 from skmoor.catenary import solve_catenary
-from skmoor.coupling import System, Term
+from skmoor.coupling import System
+from skmoor.terms import LineForm
 from skmoor.kernels import CableKernel
 from skmoor.line import Line, LineSet, LineType
 
@@ -128,7 +129,7 @@ def test_catenary_reference_is_an_equilibrium_of_the_forms(rope):
 
 
 def test_user_term_adds_its_residual(rope):
-    """A user LinearForm (linear drag c udot) added via coupling.Term: for a uniform
+    """A user LinearForm (linear drag c udot) added as a LineForm: for a uniform
     velocity V of the free nodes the extra force sums to c V (L - 2 (h_first + h_last) / 3)."""
     c = 30.0  # N s / m2
 
@@ -142,8 +143,8 @@ def test_user_term_adds_its_residual(rope):
 
     lines = LineSet([Line.from_catenary(rope, ROPE, 10)])
     plain = System(lines, fairleads="fixed")
-    dragged = System(lines, fairleads="fixed", terms=[Term(drag, damping=drag_rate,
-                                                           fields={"c": c})])
+    dragged = System(lines, fairleads="fixed", terms=[LineForm(drag, damping=drag_rate,
+                                                               fields={"c": c})])
     x = np.zeros(plain.n)
     V = np.array([0.3, -0.2, 0.5])  # m/s
     v = np.tile(V, plain.n // 3)  # free DOFs are node-major: x, y, z of each free node

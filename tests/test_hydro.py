@@ -9,7 +9,7 @@ import pytest
 import skmoor
 from skmoor.catenary import solve_catenary
 from skmoor.coupling import System
-from skmoor.hydro import body_hydrodynamics, line_hydrodynamics
+from skmoor.hydro import body_hydrodynamics, form_terms, line_hydrodynamics
 from skmoor.line import Line, LineSet, LineType
 from skmoor.modes import eigenmodes
 from skmoor.statics import solve_static
@@ -46,7 +46,7 @@ def state(lines, seed=0):
 def total(terms, lines, u, ud, t, layout="sparse"):
     R, K, Kv = 0.0, None, None
     for term in terms:
-        r, k, kv = term.evaluate(lines, u, ud, t, True, layout)
+        r, k, kv = term.evaluate(u, ud, t, True, layout)
         R, K = R + r, k if K is None else K + k
         Kv = Kv if kv is None else (kv if Kv is None else Kv + kv)
     return R, K, Kv
@@ -57,8 +57,8 @@ def test_kernel_equals_forms(lines, sea):
     sea = {None: None, "current": Sea(100.0, current=Current(0.7, 40.0)),
            "full": full_sea()}[sea]
     u, ud = state(lines)
-    fast, = line_hydrodynamics(lines, sea)
-    forms = line_hydrodynamics(lines, sea, fast=False)
+    fast = line_hydrodynamics(lines, sea)
+    forms = form_terms(lines, sea)
     assert len(forms) == (2 if sea is not None and sea.has_waves else 1)
     for layout in ("sparse", "dense", "band"):
         R1, K1, V1 = total([fast], lines, u, ud, 4.0, layout)
@@ -68,9 +68,8 @@ def test_kernel_equals_forms(lines, sea):
         for a, b in ((R1, R2), (K1, K2), (V1, V2)):
             assert np.abs(a - b).max() <= 1e-13 * np.abs(b).max()
     for lumped in (True, False):
-        M1 = line_hydrodynamics(lines, sea, lumped_mass=lumped)[0].mass_matrix(lines)
-        M2 = forms[0].mass_matrix(lines) if lumped else \
-            line_hydrodynamics(lines, sea, fast=False, lumped_mass=False)[0].mass_matrix(lines)
+        M1 = line_hydrodynamics(lines, sea, lumped_mass=lumped).mass_matrix()
+        M2 = form_terms(lines, sea, lumped_mass=lumped)[0].mass_matrix()
         assert abs(M1 - M2).max() <= 1e-13 * abs(M2).max()
 
 
@@ -98,7 +97,7 @@ def test_tangents_are_derivatives(lines, fast):
     """K = dR/du and Kv = dR/dudot against central differences along random directions,
     in water moving and accelerating uniformly (drag and fluid inertia)."""
     sea = UniformSea([0.4, -0.3, 0.2], [0.5, 0.2, -0.7])
-    terms = line_hydrodynamics(lines, sea, fast=fast)
+    terms = [line_hydrodynamics(lines, sea)] if fast else form_terms(lines, sea)
     u, ud = state(lines, 1)
     R, K, Kv = total(terms, lines, u, ud, 2.0)
     rng = np.random.default_rng(5)
@@ -125,12 +124,12 @@ def test_drag_is_per_unstretched_length_and_dissipative():
     ud = np.zeros(lines.ndofs)
     ud[lines.nodal_dofs[:, 1]] = V
     for fast in (True, False):
-        terms = line_hydrodynamics(lines, fast=fast)
+        terms = [line_hydrodynamics(lines)] if fast else form_terms(lines)
         R, _, _ = total(terms, lines, np.zeros(lines.ndofs), ud, 0.0)
         drag = 0.5 * RHO * ROPE.Cd_n * ROPE.diameter * V**2 * rope.L
         assert R[lines.nodal_dofs[:, 1]].sum() == pytest.approx(drag, rel=1e-9)
         assert np.abs(R[lines.nodal_dofs[:, [0, 2]]]).max() < 1e-9 * drag
-        M = terms[0].mass_matrix(lines)
+        M = terms[0].mass_matrix()
         y = lines.nodal_dofs[:, 1]
         assert M[np.ix_(y, y)].sum() == pytest.approx(ROPE.Ca_n * RHO * ROPE.area * rope.L,
                                                       rel=1e-9)
@@ -149,7 +148,7 @@ def test_taut_string_in_normal_current_sags_as_the_parabola():
     L, T, U = 100.0, 1e4, 0.1
     lines = string(cable, L, 40, T)
     sea = Sea(100.0, current=Current(U, heading_deg=90.0))
-    system = System(lines, fairleads="fixed", terms=line_hydrodynamics(lines, sea))
+    system = System(lines, fairleads="fixed", terms=[line_hydrodynamics(lines, sea)])
     x = solve_static(system).x
     u = system.full_displacement(x)[lines.nodal_dofs]
     q = 0.5 * RHO * cable.Cd_n * cable.diameter * U**2
@@ -169,7 +168,7 @@ def test_line_along_the_current_feels_the_axial_drag():
     direction = np.array([0.6, 0.8, 0.0])
     lines = string(cable, L, 16, 1e4, direction)
     sea = Sea(100.0, current=Current(U, heading_deg=np.degrees(np.arctan2(0.8, 0.6))))
-    system = System(lines, fairleads="fixed", terms=line_hydrodynamics(lines, sea))
+    system = System(lines, fairleads="fixed", terms=[line_hydrodynamics(lines, sea)])
     x = solve_static(system).x
     fair, anchor = system.reactions(x)
     axial = 0.5 * RHO * cable.Cd_t * np.pi * cable.diameter * U**2 * L
@@ -186,7 +185,7 @@ def test_added_mass_lowers_string_frequencies():
     cable = LineType(EA=1e7, mass=m, diameter=0.1, weight=0.0, Ca_n=1.0, Ca_t=0.5)
     lines = string(cable, L, 50, T, (0.6, 0.0, 0.8))
     omegas = []
-    for terms in ((), line_hydrodynamics(lines)):
+    for terms in ((), [line_hydrodynamics(lines)]):
         system = System(lines, fairleads="fixed", terms=terms)
         _, K, _ = system.residual(np.zeros(system.n))
         omegas.append(eigenmodes(K, system.M, k=6).omega)
@@ -194,6 +193,13 @@ def test_added_mass_lowers_string_frequencies():
     np.testing.assert_allclose(omegas[1] / omegas[0], np.sqrt(m / wet), rtol=1e-10)
     expected = np.repeat(np.arange(1, 4) * np.pi / L * np.sqrt(T / wet), 2)
     np.testing.assert_allclose(omegas[1], expected, rtol=2e-3)
+
+
+def body_load(term, q, qdot, t=0.0):
+    """(F, K, Kv) of a BodyLoad: the load (N, N m) and the residual's d/dq, d/dqdot."""
+    R, K, C = np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6))
+    term.add_to(q, qdot, t, R, K, C)
+    return -R, K, C
 
 
 @pytest.fixture(scope="module")
@@ -210,10 +216,10 @@ def test_body_drag_in_a_current_is_held_by_the_mooring(paper_model):
     sea = Sea(100.0, current=Current(U))
     term = body_hydrodynamics(drag_coefficients=[cd, cd, cd], drag_areas=[area, 30.0, 40.0],
                               sea=sea, reference_point=body.reference_point)
-    F, K, Kv = term.evaluate(np.zeros(6), np.zeros(6), 0.0)
+    F, K, Kv = body_load(term, np.zeros(6), np.zeros(6))
     drag = 0.5 * RHO * cd * area * U**2
     np.testing.assert_allclose(F, [drag, 0, 0, 0, 0, 0], atol=1e-12)
-    plain = System(system.lines, body, body_terms=[term])
+    plain = System(system.lines, body, terms=[term])
     x = solve_static(plain).x
     fair, _ = plain.reactions(x)
     assert x[plain.nf] > 0.01  # pushed downstream
@@ -229,15 +235,15 @@ def test_body_drag_rate_and_added_mass(paper_model):
                               sea=sea, reference_point=system.body.reference_point)
     q = np.array([1.0, 0.5, -0.2, 0.01, 0.02, -0.01])
     qdot = np.array([0.3, -0.2, 0.1, 0.05, -0.03, 0.02])
-    F, K, Kv = term.evaluate(q, qdot, 0.0)
+    F, K, Kv = body_load(term, q, qdot)
     vr = sea.velocity(system.body.reference_point + q[:3]) - qdot[:3]
     np.testing.assert_allclose(F[:3], 0.5 * RHO * np.array([30.0, 32.0, 60.0]) * vr
                                * np.linalg.norm(vr), rtol=1e-12)
     h = 1e-7
-    fd = np.column_stack([(term.evaluate(q, qdot + h * e, 0.0)[0]
-                           - term.evaluate(q, qdot - h * e, 0.0)[0]) / (2 * h) for e in np.eye(6)])
+    fd = np.column_stack([(body_load(term, q, qdot + h * e)[0]
+                           - body_load(term, q, qdot - h * e)[0]) / (2 * h) for e in np.eye(6)])
     np.testing.assert_allclose(Kv, -fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())
-    with_mass = System(system.lines, system.body, body_terms=[term])
+    with_mass = System(system.lines, system.body, terms=[term])
     block = slice(with_mass.nf, None)
     np.testing.assert_allclose((with_mass.M - system.M).toarray()[block, block], added)
 

@@ -252,7 +252,7 @@ def test_deck_bed_damping_fades_in_over_a_tenth_of_the_static_penetration():
     def bed_force(g):
         u = np.zeros(lines.ndofs)
         u[node[2]] = bed.penetration(lines.points[10]) - g  # penetration g at the node
-        return term.evaluate(lines, u, ud, 0.0, tangent=False)[0][node[2]]
+        return term.evaluate(u, ud, 0.0, tangent=False)[0][node[2]]
 
     assert abs(bed_force(1e-9) - bed_force(-1e-9)) < 1e-6 * 1e4 * 0.252 * 10.0 * 0.3
 

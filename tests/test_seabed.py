@@ -13,7 +13,7 @@ from skmoor.catenary import solve_catenary
 from skmoor.coupling import System
 from skmoor.dynamics import Scheme, integrate
 from skmoor.line import Line, LineSet, LineType
-from skmoor.seabed import DEFAULT_PENETRATION, Seabed, seabed_term
+from skmoor.seabed import DEFAULT_PENETRATION, Seabed, form_term, seabed_term
 from skmoor.statics import solve_static
 
 CHAIN = LineType(EA=6e8, mass=150.0, diameter=0.15)  # w = 1294 N/m
@@ -79,16 +79,16 @@ def test_tangents_are_central_differences(fast, friction):
     """K = dR/du and Kv = dR/dudot of contact and friction (both directions, sloped bed;
     and without friction) match central differences of the residual to 1e-6."""
     lines, bed, u, ud = contact_state(friction=friction)
-    term = seabed_term(lines, bed, fast=fast)
-    _, K, Kv = term.evaluate(lines, u, ud, 0.0, True)
+    term = (seabed_term(lines, bed) if fast else form_term(lines, bed))
+    _, K, Kv = term.evaluate(u, ud, 0.0, True)
     rng = np.random.default_rng(5)
     e = 1e-6
     for _ in range(3):
         d = rng.normal(size=lines.ndofs)
-        dR_du = (term.evaluate(lines, u + e * d, ud, 0.0, False)[0]
-                 - term.evaluate(lines, u - e * d, ud, 0.0, False)[0]) / (2 * e)
-        dR_dv = (term.evaluate(lines, u, ud + e * d, 0.0, False)[0]
-                 - term.evaluate(lines, u, ud - e * d, 0.0, False)[0]) / (2 * e)
+        dR_du = (term.evaluate(u + e * d, ud, 0.0, False)[0]
+                 - term.evaluate(u - e * d, ud, 0.0, False)[0]) / (2 * e)
+        dR_dv = (term.evaluate(u, ud + e * d, 0.0, False)[0]
+                 - term.evaluate(u, ud - e * d, 0.0, False)[0]) / (2 * e)
         assert np.max(np.abs(K @ d - dR_du)) < 1e-6 * np.max(np.abs(dR_du))
         assert np.max(np.abs(Kv @ d - dR_dv)) < 1e-6 * np.max(np.abs(dR_dv))
 
@@ -99,8 +99,8 @@ def test_kernel_equals_forms(layout, friction):
     """The compiled kernel gives the scikit-fem assembly of the forms to round-off (with and
     without friction: the kernel skips the friction terms when both mu are zero)."""
     lines, bed, u, ud = contact_state(seed=3, friction=friction)
-    fast = seabed_term(lines, bed).evaluate(lines, u, ud, 0.0, True, layout)
-    forms = seabed_term(lines, bed, fast=False).evaluate(lines, u, ud, 0.0, True, layout)
+    fast = seabed_term(lines, bed).evaluate(u, ud, 0.0, True, layout)
+    forms = form_term(lines, bed).evaluate(u, ud, 0.0, True, layout)
     for a, b in zip(fast, forms):
         a, b = (m.toarray() if hasattr(m, "toarray") else m for m in (a, b))
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
@@ -112,14 +112,14 @@ def test_system_without_body_assembles_the_free_dofs_directly(layout):
     free-DOF matrices (and reduces a form term's matrices): K = dR/dx and Kv = dR/dv match
     central differences of the reduced residual, with the cable's axial damping, the bed,
     the compiled drag and the drag as forms all on."""
-    from skmoor.hydro import line_hydrodynamics
+    from skmoor.hydro import form_terms, line_hydrodynamics
 
     damped = dataclasses.replace(CHAIN, BA=1e-3 * CHAIN.EA, Cd_n=1.2, Cd_t=0.4)
     lines, bed, u, ud = contact_state(seed=4, line_type=damped)
     assert lines.damped
     system = System(lines, fairleads="fixed",
-                    terms=[seabed_term(lines, bed), *line_hydrodynamics(lines),
-                           *line_hydrodynamics(lines, fast=False)])
+                    terms=[seabed_term(lines, bed), line_hydrodynamics(lines),
+                           *form_terms(lines)])
     x, v = u[system.free], ud[system.free]
     _, K, Kv = system.residual(x, v, layout=layout)
     K, Kv = (A if layout == "dense" else A.toarray() for A in (K, Kv))
@@ -153,7 +153,7 @@ def test_normal_force_is_continuous_at_touchdown(fast):
         bed = Seabed(DEPTH, stiffness=k, damping=c, damping_onset=bed_onset)
         u = np.zeros(lines.ndofs)
         u[node[2]] = bed.penetration(lines.points[5]) - g
-        return -seabed_term(lines, bed, fast=fast).evaluate(lines, u, ud, 0.0, False)[0][node[2]]
+        return -(seabed_term(lines, bed) if fast else form_term(lines, bed)).evaluate(u, ud, 0.0, False)[0][node[2]]
 
     W = 10.0
     assert abs(bed_force(1e-9, onset) - bed_force(-1e-9, onset)) < 1e-6 * c * W * abs(v)
