@@ -23,6 +23,7 @@ import hashlib
 import importlib.util
 import math
 import os
+import sys
 import tempfile
 from pathlib import Path
 
@@ -209,8 +210,10 @@ class _Evaluator:
         return self.code.emit(f"({_text(cases[1])} if {_text(predicate)} else "
                               f"{_text(cases[0])})", [predicate, *cases])
 
-    def convert(self, a, dtype):
+    def convert(self, a, dtype, source):
         kind = np.dtype(dtype).kind
+        if kind == "f" and np.dtype(source).kind == "b" and not _number(a):
+            return self.code.emit(f"(1.0 if {a} else 0.0)", [a])
         if kind == "b":
             return bool(a) if _number(a) else self.code.emit(f"({a} != 0)", [a])
         if kind in "iu":
@@ -279,7 +282,8 @@ class _Evaluator:
             return [self.elementwise(lambda lo, a, hi: self.binary(
                 "min", self.binary("max", a, lo), hi), *x)]
         if name == "convert_element_type":
-            return [self.elementwise(lambda a: self.convert(a, p["new_dtype"]), x[0])]
+            source = eqn.invars[0].aval.dtype
+            return [self.elementwise(lambda a: self.convert(a, p["new_dtype"], source), x[0])]
         if name == "broadcast_in_dim":
             shape, dims = tuple(p["shape"]), p["broadcast_dimensions"]
             tmp = [1] * len(shape)
@@ -497,7 +501,10 @@ def build_kernel(residual_jaxpr, tangent_jaxpr, n_inputs):
         temporary = path.with_suffix(f".{os.getpid()}.tmp")
         temporary.write_text(source)
         temporary.replace(path)
-    spec = importlib.util.spec_from_file_location(f"skmoor_form_{digest}", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.kernel, path
+    name = f"skmoor_form_{digest}"
+    if name not in sys.modules:  # numba's disk cache finds the module again by its name
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name].kernel, path

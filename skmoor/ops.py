@@ -28,13 +28,18 @@ def xp(*args):
     return _jax(*_values(*args)) or np
 
 
+def value(field):
+    """The values of a field at the quadrature points, as a plain array."""
+    return _values(field)[0]
+
+
 def dot(a, b):
     """Sum over the first axis: a . b for vectors of shape (3, ...)."""
     a, b = _values(a, b)
     return xp(a, b).einsum("i...,i...", a, b)
 
 
-def outer_dot(A, b):
+def matvec(A, b):
     """(A b) for a matrix field A (3, 3, ...) and a vector field b (3, ...)."""
     A, b = _values(A, b)
     return xp(A, b).einsum("ij...,j...->i...", A, b)
@@ -46,6 +51,7 @@ def d_ds(field):
 
 
 def sqrt(a):
+    a = value(a)
     return xp(a).sqrt(a)
 
 
@@ -57,37 +63,46 @@ def norm(a):
 
 
 def abs(a):  # noqa: A001 - the form-side name of |.|
+    a = value(a)
     return xp(a).abs(a)
 
 
 def exp(a):
+    a = value(a)
     return xp(a).exp(a)
 
 
 def log(a):
+    a = value(a)
     return xp(a).log(a)
 
 
 def tanh(a):
+    a = value(a)
     return xp(a).tanh(a)
 
 
 def where(condition, a, b):
+    condition, a, b = _values(condition, a, b)
     return xp(condition, a, b).where(condition, a, b)
 
 
 def maximum(a, b):
+    a, b = _values(a, b)
     return xp(a, b).maximum(a, b)
 
 
 def minimum(a, b):
+    a, b = _values(a, b)
     return xp(a, b).minimum(a, b)
 
 
 def clip(a, low, high):
+    a, low, high = _values(a, low, high)
     return xp(a, low, high).clip(a, low, high)
 
 
 def interp(x, xs, ys):
     """Piecewise-linear interpolation of the table (xs, ys) at x (held constant outside)."""
+    x = value(x)
     return xp(x).interp(x, xs, ys)

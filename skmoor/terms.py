@@ -389,7 +389,7 @@ def _numba_engine(term):
     import jax.numpy as jnp
     from skfem.autodiff import JaxDiscreteField  # also turns on float64 in JAX
 
-    from .compiled import STATE, build_kernel
+    from .compiled import STATE, Unsupported, build_kernel
     from .kernels import NO_BLOCKS
 
     local = _Local(term)
@@ -434,6 +434,13 @@ def _numba_engine(term):
     edofs = np.ascontiguousarray(local.edofs, dtype=np.int64)
     h, dx, phi = local.h, np.ascontiguousarray(local.dx), np.ascontiguousarray(local.phi)
     x = np.ascontiguousarray(local.x[0])
+    try:  # compile now: a form numba cannot type goes to jax.jit instead
+        zero, blocks = np.zeros(local.ndofs), np.zeros((local.nel, 6, 6))
+        for tangent in (True, False):
+            kernel(zero, zero, 0.0, edofs, h, dx, phi, x, P0, D0, zero.copy(), blocks,
+                   blocks.copy(), tangent)
+    except Exception as error:  # numba's typing and lowering errors
+        raise Unsupported(f"numba: {str(error).strip().splitlines()[0][:120]}") from error
 
     def run(u, v, t, R, K, C):
         P, D = P0, D0

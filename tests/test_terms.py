@@ -1,0 +1,237 @@
+"""The term protocol: automatic tangents of forms (generated numba kernels, jax.jit,
+skfem.autodiff, central differences) against the hand-written tangents of the built-in
+terms, the Taylor test, and terms in statics and the mass matrix through Model.add."""
+import numpy as np
+import pytest
+from skfem import BilinearForm, LinearForm
+
+import skmoor
+from skmoor import compiled, hydro, ops, terms
+from skmoor.catenary import solve_catenary
+from skmoor.line import Line, LineSet, LineType
+from skmoor.seabed import Seabed, form_term
+from skmoor.terms import BodyLoad, LineForm, PointLoad, check_tangent
+
+pytest.importorskip("jax")
+
+ROPE = LineType(EA=5e8, mass=80.0, diameter=0.12, Cd_n=1.2, Cd_t=0.3, Ca_n=1.0, Ca_t=0.5)
+
+
+@pytest.fixture(scope="module")
+def lines():
+    cat = solve_catenary([0.0, 0.0, -60.0], [90.0, 20.0, -5.0], ROPE.weight, ROPE.EA,
+                         length=115.0)
+    return LineSet([Line.from_catenary(cat, ROPE, 14)], law="engineering")
+
+
+def state(lines, seed=0):
+    rng = np.random.default_rng(seed)
+    return 0.05 * rng.standard_normal(lines.ndofs), 0.4 * rng.standard_normal(lines.ndofs)
+
+
+def dense(term, u, v, t=0.0):
+    return term.evaluate(u, v, t, True, "dense")
+
+
+def close(a, b, rtol):
+    """Largest difference relative to the largest entry of b."""
+    return np.max(np.abs(a - b)) <= rtol * max(np.max(np.abs(b)), 1e-300)
+
+
+class UniformWater(skmoor.Sea):
+    """Water moving and accelerating uniformly (the forms' d/du has no water gradient
+    to miss, so the hand tangents are exact)."""
+
+    def __init__(self):
+        super().__init__(100.0, current=skmoor.Current(0.0))
+        self.waves = ["uniform"]
+
+    def velocity(self, points, t=0.0):
+        return np.broadcast_to([0.4, -0.3, 0.2], np.shape(points)) * (1 + 0.1 * t)
+
+    def acceleration(self, points, t=0.0):
+        return np.broadcast_to([0.5, 0.2, -0.7], np.shape(points)).copy()
+
+
+@pytest.mark.parametrize("path, rtol", [("compiled", 1e-10), ("autodiff", 1e-10),
+                                        ("fd", 1e-6)])
+def test_automatic_tangents_of_the_morison_forms_equal_the_hand_tangents(lines, path, rtol):
+    """Drag on the relative velocity and the fluid inertia in moving water: residual,
+    d/du and d/dv from the residual alone equal the hand-written BilinearForms."""
+    sea = UniformWater()
+    u, v = state(lines)
+    for hand, auto in zip(hydro.form_terms(lines, sea), hydro.form_terms(lines, sea, path=path)):
+        R0, K0, C0 = dense(hand, u, v, 2.0)
+        R1, K1, C1 = dense(auto, u, v, 2.0)
+        assert close(R1, R0, 1e-13)
+        assert close(K1, K0, rtol)
+        if hand.damping is not None:
+            assert close(C1, C0, rtol)
+    if path == "compiled":
+        assert auto.backend == "numba"
+
+
+@pytest.mark.parametrize("friction", [True, False])
+def test_automatic_tangent_of_the_seabed_equals_the_hand_tangent(friction):
+    """Contact with a faded-in damping and regularised Coulomb friction on a sloped bed."""
+    from tests.test_seabed import contact_state  # chains partly buried in a sloped bed
+
+    lines, bed, u, v = contact_state(friction=friction)
+    R0, K0, C0 = dense(form_term(lines, bed), u, v)
+    R1, K1, C1 = dense(form_term(lines, bed, path="compiled"), u, v)
+    assert close(R1, R0, 1e-13) and close(K1, K0, 1e-10) and close(C1, C0, 1e-10)
+
+
+@LinearForm
+def nonlinear_spring(v, w):
+    # a made-up term using the generator's operations: int f(u, u', udot, t) . v + g . v' ds
+    up, speed = ops.d_ds(w.u), ops.norm(w.du)
+    u = ops.value(w.u)
+    f = (w.k * ops.tanh(u) + w.c * ops.exp(-speed) * w.du
+         + ops.where(u > 0, ops.sqrt(1 + u ** 2), ops.abs(u)))
+    g = w.EA * 1e-6 * ops.maximum(ops.dot(up, up), 1e-4) * up / (1 + ops.clip(w.t, 0, 1))
+    return ops.dot(f, v) + ops.dot(g, ops.d_ds(v)) + w.q * ops.dot(w.Xp, v) * w.Xp[2]
+
+
+def test_all_paths_agree_on_a_form_with_fields_in_time(lines):
+    """compiled (numba), jax.jit, skfem.autodiff and central differences give one
+    residual and one tangent for a form with P1, per-point and time-dependent fields."""
+    nel, nqp = lines.basis.dx.shape
+    k = np.linspace(1.0, 2.0, lines.ndofs)  # a P1 field (interpolated like u)
+
+    def fields(t):
+        return {"k": k, "c": np.full((nel, nqp), 3.0 + t), "q": 0.5}
+
+    u, v = state(lines, 4)
+    out = {path: dense(LineForm(nonlinear_spring, fields=fields, path=path, lines=lines),
+                       u, v, 0.7) for path in ("compiled", "autodiff", "fd")}
+    R0, K0, C0 = out["autodiff"]
+    for path, rtol in (("compiled", 1e-12), ("fd", 1e-6)):
+        R, K, C = out[path]
+        assert close(R, R0, 1e-13) and close(K, K0, rtol) and close(C, C0, rtol), path
+
+
+def test_jax_jit_fallback_gives_the_same_numbers(lines, monkeypatch):
+    """Where the scalar code generator meets an operation it lacks, jax.jit runs the form."""
+    def refuse(*args, **kw):
+        raise compiled.Unsupported("a test's primitive")
+
+    monkeypatch.setattr(compiled, "build_kernel", refuse)
+    u, v = state(lines, 5)
+    fallback = LineForm(hydro.morison_drag, fields=hydro.coefficients(lines) | {
+        "uw": np.zeros(lines.ndofs)}, path="compiled", lines=lines)
+    R, K, C = dense(fallback, u, v)
+    assert fallback.backend.startswith("jax.jit")
+    hand = hydro.form_terms(lines)[0]
+    R0, K0, C0 = dense(hand, u, v)
+    assert close(R, R0, 1e-13) and close(K, K0, 1e-10) and close(C, C0, 1e-10)
+
+
+def test_without_jax_the_forms_fall_back_to_central_differences(lines, monkeypatch):
+    monkeypatch.setattr(terms, "HAS_JAX", False)
+    assert LineForm(hydro.morison_drag).path == "fd"
+    with pytest.raises(ValueError, match="needs JAX"):
+        LineForm(hydro.morison_drag, path="compiled")
+
+
+def test_taylor_test_tells_a_wrong_tangent_from_a_right_one(lines):
+    """The drag with its exact d/dv shows slope 2; with the v_n v_n^T / |v_n| part
+    dropped (a typical slip), slope 1."""
+    @BilinearForm
+    def incomplete_rate(dv, v, w):
+        tau, _ = hydro._tangent(w)
+        _, vn = hydro._split(w.uw - w.du, tau)
+        _, dvn = hydro._split(dv, tau)
+        return w.drag_n * ops.norm(vn) * ops.dot(dvn, v)
+
+    system = skmoor.System(lines, fairleads="fixed")
+    fields = hydro.coefficients(lines) | {"uw": np.zeros(lines.ndofs)}
+    fields["drag_t"] = 0.0 * fields["drag_t"]
+    good = check_tangent(system, LineForm(hydro.morison_drag, fields=fields))
+    bad = check_tangent(system, LineForm(hydro.morison_drag, damping=incomplete_rate,
+                                         stiffness=hydro.morison_drag_stiffness, fields=fields))
+    assert good.ok and abs(good.slope_u - 2) < 0.2 and abs(good.slope_v - 2) < 0.2
+    assert not bad.ok and abs(bad.slope_v - 1) < 0.2
+    assert "TANGENT WRONG" in str(bad)
+
+
+def test_body_load_tangent_by_differences_and_the_taylor_test():
+    """A BodyLoad without a tangent gets central differences: the Taylor slopes are 2."""
+    def load(q, qdot, t):
+        return np.array([-3e4 * q[0] ** 3, 0, -2e3 * qdot[2] * abs(qdot[2]), 0, 0, 0])
+
+    q = np.array([0.5, 0.0, 0.1, 0.0, 0.0, 0.0])
+    qdot = np.array([0.2, 0.0, -0.3, 0.0, 0.0, 0.0])
+    check = check_tangent(skmoor.build(skmoor.paper_case()), BodyLoad(load), q, qdot)
+    assert check.ok and abs(check.slope_u - 2) < 0.3 and abs(check.slope_v - 2) < 0.3
+
+
+@pytest.fixture(scope="module")
+def paper():
+    return skmoor.build(skmoor.paper_case())
+
+
+def test_body_load_acts_in_statics_and_its_mass_enters(paper):
+    """A steady surge force F on the box: at equilibrium the lines' horizontal pull
+    balances it (hydrostatics has no surge stiffness); its added mass is in M."""
+    model = skmoor.build(skmoor.paper_case())
+    F = 2.0e4  # N
+    added = np.diag([5e4, 0, 0, 0, 0, 0])
+    M0 = model.system.M.toarray()
+    model.add(BodyLoad(lambda q, qdot, t: np.array([F, 0, 0, 0, 0, 0]), body="body",
+                       added_mass=added, tangent=lambda q, qdot, t: (None, None)))
+    eq = skmoor.equilibrium(model)
+    fair, _ = model.system.reactions(eq.x)
+    assert fair[:, 0].sum() == pytest.approx(-F, rel=1e-8)
+    assert model.system.q(eq.x)[0] > 0.01  # pushed downstream
+    b = model.system.nf
+    np.testing.assert_allclose(model.system.M.toarray() - M0,
+                               np.pad(added, ((b, 0), (b, 0))), atol=1e-9)
+    with pytest.raises(AttributeError):
+        model.system.terms.append(None)
+
+
+def test_line_form_mass_is_in_the_mass_matrix(paper):
+    """A LineForm's mass form (a constant added mass per length) adds exactly its total."""
+    model = skmoor.build(skmoor.paper_case())
+    M0 = model.system.M.copy()
+
+    @BilinearForm
+    def extra_mass(du, v, w):
+        return 7.0 * ops.dot(du, v)  # kg/m in each direction
+
+    term = model.add(LineForm(lambda v, w: 0.0 * ops.dot(w.u, v), mass=extra_mass))
+    extra = term.mass_matrix()
+    total = 3 * 7.0 * sum(line.length for line in model.lines.lines)
+    assert extra.sum() == pytest.approx(total, rel=1e-12)
+    P0 = model.system.P(np.zeros(model.system.n))  # lines' DOFs from the unknowns at rest
+    added = (model.system.M - M0).toarray()
+    np.testing.assert_allclose(added, (P0.T @ extra @ P0).toarray(), atol=1e-9)
+
+
+def test_point_load_acts_in_statics():
+    """A PointLoad lifting a free junction by F: at equilibrium the two lines' end forces
+    on the junction balance F (the sign convention and the statics of point terms)."""
+    chain = LineType(EA=5e8, mass=100.0, diameter=0.1)
+    points = [skmoor.Point("anchor", "fixed", [-120.0, 0.0, -80.0]),
+              skmoor.Point("junction", "free", [-40.0, 0.0, -40.0]),
+              skmoor.Point("top", "fixed", [0.0, 0.0, -5.0])]
+    lines = [skmoor.MooringLine("low", chain, "anchor", "junction", 100.0, 10),
+             skmoor.MooringLine("up", chain, "junction", "top", 60.0, 8)]
+    heights = {}
+    for lift in (0.0, 3.0e4):
+        model = skmoor.from_network(skmoor.Network(points, lines, depth=100.0))
+        model.add(PointLoad(lambda x, v, t: np.array([0.0, 0.0, lift]), point="junction"))
+        x = skmoor.equilibrium(model).x
+        on_b, on_a = model.system.reactions(x)
+        balance = on_b[0] + on_a[1] + [0.0, 0.0, lift]
+        assert np.abs(balance).max() < 1e-6 * np.abs(on_b[0]).max()
+        heights[lift] = (model.system.point_reference[0] + model.system.point_displacement(x)[0])[2]
+    assert heights[3.0e4] > heights[0.0] + 1.0
+
+
+def test_model_add_names_must_exist(paper):
+    with pytest.raises(ValueError, match="no dynamic body 'hull'"):
+        paper.add(BodyLoad(lambda q, qdot, t: np.zeros(6), body="hull"))
+    with pytest.raises(ValueError, match="not a skmoor.terms.Term"):
+        paper.system.add_term(object())
