@@ -102,3 +102,29 @@ def test_paper_case_benchmark_sets_up_both_codes_on_one_body():
     body = paper_case.CoupledBody(scenario)
     fair, _ = scenario.model.system.reactions(scenario.eq.x)
     assert body.F0[2] - (body.K @ body.q0)[2] == pytest.approx(-fair[:, 2].sum(), rel=1e-6)
+
+
+def test_user_forms_benchmark_sets_up_the_drag_on_every_path():
+    """benchmarks/user_forms.py's set-up runs on the current API: the user's drag form on
+    scikit-fem's assembly (hand tangents), central differences and the compiled path gives
+    the built-in kernel's residual and tangents (an independent implementation), its hand
+    tangents pass the Taylor test, and the paper's case with the form added runs the same
+    history as with the built-in drag; the report formats."""
+    pytest.importorskip("jax", reason="the benchmark's compiled path needs JAX")
+    import skmoor
+    import user_forms
+
+    row = user_forms.per_term(11, paths=("assembly", "fd", "compiled"), budget=1e-3)
+    assert row["autodiff"] is None and row["builtin"] > 0
+    for path, tolerance in (("assembly", 1e-12), ("fd", 1e-6), ("compiled", 1e-12)):
+        seconds, _, difference, _ = row[path]
+        assert seconds > 0 and difference < tolerance, (path, difference)
+    builtin, user, term = user_forms.paper_models()
+    assert [type(t).__name__ for t in builtin.system.terms] == ["LineHydroKernel"]
+    assert user.system.terms == (term,) and term.path == "compiled"
+    steel = user.lines.lines[0].line_type
+    assert skmoor.check_tangent(user, user_forms.user_drag(steel, "assembly")).ok
+    case = user_forms.paper_case_comparison(duration=12.0, repeat=1)
+    assert case["agree"]["surge"] < 1e-8 and case["agree"]["fairlead tension"] < 1e-8
+    text = user_forms.report([(11, row)], case, user_forms.environment(), True, 0.0)
+    assert "| 11 | " in text and "left out" in text and "user form" in text

@@ -1,0 +1,380 @@
+"""A user's form against the built-in kernel: Morison drag written as a LineForm.
+
+The term: Morison drag on a line in still water, the true follower drag on the CURRENT
+unit tangent tau = (X' + u') / |X' + u'|, normal and tangential (MoorDyn's conventions,
+as skmoor.hydro has them): per unit unstretched length
+
+    f = -1/2 rho Cd_n d |v_n| v_n - 1/2 rho Cd_t (pi d) |v_t| v_t,   v = udot,
+
+written below as a plain scikit-fem ``LinearForm`` with ``skmoor.ops`` (its residual
+alone; per unit reference length, so times w.m / mass, the reference stretch's inverse,
+as hydro.coefficients does). It is evaluated (residual + d/du + d/dudot, into the element
+blocks, ``term.add_to``) on
+
+- 'assembly': scikit-fem's assembly with the hand-written tangents below;
+- 'fd': NumPy element residuals, tangents by central differences;
+- 'autodiff': scikit-fem's skfem.autodiff (JAX linearization on its assembly);
+- 'compiled': the integrand traced by JAX, written out and compiled by numba,
+
+against the built-in numba kernel (skmoor.hydro.LineHydroKernel, same Cd_n, Cd_t, the
+same Gauss points) on the paper's steel line (analytic catenary, d/l = 1/60) cut into
+11 ... 10,000 elements, at a random state (u ~ 1 mm, udot ~ 0.5 m/s). Times are the best
+of five repeats (timeit) after a first call (tracing, compiling or loading the kernel
+from the disk cache), all in this one process; a path whose single call would take more
+than SLOW seconds is left out at that size (said so in the table). Every path's R, K, C
+are compared with the built-in's (largest difference over the largest entry).
+
+Then the paper's case (skmoor.build(skmoor.paper_case())) run 200 s with that user drag
+added by ``model.add(LineForm(..., path='compiled'))`` against the same case with the
+built-in drag (line type steel: Cd_n, Cd_t set); wall time of the time loop only (the
+static state and modes computed before, ``simulate(..., eq=eq)``), best of three, runs
+alternated; the two runs' fairlead tension and surge histories compared.
+
+Run: ``python benchmarks/user_forms.py [--quick] [--out docs/user_forms.md]``
+(about 5 min; --quick: 11 and 100 elements, 20 s of the paper's case, under a minute
+once the kernel is cached); prints the tables and writes them to --out.
+"""
+from __future__ import annotations
+
+import os
+
+# One core, as the other benchmarks: a threaded BLAS on a shared 2-core VM is erratic.
+for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_name, "1")
+
+import argparse  # noqa: E402
+import datetime  # noqa: E402
+import importlib.metadata  # noqa: E402
+import platform  # noqa: E402
+import subprocess  # noqa: E402
+import time  # noqa: E402
+import timeit  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+from skfem import BilinearForm, LinearForm  # noqa: E402
+
+import skmoor  # noqa: E402
+from skmoor import ops  # noqa: E402
+from skmoor.catenary import solve_catenary  # noqa: E402
+from skmoor.hydro import LineHydroKernel  # noqa: E402
+from skmoor.line import Line, LineSet, LineType  # noqa: E402
+from skmoor.ops import d_ds, dot  # noqa: E402
+from skmoor.terms import LineForm  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+ELEMENTS = (11, 100, 1_000, 10_000)
+PATHS = ("assembly", "fd", "autodiff", "compiled")
+CD_N, CD_T = 1.2, 0.008  # MoorDyn's Cd and CdAx
+SLOW = 10.0  # s: a path predicted slower than this per call is left out at that size
+DURATION = 200.0  # s of the paper's case
+
+
+# ------------------------------------------------------------------ the user's form
+
+@LinearForm
+def drag(v, w):
+    """+ int [k_n |v_n| v_n + k_t |v_t| v_t] . du ds (drag is external: + in the residual)."""
+    rp = w.Xp + d_ds(w.u)  # r' = X' + u'
+    tau = rp / ops.norm(rp)  # the current unit tangent
+    along = dot(w.du, tau)
+    vn = w.du - along * tau
+    per_reference = w.m / w.mass  # 1 / stretch of the reference state
+    return per_reference * (w.k_n * ops.norm(vn) * dot(vn, v)
+                            + w.k_t * ops.abs(along) * along * dot(tau, v))
+
+
+def _state(w):
+    rp = w.Xp + d_ds(w.u)
+    length = ops.norm(rp)
+    tau = rp / length
+    along = dot(w.du, tau)
+    vn = w.du - along * tau
+    speed = ops.norm(vn)
+    return length, tau, along, vn, speed, ops.where(speed > 0, speed, 1.0)
+
+
+@BilinearForm
+def drag_rate(d, v, w):
+    """d/dudot of drag: k_n (|v_n| P d + (v_n . d) v_n / |v_n|) + 2 k_t |v_t| (tau . d) tau."""
+    _, tau, along, vn, speed, safe = _state(w)
+    dn = d - dot(d, tau) * tau
+    return (w.m / w.mass) * (w.k_n * (speed * dot(dn, v) + dot(vn, d) * dot(vn, v) / safe)
+                             + 2.0 * w.k_t * ops.abs(along) * dot(tau, d) * dot(tau, v))
+
+
+@BilinearForm
+def drag_stiffness(d, v, w):
+    """d/du of drag, through tau only: dtau = P d' / |r'|, d(v.tau) = v_n . dtau,
+    dv_n = -d(v.tau) tau - (v.tau) dtau, d|v_n| = v_n . dv_n / |v_n|."""
+    length, tau, along, vn, speed, safe = _state(w)
+    dp = d_ds(d)
+    dtau = (dp - dot(dp, tau) * tau) / length
+    dalong = dot(vn, dtau)
+    dvn = -dalong * tau - along * dtau
+    dspeed = dot(vn, dvn) / safe
+    normal = dspeed * vn + speed * dvn
+    axial = 2.0 * ops.abs(along) * dalong * tau + ops.abs(along) * along * dtau
+    return (w.m / w.mass) * dot(w.k_n * normal + w.k_t * axial, v)
+
+
+def drag_fields(line_type: LineType) -> dict:
+    """The form's constants: 1/2 rho Cd_n d, 1/2 rho Cd_t pi d (N s2/m3 per m), mass (kg/m)."""
+    rho, d = line_type.rho_water, line_type.diameter
+    return {"k_n": 0.5 * rho * CD_N * d, "k_t": 0.5 * rho * CD_T * np.pi * d,
+            "mass": line_type.mass}
+
+
+def user_drag(line_type: LineType, path: str, lines=None) -> LineForm:
+    """The user's drag as a LineForm on ``path`` (hand tangents on 'assembly')."""
+    hand = dict(stiffness=drag_stiffness, damping=drag_rate) if path == "assembly" else {}
+    return LineForm(drag, fields=drag_fields(line_type), path=path, lines=lines,
+                    name="user_drag", **hand)
+
+
+# ------------------------------------------------------------------ per term
+
+def paper_line(n: int) -> tuple[LineSet, LineType]:
+    """The paper's steel line (d = 0.1 m, 50 deg chord, d/l = 1/60) with n elements,
+    with the drag coefficients set (for the built-in kernel)."""
+    steel = LineType.steel_rod(0.1, Cd_n=CD_N, Cd_t=CD_T)
+    anchor = np.array([-100.0 / np.tan(np.radians(50.0)), 0.0, -100.0])
+    cable = solve_catenary(anchor, [0.0, 0.0, 0.0], steel.weight, steel.EA, sag_ratio=1 / 60)
+    return LineSet([Line.from_catenary(cable, steel, n)]), steel
+
+
+def best_time(call, budget=1.0, repeat=5):
+    """Best time of one call, s, with enough calls per repeat to fill ~budget."""
+    timer = timeit.Timer(call)
+    once = min(timer.repeat(repeat=1, number=1))
+    if once > budget:  # a slow path: best of two more calls
+        return min(once, *timer.repeat(repeat=2, number=1))
+    number = max(1, int(budget / repeat / max(once, 1e-9)))
+    return min(timer.repeat(repeat=repeat, number=number)) / number
+
+
+def difference(a, b):
+    """Largest |a - b| over the largest |b|."""
+    return float(np.max(np.abs(a - b)) / max(np.max(np.abs(b)), 1e-300))
+
+
+def per_term(n: int, paths=PATHS, budget=1.0, predicted=None):
+    """One size: {'builtin': s per call, path: (s per call, first call s, difference to
+    the built-in's R, K, C, backend) or None where left out}. paths: those to run;
+    predicted: {path: expected s per call}, to leave out paths slower than SLOW."""
+    lines, steel = paper_line(n)
+    rng = np.random.default_rng(0)
+    u = 1e-3 * rng.standard_normal(lines.ndofs)
+    v = 0.5 * rng.standard_normal(lines.ndofs)
+    nel = lines.mesh.t.shape[1]
+    R, K, C = np.zeros(lines.ndofs), np.zeros((nel, 6, 6)), np.zeros((nel, 6, 6))
+    builtin = LineHydroKernel(lines)
+    reference = builtin.evaluate(u, v, 0.0, True, "dense")
+    out = {"builtin": best_time(lambda: builtin.add_to(u, v, 0.0, R, K, C), budget)}
+    for path in PATHS:
+        if path not in paths or (predicted and predicted.get(path, 0.0) > SLOW):
+            out[path] = None
+            continue
+        term = user_drag(steel, path, lines)
+        started = time.perf_counter()
+        term.add_to(u, v, 0.0, R, K, C)  # first call: trace, compile or load
+        first = time.perf_counter() - started
+        got = term.evaluate(u, v, 0.0, True, "dense")
+        error = max(difference(g, r) for g, r in zip(got, reference))
+        seconds = best_time(lambda: term.add_to(u, v, 0.0, R, K, C), budget)
+        out[path] = (seconds, first, error, getattr(term, "backend", ""))
+    return out
+
+
+def predict(history, n):
+    """Time per call at n elements from [(n, seconds), ...]: a + b n through the last two
+    sizes, or b n through the last one (the cost of a path grows at most linearly)."""
+    if len(history) >= 2:
+        (n0, t0), (n1, t1) = history[-2:]
+        slope = max((t1 - t0) / (n1 - n0), 0.0)
+        return t1 + slope * (n - n1)
+    return history[-1][1] * n / history[-1][0] if history else 0.0
+
+
+def term_table(sizes=ELEMENTS, budget=1.0):
+    """Rows (n, per_term) per size; a path is left out at a size where its time per call,
+    extrapolated from the sizes before (:func:`predict`), exceeds SLOW."""
+    rows, history = [], {path: [] for path in PATHS}
+    for n in sizes:
+        predicted = {path: predict(h, n) for path, h in history.items()}
+        row = per_term(n, budget=budget, predicted=predicted)
+        rows.append((n, row))
+        for path in PATHS:
+            history[path] = history[path] + [(n, row[path][0])] if row[path] else [(n, np.inf)]
+    return rows
+
+
+# ------------------------------------------------------------------ the paper's case
+
+def paper_models():
+    """(built-in drag model, user drag model): the paper's case with line type steel's
+    Cd_n, Cd_t set; the paper's case with the user's form added (compiled path)."""
+    case = skmoor.paper_case()
+    builtin = skmoor.build(case.replace("line_types.steel.Cd_n", CD_N)
+                           .replace("line_types.steel.Cd_t", CD_T))
+    user = skmoor.build(case)
+    steel = user.lines.lines[0].line_type
+    term = user.add(user_drag(steel, "compiled"))
+    return builtin, user, term
+
+
+def histories(results):
+    """(surge (nt,), fairlead tensions (nt, nlines)) of a run."""
+    return results.body_series("surge"), results.fairlead_tension
+
+
+def paper_case_comparison(duration=DURATION, repeat=3):
+    """Wall times of the time loops (best of ``repeat``, alternated) and the distance
+    between the two runs' histories (largest difference over the range)."""
+    models = paper_models()
+    builtin, user, term = models
+    eqs = [skmoor.equilibrium(m) for m in (builtin, user)]
+    walls, runs = [[], []], [None, None]
+    for _ in range(repeat):
+        for k, (model, eq) in enumerate(zip((builtin, user), eqs)):
+            started = time.perf_counter()
+            runs[k] = skmoor.simulate(model, duration=duration, eq=eq, progress=False)
+            walls[k].append(time.perf_counter() - started)
+    (surge_b, tension_b), (surge_u, tension_u) = (histories(r) for r in runs)
+    agree = {"surge": float(np.max(np.abs(surge_u - surge_b)) / np.ptp(surge_b)),
+             "fairlead tension": float(np.max(np.abs(tension_u - tension_b))
+                                       / np.ptp(tension_b))}
+    period = builtin.forcing_period
+    amplitude = {name: (runs[0].amplitude(series_b, period, 3),
+                        runs[1].amplitude(series_u, period, 3))
+                 for name, series_b, series_u in (("surge", surge_b, surge_u),
+                                                  ("fairlead tension", tension_b[:, 0],
+                                                   tension_u[:, 0]))}
+    steps = len(runs[0].t)
+    return {"builtin": min(walls[0]), "user": min(walls[1]), "agree": agree,
+            "amplitude": amplitude, "backend": term.backend, "outputs": steps,
+            "steps": runs[0].meta["steps"], "duration": duration}
+
+
+# ------------------------------------------------------------------ report
+
+def environment():
+    """Date, commit, versions, machine."""
+    try:
+        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                                capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        commit = "unknown"
+    cpu = platform.machine()
+    try:
+        with open("/proc/cpuinfo") as info:
+            cpu = next(line.split(":", 1)[1].strip() for line in info if "model name" in line)
+    except (OSError, StopIteration):
+        pass
+
+    def version(name):
+        try:
+            return importlib.metadata.version(name)
+        except importlib.metadata.PackageNotFoundError:
+            return "absent"
+
+    packages = ("numpy", "scikit-fem", "numba", "jax")
+    return {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+            "commit": commit,
+            "versions": ", ".join([f"Python {platform.python_version()}"]
+                                  + [f"{p} {version(p)}" for p in packages]),
+            "machine": f"{cpu}, {os.cpu_count()} cores"}
+
+
+def format_terms(rows) -> str:
+    head = ("| elements | built-in [us / call] | " + " | ".join(f"{p} / built-in" for p in PATHS)
+            + " | difference of R, K, C: compiled / other paths |")
+    lines = [head, "|---" * (3 + len(PATHS)) + "|"]
+    for n, row in rows:
+        cells = [f"{n:,}", f"{row['builtin'] * 1e6:.0f}"]
+        errors = []
+        for path in PATHS:
+            entry = row[path]
+            if entry is None:
+                cells.append(f"left out (> {SLOW:g} s per call)")
+                continue
+            ratio = entry[0] / row["builtin"]
+            cells.append(f"**{ratio:.2f}**" if path == "compiled" else f"{ratio:.3g}")
+            if path != "compiled":
+                errors.append(entry[2])
+        compiled = row["compiled"][2] if row["compiled"] else float("nan")
+        cells.append(f"{compiled:.1e} / {max(errors, default=float('nan')):.1e}")
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def format_case(case) -> str:
+    ratio = case["user"] / case["builtin"]
+    a = case["amplitude"]
+    return "\n".join([
+        "| run of the paper's case | time loop / built-in drag's | surge amplitude [m] "
+        "| fairlead tension amplitude [kN] |",
+        "|---|---|---|---|",
+        f"| built-in drag (line type Cd_n = {CD_N}, Cd_t = {CD_T}) | 1 | "
+        f"{a['surge'][0]:.4f} | {a['fairlead tension'][0] / 1e3:.2f} |",
+        f"| user form, `model.add(LineForm(drag))`, compiled | **{ratio:.2f}** | "
+        f"{a['surge'][1]:.4f} | {a['fairlead tension'][1] / 1e3:.2f} |",
+        "",
+        f"Largest difference between the two runs over the history's range: surge "
+        f"{case['agree']['surge']:.1e}, fairlead tension {case['agree']['fairlead tension']:.1e} "
+        f"({case['duration']:g} s, {case['steps']} steps; amplitudes over the last 3 periods).",
+    ])
+
+
+def report(rows, case, env, quick, seconds) -> str:
+    first = {p: max(r[p][1] for _, r in rows if r[p] is not None) for p in PATHS
+             if any(r[p] is not None for _, r in rows)}
+    backend = next((r["compiled"][3] for _, r in rows if r["compiled"]), "")
+    return "\n".join([
+        "# A user's form against the built-in kernel",
+        "",
+        f"Generated by `python benchmarks/user_forms.py{' --quick' if quick else ''}`; "
+        "do not edit by hand. Every number below comes from that run (the script's "
+        "docstring has the method).",
+        "",
+        *(f"- {k}: {v}" for k, v in env.items()),
+        f"- run time: {seconds:.0f} s",
+        "",
+        "The Morison drag (normal and tangential, on the current tangent) written as a "
+        "user's `LineForm`, residual + both tangents per call, time over the built-in "
+        "numba kernel `LineHydroKernel.add_to` (same physics; the built-in's own time per "
+        "call is given for scale):",
+        "",
+        format_terms(rows),
+        "",
+        f"Compiled path: backend {backend}. First call (trace and compile, or load from the "
+        "disk cache), at most over the sizes: "
+        + ", ".join(f"{p} {s:.1f} s" for p, s in first.items()) + ".",
+        "",
+        "## The paper's case with the user's drag",
+        "",
+        format_case(case),
+        "",
+    ])
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true",
+                        help="11 and 100 elements, 20 s of the paper's case")
+    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "user_forms.md")
+    args = parser.parse_args(argv)
+    started = time.perf_counter()
+    sizes = ELEMENTS[:2] if args.quick else ELEMENTS
+    rows = term_table(sizes, budget=0.3 if args.quick else 1.0)
+    print(format_terms(rows), flush=True)
+    case = paper_case_comparison(20.0 if args.quick else DURATION, repeat=1 if args.quick else 3)
+    print()
+    print(format_case(case))
+    text = report(rows, case, environment(), args.quick, time.perf_counter() - started)
+    args.out.write_text(text)
+    print(f"\nwritten: {args.out}")
+
+
+if __name__ == "__main__":
+    main()
