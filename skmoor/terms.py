@@ -534,7 +534,10 @@ _ENGINES = {"assembly": _assembly_engine, "autodiff": _autodiff_engine, "fd": _f
 # --- loads on points and bodies
 
 class _PointwiseLoad(Term):
-    """A load F(u, v, t) on a point (3 DOFs) or a body (6): the residual gets -F."""
+    """A load F(u, v, t) on a point (3 DOFs) or a body (6): the residual gets -F. Without
+    a hand ``tangent``, dF/du and dF/dv come from JAX (``jax.jacfwd``, when the load is
+    written with :mod:`skmoor.ops` / ``jax.numpy``), else from central differences;
+    ``tangent_by`` says which."""
 
     size = 3
 
@@ -542,6 +545,7 @@ class _PointwiseLoad(Term):
         if not callable(load):
             raise ValueError(f"{type(self).__name__} load: need a function (q, qdot, t) -> F")
         self.load, self.tangent = load, tangent
+        self.tangent_by = "hand" if tangent is not None else None
         self.added_mass = None if added_mass is None else np.asarray(added_mass, float)
         n = self.size
         if self.added_mass is not None and self.added_mass.shape not in ((n, n), ()):
@@ -553,14 +557,30 @@ class _PointwiseLoad(Term):
         R -= F
         if K is None:
             return
-        if self.tangent is not None:
-            dF_du, dF_dv = self.tangent(u, v, t)
-        else:
-            dF_du, dF_dv = _central(self.load, u, v, t)
+        if self.tangent is None:
+            self.tangent = self._automatic(u, v, t)
+        dF_du, dF_dv = self.tangent(u, v, t)
         if dF_du is not None:
             K -= dF_du
         if dF_dv is not None:
             C -= dF_dv
+
+    def _automatic(self, u, v, t):
+        """jax.jacfwd of the load where it traces, else central differences."""
+        if HAS_JAX:
+            import jax
+            import skfem.autodiff  # noqa: F401 - turns on float64 in JAX
+
+            jacobian = jax.jit(jax.jacfwd(lambda a, b, time: self.load(a, b, time), (0, 1)))
+            try:
+                jacobian(u, v, float(t))
+                self.tangent_by = "jax"
+                return lambda a, b, time: tuple(np.asarray(m) for m in
+                                                jacobian(a, b, float(time)))
+            except Exception:  # NumPy-only code does not trace
+                pass
+        self.tangent_by = "central differences"
+        return lambda a, b, time: _central(self.load, a, b, time)
 
     def mass_matrix(self):
         if self.added_mass is None:
@@ -583,7 +603,7 @@ def _central(load, u, v, t):
 class PointLoad(_PointwiseLoad):
     """A load on a free point: load(x, v, t) -> F (3,), N, with x, v the point's
     displacement (m) and velocity (m/s); tangent(x, v, t) -> (dF/dx, dF/dv) (3x3 each,
-    None for zero; default: central differences); added_mass: (3, 3) or a scalar, kg.
+    None for zero; default: automatic, see :class:`_PointwiseLoad`); added_mass: (3, 3) or a scalar, kg.
     point: the free point's name (resolved by ``model.add``) or index."""
 
     acts_on = "points"
@@ -597,7 +617,7 @@ class PointLoad(_PointwiseLoad):
 class BodyLoad(_PointwiseLoad):
     """A load on a dynamic body: load(q, qdot, t) -> F (6,), N and N m (about its
     reference point, global axes); tangent(q, qdot, t) -> (dF/dq, dF/dqdot) (6x6 each,
-    None for zero; default: central differences); added_mass: (6, 6) (kg, kg m, kg m2).
+    None for zero; default: automatic, see :class:`_PointwiseLoad`); added_mass: (6, 6) (kg, kg m, kg m2).
     body: the body's name (resolved by ``model.add``) or index among the dynamic bodies."""
 
     acts_on = "bodies"

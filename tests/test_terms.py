@@ -155,15 +155,31 @@ def test_taylor_test_tells_a_wrong_tangent_from_a_right_one(lines):
     assert "TANGENT WRONG" in str(bad)
 
 
-def test_body_load_tangent_by_differences_and_the_taylor_test():
-    """A BodyLoad without a tangent gets central differences: the Taylor slopes are 2."""
-    def load(q, qdot, t):
-        return np.array([-3e4 * q[0] ** 3, 0, -2e3 * qdot[2] * abs(qdot[2]), 0, 0, 0])
+def test_body_load_tangents_by_jax_or_differences_and_the_taylor_test(paper):
+    """A BodyLoad without a tangent: written with jax.numpy its derivatives come from JAX
+    (equal to the analytic ones to round-off), written with NumPy from central
+    differences; the Taylor slopes are 2 either way."""
+    import jax.numpy as jnp
+
+    def load(q, qdot, t, xp=np):
+        zero = 0.0 * q[0]
+        return xp.stack([-3e4 * q[0] ** 3, zero, -2e3 * qdot[2] * abs(qdot[2]), zero,
+                         zero, zero])
 
     q = np.array([0.5, 0.0, 0.1, 0.0, 0.0, 0.0])
     qdot = np.array([0.2, 0.0, -0.3, 0.0, 0.0, 0.0])
-    check = check_tangent(skmoor.build(skmoor.paper_case()), BodyLoad(load), q, qdot)
-    assert check.ok and abs(check.slope_u - 2) < 0.3 and abs(check.slope_v - 2) < 0.3
+    exact_q, exact_v = np.zeros((6, 6)), np.zeros((6, 6))
+    exact_q[0, 0] = 9e4 * q[0] ** 2  # the residual's -dF/dq
+    exact_v[2, 2] = 4e3 * abs(qdot[2])
+    for xp, by, rtol in ((jnp, "jax", 1e-13), (np, "central differences", 1e-6)):
+        term = BodyLoad(lambda a, b, t, xp=xp: load(a, b, t, xp))
+        R, K, C = np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6))
+        term.add_to(q, qdot, 0.0, R, K, C)
+        assert term.tangent_by == by
+        np.testing.assert_allclose(K, exact_q, rtol=rtol, atol=rtol * 1e4)
+        np.testing.assert_allclose(C, exact_v, rtol=rtol, atol=rtol * 1e3)
+        check = check_tangent(paper, term, q, qdot)
+        assert check.ok and abs(check.slope_u - 2) < 0.3 and abs(check.slope_v - 2) < 0.3
 
 
 @pytest.fixture(scope="module")
