@@ -25,4 +25,4 @@ if __name__ == "__main__":
         print(name)
         for r in sorted(points, key=lambda r: r["value"]):
             print(f"  {r['value']:10.5g}  surge {r['surge']:.4f} m  heave {r['heave']:.4f} m  "
-                  f"pitch {r['pitch']:.4f} rad  max tension {r['max_tension'] / 1e3:.1f} kN")
+                  f"pitch {r['pitch']:.4f} rad  steady max tension {r['max_tension_steady'] / 1e3:.1f} kN")

@@ -43,15 +43,16 @@ def _motion(args, source):
 
 
 def cmd_run(args) -> int:
-    from . import build, simulate, write_outputs
+    from . import build, simulate, summary
+    from .run import prepare_output
 
+    out = prepare_output(args.out)  # before any solve
     source = _source(args.case)
     settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
                 if getattr(args, k) is not None}
     model = build(source, motion=_motion(args, source))
-    results = simulate(model, progress=not args.quiet, **settings)
-    out = Path(args.out)
-    info = write_outputs(results, out)
+    results = simulate(model, progress=not args.quiet, out=out, **settings)
+    info = summary(results)
     _plots(results, out)
     return _finish(results, info, out, args)
 
@@ -60,7 +61,7 @@ def _finish(results, info, out, args) -> int:
     """ParaView files and renders unless switched off; the summary; exit status 1 when the
     run stopped early."""
     if not args.no_export:
-        _export(results, out)
+        _export(results, out, args.frames)
     if not args.no_animation:
         _animate(results, out, args.quiet)
     print(json.dumps(info, indent=2))
@@ -83,7 +84,7 @@ def cmd_export(args) -> int:
     from . import Results
 
     out = Path(args.outdir)
-    _export(Results.load(out / "results.npz"), out)
+    _export(Results.load(out / "results.npz"), out, args.frames)
     return 0
 
 
@@ -106,10 +107,10 @@ def _plots(results, out):
         plot_line_tensions(results, out / "time_histories.png")
 
 
-def _export(results, out):
+def _export(results, out, max_frames):
     from .export import export
 
-    for path in export(results, out):
+    for path in export(results, out, max_frames=max_frames or None):
         print(f"exported {path}")
 
 
@@ -142,6 +143,8 @@ def parser() -> argparse.ArgumentParser:
                      help="sampling interval of the results, s (default: the case's)")
     run.add_argument("--no-export", action="store_true", help="skip the XDMF / PVD export")
     run.add_argument("--no-animation", action="store_true", help="skip snapshot and animations")
+    run.add_argument("--frames", type=int, default=1000, help="ParaView series: at most this "
+                     "many samples, evenly strided (0: all; default: %(default)s)")
     run.add_argument("--quiet", action="store_true", help="no progress bars")
     run.add_argument("--heave", type=float, metavar="AMP",
                      help="deck only: heave the coupled points / bodies AMP m (faded in over "
@@ -175,6 +178,8 @@ def parser() -> argparse.ArgumentParser:
                         description="Reads OUTDIR/results.npz and writes lines.xdmf (+ .h5) and "
                         "a VTU series with a .pvd index into OUTDIR.")
     ex.add_argument("outdir", help="folder of a previous run")
+    ex.add_argument("--frames", type=int, default=1000, help="at most this many samples, "
+                    "evenly strided (0: all; default: %(default)s)")
     ex.set_defaults(func=cmd_export)
 
     rd = sub.add_parser("render", help="(re)render snapshot and animations from saved results",

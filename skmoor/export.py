@@ -46,33 +46,56 @@ def has_box(results) -> bool:
     return bool(np.all(np.asarray(results.body_box) > 0))
 
 
-def write_xdmf(results, path) -> Path:
+MAX_FRAMES = 1000  # default: a ParaView series of at most this many samples
+
+
+def frames(results, max_frames=MAX_FRAMES) -> np.ndarray:
+    """Sample indices of a series of at most ``max_frames`` (evenly strided, the last
+    sample always in); None for every sample."""
+    n = len(results.t)
+    if max_frames is None:
+        return np.arange(n)
+    if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 1:
+        raise ValueError(f"max_frames: must be a whole number >= 1 (or None), got {max_frames!r}")
+    picked = np.arange(0, n, max(1, int(np.ceil(n / max_frames))))
+    return picked if picked[-1] == n - 1 else np.append(picked, n - 1)
+
+
+def write_xdmf(results, path, samples=None) -> Path:
     """XDMF time series of the lines at ``path`` (``.xdmf``), its ``.h5`` beside it.
 
     Points are the reference positions; move them by ``displacement`` (ParaView: Warp By
-    Vector). One step per sample, time in s. Returns the path of the ``.xdmf``."""
+    Vector). One step per sample (``samples``: the indices, default all), time in s.
+    Returns the path of the ``.xdmf``."""
     path = Path(path)
     if path.suffix != ".xdmf":
         raise ValueError(f"write_xdmf: path must end in .xdmf, got {path.name!r}")
     path.parent.mkdir(parents=True, exist_ok=True)
+    samples = range(len(results.t)) if samples is None else samples
     with _TimeSeriesWriter(path) as writer:
         writer.write_points_cells(results.points, [("line", results.cells)])
-        for i, t in enumerate(results.t):
+        for i in samples:
+            t = results.t[i]
             writer.write_data(float(t), point_data=_point_data(results, i),
                               cell_data=_cell_data(results, i))
     return path
 
 
-def write_vtu_series(results, folder) -> Path:
-    """One VTU of the moved lines per sample, of the body's box when it has one and of
-    the network's points when the results have them (see the module docstring), in
-    ``folder/motion/``, indexed by ``folder/motion.pvd`` (parts 0, 1, 2: lines, body,
-    points). Returns the path of the PVD."""
+def write_vtu_series(results, folder, samples=None) -> Path:
+    """One VTU of the moved lines per sample (``samples``: the indices, default all), of
+    the body's box when it has one and of the network's points when the results have them
+    (see the module docstring), in ``folder/motion/`` (cleared of earlier frames first),
+    indexed by ``folder/motion.pvd`` (parts 0, 1, 2: lines, body, points). Returns the
+    path of the PVD."""
     folder = Path(folder)
     (folder / "motion").mkdir(parents=True, exist_ok=True)
+    for old in (folder / "motion").glob("*.vtu"):
+        old.unlink()
     entries = []
     points = _network_points(results)
-    for i, t in enumerate(results.t):
+    samples = range(len(results.t)) if samples is None else samples
+    for i in samples:
+        t = results.t[i]
         name = f"motion/lines_{i:04d}.vtu"
         meshio.write(folder / name, meshio.Mesh(
             results.positions(i), [("line", results.cells)],
@@ -107,12 +130,15 @@ def _network_points(results):
                               and len(masses) == n else np.zeros(n))}}
 
 
-def export(results, outdir) -> tuple[Path, Path]:
-    """Write ``outdir/lines.xdmf`` (+ ``.h5``) and ``outdir/motion.pvd`` (+ ``motion/``).
+def export(results, outdir, max_frames=MAX_FRAMES) -> tuple[Path, Path]:
+    """Write ``outdir/lines.xdmf`` (+ ``.h5``) and ``outdir/motion.pvd`` (+ ``motion/``),
+    at most ``max_frames`` samples each (evenly strided; None: every sample).
 
     Returns the paths of the ``.xdmf`` and the ``.pvd``."""
     outdir = Path(outdir)
-    return write_xdmf(results, outdir / "lines.xdmf"), write_vtu_series(results, outdir)
+    samples = frames(results, max_frames)
+    return (write_xdmf(results, outdir / "lines.xdmf", samples),
+            write_vtu_series(results, outdir, samples))
 
 
 def write_mode_series(points, cells, shape, period, folder, n_frames=24, scale=None,

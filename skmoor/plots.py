@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-STUDY_KEYS = ("value", "surge", "heave", "pitch", "max_tension")
+STUDY_KEYS = ("value", "surge", "heave", "pitch", "max_tension_steady")
 
 
 def plot_time_histories(results, path, title=None, figsize=(8.0, 9.0), dpi=120) -> Path:
@@ -101,7 +101,7 @@ def plot_study(rows, path, parameter_label, title=None, figsize=(9.0, 7.0), dpi=
     """Steady-state amplitudes of surge (m), heave (m), pitch (rad) and the maximum
     tension (kN) against the studied parameter, in 2 x 2 panels.
 
-    rows: dicts with keys value, surge, heave, pitch (amplitudes, SI) and max_tension (N)."""
+    rows: dicts with keys value, surge, heave, pitch (amplitudes, SI) and max_tension_steady (N)."""
     if len(rows) == 0:
         raise ValueError("rows is empty")
     for k, row in enumerate(rows):
@@ -111,7 +111,7 @@ def plot_study(rows, path, parameter_label, title=None, figsize=(9.0, 7.0), dpi=
     rows = sorted(rows, key=lambda row: row["value"])
     x = np.array([row["value"] for row in rows], dtype=float)
     panels = [("surge", 1.0, "surge amplitude [m]"), ("heave", 1.0, "heave amplitude [m]"),
-              ("pitch", 1.0, "pitch amplitude [rad]"), ("max_tension", 1e-3, "max tension [kN]")]
+              ("pitch", 1.0, "pitch amplitude [rad]"), ("max_tension_steady", 1e-3, "steady max tension [kN]")]
     fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
     axes = fig.subplots(2, 2, sharex=True)
     for ax, (key, factor, label), letter in zip(axes.flat, panels, "abcd"):

@@ -9,7 +9,10 @@ are returned (and written) with ``meta["stopped"]`` saying why.
 from __future__ import annotations
 
 import json
+import math
+import os
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,6 +28,14 @@ from .statics import ConvergenceError, solve_static
 
 
 INTERRUPTED = "interrupted (Ctrl-C)"
+# what a run writes into its output folder (a reused folder is cleared of these first)
+OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png",
+           "snapshot.png", "animation.mp4", "animation.gif", "lines.xdmf", "lines.h5",
+           "motion.pvd")
+
+
+class ResolutionWarning(UserWarning):
+    """A time step too coarse for the periods the run claims to resolve."""
 
 
 @dataclass
@@ -145,32 +156,84 @@ def released_state(model: Model) -> np.ndarray:
     return static_state(system, x0, held=held.astype(int)).x
 
 
+def run_setting(name, value, default=None) -> float:
+    """A run setting in seconds (duration, dt, output_interval): ``default`` when None,
+    else a finite number > 0 (ValueError naming the setting otherwise)."""
+    value = default if value is None else value
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name}: must be a number of seconds, got {value!r}")
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"{name}: must be a finite number of seconds > 0, got {value}")
+    return float(value)
+
+
+def resolution_notes(model: Model, eq: Equilibrium, dt: float) -> list:
+    """Warnings for a step coarser than a tenth of the forcing period or of the two
+    natural periods the Rayleigh damping is fitted to (the ones the run claims)."""
+    periods = []
+    if model.forcing_period:
+        periods.append(("the forcing period", model.forcing_period))
+    if eq.modes is not None and any(eq.rayleigh):
+        periods += [(f"natural period {k + 1}", T) for k, T in enumerate(eq.modes.periods[:2])]
+    return [f"dt = {dt:g} s is coarser than a tenth of {what} ({T:.4g} s): the run does not "
+            f"resolve it; take dt <= {T / 10:.3g} s" for what, T in periods if dt > T / 10]
+
+
 def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
-             progress=True, eq: Equilibrium | None = None, start="equilibrium") -> Results:
-    """Time history of ``model`` from rest; settings default to the model's. start:
+             progress=True, eq: Equilibrium | None = None, start="equilibrium",
+             out=None) -> Results:
+    """Time history of ``model`` from rest; settings (s) default to the model's. start:
     'equilibrium' (the static state) or 'given' (free points and bodies released from
-    their given positions, the lines in equilibrium between them: a pendulum let go)."""
+    their given positions, the lines in equilibrium between them: a pendulum let go).
+    out: an output folder, checked (and cleared of a previous run's files) before the
+    solve and written as the run goes (see :class:`OutputWriter`); a crash, a full disk
+    or Ctrl-C keeps what was computed."""
     if start not in ("equilibrium", "given"):
         raise ValueError(f"simulate start: {start!r} is not 'equilibrium' or 'given'")
     solver = model.solver
-    duration = float(duration or solver["duration"])
-    dt = float(dt or solver["dt"])
-    every = max(1, int(round(float(output_interval or solver["output_interval"]) / dt)))
+    duration = run_setting("duration", duration, solver["duration"])
+    dt = run_setting("dt", dt, solver["dt"])
+    interval = run_setting("output_interval", output_interval, solver["output_interval"])
+    if dt > duration:
+        raise ValueError(f"dt: the step ({dt:g} s) is longer than the duration ({duration:g} s)")
+    every = max(1, int(round(interval / dt)))
     scheme = Scheme.named(solver["scheme"], solver.get("rho_inf", 0.8))
+    folder = None if out is None else prepare_output(out)
     started = time.perf_counter()
     eq = eq or equilibrium(model)
+    notes = resolution_notes(model, eq, dt)
+    for note in notes:
+        warnings.warn(note, ResolutionWarning, stacklevel=2)
     x0 = eq.x if start == "equilibrium" else released_state(model)
     recorder = _Recorder(model)
-    n_steps = int(np.ceil(duration / dt - 1e-9))
-    stopped = record_run(model.system, x0, dt=dt, duration=duration, every=every,
-                         record=recorder.record, C=eq.C, scheme=scheme, progress=progress,
-                         label=model.name)
     meta = _meta(model, eq)
-    meta.update({"dt": dt, "scheme": solver["scheme"], "wall_time": time.perf_counter() - started,
-                 "steps": n_steps, "stopped": stopped, "interrupted": stopped == INTERRUPTED,
-                 "forcing_period": model.forcing_period,
+    meta["notes"] += notes
+    meta.update({"dt": dt, "scheme": solver["scheme"], "steps_planned":
+                 int(np.ceil(duration / dt - 1e-9)), "forcing_period": model.forcing_period,
                  "steady_periods": solver.get("steady_periods", 5)})
-    return recorder.results(meta)
+    writer = None if folder is None else OutputWriter(folder, recorder, meta)
+    outcome = {"stopped": None, "steps": 0}
+
+    def finish():
+        meta.update({"wall_time": time.perf_counter() - started, "steps": outcome["steps"],
+                     "stopped": outcome["stopped"],
+                     "interrupted": outcome["stopped"] == INTERRUPTED})
+        return recorder.results(meta)
+
+    try:
+        outcome["stopped"], outcome["steps"] = record_run(
+            model.system, x0, dt=dt, duration=duration, every=every,
+            record=recorder.record if writer is None else writer.record, C=eq.C,
+            scheme=scheme, progress=progress, label=model.name, done=outcome)
+    except BaseException as error:  # a crash: keep what was computed, then re-raise
+        if writer is not None and recorder.rows["t"]:
+            outcome["stopped"] = f"crashed: {type(error).__name__}: {error}"
+            writer.finish(finish())
+        raise
+    results = finish()
+    if writer is not None:
+        writer.finish(results)
+    return results
 
 
 def _meta(model: Model, eq: Equilibrium) -> dict:
@@ -198,25 +261,29 @@ def _catenary_tension(cat, line, end):
 
 
 def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
-               progress=True, label="") -> str | None:
+               progress=True, label="", done=None) -> tuple:
     """Integrate ``system`` from rest at x0 for ``duration`` s with step dt, calling
-    ``record(state)`` every ``every`` steps, under a progress bar. Returns None, or why it
-    stopped early: Ctrl-C or a diverging step keep what was recorded."""
+    ``record(state)`` every ``every`` steps, under a progress bar. Returns (why it stopped
+    early or None, the steps done): Ctrl-C or a diverging step keep what was recorded.
+    ``done``: a dict whose "steps" follows the steps done (read it after a crash)."""
     n_steps = int(np.ceil(duration / dt - 1e-9))
+    done = {} if done is None else done
+    done["steps"] = 0
     bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=label[:30])
     try:
         for state in integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
                                scheme=scheme):
+            done["steps"] = state.step
             if state.step % every == 0:
                 record(state)
             bar.update(1 if state.step else 0)
     except KeyboardInterrupt:
-        return INTERRUPTED
+        return INTERRUPTED, done["steps"]
     except DivergenceError as err:
-        return str(err)
+        return str(err), done["steps"]
     finally:
         bar.close()
-    return None
+    return None, done["steps"]
 
 
 def static_results(model: Model, eq: Equilibrium | None = None) -> Results:
@@ -429,38 +496,127 @@ def summary(results: Results) -> dict:
             "max_tension": float(results.max_tension.max()),
             "max_tension_steady": steady_max,
             "wall_time": meta.get("wall_time"), "simulated_time": float(results.t[-1]),
-            "steps": meta.get("steps"), "dt": meta.get("dt"), "stopped": meta.get("stopped"),
+            "steps": meta.get("steps"), "steps_planned": meta.get("steps_planned"),
+            "dt": meta.get("dt"), "stopped": meta.get("stopped"),
             "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", [])}
+
+
+def _timeseries_header(body_names, line_names, free_names) -> list:
+    header = ["t"] + [f"{b}.{dof}" for b in body_names for dof in BODY_DOFS]
+    header += ["max_tension"] + [f"fairlead_tension_{n}" for n in line_names]
+    header += [f"anchor_tension_{n}" for n in line_names]
+    return header + [f"{name}.{c}" for name in free_names for c in "xyz"]
+
+
+def _timeseries_table(t, bodies, max_tension, fair, anchor, free_displacement):
+    nt = len(t)
+    return np.column_stack([t, np.reshape(bodies, (nt, -1)), max_tension, fair, anchor,
+                            np.reshape(free_displacement, (nt, -1))])
+
+
+def _write_rows(path, table, header=None):
+    with open(path, "a") as f:
+        if header is not None:
+            f.write(",".join(header) + "\n")
+        np.savetxt(f, table, delimiter=",", fmt="%.9g")
+        f.flush()
 
 
 def write_outputs(results: Results, out) -> dict:
     """Write results.npz, summary.json and timeseries.csv into folder ``out``.
 
     timeseries.csv columns: t; for each body its six DOFs ``NAME.surge`` ... ``NAME.yaw``
-    (m, rad); max_tension; ``fairlead_tension_LINE`` (end B) and ``anchor_tension_LINE``
-    (end A) of each line (N); ``NAME.x``, ``NAME.y``, ``NAME.z`` displacements of each
-    free point (m)."""
+    (m, rad); max_tension (the largest element tension at that time, N);
+    ``fairlead_tension_LINE`` (end B) and ``anchor_tension_LINE`` (end A) of each line (N);
+    ``NAME.x``, ``NAME.y``, ``NAME.z`` displacements of each free point (m)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     results.save(out / "results.npz")
     info = summary(results)
     (out / "summary.json").write_text(json.dumps(info, indent=2))
-    nt = len(results.t)
-    header = ["t"] + [f"{b}.{dof}" for b in results.body_names for dof in BODY_DOFS]
-    header += ["max_tension"] + [f"fairlead_tension_{n}" for n in results.line_names]
-    header += [f"anchor_tension_{n}" for n in results.line_names]
     kinds = results.meta.get("point_kinds", [])
     free = [k for k, kind in enumerate(kinds) if kind == "free"]
-    header += [f"{results.point_names[k]}.{c}" for k in free for c in "xyz"]
-    table = np.column_stack([results.t, results.bodies.reshape(nt, -1), results.max_tension,
-                             results.fairlead_tension, results.anchor_tension,
-                             results.point_displacement[:, free].reshape(nt, -1)])
-    np.savetxt(out / "timeseries.csv", table, delimiter=",", header=",".join(header),
-               comments="", fmt="%.9g")
+    header = _timeseries_header(results.body_names, results.line_names,
+                                [results.point_names[k] for k in free])
+    table = _timeseries_table(results.t, results.bodies, results.max_tension,
+                              results.fairlead_tension, results.anchor_tension,
+                              results.point_displacement[:, free])
+    (out / "timeseries.csv").unlink(missing_ok=True)
+    _write_rows(out / "timeseries.csv", table, header)
     return info
 
 
+def prepare_output(out) -> Path:
+    """Check that ``out`` is, or can be made, a folder skmoor can write into (before any
+    solve: ValueError with the reason), and clear a previous run's files from it."""
+    out = Path(out)
+    for path in (out, *out.parents):
+        if path.exists() and not path.is_dir():
+            raise ValueError(f"output folder {out}: {path} is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / f".skmoor-write-test-{os.getpid()}"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as err:
+        raise ValueError(f"output folder {out}: cannot write there "
+                         f"({err.strerror or err})") from None
+    for name in OUTPUTS:
+        (out / name).unlink(missing_ok=True)
+    if (out / "motion").is_dir():
+        for frame in (out / "motion").glob("*.vtu"):
+            frame.unlink()
+    return out
+
+
+class OutputWriter:
+    """A run's outputs written as it goes: timeseries.csv gains its new rows every
+    ``chunk`` samples; results.npz and summary.json are rewritten every ``checkpoint`` s
+    of wall time and at the end (so a crash or a full disk loses at most that)."""
+
+    def __init__(self, folder, recorder, meta, chunk=50, checkpoint=30.0):
+        self.folder, self.recorder, self.meta = Path(folder), recorder, meta
+        self.chunk, self.checkpoint = chunk, checkpoint
+        network = recorder.model.network
+        self.free = [k for k, p in enumerate(network.points) if p.kind == "free"]
+        self.header = _timeseries_header([b.name for b in network.bodies],
+                                         [ln.name for ln in network.lines],
+                                         [network.points[k].name for k in self.free])
+        self.written, self.saved = 0, time.perf_counter()
+
+    def record(self, state):
+        self.recorder.record(state)
+        if len(self.recorder.rows["t"]) - self.written >= self.chunk:
+            self._append()
+            if time.perf_counter() - self.saved > self.checkpoint:
+                self._save(self.recorder.results(self.meta))
+
+    def _append(self):
+        rows, start = self.recorder.rows, self.written
+        if len(rows["t"]) == start:
+            return
+        points = np.array(rows["points"][start:]).reshape(len(rows["t"]) - start, -1, 3)
+        table = _timeseries_table(np.array(rows["t"][start:]), np.array(rows["bodies"][start:]),
+                                  np.array([np.max(x) for x in rows["tension"][start:]]),
+                                  np.array(rows["fair"][start:]), np.array(rows["anchor"][start:]),
+                                  points[:, self.free])
+        _write_rows(self.folder / "timeseries.csv", table, self.header if start == 0 else None)
+        self.written = len(rows["t"])
+
+    def _save(self, results):
+        results.save(self.folder / "results.npz")
+        (self.folder / "summary.json").write_text(json.dumps(summary(results), indent=2))
+        self.saved = time.perf_counter()
+
+    def finish(self, results):
+        """The last rows and the final results.npz and summary.json."""
+        self._append()
+        self._save(results)
+
+
 def run_case(case, out="skmoor-out", *, progress=True, **settings) -> tuple[Results, dict]:
-    """Build, solve and write ``case`` (a Case, a Deck or a path); returns (results, summary)."""
-    results = simulate(build(case), progress=progress, **settings)
-    return results, write_outputs(results, out)
+    """Build, solve and write ``case`` (a Case, a Deck or a path); returns (results, summary).
+    The output folder is checked first and written as the run goes."""
+    prepare_output(out)
+    results = simulate(build(case), progress=progress, out=out, **settings)
+    return results, summary(results)

@@ -20,7 +20,7 @@ combinations of several parameters, :func:`read_studies` reads a TOML study file
   are not kept, so they are tried again. Delete the folder to recompute everything.
 - ``sweep.csv``: one row per point: study, parameter, value, surge, heave, pitch
   (steady-state amplitudes over the case's last ``solver.steady_periods`` forcing
-  periods; m, m, rad), max_tension (largest element tension over that window, N) and error
+  periods; m, m, rad), max_tension_steady (largest element tension over that window, N) and error
   (empty when the point succeeded).
 - ``sweep-<study>.png``: the amplitudes and the maximum tension against the parameter
   (the paper's Figs. 7 and 8), one figure per study.
@@ -57,7 +57,7 @@ from .case import PAPER_CASE, Case, paper_case
 from .model import build
 from .run import simulate, summary
 
-COLUMNS = ("study", "parameter", "value", "surge", "heave", "pitch", "max_tension", "error")
+COLUMNS = ("study", "parameter", "value", "surge", "heave", "pitch", "max_tension_steady", "error")
 AMPLITUDES = ("surge", "heave", "pitch")
 
 
@@ -306,8 +306,8 @@ def run_point(task: dict) -> dict:
                         f"({info['simulated_time']:g} s) is shorter than the case's "
                         f"solver.steady_periods forcing periods")
     row = {name: float(amplitude.get(name, math.nan)) for name in AMPLITUDES}
-    row["max_tension"] = float(info["max_tension_steady"] if info.get("max_tension_steady")
-                               is not None else info["max_tension"])
+    steady = info.get("max_tension_steady")
+    row["max_tension_steady"] = math.nan if steady is None else float(steady)
     row["error"] = "; ".join(problems)
     return {**row, "summary": info, "wall_time": time.perf_counter() - started, "host": host}
 
@@ -501,7 +501,7 @@ def _worker_version():
 def _plot(study, rows, out):
     good = [r for r in rows if not r["error"]
             and isinstance(r["value"], (int, float)) and not isinstance(r["value"], bool)
-            and all(math.isfinite(r[k]) for k in (*AMPLITUDES, "max_tension"))]
+            and all(math.isfinite(r[k]) for k in (*AMPLITUDES, "max_tension_steady"))]
     if not good:
         return None
     try:
@@ -530,7 +530,7 @@ def _plot_study(rows, path, parameter_label, title=None):
     axes = fig.subplots(2, 2, sharex=True)
     for ax, (key, factor, label) in zip(axes.flat, [
             ("surge", 1.0, "surge amplitude [m]"), ("heave", 1.0, "heave amplitude [m]"),
-            ("pitch", 1.0, "pitch amplitude [rad]"), ("max_tension", 1e-3, "max tension [kN]")]):
+            ("pitch", 1.0, "pitch amplitude [rad]"), ("max_tension_steady", 1e-3, "steady max tension [kN]")]):
         ax.plot(x, [factor * r[key] for r in rows], "o-")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
@@ -597,7 +597,7 @@ def _check_path(case, path, study):
 
 def _row(head, result):
     row = {**head}
-    for name in (*AMPLITUDES, "max_tension"):
+    for name in (*AMPLITUDES, "max_tension_steady"):
         row[name] = float(result.get(name, math.nan))
     row["error"] = result.get("error") or ""
     return row

@@ -8,7 +8,7 @@ from _synthetic import synthetic_results
 from skmoor.plots import plot_study, plot_time_histories
 
 ROWS = [dict(value=1 / n, surge=1.0 + 0.01 * n, heave=0.1 - 0.0005 * n, pitch=0.002 * n,
-             max_tension=6e5 + 1e3 * n) for n in (80, 45, 60)]
+             max_tension_steady=6e5 + 1e3 * n) for n in (80, 45, 60)]
 
 
 def _check_png(path, size):
@@ -30,8 +30,8 @@ def test_study(tmp_path):
 
 
 def test_study_bad_rows(tmp_path):
-    with pytest.raises(ValueError, match="max_tension"):
-        plot_study([{k: v for k, v in ROWS[0].items() if k != "max_tension"}],
+    with pytest.raises(ValueError, match="max_tension_steady"):
+        plot_study([{k: v for k, v in ROWS[0].items() if k != "max_tension_steady"}],
                    tmp_path / "s.png", "x")
     with pytest.raises(ValueError, match="rows is empty"):
         plot_study([], tmp_path / "s.png", "x")

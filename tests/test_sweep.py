@@ -119,9 +119,9 @@ def test_csv_and_failures(local, capsys):
     for row in good:
         assert row["error"] == ""
         assert all(math.isfinite(row[k]) and row[k] > 0
-                   for k in ("surge", "heave", "pitch", "max_tension"))
+                   for k in ("surge", "heave", "pitch", "max_tension_steady"))
     assert "sag_ratio" in bad["error"] and math.isnan(bad["surge"])
-    assert "sinks" in heavy["error"] and math.isnan(heavy["max_tension"])
+    assert "sinks" in heavy["error"] and math.isnan(heavy["max_tension_steady"])
     assert table[2]["error"] == bad["error"] and float(table[0]["surge"]) == good[0]["surge"]
     assert len(list((out / "sweep-points").glob("*.json"))) == 2      # failures not kept
     assert (out / "sweep-sag.png").stat().st_size > 1000

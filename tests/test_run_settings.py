@@ -1,0 +1,163 @@
+"""Run settings, the output folder and outputs written as the run goes (issue: nothing
+silent, nothing lost): bad settings refused by name, a coarse step warned about with the
+numbers, the folder checked before the solve, a crash or Ctrl-C keeps the rows computed."""
+import json
+import math
+import time
+
+import numpy as np
+import pytest
+
+import skmoor
+from skmoor import cli
+from skmoor.export import export
+from skmoor.run import ResolutionWarning, prepare_output
+
+
+@pytest.fixture(scope="module")
+def paper():
+    model = skmoor.build(skmoor.paper_case())
+    return model, skmoor.equilibrium(model)
+
+
+@pytest.mark.parametrize("name", ["duration", "dt", "output_interval"])
+@pytest.mark.parametrize("value", [0, -5.0, math.inf, math.nan, "10", True])
+def test_bad_run_settings_are_refused_by_name(paper, name, value):
+    model, eq = paper
+    with pytest.raises(ValueError, match=f"^{name}: must be a"):
+        skmoor.simulate(model, eq=eq, progress=False, **{name: value})
+
+
+@pytest.mark.parametrize("flag, value", [("--duration", "0"), ("--duration", "-5"),
+                                         ("--duration", "inf"), ("--dt", "0"),
+                                         ("--dt", "nan"), ("--output-interval", "0")])
+def test_bad_run_settings_on_the_command_line(tmp_path, capsys, flag, value):
+    started = time.perf_counter()
+    code = cli.main(["run", "--out", str(tmp_path / "out"), flag, value, "--quiet"])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert flag.lstrip("-").replace("-", "_") in err and "must be a finite number" in err
+    assert time.perf_counter() - started < 20  # refused before the run, not after it
+    assert not (tmp_path / "out" / "summary.json").exists()
+
+
+def test_step_longer_than_the_run_is_refused(paper):
+    model, eq = paper
+    with pytest.raises(ValueError, match="dt: the step .* longer than the duration"):
+        skmoor.simulate(model, eq=eq, duration=1.0, dt=2.0, progress=False)
+
+
+def test_a_step_too_coarse_for_the_forcing_is_warned_with_the_numbers(paper):
+    """The paper's forcing period is 2 pi / 1.6 = 3.93 s: dt = 1 s cannot resolve it."""
+    model, eq = paper
+    with pytest.warns(ResolutionWarning, match=r"dt = 1 s .* forcing period \(3\.927 s\)"):
+        results = skmoor.simulate(model, eq=eq, duration=4.0, dt=1.0, progress=False)
+    assert any("forcing period" in note for note in results.meta["notes"])
+    with warnings_as_errors():
+        skmoor.simulate(model, eq=eq, duration=0.2, dt=0.05, progress=False)
+
+
+class warnings_as_errors:
+    def __enter__(self):
+        import warnings
+        self._catch = warnings.catch_warnings()
+        self._catch.__enter__()
+        warnings.simplefilter("error", ResolutionWarning)
+
+    def __exit__(self, *exc):
+        return self._catch.__exit__(*exc)
+
+
+def test_output_folder_is_checked_before_the_solve(tmp_path):
+    a_file = tmp_path / "taken"
+    a_file.write_text("not a folder")
+    for out, why in ((a_file, "is a file"), (a_file / "below", "is a file"),
+                     ("/proc/skmoor-cannot-be-here", "cannot write there")):
+        with pytest.raises(ValueError, match=why):
+            prepare_output(out)
+    started = time.perf_counter()
+    assert cli.main(["run", "--out", str(a_file), "--quiet"]) == 2
+    assert time.perf_counter() - started < 20
+
+
+def test_a_reused_folder_is_left_clean(tmp_path):
+    out = tmp_path / "run"
+    (out / "motion").mkdir(parents=True)
+    for stale in ("animation.gif", "snapshot.png", "motion.pvd", "motion/lines_9999.vtu"):
+        (out / stale).write_text("from an earlier run")
+    (out / "notes.txt").write_text("the user's own file")
+    prepare_output(out)
+    assert sorted(p.name for p in out.rglob("*") if p.is_file()) == ["notes.txt"]
+
+
+def _paper_with(load_at):
+    """The paper's model whose body load calls load_at(t) first (to stop a run)."""
+    model = skmoor.build(skmoor.paper_case())
+    load = model.system.body_load
+
+    def stopping(t, q, qdot):
+        load_at(t)
+        return load(t, q, qdot)
+
+    model.system.body_load = stopping
+    return model
+
+
+def _rows(out):
+    return np.loadtxt(out / "timeseries.csv", delimiter=",", skiprows=1, ndmin=2)
+
+
+def test_ctrl_c_keeps_the_rows_and_counts_the_steps_done(tmp_path):
+    def interrupt(t):
+        if t > 2.0:
+            raise KeyboardInterrupt
+
+    out = tmp_path / "run"
+    results = skmoor.simulate(_paper_with(interrupt), duration=6.0, dt=0.05,
+                              output_interval=0.05, progress=False, out=out)
+    info = json.loads((out / "summary.json").read_text())
+    assert info["interrupted"] and info["steps_planned"] == 120
+    assert 38 <= info["steps"] <= 41 and info["steps"] < info["steps_planned"]
+    rows = _rows(out)
+    np.testing.assert_allclose(rows[:, 0], results.t)  # every recorded sample is on disk
+    assert rows[-1, 0] <= 2.05 and len(rows) == len(results.t)
+
+
+def test_a_crash_keeps_the_rows_computed_and_reraises(tmp_path):
+    def crash(t):
+        if t > 3.0:
+            raise RuntimeError("a bug in a user's load")
+
+    out = tmp_path / "run"
+    with pytest.raises(RuntimeError, match="a bug"):
+        skmoor.simulate(_paper_with(crash), duration=6.0, dt=0.05, output_interval=0.05,
+                        progress=False, out=out)
+    info = json.loads((out / "summary.json").read_text())
+    assert info["stopped"].startswith("crashed: RuntimeError")
+    rows = _rows(out)
+    assert 2.9 <= rows[-1, 0] <= 3.05 and len(rows) >= 59
+    assert skmoor.Results.load(out / "results.npz").t[-1] == rows[-1, 0]
+
+
+def test_paraview_series_have_at_most_a_thousand_frames_by_default(paper, tmp_path):
+    from types import SimpleNamespace
+
+    from skmoor.export import frames
+
+    long_run = SimpleNamespace(t=np.arange(100_001) * 0.05)  # 5000 s sampled at 0.05 s
+    picked = frames(long_run)
+    assert 500 <= len(picked) <= 1001 and picked[0] == 0 and picked[-1] == 100_000
+    assert len(frames(long_run, None)) == 100_001
+    with pytest.raises(ValueError, match="max_frames"):
+        frames(long_run, 0)
+    model, eq = paper
+    results = skmoor.simulate(model, eq=eq, duration=2.0, dt=0.05, output_interval=0.05,
+                              progress=False)
+    _, pvd = export(results, tmp_path / "some", max_frames=10)
+    written = sorted((tmp_path / "some" / "motion").glob("lines_*.vtu"))
+    assert len(written) == 9 and written[-1].name == "lines_0040.vtu"
+    times = [float(line.split('timestep="')[1].split('"')[0])
+             for line in pvd.read_text().splitlines() if 'part="0"' in line]
+    assert times[0] == 0.0 and times[-1] == pytest.approx(2.0) and len(times) == 9
+    export(results, tmp_path / "some")  # rewritten: every sample, the old frames replaced
+    assert len(list((tmp_path / "some" / "motion").glob("lines_*.vtu"))) == 41
