@@ -9,6 +9,7 @@ lines, with the draft from vertical equilibrium, paper Eq. 1) or the explicit ta
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,6 +19,7 @@ from scipy.optimize import brentq
 from . import environment
 from .body import RigidBody, hull_hydrostatics, uniform_box_inertia
 from .catenary import solve_catenary
+from .checks import check_network
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, build_system
 
@@ -144,10 +146,20 @@ def _on_deck_line(deck, err) -> ValueError:
 
 def from_network(network: Network, *, name="network", settings=None, draft=None,
                  source=None, notes=()) -> Model:
-    """Build a Network into a Model (statics not yet solved: see :func:`skmoor.equilibrium`)."""
+    """Build a Network into a Model (statics not yet solved: see :func:`skmoor.equilibrium`).
+    Impossible input is refused first, suspicious input warned about (:mod:`skmoor.checks`)."""
+    warned = _checked(network)
     system, lineset, catenaries, positions = build_system(network)
     return Model(name, system, lineset, network, catenaries, dict(settings or {}),
-                 network.depth, draft, source, list(notes) + network.notes, positions)
+                 network.depth, draft, source, list(notes) + warned + network.notes, positions)
+
+
+def _checked(network) -> list:
+    """check_network's warnings, also issued as Python warnings."""
+    found = check_network(network)
+    for text in found:
+        warnings.warn(text, UserWarning, stacklevel=3)
+    return found
 
 
 def _settings(case) -> dict:
@@ -300,10 +312,11 @@ def _paper_layout(case, motion=None) -> Model:
                       seabed=environment.seabed(case.data), sea=water_sea,
                       hydro=environment.has_line_hydrodynamics(case.data),
                       strain_law=case.strain_law, motion=motion)
+    warned = _checked(network)
     system, lineset, _, positions = build_system(network, positions={
         p.name: network.global_position(p) for p in points})
     return Model(case.name, system, lineset, network, cats, _settings(case), network.depth,
-                 draft, case, positions=positions)
+                 draft, case, notes=warned, positions=positions)
 
 
 def body_load(case, load=None):
