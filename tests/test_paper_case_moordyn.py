@@ -35,9 +35,10 @@ dtM = 0.5 ms within 0.3 % of 0.1 ms with a 2 ms coupling step. The tolerances ar
 segment numbers plus about 60 %: 5 % (tensions, pitch), 4 % (surge), 8 % (heave), 0.5 %
 (mean tension). Fails on the lines' mass 1.5 or 2 times too large (tension 47 % / 38 %,
 surge 40 % / 29 %), a wrong line weight (the case's density x 1.5: 85 %), the moments of
-the fairlead pulls halved (pitch 108 %, tensions 35 %). Not on the lines' BA (3 x: no change) nor EA +10 % (the
-mooring's stiffness is mostly geometric here: 2.6 %): those are held by the line-only
-tests (test_peers_moordyn.py, test_free_points_moordyn.py). Wall time ~10 s (15 s on a loaded machine).
+the fairlead pulls halved on one side (tried on the MoorDyn side's body: pitch 108 %,
+tensions 35 %). Not on the lines' BA (3 x: no change) nor EA +10 % (the mooring's
+stiffness is mostly geometric here: 2.6 %): those are held by the line-only tests
+(test_peers_moordyn.py, test_free_points_moordyn.py). Wall time ~10 s (15 s loaded).
 """
 import sys
 from pathlib import Path
