@@ -8,15 +8,42 @@ nothing to act on).
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
+BYTES_PER_DOF = 4096  # what a model needs per unknown through its statics and a run (4x measured)
 STRAIN_WARNING = 0.03  # a span needing more strain than this is warned about
 STRAIN_LIMIT = 0.25  # ... and more than this refused
 BED_TOLERANCE = 1e-3  # m below the bed still taken as on it
 
 
+def available_memory() -> float:
+    """Bytes of memory this machine can still give (MemAvailable, else all of it)."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+
+
+def check_size(network):
+    """ValueError when the lines' elements cannot fit in memory, before allocating."""
+    elements = sum(int(line.n_elements) for line in network.lines)
+    need, have = 3 * (elements + len(network.lines)) * BYTES_PER_DOF, available_memory()
+    if need > have:
+        raise ValueError(f"n_elements: {elements} elements on {len(network.lines)} lines "
+                         f"need about {need / 2**30:.3g} GiB, this machine has "
+                         f"{have / 2**30:.3g} GiB available (fewer elements, or a bigger machine)")
+
+
 def check_network(network) -> list:
-    """ValueError for impossible input; a list of warnings (text) for suspicious input."""
+    """ValueError for impossible input (or a model too big for this machine's memory); a
+    list of warnings (text) for suspicious input."""
+    check_size(network)
     warnings = []
     where = {p.name: network.global_position(p) for p in network.points}
     depth = float(network.depth)

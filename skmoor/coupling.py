@@ -569,9 +569,9 @@ class System:
         else:
             K = K + self._embed_bodies(K_bodies)
             if slope is not None:
-                columns = np.zeros((self.n, self.n))
-                columns[:, self.nf:] = slope
-                K = K + sp.csr_matrix(columns)
+                rows, cols = np.nonzero(slope)
+                K = K + sp.csr_matrix((slope[rows, cols], (rows, cols + self.nf)),
+                                      shape=(self.n, self.n))
             if damped:
                 D = self._embed_bodies(D_bodies)
                 Kv = D if Kv is None else Kv + D
@@ -594,10 +594,10 @@ class System:
         return out
 
     def _embed_bodies(self, A):
-        """The (6 nbodies)^2 body block in a sparse (n, n) matrix."""
-        out = np.zeros((self.n, self.n))
-        out[self.nf:, self.nf:] = A
-        return sp.csr_matrix(out)
+        """The (6 nbodies)^2 body block in a sparse (n, n) matrix (nothing of size n^2)."""
+        rows, cols = np.nonzero(A)
+        return sp.csr_matrix((A[rows, cols], (rows + self.nf, cols + self.nf)),
+                             shape=(self.n, self.n))
 
     def _add_point_blocks(self, K, Kv, point_K, point_C, layout):
         """K and Kv plus the free points' (npoints, 3, 3) derivative blocks (None: none)."""

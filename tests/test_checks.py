@@ -74,3 +74,35 @@ def test_a_case_with_an_anchor_above_the_water_warns(tmp_path):
     warned = check_network(explicit_network(skmoor.Case.from_toml(path)))
     assert any("leg1.anchor: a fixed point (an anchor?) 20 m above the water" in w
                for w in warned)
+
+
+def test_a_model_too_big_for_memory_is_refused_before_allocating(monkeypatch):
+    from skmoor import checks
+
+    monkeypatch.setattr(checks, "available_memory", lambda: 8 * 2**30)
+    net = network()
+    net.lines[0].n_elements = 10**6  # 3 million unknowns: 11 GiB at 4 kB each
+    with pytest.raises(ValueError, match=r"n_elements: 1000000 elements on 1 lines need about "
+                                         r"11\.4 GiB, this machine has 8 GiB"):
+        check_network(net)
+    net.lines[0].n_elements = 10**4
+    assert check_network(net) == []
+
+
+def test_a_long_line_on_a_body_needs_no_n_squared_memory():
+    """The sparse residual of a body on 4 x 1500 elements (18,000 unknowns) stays far
+    below the 2.6 GB an (n, n) array would take (a dense body block used to be made)."""
+    import tracemalloc
+
+    import numpy as np
+
+    model = skmoor.build(skmoor.paper_case().replace("mooring.n_elements", 1500))
+    system = model.system
+    x, v = np.zeros(system.n), np.zeros(system.n)
+    v[system.nf:] = [0.1, 0.0, 0.05, 0.0, 0.01, 0.0]  # a moving body: the slope columns too
+    tracemalloc.start()
+    _, K, Kv = system.residual(x, v, 0.0, layout="sparse")
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert system.n > 17_000 and K.shape == (system.n, system.n)
+    assert peak < 100e6
