@@ -98,11 +98,20 @@ class Case:
         return self.data.get("damping", {"ratio": 0.0})
 
     @property
-    def strain_law(self) -> str:
-        return self.data.get("mooring", {}).get("strain_law", "paper")
+    def strain_law(self):
+        """The lines' strain law: 'paper' (default) or 'engineering', or with
+        ``mooring.tension_only = false`` the :class:`skmoor.laws.Law` that carries
+        compression."""
+        mooring = self.data.get("mooring", {})
+        name = mooring.get("strain_law", "paper")
+        if mooring.get("tension_only", True):
+            return name
+        from .laws import LAWS
+        return LAWS[name](tension_only=False)
 
     def line_specs(self) -> list[LineSpec]:
-        shared = {k: v for k, v in self.data.get("mooring", {}).items() if k != "strain_law"}
+        shared = {k: v for k, v in self.data.get("mooring", {}).items()
+                  if k not in ("strain_law", "tension_only")}
         specs = []
         for entry in self.data["lines"]:
             d = {**shared, **entry}

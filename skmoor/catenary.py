@@ -2,7 +2,9 @@
 
 A line of unstretched length L (m), submerged weight w per unstretched length (N/m) and
 axial stiffness EA (N) hangs from an anchor to a fairlead; its tension is T = EA * strain
-(engineering strain). The line lies in the vertical plane through both ends. In that plane
+(engineering strain), or any static strain law of :mod:`skmoor.laws` (``law=``: a
+tension-strain curve, ...), whose strain e(T) is piecewise linear in the tension, so that
+the profile stays in closed form piece by piece. The line lies in the vertical plane through both ends. In that plane
 x runs horizontally from the anchor towards the fairlead and z is up. With s the
 unstretched arclength from the anchor (m), the tension has a constant horizontal component
 H (N) and a vertical component V(s) = V_anchor + w s (N) along the suspended part. When the
@@ -14,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.optimize import brentq
@@ -36,6 +39,7 @@ class Catenary:
     H                  horizontal component of the tension, N
     V_anchor           vertical component of the tension at the anchor, N (> 0: pulls the anchor up)
     laid_length        unstretched length lying on the seabed from the anchor, m
+    law                the static strain law (:mod:`skmoor.laws`; None: tension = EA x strain)
     """
 
     anchor: np.ndarray
@@ -47,6 +51,14 @@ class Catenary:
     H: float
     V_anchor: float
     laid_length: float
+    law: object = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "_elastic", _Elasticity.of(self.law, self.EA))
+
+    def strain(self, T) -> np.ndarray:
+        """Engineering strain (-) of the law at tension T (N)."""
+        return self._elastic.strain(np.asarray(T, float))
 
     @property
     def V_fairlead(self) -> float:
@@ -81,18 +93,19 @@ class Catenary:
     def position(self, s) -> np.ndarray:
         """Positions (m) of the points at unstretched arclengths s (m), (n, 3)."""
         s = np.atleast_1d(np.asarray(s, dtype=float))
-        x, z = _plane_offsets(s, self.H, self.V_anchor, self.laid_length, self.w, self.EA)
+        x, z = _plane_offsets(s, self.H, self.V_anchor, self.laid_length, self.w,
+                              self._elastic)
         return self.anchor + x[:, None] * self.direction + z[:, None] * _UP
 
     def stretched_arclength(self, s) -> np.ndarray:
-        """Stretched length (m) from the anchor to arclengths s (m): int (1 + T/EA) ds, (n,)."""
+        """Stretched length (m) from the anchor to arclengths s (m): int (1 + e(T)) ds, (n,)."""
         s = np.atleast_1d(np.asarray(s, dtype=float))
+        el = self._elastic
         on_bed = np.minimum(s, self.laid_length)
-        tension_integral = self.H * on_bed + (
-            _tension_antiderivative(self.H, self.vertical_force(s))
-            - _tension_antiderivative(self.H, self.V_anchor)
-        ) / self.w
-        return s + tension_integral / self.EA
+        stretch = (el.strain(np.array([self.H]))[0] * on_bed
+                   + (el.s_integral(self.H, self.vertical_force(s))
+                      - el.s_integral(self.H, np.array([self.V_anchor]))) / self.w)
+        return s + stretch
 
     def fairlead_force(self) -> np.ndarray:
         """Force the line exerts on the body at the fairlead, (3,) N."""
@@ -112,7 +125,8 @@ class Catenary:
         chord = math.hypot(span, rise)
 
         def chord_coordinates(s):
-            x, z = _plane_offsets(s, self.H, self.V_anchor, self.laid_length, self.w, self.EA)
+            x, z = _plane_offsets(s, self.H, self.V_anchor, self.laid_length, self.w,
+                                  self._elastic)
             return (x * span + z * rise) / chord, (x * rise - z * span) / chord
 
         s_mid = brentq(lambda s: chord_coordinates(s)[0] - 0.5 * chord, 0.0, self.L,
@@ -121,7 +135,7 @@ class Catenary:
 
 
 def solve_catenary(anchor, fairlead, w, EA, *, length=None, horizontal_tension=None,
-                   sag_ratio=None, seabed_z=None) -> Catenary:
+                   sag_ratio=None, seabed_z=None, law=None) -> Catenary:
     """Static shape and forces of an elastic catenary between ``anchor`` and ``fairlead``.
 
     anchor, fairlead     3-vectors, m
@@ -135,15 +149,21 @@ def solve_catenary(anchor, fairlead, w, EA, *, length=None, horizontal_tension=N
     seabed_z             seabed height, m. When the anchor lies on it (within 1e-9 of the
                          depth), part of the line may lie on the seabed (no friction). Without
                          it the line is fully suspended and may dip below both ends.
+    law                  the static strain law (a :class:`skmoor.laws.Law`; None or
+                         'engineering'/'paper': tension = EA x engineering strain)
 
-    The tension must stay below EA (a strain below 1); a line that would need more is
-    "too short" and raises ValueError, as does any invalid input (the message names it).
+    The strain must stay below 1; a line that would need more is "too short" and
+    raises ValueError, as does any invalid input (the message names it).
     """
     anchor = _point("anchor", anchor)
     fairlead = _point("fairlead", fairlead)
     w = _positive("w", w)
     EA = _positive("EA", EA)
-    problem = _Problem.between(anchor, fairlead, w, EA, _touchdown(anchor, fairlead, seabed_z))
+    if isinstance(law, str):
+        from .laws import as_law
+        law = as_law(law, "law")
+    problem = _Problem.between(anchor, fairlead, w, EA, _touchdown(anchor, fairlead, seabed_z),
+                               law)
     given = [name for name, value in [("length", length),
                                       ("horizontal_tension", horizontal_tension),
                                       ("sag_ratio", sag_ratio)] if value is not None]
@@ -174,9 +194,14 @@ class _Problem:
     w: float
     EA: float
     touchdown: bool
+    law: object = None
+
+    @cached_property
+    def elastic(self):
+        return _Elasticity.of(self.law, self.EA)
 
     @classmethod
-    def between(cls, anchor, fairlead, w, EA, touchdown):
+    def between(cls, anchor, fairlead, w, EA, touchdown, law=None):
         offset = fairlead - anchor
         span = math.hypot(offset[0], offset[1])
         chord = math.hypot(span, offset[2])
@@ -186,7 +211,7 @@ class _Problem:
             span, direction = 0.0, np.array([1.0, 0.0, 0.0])
         else:
             direction = np.array([offset[0] / span, offset[1] / span, 0.0])
-        return cls(anchor, fairlead, direction, span, float(offset[2]), w, EA, touchdown)
+        return cls(anchor, fairlead, direction, span, float(offset[2]), w, EA, touchdown, law)
 
     @property
     def chord(self) -> float:
@@ -201,14 +226,15 @@ class _Problem:
 
     def end_offsets(self, L, H, v):
         """Span and rise (m) reached at s = L."""
-        return _plane_offsets(L, H, *self.split(L, v), self.w, self.EA)
+        return _plane_offsets(L, H, *self.split(L, v), self.w, self.elastic)
 
     def anchor_vertical_force(self, L, H):
         """v (see split) for which the line of length L (m) reaches the rise, given H (N).
 
         The rise grows monotonically with v, which is bracketed by bounding T_fairlead -
-        T_anchor to [-w L, w L] (suspended) or by a fully laid line (touchdown)."""
-        w, EA = self.w, self.EA
+        T_anchor to [-w L, w L] (suspended) or by a fully laid line (touchdown), EA the
+        law's stiffest slope."""
+        w, EA = self.w, self.elastic.stiffest
         high = max((self.rise + L) * EA / L - 0.5 * w * L, 0.0)
         low = -w * L if self.touchdown else (self.rise - L) * EA / L - 0.5 * w * L
         return brentq(lambda v: float(self.end_offsets(L, H, v)[1]) - self.rise, low, high,
@@ -218,16 +244,23 @@ class _Problem:
         """Longest unstretched length (m) that stays taut; infinite without touchdown.
 
         With touchdown it is the L-shaped line: laid along the whole span, then hanging
-        vertically (unstretched hanging length h solves h + w h^2 / (2 EA) = rise)."""
+        vertically (unstretched hanging length h solves h + int e(w s) ds = rise)."""
         if not self.touchdown:
             return math.inf
-        hanging = 2.0 * self.rise / (1.0 + math.sqrt(1.0 + 2.0 * self.w * self.rise / self.EA))
+        if self.elastic.linear:
+            EA = self.elastic.stiffest
+            hanging = 2.0 * self.rise / (1.0 + math.sqrt(1.0 + 2.0 * self.w * self.rise / EA))
+        else:
+            def reach(h):
+                return h + float(_plane_offsets(h, 0.0, 0.0, 0.0, self.w, self.elastic)[1]) \
+                    - self.rise
+            hanging = brentq(reach, 0.0, self.rise, xtol=1e-15 * self.rise, rtol=_RTOL)
         return self.span + hanging
 
     def build(self, L, H, v) -> Catenary:
         V_anchor, laid_length = self.split(L, v)
         return Catenary(self.anchor, self.fairlead, self.direction, L, self.EA, self.w,
-                        H, V_anchor, laid_length)
+                        H, V_anchor, laid_length, self.law)
 
     def with_length(self, L) -> Catenary:
         """Solve for H: the span reached grows with H (from the shortest, at H -> 0)."""
@@ -247,9 +280,9 @@ class _Problem:
         """Solve for L: at fixed H the span reached grows with L."""
         if self.span == 0.0:
             raise ValueError("horizontal_tension: a vertical line has H = 0; give length")
-        if H >= self.EA:
-            raise ValueError(f"horizontal_tension: {H:g} N is not below EA = {self.EA:g} N "
-                             "(strain above 1)")
+        if self.elastic.strain(np.array([H]))[0] >= 1.0:
+            raise ValueError(f"horizontal_tension: {H:g} N would strain the line by 1 or "
+                             f"more (EA = {self.EA:g} N)")
 
         def span_error(L):
             return float(self.end_offsets(L, H, self.anchor_vertical_force(L, H))[0]) - self.span
@@ -289,15 +322,70 @@ class _Problem:
         return min(branches, 0.5 * self.rise / self.span) if self.touchdown else branches
 
 
-def _plane_offsets(s, H, V_anchor, laid_length, w, EA):
+def _plane_offsets(s, H, V_anchor, laid_length, w, elastic):
     """Horizontal and vertical offsets (m) from the anchor at unstretched arclengths s (m)."""
     on_bed = np.minimum(s, laid_length)
     hanging = np.maximum(s - laid_length, 0.0)
     V = V_anchor + w * hanging
-    x = H * s / EA + on_bed + (_h_asinh(H, V) - _h_asinh(H, V_anchor)) / w
-    z = ((V_anchor + 0.5 * w * hanging) * hanging / EA
-         + (np.hypot(H, V) - math.hypot(H, V_anchor)) / w)
+    rigid_x = on_bed + (_h_asinh(H, V) - _h_asinh(H, V_anchor)) / w
+    rigid_z = (np.hypot(H, V) - math.hypot(H, V_anchor)) / w
+    if elastic.linear:  # tension = EA x strain: H s / EA and (V_A + w h / 2) h / EA
+        return (rigid_x + elastic.compliance * H * s,
+                rigid_z + elastic.compliance * (V_anchor + 0.5 * w * hanging) * hanging)
+    Va = np.array([V_anchor])
+    x = (rigid_x + on_bed * elastic.strain(np.array([H]))[0]
+         + (elastic.x_integral(H, V) - elastic.x_integral(H, Va)[0]) / w)
+    z = rigid_z + (elastic.z_integral(H, V) - elastic.z_integral(H, Va)[0]) / w
     return x, z
+
+
+class _Elasticity:
+    """A static law's strain e(T) = a_k + b_k T on T_k <= T < T_k+1 and the integrals of
+    the elastic catenary along V (the vertical tension, T = hypot(H, V)), in closed form
+    piece by piece: x: int e H/T dV, z: int e V/T dV, s: int e dV (from V = 0)."""
+
+    def __init__(self, T_k, a, b):
+        self.T_k, self.a, self.b = (np.asarray(v, float) for v in (T_k, a, b))
+        self.linear = len(self.T_k) == 1 and self.a[0] == 0.0
+        self.compliance = float(self.b[0])  # 1 / EA of a linear law
+        self.stiffest = float(1.0 / np.min(self.b))
+
+    @classmethod
+    def of(cls, law, EA):
+        if law is None:
+            return cls([0.0], [0.0], [1.0 / EA])
+        return cls(*law.static_pieces(EA))
+
+    def strain(self, T):
+        if self.linear:
+            return self.compliance * T
+        piece = np.clip(np.searchsorted(self.T_k, T, side="right") - 1, 0, len(self.T_k) - 1)
+        return self.a[piece] + self.b[piece] * T
+
+    def _integral(self, G, V, H, odd):
+        """sum over the pieces of G(c) - G(low), c = |V| clipped to each piece, V's shape."""
+        V = np.asarray(V, float)
+        low = np.sqrt(np.maximum(self.T_k**2 - H * H, 0.0))
+        c = np.clip(np.abs(V)[..., None], low, np.r_[low[1:], np.inf])
+        total = np.sum(G(c) - G(low), axis=-1)
+        return np.sign(V) * total if odd else total
+
+    def x_integral(self, H, V):
+        if self.linear:
+            return self.b[0] * H * np.asarray(V, float)
+        return self._integral(lambda c: self.a * _h_asinh(H, c) + self.b * H * c, V, H, True)
+
+    def z_integral(self, H, V):
+        if self.linear:
+            return 0.5 * self.b[0] * np.asarray(V, float) ** 2
+        return self._integral(lambda c: self.a * np.hypot(H, c) + 0.5 * self.b * c * c,
+                              V, H, False)
+
+    def s_integral(self, H, V):
+        if self.linear:
+            return self.b[0] * _tension_antiderivative(H, np.asarray(V, float))
+        return self._integral(lambda c: self.a * c + self.b * _tension_antiderivative(H, c),
+                              V, H, True)
 
 
 def _h_asinh(H, V):
@@ -336,9 +424,12 @@ def _max_tension(line: Catenary) -> float:
 
 
 def _check_strain(field, line: Catenary):
-    if _max_tension(line) > line.EA:
+    strain = line.strain(np.array([_max_tension(line)]))[0]
+    if strain > 1.0:
+        limit = (f"above EA = {line.EA:g} N" if line.law is None or line._elastic.linear
+                 else f"a strain of {strain:g} on the law's curve")
         raise ValueError(f"{field}: the line would need a tension of {_max_tension(line):g} N, "
-                         f"above EA = {line.EA:g} N (strain above 1; too short a line stretches "
+                         f"{limit} (strain above 1; too short a line stretches "
                          "that much to span the anchor-fairlead distance)")
 
 

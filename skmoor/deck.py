@@ -6,12 +6,14 @@ names and a line of units after it, then one entry a line (columns split by blan
 starts a comment); OPTIONS lines are ``value name``; OUTPUTS lists channel names; a last
 ``---`` line ends the deck. The text before the first section is free-form.
 
-Read: LINE TYPES (constant EA, BA or -zeta, EI, Cd, Ca, CdAx, CaAx, optional VIV Cl dF cF),
-BODIES, POINTS (9 columns, or 12 with a constant force), LINES between points, OPTIONS
-(names as MoorDyn-C spells them, aliases mapped; unknown options kept with a note) and
-OUTPUTS. Refused with the deck line and the reason: stress-strain or damping curve files,
-viscoelastic (``|``) EA / BA, rods and rod ends, and the MoorDyn-F-only sections (FAILURE,
-CONTROL, EXTERNAL LOADS). The reader checks the format only; what skmoor can simulate is
+Read: LINE TYPES (EA: a number, a tension-strain curve file (path relative to the deck;
+three header lines, then strain and tension a line) or MoorDyn's viscoelastic
+``EA_s|EA_d`` / ``EA_s|alphaMBL|beta``, each EA_s a number or a curve file; BA or -zeta,
+with ``BA|BA_D``; EI, Cd, Ca, CdAx, CaAx, optional VIV Cl dF cF), BODIES, POINTS (9
+columns, or 12 with a constant force), LINES between points, OPTIONS (names as MoorDyn-C
+spells them, aliases mapped; unknown options kept with a note) and OUTPUTS. Refused with
+the deck line and the reason: damping and bending curve files, the Syrope model, rods
+and rod ends, and the MoorDyn-F-only sections (FAILURE, CONTROL, EXTERNAL LOADS). The reader checks the format only; what skmoor can simulate is
 checked when the model is built (:mod:`skmoor.deck_model`).
 
 Units as MoorDyn: m, kg, N, s; body angles in degrees.
@@ -87,9 +89,15 @@ WORD = {"fixed": "Fixed", "coupled": "Coupled", "free": "Free", "pinned": "Coupl
 
 @dataclass
 class DeckLineType:
-    """A LINE TYPES entry. diameter (m, volume-equivalent), mass (kg/m), EA (N),
-    BA (N s; a negative value is -zeta, a damping ratio per segment), EI (N m2),
-    Cd, Ca (transverse), CdAx, CaAx (axial), viv: the optional (Cl,) or (Cl, dF, cF)."""
+    """A LINE TYPES entry. diameter (m, volume-equivalent), mass (kg/m), EA (N; of a
+    curve, its last point's secant as MoorDyn takes it), BA (N s; a negative value is
+    -zeta, a damping ratio per segment), EI (N m2), Cd, Ca (transverse), CdAx, CaAx
+    (axial), viv: the optional (Cl,) or (Cl, dF, cF).
+
+    EA_curve: the tension-strain curve ((strain, ...), (tension N, ...)) read from the
+    file ``EA_file`` (as written in the deck), or () for a constant EA; EA_visco: the
+    viscoelastic values after EA_s, (EA_d,) in N or (alphaMBL N, beta), () if none;
+    BA_dynamic: BA_D (N s) of ``BA|BA_D``, or None."""
 
     name: str
     diameter: float
@@ -102,6 +110,10 @@ class DeckLineType:
     CdAx: float
     CaAx: float
     viv: tuple = ()
+    EA_curve: tuple = ()
+    EA_file: str = ""
+    EA_visco: tuple = ()
+    BA_dynamic: float | None = None
     where: int = field(default=0, compare=False)  # deck line number (1-based)
 
 
@@ -277,13 +289,14 @@ def _section_of(text: str):
 
 def read_deck(path) -> Deck:
     """Read a MoorDyn v2 input file into a :class:`Deck` (see the module docstring for
-    what is supported); a ValueError names the deck line and the reason."""
+    what is supported); a ValueError names the deck line and the reason. Curve files are
+    read relative to the deck's folder, as MoorDyn does."""
     path = Path(path)
     text = path.read_text(encoding="utf-8", errors="replace").splitlines()
     deck = Deck(source=path.name)
     entries = _split_sections(text, deck)
     for entry in entries.get("LINE TYPES", []):
-        _line_type(entry, deck)
+        _line_type(entry, deck, path.parent)
     for entry in entries.get("BODIES", []):
         _body(entry, deck)
     for entry in entries.get("POINTS", []):
@@ -336,7 +349,7 @@ def _split_sections(text, deck):
     return entries
 
 
-def _line_type(e, deck):
+def _line_type(e, deck, folder=Path(".")):
     if len(e.words) < 10 or len(e.words) in (12,) or len(e.words) > 13:
         raise e.error(f"entry: needs the 10 columns Name Diam Mass/m EA BA/-zeta EI Cd Ca "
                       f"CdAx CaAx (optionally Cl, or Cl dF cF), got {len(e.words)}")
@@ -345,18 +358,85 @@ def _line_type(e, deck):
         raise e.error(f"name: {name!r} is defined twice")
     if e.words[3].upper().startswith("SYROPE:"):
         raise e.error(f"EA: {e.words[3]!r}: the Syrope model is not supported")
+    EA, curve, curve_file, visco = _axial_stiffness(e, folder)
+    BA, BA_dynamic = _damping(e, len(visco) + 1)
     lt = DeckLineType(
         name=name, diameter=e.number_at(1, "Diam"), mass=e.number_at(2, "Mass/m"),
-        EA=e.number_at(3, "EA", curve_ok=True), BA=e.number_at(4, "BA/-zeta", curve_ok=True),
-        EI=e.number_at(5, "EI", curve_ok=True), Cd=e.number_at(6, "Cd"),
+        EA=EA, BA=BA, EI=e.number_at(5, "EI", curve_ok=True), Cd=e.number_at(6, "Cd"),
         Ca=e.number_at(7, "Ca"), CdAx=e.number_at(8, "CdAx"), CaAx=e.number_at(9, "CaAx"),
         viv=tuple(e.number_at(i, n) for i, n in zip(range(10, len(e.words)),
                                                     ("Cl", "dF", "cF"))),
+        EA_curve=curve, EA_file=curve_file, EA_visco=visco, BA_dynamic=BA_dynamic,
         where=e.number)
     for column, value in (("Diam", lt.diameter), ("Mass/m", lt.mass), ("EA", lt.EA)):
         if value <= 0:
             raise e.error(f"{column}: must be positive, got {value:g}")
     deck.line_types[name] = lt
+
+
+def _axial_stiffness(e, folder):
+    """(EA N, curve, curve file, viscoelastic values) of a LINE TYPES EA column: a number
+    or a curve file, then optionally '|' EA_d or '|' alphaMBL '|' beta."""
+    parts = e.words[3].split("|")
+    if len(parts) > 3:
+        raise e.error(f"EA: {e.words[3]!r} has {len(parts)} '|'-separated values; MoorDyn "
+                      "takes EA_s, EA_s|EA_d or EA_s|alphaMBL|beta")
+    visco = []
+    for part, label in zip(parts[1:], ("EA_d" if len(parts) == 2 else "alphaMBL", "beta")):
+        try:
+            value = float(part)
+        except ValueError:
+            raise e.error(f"EA: {label} {part!r} is not a number") from None
+        if not (math.isfinite(value) and value >= 0):
+            raise e.error(f"EA: {label} must be a finite number >= 0, got {part!r}")
+        visco.append(value)
+    if len(parts) == 2 and visco[0] <= 0:
+        raise e.error(f"EA: EA_d must be positive, got {parts[1]!r}")
+    try:
+        EA = float(parts[0])
+    except ValueError:
+        curve = _curve_file(e, folder, parts[0])
+        return curve[1][-1] / curve[0][-1], curve, parts[0], tuple(visco)
+    if not math.isfinite(EA):
+        raise e.error(f"EA: must be finite, got {parts[0]!r}")
+    if len(parts) == 2 and visco[0] == EA:
+        raise e.error(f"EA: EA_d = EA_s = {EA:g} N: the dynamic stiffness must differ from the "
+                      "static one (MoorDyn refuses it too)")
+    return EA, (), "", tuple(visco)
+
+
+def _curve_file(e, folder, name):
+    """((strain, ...), (tension, ...)) of a MoorDyn curve file named in the EA column."""
+    from .laws import read_curve
+
+    path = folder / name
+    where = f"{e.source} line {e.number}: LINE TYPES EA"
+    if not path.is_file():
+        raise ValueError(f"{where}: {name!r} is neither a number nor a curve file (no file "
+                         f"{path})")
+    curve = read_curve(path, source=where)
+    return tuple(curve.strain), tuple(curve.tension_values)
+
+
+def _damping(e, allowed):
+    """(BA, BA_D or None) of the BA/-zeta column: a number, or BA|BA_D after a
+    viscoelastic EA."""
+    parts = e.words[4].split("|")
+    if len(parts) > max(allowed, 1) or len(parts) > 2:
+        raise e.error(f"BA/-zeta: {e.words[4]!r} has more '|'-separated values than the EA "
+                      "column allows (BA|BA_D goes with a viscoelastic EA_s|...)")
+    values = []
+    for part in parts:
+        try:
+            values.append(float(part))
+        except ValueError:
+            raise e.error(f"BA/-zeta: {part!r} is not a number (damping curve files are "
+                          "not supported)") from None
+        if not math.isfinite(values[-1]):
+            raise e.error(f"BA/-zeta: must be finite, got {part!r}")
+    if len(values) == 2 and values[1] < 0:
+        raise e.error(f"BA/-zeta: BA_D = {values[1]:g} cannot be a damping ratio (MoorDyn)")
+    return values[0], (values[1] if len(values) == 2 else None)
 
 
 def _decompose(word):
@@ -479,17 +559,29 @@ def _bar(values) -> str:
 
 
 def write_deck(deck: Deck, path) -> Path:
-    """Write ``deck`` as a MoorDyn v2 input file (MoorDyn-C 2.x reads it); returns the path."""
+    """Write ``deck`` as a MoorDyn v2 input file (MoorDyn-C 2.x reads it); returns the path.
+    A line type's EA curve is written beside it, in its file (``EA_file``, or
+    ``NAME_EA.txt``)."""
     path = Path(path)
+    for lt in deck.line_types.values():
+        if lt.EA_curve:
+            lt.EA_file = lt.EA_file or f"{lt.name}_EA.txt"
+            curve = path.parent / lt.EA_file
+            curve.parent.mkdir(parents=True, exist_ok=True)
+            rows = [f"{_num(e)} {_num(T)}" for e, T in zip(*lt.EA_curve)]
+            curve.write_text("\n".join([f"tension-strain curve of line type {lt.name}",
+                                        "Strain Tension", "(-) (N)"] + rows) + "\n",
+                             encoding="utf-8")
     rule = lambda name: f"{'-' * 22} {name} {'-' * max(4, 50 - len(name))}"  # noqa: E731
     out = [rule("MoorDyn Input File")] + list(deck.title)
     out += [rule("LINE TYPES"),
             "TypeName Diam Mass/m EA BA/-zeta EI Cd Ca CdAx CaAx",
             "(name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)"]
     for lt in deck.line_types.values():
-        out.append(" ".join([lt.name] + [_num(v) for v in (
-            lt.diameter, lt.mass, lt.EA, lt.BA, lt.EI, lt.Cd, lt.Ca, lt.CdAx, lt.CaAx)
-            + tuple(lt.viv)]))
+        EA = "|".join([lt.EA_file or _num(lt.EA)] + [_num(v) for v in lt.EA_visco])
+        BA = _num(lt.BA) + ("" if lt.BA_dynamic is None else "|" + _num(lt.BA_dynamic))
+        out.append(" ".join([lt.name, _num(lt.diameter), _num(lt.mass), EA, BA] + [
+            _num(v) for v in (lt.EI, lt.Cd, lt.Ca, lt.CdAx, lt.CaAx) + tuple(lt.viv)]))
     if deck.bodies:
         out += [rule("BODIES"),
                 "ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca*",

@@ -8,7 +8,12 @@ added mass rho V Ca), coupled, and on bodies (``BodyN``). Bodies: 'free' ones ar
 waterplane; CdA: quadratic drag in each of the 6 DOFs; Ca: added mass rho V Ca in x, y, z),
 coupled ones follow the motion, fixed ones stay. Each line's reference state is the
 elastic catenary between its ends (after the free points are settled on catenaries), on
-NumSegs elements with MoorDyn's strain law (tension = EA x engineering strain).
+NumSegs elements with MoorDyn's strain law: tension = EA x engineering strain, or the
+deck's tension-strain curve (:class:`skmoor.laws.Curve`), tension-only as in MoorDyn; a
+viscoelastic ``EA_s|EA_d`` or ``EA_s|alphaMBL|beta`` line is a
+:class:`skmoor.laws.StaticDynamic` (static state with EA_s, motion about it with the
+dynamic stiffness; its internal damping is BA_D of ``BA|BA_D``, the damper beside the
+dynamic spring, MoorDyn's BA being the creep damper that this limit holds locked).
 MoorDyn's coefficient conventions carry over: Cd -> Cd_n, CdAx -> Cd_t, Ca -> Ca_n,
 CaAx -> Ca_t; the submerged weight is (Mass/m - rho pi d^2/4) g; the internal damping
 BA (N s, or -zeta: BA = zeta (L / NumSegs) sqrt(EA Mass/m) as MoorDyn sets it) damps the
@@ -41,6 +46,7 @@ import numpy as np
 from .body import Hydrostatics, RigidBody
 from .deck import Deck, read_deck
 from .hydro import body_hydrodynamics
+from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
 from .seabed import Seabed
@@ -64,9 +70,27 @@ def line_type_of(deck: Deck, line) -> LineType:
     if t.viv and t.viv[0] > 0:
         raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {t.viv[0]:g}: vortex-induced "
                     "vibration is not supported")
+    law, BA = _law(deck, t), _internal_damping(deck, line)
+    if isinstance(law, laws.StaticDynamic):
+        BA = t.BA_dynamic or 0.0
     return LineType(EA=t.EA, mass=t.mass, diameter=t.diameter, Cd_n=t.Cd, Cd_t=t.CdAx,
-                    Ca_n=t.Ca, Ca_t=t.CaAx, BA=_internal_damping(deck, line),
-                    rho_water=deck.rho, g=deck.g)
+                    Ca_n=t.Ca, Ca_t=t.CaAx, BA=BA, rho_water=deck.rho, g=deck.g, law=law)
+
+
+def _law(deck: Deck, t):
+    """The strain law of a deck line type: None (EA x strain, the network's), a Curve or
+    a StaticDynamic law."""
+    where = f"{deck.source} line {t.where}: LINE TYPES {t.name} EA"
+    static = laws.Curve(*t.EA_curve, source=f"{where} ({t.EA_file})") if t.EA_curve else None
+    if not t.EA_visco:
+        return static
+    static = static or laws.Engineering()
+    try:
+        if len(t.EA_visco) == 1:
+            return laws.StaticDynamic(EA_dynamic=t.EA_visco[0], static=static)
+        return laws.StaticDynamic(alpha_MBL=t.EA_visco[0], beta=t.EA_visco[1], static=static)
+    except ValueError as err:
+        raise ValueError(f"{where}: {err}") from None
 
 
 def _check_options(deck: Deck):

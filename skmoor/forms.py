@@ -9,15 +9,19 @@ reference state enters as fields at quadrature points:
 - ``EA``  (nel, nqp)     axial stiffness, N
 - ``m``   (nel, nqp)     mass per length (structural + added), kg/m
 - ``w``   (nel, nqp)     submerged weight per length, N/m (acts along -z)
+- ``BA``  (nel, nqp)     axial internal damping, N s
+- the strain law's parameters (:mod:`skmoor.laws`): ``green``, ``tension_only``, ``T0``,
+  ``e0``, ``k``, ``e_ref`` (nel, nqp) and the hinges ``knots``, ``coef`` (m, nel, nqp)
 
 The current displacement is passed as the DOF vector ``u``. A residual is
 ``internal - external``; tangents are its exact derivatives.
 
-Strain laws (the stress resultant S(eps) conjugate to the strain of Eq. 3): the paper's
-``S = EA eps`` (Eq. 6), or ``engineering`` where the tension grows with the engineering
-strain as in Irvine's elastic catenary, MoorPy and MoorDyn: the tension
-(T + S) lambda = T + (EA + T)(lambda - 1), lambda = sqrt(1 + 2 eps), EA being per
-unstretched length, gives S = EA (1 - 1/lambda). The two differ by O(T/EA).
+Strain laws (:mod:`skmoor.laws`, one per line type): the stress resultant S(eps)
+conjugate to the strain of Eq. 3, added to T: the paper's ``S = EA eps`` (Eq. 6), or a
+tension N(e) of the engineering strain e = (1 + e_ref) lambda - 1, lambda =
+sqrt(1 + 2 eps), as in Irvine's elastic catenary, MoorPy and MoorDyn (EA times e, a
+tension-strain curve, polyester's static / dynamic stiffness): S = N(e) / lambda - T.
+Cables are tension-only by default (T + S >= 0: a slack cable carries no compression).
 
 The displacement-dependent cable terms (Eqs. 11, 17) are integrated at the element
 mid-point (``LineSet.cable_basis``): with P1 displacements and a curved reference
@@ -25,46 +29,33 @@ tangent, Gauss points would see a rigid rotation of a chord as strain (membrane
 locking, 6 % too stiff in-plane at 11 elements). The reference force and the weight
 keep full quadrature, so the reference state stays an exact equilibrium.
 
-Write a new term as a ``LinearForm`` (its contribution to the residual) and, for Newton,
-a ``BilinearForm`` (its derivative with respect to u, or to the velocity); see
-:class:`skmoor.coupling.Term` and ``examples/03_weak_form_drag.py``.
+The cable forms are written with :mod:`skmoor.ops`, so that automatic differentiation
+can trace them. Write a new term as a ``LinearForm`` (its contribution to the residual)
+and, for Newton, a ``BilinearForm`` (its derivative with respect to u, or to the
+velocity); see :class:`skmoor.coupling.Term` and ``examples/03_weak_form_drag.py``.
 """
-import numpy as np
 from skfem import BilinearForm, LinearForm
-from skfem.helpers import dot
 
-PAPER, ENGINEERING = 0, 1
-
-
-def d_ds(field):
-    """d/ds of a vector field in a form, shape (3, nel, nqp)."""
-    return field.grad[:, 0]
+from . import laws, ops
+from .ops import d_ds, dot
 
 
 def strain(Xp, up):
-    """Eq. 3 in 3D: eps = X'.u' + |u'|^2 / 2."""
+    """Eq. 3 in 3D: eps = X'.u' + |u'|^2 / 2, -."""
     return dot(Xp, up) + 0.5 * dot(up, up)
 
 
-def stress_resultant(eps, T, EA, law):
-    """S(eps), N: the axial force added to T by the strain eps (Eq. 6 for PAPER)."""
-    if law == PAPER:
-        return EA * eps
-    return EA * (1.0 - 1.0 / np.sqrt(1.0 + 2.0 * eps))
-
-
-def stress_resultant_slope(eps, T, EA, law):
-    """dS/deps, N."""
-    if law == PAPER:
-        return EA * np.ones_like(eps)
-    return EA / np.sqrt(1.0 + 2.0 * eps) ** 3
+def stress_resultant(eps, w):
+    """(S, dS/deps), N: the law's axial force added to T by the strain eps (Eq. 6 for the
+    paper's law); w holds T and the law's parameters (see the module docstring)."""
+    return laws.stress_resultant(eps, w["T"], w)
 
 
 @LinearForm
 def cable_force(v, w):
     # Eq. 11: dPi' = int [ S(eps) (X' + u').du' + T u'.du' ] ds
     up = d_ds(w.u)
-    S = stress_resultant(strain(w.Xp, up), w.T, w.EA, w.law)
+    S, _ = stress_resultant(strain(w.Xp, up), w)
     return S * dot(w.Xp + up, d_ds(v)) + w.T * dot(up, d_ds(v))
 
 
@@ -100,9 +91,7 @@ def reference_force(v, w):
 def cable_tangent(du, v, w):
     # Eq. 17, exact: d(Eq. 11)/du = int [ S' (r'.du')(r'.v') + (T + S) du'.v' ] ds, r' = X' + u'
     up = d_ds(w.u)
-    eps = strain(w.Xp, up)
-    S = stress_resultant(eps, w.T, w.EA, w.law)
-    dS = stress_resultant_slope(eps, w.T, w.EA, w.law)
+    S, dS = stress_resultant(strain(w.Xp, up), w)
     rp = w.Xp + up
     return dS * dot(rp, d_ds(du)) * dot(rp, d_ds(v)) + (w.T + S) * dot(d_ds(du), d_ds(v))
 
@@ -137,7 +126,13 @@ def line_damping(du, v, w):
     return w.c * dot(du, v)
 
 
-def tension(Xp, T, EA, up, law):
-    """Tension in the deformed line, N: (T + S) |X' + u'|."""
-    eps = strain(Xp, up)
-    return (T + stress_resultant(eps, T, EA, law)) * np.sqrt(dot(Xp + up, Xp + up))
+def tension(Xp, up, w, rate=None):
+    """Tension in the deformed line, N: (T + S + BA deps/dt) |X' + u'|, w holding T, BA
+    and the law's parameters; ``rate`` the strain rate deps/dt = r'.udot' (1/s, None: 0).
+    With the rate this is the axial force the line transmits, as MoorDyn reports
+    T + BA x strain rate (Kelvin-Voigt damping in the reported tension)."""
+    S, _ = stress_resultant(strain(Xp, up), w)
+    axial = w["T"] + S
+    if rate is not None:
+        axial = axial + w["BA"] * rate
+    return axial * ops.norm(Xp + up)

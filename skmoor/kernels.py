@@ -15,7 +15,6 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from . import forms
 from .banded import Band
 
 NO_BLOCKS = np.zeros((0, 6, 6))  # stands for "no tangent" in the compiled loops
@@ -85,16 +84,19 @@ def _scatter(values, index, size):
 class CableKernel:
     """Internal force and tangent of all lines of a :class:`~skmoor.line.LineSet`: the
     forms ``cable_force`` + the reference force (Eq. 9), ``cable_tangent`` (Eq. 17) and
-    ``axial_damping`` with its derivatives, on the mid-point quadrature."""
+    ``axial_damping`` with its derivatives, on the mid-point quadrature, each element
+    with its line's strain law (:mod:`skmoor.laws`)."""
 
     def __init__(self, lineset):
         f = lineset.cable_fields
         if f["T"].shape[1] != 1:
             raise ValueError("CableKernel: the cable basis must have one (mid-point) "
                              f"quadrature point per element, got {f['T'].shape[1]}")
-        self.law = lineset.law
+        self.lineset = lineset
         self.Xp = f["Xp"][:, :, 0].T.copy()  # (nel, 3)
         self.T, self.EA, self.BA = f["T"][:, 0], f["EA"][:, 0], f["BA"][:, 0]  # (nel,)
+        self.refresh_laws()
+        lineset._kernels.append(self)
         self.h = lineset.element_lengths
         self.weight = lineset.cable_basis.dx[:, 0]  # quadrature weight = h
         t = lineset.mesh.t
@@ -106,18 +108,28 @@ class CableKernel:
         # the displacement-free part of Eq. 9: the reference force minus int T X'.du' ds
         # on the mid-point rule (the T r' term of Eq. 11 carries +T X' at u = 0)
         self.constant = lineset.reference_force()
-        _cable(self.Xp, self.T, self.EA, self.BA, self.h, self.weight, self.law,
-               self.dofs_i, self.dofs_j, np.zeros(self.ndofs), self._no_velocity, False,
-               self.constant, NO_BLOCKS, NO_BLOCKS, -1.0)
+        self._call(np.zeros(self.ndofs), self._no_velocity, False, self.constant,
+                   NO_BLOCKS, NO_BLOCKS, -1.0)
+
+    def refresh_laws(self):
+        """Read the strain laws' parameters from the LineSet's fields: (nel, 7) [green,
+        tension_only, T0, e0, k, e_ref, EA] and the hinges (nel, m) knots and coef."""
+        f = self.lineset.cable_fields
+        self.law = np.ascontiguousarray(np.stack(
+            [f[name][:, 0] for name in LAW_COLUMNS] + [f["EA"][:, 0]], axis=1))
+        self.knots = np.ascontiguousarray(f["knots"][:, :, 0].T)
+        self.coef = np.ascontiguousarray(f["coef"][:, :, 0].T)
+
+    def _call(self, u, ud, damped, R, Ke, Ce, sign):
+        _cable(self.Xp, self.T, self.law, self.knots, self.coef, self.BA, self.h,
+               self.weight, self.dofs_i, self.dofs_j, u, ud, damped, R, Ke, Ce, sign)
 
     def add_to(self, u, ud, R, Ke=None, Ce=None):
         """Add the internal force (Eq. 9) and, given the velocity ud, the axial damping
         into R (N); with Ke their u-derivatives (N/m), with Ce the ud-derivatives (N s/m)."""
         R += self.constant
-        _cable(self.Xp, self.T, self.EA, self.BA, self.h, self.weight, self.law,
-               self.dofs_i, self.dofs_j, u, self._no_velocity if ud is None else ud,
-               ud is not None, R, NO_BLOCKS if Ke is None else Ke,
-               NO_BLOCKS if Ce is None else Ce, 1.0)
+        self._call(u, self._no_velocity if ud is None else ud, ud is not None, R,
+                   NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce, 1.0)
 
     def evaluate(self, u, ud=None, tangent=True, layout="sparse"):
         """Internal force (Eq. 9 = Eq. 11 + reference part) plus, given the velocity ud,
@@ -137,17 +149,34 @@ class CableKernel:
         return f, K
 
 
+LAW_COLUMNS = ("green", "tension_only", "T0", "e0", "k", "e_ref")
+
+
 @njit(cache=True)
-def _stress(eps, EA, law):
-    """S(eps) and dS/deps (``forms.stress_resultant`` and its slope), N."""
-    if law == forms.PAPER:
+def _stress(eps, T, law, knots, coef, e):
+    """S(eps) and dS/deps of element e (``laws.stress_resultant``), N."""
+    green, only, EA = law[e, 0] > 0.0, law[e, 1] > 0.0, law[e, 6]
+    if green:
+        if only and T + EA * eps < 0.0:
+            return -T, 0.0
         return EA * eps, EA
     stretch = np.sqrt(1.0 + 2.0 * eps)
-    return EA * (1.0 - 1.0 / stretch), EA / stretch**3
+    grow = 1.0 + law[e, 5]
+    strain = grow * stretch - 1.0
+    N = law[e, 2] + law[e, 4] * (strain - law[e, 3])
+    dN = law[e, 4]
+    for j in range(knots.shape[1]):
+        if strain > knots[e, j]:
+            N += coef[e, j] * (strain - knots[e, j])
+            dN += coef[e, j]
+    if only and N < 0.0:
+        return -T, 0.0
+    return N / stretch - T, (dN * grow / stretch - N / stretch**2) / stretch
 
 
 @njit(cache=True)
-def _cable(Xp, T, EA, BA, h, weight, law, dofs_i, dofs_j, u, ud, damped, R, Ke, Ce, sign):
+def _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, R, Ke,
+           Ce, sign):
     """Adds sign x (Eq. 11 + axial damping) into R and their derivatives into Ke, Ce
     (when those have rows); one mid-point per element, weight[e] / h[e] = 1 for P1."""
     tangent = Ke.shape[0] > 0
@@ -163,7 +192,7 @@ def _cable(Xp, T, EA, BA, h, weight, law, dofs_i, dofs_j, u, ud, damped, R, Ke, 
             eps += (Xp[e, c] + 0.5 * up) * up
             rate_slopes[c] = (ud[dofs_j[e, c]] - ud[dofs_i[e, c]]) / h[e]
             rate += rp[c] * rate_slopes[c]
-        S, dS = _stress(eps, EA[e], law)
+        S, dS = _stress(eps, T[e], law, knots, coef, e)
         axial = T[e] + S + (BA[e] * rate if damped else 0.0)
         flux = sign * weight[e] / h[e] * axial
         for c in range(3):

@@ -16,12 +16,12 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementLineP1, ElementVector, MeshLine1, asm
 
-from . import forms
+from . import forms, laws
 from .validation import check_finite, check_positive
 
 RHO_WATER = 1025.0
 G = 9.81
-LAWS = {"paper": forms.PAPER, "engineering": forms.ENGINEERING}
+LAWS = laws.LAWS  # the strain laws' shorthand names
 
 
 @dataclass
@@ -33,9 +33,12 @@ class LineType:
     Cd_n, Cd_t, Ca_n, Ca_t: normal / tangential drag and added-mass coefficients (used by
     the hydrodynamic terms, not by the paper's model). BA: axial internal damping, N s
     (MoorDyn's BA: the tension gains BA times the strain rate; 0 in the paper's model).
+    law: the strain law (:mod:`skmoor.laws`: a Law or 'paper' / 'engineering'; None: the
+    LineSet's). With a :class:`~skmoor.laws.Curve`, EA may be None: the curve's last
+    secant (MoorDyn's EA of a curve), which stands for the law where one number is needed.
     """
 
-    EA: float
+    EA: float | None
     mass: float
     diameter: float
     weight: float | None = None
@@ -46,8 +49,16 @@ class LineType:
     BA: float = 0.0
     rho_water: float = RHO_WATER
     g: float = G
+    law: object = None
 
     def __post_init__(self):
+        if self.law is not None:
+            self.law = laws.as_law(self.law, "LineType.law")
+        if self.EA is None:
+            self.EA = None if self.law is None else self.law.nominal_EA(None)
+            if self.EA is None:
+                raise ValueError("LineType.EA: give the axial stiffness (N), or a Curve law "
+                                 "whose last secant stands for it")
         for name in ("EA", "mass", "diameter"):
             check_positive(f"LineType.{name}", getattr(self, name))
         for name in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "rho_water", "g"):
@@ -127,7 +138,7 @@ class Line:
             return catenary.tension(unstretched(s).ravel()).reshape(np.shape(s))
 
         def stretch(s):
-            return 1.0 + tension(s) / catenary.EA
+            return 1.0 + catenary.strain(tension(s))
 
         return cls(name, line_type, catenary.stretched_arclength(s0), catenary.position(s0),
                    tangent, tension, stretch)
@@ -190,18 +201,26 @@ class LineSet:
     same at the element mid-points, for the displacement-dependent cable terms; see
     forms.py), ``points`` (nnodes, 3) reference positions, ``anchor_nodes``
     and ``fairlead_nodes`` (one per line), ``line_of_cell``, and the reference fields at
-    quadrature points (``Xp``, ``T``, ``EA``, ``m``, ``w``).
+    quadrature points (``Xp``, ``T``, ``EA``, ``m``, ``w``, ``BA`` and the strain law's
+    parameters, see :mod:`skmoor.forms`).
+
+    law: the strain law of the lines whose LineType has none (a :class:`skmoor.laws.Law`
+    or 'paper' / 'engineering'); ``laws`` lists each line's.
     """
 
     GAP = 1.0  # m of s between two lines on the shared mesh
 
-    def __init__(self, lines, law: str = "paper", intorder: int = 4):
+    def __init__(self, lines, law="paper", intorder: int = 4):
         lines = list(lines)
         if not lines:
             raise ValueError("LineSet: no lines")
-        if law not in LAWS:
-            raise ValueError(f"LineSet law: unknown strain law {law!r}, use one of {list(LAWS)}")
-        self.lines, self.law_name, self.law = lines, law, LAWS[law]
+        self.law = laws.as_law(law, "LineSet law")
+        self.law_name = self.law.name
+        self.lines = lines
+        self.laws = [line.line_type.law or self.law for line in lines]
+        self._static = False  # the static laws in force (StaticDynamic lines)
+        self._pushing = False  # every line may push (a static solve's first stage)
+        self._mean = None  # per-element (T_mean, e_mean) of StaticDynamic lines
         offsets, coords, cells, node0 = [], [], [], 0
         start = 0.0
         for line in lines:
@@ -227,6 +246,7 @@ class LineSet:
         self.cable_fields = self._fields(self.cable_basis)
         self._reference = asm(forms.reference_force, self.basis, **self.fields)
         self._nodal_basis = self._nodal_fields = self._bandwidth = None
+        self._kernels = []  # CableKernels reading the law fields (refreshed with them)
         self._element_lengths = np.diff(self.mesh.p[0, self.mesh.t], axis=0)[0]
 
     @property
@@ -257,10 +277,11 @@ class LineSet:
         return self.basis.nodal_dofs.T
 
     def _fields(self, basis):
-        """Reference fields at the quadrature points of ``basis``: Xp, T, EA, m, w, BA."""
+        """Reference fields at the quadrature points of ``basis``: Xp, T, EA, m, w, BA and
+        the strain law's parameters (see :mod:`skmoor.forms`)."""
         s_global = basis.mapping.F(basis.X)[0]  # (nel, nqp)
         Xp = np.empty((3,) + s_global.shape)
-        T, EA, m, w, BA = (np.empty(s_global.shape) for _ in range(5))
+        T, EA, m, w, BA, e_ref = (np.empty(s_global.shape) for _ in range(6))
         for k, line in enumerate(self.lines):
             cells = self.line_of_cell == k
             s = s_global[cells] - self._offsets[k]
@@ -271,7 +292,90 @@ class LineSet:
             BA[cells] = line.line_type.BA
             m[cells] = line.line_type.mass / stretch
             w[cells] = line.line_type.weight / stretch
-        return dict(Xp=Xp, T=T, EA=EA, m=m, w=w, BA=BA, law=self.law)
+            e_ref[cells] = self.laws[k].static_strain(np.maximum(T[cells], 0.0),
+                                                      line.line_type.EA)
+        return dict(Xp=Xp, T=T, EA=EA, m=m, w=w, BA=BA,
+                    **self._law_fields(T, EA, e_ref, s_global.shape))
+
+    def _law_fields(self, T, EA, e_ref, shape):
+        """The strain laws' parameters at points of shape (nel, nqp) (forms' fields)."""
+        out = {name: np.empty(shape) for name in laws.PARAMETERS}
+        hinges = []
+        for k, law in enumerate(self.laws):
+            cells = self.line_of_cell == k
+            T_k, e_k = T[cells], e_ref[cells]
+            if self._mean is not None and isinstance(law, laws.StaticDynamic):
+                T_k = np.broadcast_to(self._mean[0][cells][:, None], T_k.shape)
+                e_k = np.broadcast_to(self._mean[1][cells][:, None], T_k.shape)
+            p, h = law.parameters(EA[cells], T_k, e_k, static=self._static)
+            p["e_ref"] = e_ref[cells]
+            for name in laws.PARAMETERS:
+                out[name][cells] = p[name]
+            hinges.append(h)
+        if self._pushing:
+            out["tension_only"][...] = 0.0
+        m = max((len(h[0]) for h in hinges if h is not None), default=0)
+        knots, coef = np.full((m,) + shape, np.inf), np.zeros((m,) + shape)
+        for k, h in enumerate(hinges):
+            if h is not None and len(h[0]):
+                cells = self.line_of_cell == k
+                knots[:len(h[0]), cells] = h[0][:, None, None]
+                coef[:len(h[0]), cells] = h[1][:, None, None]
+        out.update(knots=knots, coef=coef)
+        return out
+
+    @property
+    def tension_only(self) -> bool:
+        """True when a line's law carries no compression."""
+        return any(law.tension_only for law in self.laws)
+
+    def carry_compression(self, pushing: bool):
+        """Let every line push (True) or restore the laws' tension-only (False); the
+        fields and the kernel's parameters change in place (statics' first stage)."""
+        if bool(pushing) != self._pushing:
+            self._pushing = bool(pushing)
+            self._refresh_laws()
+
+    # --- the static and dynamic laws (StaticDynamic lines)
+    @property
+    def has_static_laws(self) -> bool:
+        """True when a line's law differs between statics and dynamics (StaticDynamic)."""
+        return any(isinstance(law, laws.StaticDynamic) for law in self.laws)
+
+    def use_static_laws(self, static: bool):
+        """Switch the lines' laws to their static (True) or dynamic (False) form; the
+        fields and the kernel's parameters change in place."""
+        if self.has_static_laws and bool(static) != self._static:
+            self._static = bool(static)
+            self._refresh_laws()
+
+    def set_static_state(self, u):
+        """Take the static state at displacement u (m) as the mean state of the
+        StaticDynamic lines: their dynamic tension is T_mean + EA_d (e - e_mean) with
+        (T_mean, e_mean) each element's static tension and engineering strain there."""
+        if not self.has_static_laws:
+            return
+        static, self._static = self._static, True
+        self._refresh_laws()
+        T, _ = self.element_tension_and_strain(u)
+        lam = np.linalg.norm(self.cable_fields["Xp"][:, :, 0] + self.element_slopes(u), axis=0)
+        e = (1.0 + self.cable_fields["e_ref"][:, 0]) * lam - 1.0
+        self._mean = (T, e)
+        self._static = static
+        self._refresh_laws()
+
+    def _refresh_laws(self):
+        for fields in (self.fields, self.cable_fields, self._nodal_fields):
+            if fields is not None:
+                shape = fields["T"].shape
+                new = self._law_fields(fields["T"], fields["EA"], fields["e_ref"], shape)
+                for name, value in new.items():
+                    if fields[name].shape == value.shape:
+                        fields[name][...] = value
+                    else:
+                        fields[name] = value
+        for kernel in self._kernels:
+            kernel.refresh_laws()
 
     # --- assembly through the forms (the definition; see kernels.py for the fast path)
     def internal_force(self, u):
@@ -311,20 +415,26 @@ class LineSet:
             return sp.diags(np.asarray(M.sum(axis=1)).ravel()).tocsr()
         return M
 
-    def element_tension(self, u):
-        """(nel,) tension at each element's mid-point, N."""
-        return self.element_tension_and_strain(u)[0]
+    def element_tension(self, u, ud=None):
+        """(nel,) tension at each element's mid-point, N (with the velocity ud, the
+        internal damping's BA x strain rate included, as MoorDyn reports it)."""
+        return self.element_tension_and_strain(u, ud)[0]
 
     def element_strain(self, u):
         """(nel,) strain of Eq. 3 at each element's mid-point, -."""
         return forms.strain(self.cable_fields["Xp"][:, :, 0], self.element_slopes(u))
 
-    def element_tension_and_strain(self, u):
-        """(nel,) tension (N) and strain of Eq. 3 (-) at each element's mid-point."""
+    def element_tension_and_strain(self, u, ud=None):
+        """(nel,) tension (N) and strain of Eq. 3 (-) at each element's mid-point. Given
+        the velocity ud (m/s), the tension includes the internal damping BA deps/dt
+        (MoorDyn's reported T + BA x strain rate); without it, the elastic tension."""
         f, up = self.cable_fields, self.element_slopes(u)
         Xp = f["Xp"][:, :, 0]
-        return (forms.tension(Xp, f["T"][:, 0], f["EA"][:, 0], up, self.law),
-                forms.strain(Xp, up))
+        point = {name: value[..., 0] for name, value in f.items() if name != "Xp"}
+        rate = None
+        if ud is not None:
+            rate = forms.dot(Xp + up, self.element_slopes(ud))
+        return forms.tension(Xp, up, point, rate), forms.strain(Xp, up)
 
     def element_slopes(self, u):
         """(3, nel) u' on each element (constant for P1)."""

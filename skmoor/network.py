@@ -32,8 +32,11 @@ from .body import RigidBody
 from .catenary import solve_catenary
 from .coupling import Ends, PointMass, System
 from .hydro import line_hydrodynamics
+from .laws import Engineering
 from .line import Line, LineSet, LineType
 from .seabed import seabed_term
+
+_LINEAR = Engineering(tension_only=False)
 
 POINT_KINDS = ("fixed", "free", "coupled", "body")
 BODY_KINDS = ("dynamic", "coupled", "fixed")
@@ -126,8 +129,9 @@ class Network:
 
     seabed: a :class:`~skmoor.seabed.Seabed` or None; sea: a :class:`~skmoor.waves.Sea`
     (currents and waves on the lines, when their coefficients are non-zero); hydro: add
-    the lines' Morison terms when any coefficient is non-zero; strain_law: 'paper' or
-    'engineering'; motion: see the module docstring.
+    the lines' Morison terms when any coefficient is non-zero; strain_law: the strain law
+    of the line types without their own (``LineType.law``): a :class:`skmoor.laws.Law`
+    or 'paper' / 'engineering'; motion: see the module docstring.
     """
 
     points: list
@@ -139,7 +143,7 @@ class Network:
     seabed: object = None
     sea: object = None
     hydro: bool = True
-    strain_law: str = "engineering"
+    strain_law: object = "engineering"
     motion: object = None
     notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
 
@@ -230,7 +234,8 @@ def line_catenary(line_type: LineType, length, a, b, seabed_z=None):
     low, high = (b, a) if flipped else (a, b)
     bed = seabed_z if _on_bed(low[2], seabed_z, length) else None
     try:
-        cat = solve_catenary(low, high, w, line_type.EA, length=length, seabed_z=bed)
+        cat = solve_catenary(low, high, w, line_type.EA, length=length, seabed_z=bed,
+                             law=line_type.law)
     except ValueError:
         return None, flipped
     return cat, flipped
@@ -246,7 +251,7 @@ def reference_line(name, line_type: LineType, length, n_elements, a, b, seabed_z
     chord = float(np.linalg.norm(b - a))
     if chord == 0:
         raise ValueError(f"line {name}: both ends at the same place {a}")
-    if chord >= length:  # straight and taut, tension EA (stretch - 1)
+    if chord >= length:  # straight and taut, tension of the strain (stretch - 1)
         stretch = chord / length
         if stretch > 1.5:
             raise ValueError(f"line {name}: its ends are {chord:.6g} m apart, {100 * (stretch - 1):.3g} % "
@@ -254,12 +259,18 @@ def reference_line(name, line_type: LineType, length, n_elements, a, b, seabed_z
         s = np.linspace(0.0, chord, n_elements + 1)
         X = a + s[:, None] / chord * (b - a)
         tangent = (b - a) / chord
-        T = line_type.EA * (stretch - 1)
+        T = _taut_tension(line_type, stretch)
         return Line(name, line_type, s, X, lambda sq: np.broadcast_to(tangent, np.shape(sq) + (3,)),
                     lambda sq: np.full(np.shape(sq), T),
                     lambda sq: np.full(np.shape(sq), stretch)), None
     return Line.from_polyline(_sagging(a, b, length, n_elements, line_type.weight, seabed_z),
                               line_type, name=name), None
+
+
+def _taut_tension(line_type: LineType, stretch):
+    """Tension (N) of a straight line stretched by ``stretch`` (its static law)."""
+    law = line_type.law or _LINEAR
+    return float(law.static_tension(stretch - 1.0, line_type.EA))
 
 
 def _sagging(a, b, length, n, weight, seabed_z):
@@ -301,11 +312,12 @@ def line_end_forces(line_type: LineType, length, a, b, seabed_z=None):
     if line_type.weight < 0 and chord < length:  # buoyant and slack: mirror the catenary
         mirror = np.array([1.0, 1.0, -1.0])
         upside = LineType(line_type.EA, line_type.mass, line_type.diameter,
-                          weight=-line_type.weight, rho_water=line_type.rho_water, g=line_type.g)
+                          weight=-line_type.weight, rho_water=line_type.rho_water, g=line_type.g,
+                          law=line_type.law)
         fa, fb = line_end_forces(upside, length, a * mirror, b * mirror)
         return fa * mirror, fb * mirror
     if chord >= length:
-        pull = line_type.EA * (chord / length - 1) * (b - a) / chord
+        pull = _taut_tension(line_type, chord / length) * (b - a) / chord
         half = np.array([0.0, 0.0, -0.5 * line_type.weight * length])
         return pull + half, -pull + half
     half = np.array([0.0, 0.0, -0.5 * line_type.weight * length])

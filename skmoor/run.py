@@ -438,7 +438,7 @@ class _Recorder:
              else np.asarray(network.motion(state.t), float).ravel())
         bodies = self._bodies(state.x, y)
         nodes = lines.nodal_dofs
-        tension, strain = lines.element_tension_and_strain(u)
+        tension, strain = lines.element_tension_and_strain(u, ud)  # T + BA x strain rate
         for key, value in (("t", state.t), ("bodies", bodies),
                            ("points", self._points(state.x, y, bodies)),
                            ("u", u[nodes]), ("v", ud[nodes]), ("tension", tension),

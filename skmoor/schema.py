@@ -188,6 +188,12 @@ def _choice(*options, none=False):
     return PlainValidator(check)
 
 
+def _optional_flag(v):
+    if v is None or isinstance(v, (bool, np.bool_)):
+        return None if v is None else bool(v)
+    _fail(f"expected true or false, got {_short(v)}")
+
+
 def _as_list(v):
     """``v`` as a list when it is a list, tuple or (at least 1-d) numpy array, else None."""
     if isinstance(v, np.ndarray):
@@ -302,6 +308,7 @@ OptElements = Annotated[Optional[int], _integer(
     1, MAX_ELEMENTS_PER_LINE, " per line (the model's matrices and recorded time series "
     "would not fit in memory)", none=True)]
 StrainLaw = Annotated[str, _choice("paper", "engineering")]
+OptFlag = Annotated[Optional[bool], PlainValidator(_optional_flag)]
 
 
 # ----------------------------------------------------------------------- tables
@@ -462,6 +469,7 @@ class ParametricMooring(_Table):
     chord_angle_deg: Annotated[Optional[float], _number(0, 90, lo_open=True, none=True)] = None
     sag_ratio: Annotated[Optional[float], _number(0, 0.5, True, True, none=True)] = None
     strain_law: StrainLaw = None
+    tension_only: OptFlag = None
     length: OptPositive = None
     heading_deg: OptNumber = None
     anchor: OptVector3 = None
@@ -482,8 +490,8 @@ class ParametricLine(_Table):
 
     @classmethod
     def _hint(cls, key, data):
-        if key == "strain_law":
-            return "unknown key; the strain law is one for all lines: give mooring.strain_law"
+        if key in ("strain_law", "tension_only"):
+            return f"unknown key; the strain law is one for all lines: give mooring.{key}"
         return None
 
 
@@ -790,17 +798,19 @@ class NetworkLine(_Table):
 
 
 class NetworkMooring(_Table):
-    """The network layout's [mooring]: the strain law (default 'engineering') and the
-    lines' default n_elements (20 without it)."""
+    """The network layout's [mooring]: the strain law (default 'engineering'), whether
+    the cables are tension-only (default true) and the lines' default n_elements (20
+    without it)."""
 
     strain_law: StrainLaw = None
+    tension_only: OptFlag = None
     n_elements: Elements = None
 
     @classmethod
     def _hint(cls, key, data):
         if key in _LINE_KEYS:
             return ("not used in the network layout (selected by [[points]]); its [mooring] "
-                    "takes only strain_law and n_elements")
+                    "takes only strain_law, tension_only and n_elements")
         return None
 
 

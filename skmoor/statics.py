@@ -90,7 +90,36 @@ def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
     the line's weight); it is removed before convergence, so it does not change the
     answer. held: indices of reduced DOFs kept at their x0 values (e.g. free points held
     where they are given, to release them from there).
+
+    The lines' static laws act here (:class:`skmoor.laws.StaticDynamic`: the static
+    stiffness); the solution (without held DOFs: the equilibrium of the whole network)
+    becomes their mean state, about which the dynamic laws act. Where Newton fails on
+    tension-only lines (an iterate with slack elements has no stiffness there), the
+    solve is made with lines that may push, then again tension-only from that state.
     """
+    lines = system.lines
+    lines.use_static_laws(True)
+    try:
+        try:
+            solution = _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held)
+        except ConvergenceError:
+            if not lines.tension_only:
+                raise
+            lines.carry_compression(True)
+            try:
+                pushed = _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held)
+            finally:
+                lines.carry_compression(False)
+            solution = _solve_static(system, pushed.x, 1, t, xtol, maxiter, pretension, held)
+            solution.iterations += pushed.iterations
+    finally:
+        lines.use_static_laws(False)
+    if lines.has_static_laws and held is None:
+        lines.set_static_state(system.full_displacement(solution.x, t))
+    return solution
+
+
+def _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held):
     x = np.zeros(system.n) if x0 is None else np.array(x0, float)
     keep = np.setdiff1d(np.arange(system.n), [] if held is None else held)
     G = None

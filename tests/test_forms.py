@@ -9,12 +9,15 @@ from skmoor.catenary import solve_catenary
 from skmoor.coupling import System
 from skmoor.terms import LineForm
 from skmoor.kernels import CableKernel
+from skmoor.laws import Engineering, Paper
 from skmoor.line import Line, LineSet, LineType
 
 # A soft rope (T/EA up to 0.06), so that the two strain laws differ visibly.
 ROPE = LineType(EA=2e6, mass=50.0, diameter=0.1)
 ANCHOR, FAIRLEAD = np.array([-300.0, 0.0, -100.0]), np.zeros(3)
-LAWS = ["paper", "engineering"]
+# the random states below push some elements into compression: the laws carry it here, so
+# that the Taylor test sees a smooth force (tension-only laws: tests/test_laws.py)
+LAWS = [Paper(tension_only=False), Engineering(tension_only=False)]
 
 
 @pytest.fixture(scope="module")
@@ -38,7 +41,7 @@ def slope(x, y):
     return np.polyfit(np.log(x), np.log(y), 1)[0]
 
 
-@pytest.mark.parametrize("law", LAWS)
+@pytest.mark.parametrize("law", LAWS, ids=["paper", "engineering"])
 def test_tangent_is_derivative_of_internal_force(rope, law):
     """Taylor test: |F(u + e du) - F(u) - e K du| falls as e^2 (and as e^1 without K)."""
     lines = LineSet([Line.from_catenary(rope, ROPE, 12)], law=law)
@@ -53,7 +56,7 @@ def test_tangent_is_derivative_of_internal_force(rope, law):
     assert slope(e, first) == pytest.approx(1.0, abs=0.1)
 
 
-@pytest.mark.parametrize("law", LAWS)
+@pytest.mark.parametrize("law", LAWS, ids=["paper", "engineering"])
 def test_kernel_equals_forms(rope, law):
     """CableKernel.force_and_tangent equals the scikit-fem assembly of the forms (1e-12)."""
     lines = LineSet(several_lines(rope), law=law)

@@ -173,8 +173,9 @@ def _deck_with(tmp_path, old, new):
 
 
 @pytest.mark.parametrize("old, new, message", [
-    ("1.674e9 ", "ea_curve.txt ", "line 8: LINE TYPES EA: 'ea_curve.txt' is not a number (a curve"),
-    ("1.674e9 ", "1.6e9|2e9 ", "line 8: LINE TYPES EA: '1.6e9|2e9' has several"),
+    ("1.674e9 ", "ea_curve.txt ", "line 8: LINE TYPES EA: 'ea_curve.txt' is neither a number "
+     "nor a curve file"),
+    ("1.674e9 ", "1.6e9|2e9|0.3|1 ", "line 8: LINE TYPES EA: '1.6e9|2e9|0.3|1' has 4"),
     ("-1.0      0.0", "-1.0 0.0 1.0 0.1", "line 8: LINE TYPES entry: needs the 10 columns"),
     ("1   chain     1        2", "1   chain     R1A      2",
      "line 17: LINES AttachA: 'R1A' is a rod end"),
