@@ -35,6 +35,7 @@ import hashlib
 import itertools
 import json
 import math
+import multiprocessing
 import os
 import re
 import socket
@@ -438,7 +439,10 @@ def _on_processes(pending, workers):
     """(index, result) of each pending point as it finishes, on local processes."""
     if not pending:
         return
-    pool = ProcessPoolExecutor(max_workers=workers)
+    # JAX (user forms) runs threads: forking a process that imported it may deadlock, so
+    # its workers come from a fresh fork server instead
+    context = multiprocessing.get_context("forkserver") if "jax" in sys.modules else None
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
     complete = False
     try:
         futures = {pool.submit(run_point, task): i for i, task, _, _ in pending}

@@ -251,3 +251,48 @@ def test_model_add_names_must_exist(paper):
         paper.add(BodyLoad(lambda q, qdot, t: np.zeros(6), body="hull"))
     with pytest.raises(ValueError, match="not a skmoor.terms.Term"):
         paper.system.add_term(object())
+
+
+def cable_lines(law):
+    """A sagging line of the given law with a few strongly pushed (slack) elements."""
+    from skmoor import laws
+
+    kind = {"paper": "paper", "engineering": "engineering",
+            "curve": laws.Curve([0.0, 0.002, 0.006, 0.02], [0.0, 4e5, 1.6e6, 8e6]),
+            "static-dynamic": laws.StaticDynamic(EA_dynamic=9e8)}[law]
+    rope = LineType(EA=5e8 if law != "curve" else None, mass=80.0, diameter=0.12, BA=3e6,
+                    law=None if isinstance(kind, str) else kind)
+    cat = solve_catenary([0.0, 0.0, -60.0], [90.0, 20.0, -5.0], 2000.0, 5e8, length=115.0)
+    lines = LineSet([Line.from_catenary(cat, rope, 14)],
+                    law=kind if isinstance(kind, str) else "engineering")
+    rng = np.random.default_rng(7)
+    u = 0.05 * rng.standard_normal(lines.ndofs)
+    u[lines.nodal_dofs[5:8, 0]] -= np.array([0.0, 6.0, 12.0])  # squeeze two elements slack
+    v = 0.3 * rng.standard_normal(lines.ndofs)
+    return lines, u, v
+
+
+@pytest.mark.parametrize("law", ["paper", "engineering", "curve", "static-dynamic"])
+def test_automatic_tangent_of_the_cable_equals_the_hand_tangent(law):
+    """The cable forms (Eq. 11 with the law, tension-only with slack elements, and the
+    axial damping): d/du and d/dv traced from the residual equal Eq. 17 and the damping's
+    hand-written derivatives, and the compiled cable kernel."""
+    from skmoor import forms
+
+    lines, u, v = cable_lines(law)
+    tension, _ = lines.element_tension_and_strain(u)
+    assert np.min(tension) == 0.0 and np.max(tension) > 1e4  # slack and taut elements
+    hand = [LineForm(forms.cable_force, stiffness=forms.cable_tangent, quadrature="midpoint",
+                     lines=lines),
+            LineForm(forms.axial_damping, stiffness=forms.axial_damping_tangent,
+                     damping=forms.axial_damping_rate, quadrature="midpoint", lines=lines)]
+    auto = [LineForm(form.residual, quadrature="midpoint", path="compiled", lines=lines)
+            for form in hand]
+    for h, a in zip(hand, auto):
+        R0, K0, C0 = dense(h, u, v)
+        R1, K1, C1 = dense(a, u, v)
+        assert close(R1, R0, 1e-13) and close(K1, K0, 1e-10) and close(C1, C0, 1e-10)
+        assert a.backend == "numba"
+    _, K2, C2 = skmoor.System(lines, fairleads="fixed").kernel.evaluate(u, v, layout="dense")
+    assert close(K2, sum(dense(a, u, v)[1] for a in auto), 1e-10)
+    assert close(C2, sum(dense(a, u, v)[2] for a in auto), 1e-10)
