@@ -27,8 +27,9 @@ def test_static_line_converges_to_catenary_at_second_order():
 def test_drag_form_damps_the_coupled_response(monkeypatch):
     """Example 03 (20 s): the user's follower drag form, residual alone, lowers surge and
     fairlead tension amplitudes; its histories are those of the built-in drag kernel
-    (skmoor.hydro, hand-written, the same Cd) to 1e-6; its automatic tangents pass the
-    Taylor test (slopes 2)."""
+    (skmoor.hydro, hand-written, the same Cd) to 1e-8 (the same drag on the reference
+    tangent is 5e-5 away: the follower part is what is checked); its automatic tangents
+    pass the Taylor test (slopes 2)."""
     pytest.importorskip("jax", reason="the example's form uses the automatic tangents")
     ex = load("03_weak_form_drag.py", monkeypatch, SKMOOR_EXAMPLE_DURATION="20")
     assert ex.drag[0] < 0.95 * ex.plain[0]
@@ -40,8 +41,8 @@ def test_drag_form_damps_the_coupled_response(monkeypatch):
     for series in (lambda r: r.body_series("surge"), lambda r: r.fairlead_tension,
                    lambda r: r.body_series("pitch")):
         user, builtin = series(ex.user_run), series(ex.builtin_run)
-        assert np.max(np.abs(user - builtin)) < 1e-6 * np.max(np.abs(builtin))
-    assert ex.drag == pytest.approx(ex.builtin, rel=1e-6)
+        assert np.max(np.abs(user - builtin)) < 1e-8 * np.max(np.abs(builtin))
+    assert ex.drag == pytest.approx(ex.builtin, rel=1e-8)
     assert ex.tangent.slope_u == pytest.approx(2.0, abs=0.1)
     assert ex.tangent.slope_v == pytest.approx(2.0, abs=0.1)
 
