@@ -146,6 +146,8 @@ class Case:
         path = Path(path)
         if not path.exists():
             raise FileNotFoundError(f"case file {path} does not exist")
+        if path.is_dir():
+            raise ValueError(f"case file {path}: is a folder, not a case file (.toml)")
         with open(path, "rb") as f:
             try:
                 data = tomllib.load(f)

@@ -292,6 +292,10 @@ def read_deck(path) -> Deck:
     what is supported); a ValueError names the deck line and the reason. Curve files are
     read relative to the deck's folder, as MoorDyn does."""
     path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"deck {path} does not exist")
+    if path.is_dir():
+        raise ValueError(f"deck {path}: is a folder, not a MoorDyn input file")
     text = path.read_text(encoding="utf-8", errors="replace").splitlines()
     deck = Deck(source=path.name)
     entries = _split_sections(text, deck)

@@ -106,6 +106,9 @@ def build(source, *, motion=None, sea=None) -> Model:
 
     if isinstance(source, (str, Path)):
         path = Path(source)
+        if path.is_dir():
+            raise ValueError(f"build: {path} is a folder; give a case file (.toml) or a "
+                             "MoorDyn deck")
         source = Case.from_toml(path) if path.suffix == ".toml" else read_deck(path)
     if isinstance(source, Deck):
         from .deck_model import default_time_step, deck_network

@@ -499,7 +499,7 @@ class Load(_Table):
     """F(t) = amplitude sin(omega t) direction (N, N m), at the body's reference point."""
 
     amplitude: Number
-    omega: Number
+    omega: Positive  # rad/s
     direction: Annotated[list, _vector((6,), "6 components [Fx Fy Fz Mx My Mz]")]
 
 

@@ -22,6 +22,7 @@ differences where JAX is absent. :func:`check_tangent` is the Taylor test of any
 """
 from __future__ import annotations
 
+import functools
 import importlib.util
 from dataclasses import dataclass
 
@@ -67,6 +68,43 @@ class Term:
         v = np.zeros_like(u) if v is None else v
         return pattern.evaluate(lambda R, K, C: self.add_to(u, v, t, R, K, C), tangent,
                                 layout, rate=True)
+
+
+@functools.lru_cache(maxsize=None)
+def _jax_field():
+    """scikit-fem's JaxDiscreteField with the operators a form may use on a field
+    (-u, 1 + u, abs(u), comparisons), which it lacks."""
+    from skfem.autodiff import JaxDiscreteField
+
+    class Field(JaxDiscreteField):
+        def __neg__(self):
+            return -self.value
+
+        def __pos__(self):
+            return self.value
+
+        def __abs__(self):
+            return abs(self.value)
+
+        def __radd__(self, other):
+            return other + self.value
+
+        def __rpow__(self, other):
+            return other ** self.value
+
+        def __lt__(self, other):
+            return self.value < getattr(other, "value", other)
+
+        def __le__(self, other):
+            return self.value <= getattr(other, "value", other)
+
+        def __gt__(self, other):
+            return self.value > getattr(other, "value", other)
+
+        def __ge__(self, other):
+            return self.value >= getattr(other, "value", other)
+
+    return Field
 
 
 def _raw(form):
@@ -204,18 +242,17 @@ def _autodiff_engine(term):
     from skfem.autodiff import NonlinearForm
     from skfem import LinearForm
 
-    from skfem.autodiff import JaxDiscreteField
     from skfem.element import DiscreteField
 
-    raw = _raw(term.residual)
+    raw, Field = _raw(term.residual), _jax_field()
 
-    def traced(w, **state):  # scikit-fem's NumPy fields as JAX fields beside the tracers
-        w = {k: JaxDiscreteField(*x.astuple) if isinstance(x, DiscreteField) else x
-             for k, x in w.items()}
-        return FormExtraParams(dict(w, **state))
+    def traced(w, **state):  # every field a JAX field (with its operators)
+        w = {k: Field(*x.astuple) if isinstance(x, DiscreteField) or hasattr(x, "astuple")
+             else x for k, x in w.items()}
+        return FormExtraParams(dict(w, **{k: Field(*x.astuple) for k, x in state.items()}))
 
-    by_u = NonlinearForm(lambda u, v, w: raw(v, traced(w, u=u)))
-    by_v = NonlinearForm(lambda du, v, w: raw(v, traced(w, du=du)))
+    by_u = NonlinearForm(lambda u, v, w: raw(Field(*v.astuple), traced(w, u=u)))
+    by_v = NonlinearForm(lambda du, v, w: raw(Field(*v.astuple), traced(w, du=du)))
     residual = LinearForm(raw)
     basis, _ = term.basis_and_fields()
     order = _local_order(term.lines, basis)
@@ -387,7 +424,7 @@ def _numba_engine(term):
     """The generated numba kernel of the form (see :mod:`skmoor.compiled`)."""
     import jax
     import jax.numpy as jnp
-    from skfem.autodiff import JaxDiscreteField  # also turns on float64 in JAX
+    import skfem.autodiff  # noqa: F401 - turns on float64 in JAX
 
     from .compiled import STATE, Unsupported, build_kernel
     from .kernels import NO_BLOCKS
@@ -400,6 +437,7 @@ def _numba_engine(term):
     n_inputs = 14 + P0.shape[2] + 6 * D0.shape[0]
     unit = np.eye(3).reshape(3, 3, 1, 1)
     zero_value, zero_grad = np.zeros((3, 1, 1)), np.zeros((3, 1, 1, 1))
+    JaxDiscreteField = _jax_field()
 
     def field(z, start):
         return JaxDiscreteField(z[start: start + 3].reshape(3, 1, 1),
@@ -464,8 +502,9 @@ def _jax_engine(term):
     elements), the residual scattered inside the compiled function."""
     import jax
     import jax.numpy as jnp
-    from skfem.autodiff import JaxDiscreteField  # also turns on float64 in JAX
+    import skfem.autodiff  # noqa: F401 - turns on float64 in JAX
 
+    JaxDiscreteField = _jax_field()
     local = _Local(term)
     _, w0 = term._w(np.zeros(local.ndofs), np.zeros(local.ndofs), 0.0)
     varying = callable(term.fields) or type(term).fields_at is not LineForm.fields_at

@@ -9,7 +9,6 @@ from skmoor.checks import check_network
 from skmoor.line import LineType
 
 CHAIN = LineType(EA=5e8, mass=100.0, diameter=0.1)
-DECK = "tests/decks/network/two_segment.dat"
 
 
 def network(anchor=(-120.0, 0.0, -80.0), length=150.0, top=(0.0, 0.0, -5.0), **kw):
@@ -55,8 +54,9 @@ def test_a_current_with_nothing_to_act_on_is_warned():
 
 
 def test_a_deck_line_too_short_is_refused_at_its_deck_line(tmp_path):
-    text = open(DECK).read().replace("1   chain      1        2        400.0",
-                                     "1   chain      1        2        150.0")
+    """(A line to a free point is not checked: the build settles the point first.)"""
+    text = open("examples/decks/chain_50m.dat").read().replace(
+        "1   chain     1        2        410.0", "1   chain     1        2        300.0")
     path = tmp_path / "short.dat"
     path.write_text(text)
     with pytest.raises(ValueError, match=r"short\.dat line \d+: LINES 1: .*more than its length"):

@@ -111,6 +111,24 @@ def test_all_paths_agree_on_a_form_with_fields_in_time(lines):
         assert close(R, R0, 1e-13) and close(K, K0, rtol) and close(C, C0, rtol), path
 
 
+@LinearForm
+def written_naturally(v, w):
+    # the operators a user writes on fields: -u, 1 + u, abs(u), u > 0
+    relative = -w.du
+    return ops.dot((1.0 + ops.norm(relative)) * relative, v) + ops.dot(
+        ops.where(w.u > 0.0, abs(w.u), 2.0 * w.u), ops.d_ds(v))
+
+
+def test_fields_take_the_operators_users_write(lines):
+    u, v = state(lines, 6)
+    out = [dense(LineForm(written_naturally, path=path, lines=lines), u, v)
+           for path in ("compiled", "autodiff", "fd")]
+    for R, K, C in out[:2]:
+        assert close(R, out[2][0], 1e-13) and close(K, out[2][1], 1e-6)
+        assert close(C, out[2][2], 1e-6)
+    assert close(out[0][1], out[1][1], 1e-12) and close(out[0][2], out[1][2], 1e-12)
+
+
 def test_jax_jit_fallback_gives_the_same_numbers(lines, monkeypatch):
     """Where the scalar code generator meets an operation it lacks, jax.jit runs the form."""
     def refuse(*args, **kw):
