@@ -60,10 +60,14 @@ def cmd_run(args) -> int:
 def _finish(results, info, out, args) -> int:
     """ParaView files and renders unless switched off; the summary; exit status 1 when the
     run stopped early."""
-    if not args.no_export:
-        _export(results, out, args.frames)
-    if not args.no_animation:
-        _animate(results, out, args.quiet)
+    if results.meta.get("interrupted") and not (args.no_export and args.no_animation):
+        print(f"interrupted: ParaView files and animations skipped (make them with "
+              f"`skmoor export {out}` and `skmoor render {out}`)")
+    else:
+        if not args.no_export:
+            _export(results, out, args.frames)
+        if not args.no_animation:
+            _animate(results, out, args.quiet)
     print(json.dumps(info, indent=2))
     print(f"wrote {out}/")
     return 0 if results.meta.get("stopped") is None else 1
@@ -200,6 +204,9 @@ def main(argv=None) -> int:
     except (ValueError, FileNotFoundError) as err:
         print(f"skmoor {args.command}: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(f"skmoor {args.command}: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

@@ -161,3 +161,27 @@ def test_paraview_series_have_at_most_a_thousand_frames_by_default(paper, tmp_pa
     assert times[0] == 0.0 and times[-1] == pytest.approx(2.0) and len(times) == 9
     export(results, tmp_path / "some")  # rewritten: every sample, the old frames replaced
     assert len(list((tmp_path / "some" / "motion").glob("lines_*.vtu"))) == 41
+
+
+def test_an_interrupted_command_line_run_skips_the_long_exports(tmp_path, capsys, monkeypatch):
+    """After Ctrl-C the CLI keeps the results and leaves the ParaView files and the
+    animations for `skmoor export` / `skmoor render` (exit status 1: stopped early)."""
+    import skmoor.model as model_module
+
+    paper_load = model_module.body_load
+
+    def interrupting(case, load=None):
+        applied = paper_load(case, load)
+
+        def load_at(t, q, qdot):
+            if t > 1.0:
+                raise KeyboardInterrupt
+            return applied(t, q, qdot)
+        return load_at
+
+    monkeypatch.setattr(model_module, "body_load", interrupting)
+    out = tmp_path / "run"
+    assert cli.main(["run", "--out", str(out), "--duration", "5", "--quiet"]) == 1
+    assert "interrupted: ParaView files and animations skipped" in capsys.readouterr().out
+    assert (out / "timeseries.csv").exists() and (out / "summary.json").exists()
+    assert not (out / "motion.pvd").exists() and not (out / "animation.gif").exists()
