@@ -428,6 +428,8 @@ class LineSet:
         """(nel,) tension (N) and strain of Eq. 3 (-) at each element's mid-point. Given
         the velocity ud (m/s), the tension includes the internal damping BA deps/dt
         (MoorDyn's reported T + BA x strain rate); without it, the elastic tension."""
+        if self._kernels:  # the compiled copy of the forms below
+            return self._kernels[0].element_tension_and_strain(u, ud)
         f, up = self.cable_fields, self.element_slopes(u)
         Xp = f["Xp"][:, :, 0]
         point = {name: value[..., 0] for name, value in f.items() if name != "Xp"}
