@@ -171,8 +171,9 @@ def _stress(eps, T, law, knots, coef, e):
     """S(eps) and dS/deps of element e (``laws.stress_resultant``), N."""
     if law[e, 0] > 0.0:  # the paper's Eq. 6
         EA = law[e, 5]
-        if law[e, 1] > 0.0 and T + EA * eps < 0.0:
-            return -T, 0.0
+        if T + EA * eps < 0.0:  # slack: compression kept times 1 - tension_only
+            keep = 1.0 - law[e, 1]
+            return keep * (T + EA * eps) - T, keep * EA
         return EA * eps, EA
     stretch = np.sqrt(1.0 + 2.0 * eps)
     A, B = law[e, 2], law[e, 3]
@@ -184,8 +185,9 @@ def _stress(eps, T, law, knots, coef, e):
                 A += coef[e, j] * grow
                 B += coef[e, j] * (1.0 + knots[e, j])
     S = A - B / stretch
-    if law[e, 1] > 0.0 and T + S < 0.0:
-        return -T, 0.0
+    if T + S < 0.0:
+        keep = 1.0 - law[e, 1]
+        return keep * (T + S) - T, keep * B / stretch**3
     return S, B / stretch**3
 
 
@@ -195,13 +197,15 @@ def _stress_plain(eps, T, law, e):
     keeps the hinges' loop from slowing the element loop down by a third), N."""
     if law[e, 0] > 0.0:
         EA = law[e, 5]
-        if law[e, 1] > 0.0 and T + EA * eps < 0.0:
-            return -T, 0.0
+        if T + EA * eps < 0.0:
+            keep = 1.0 - law[e, 1]
+            return keep * (T + EA * eps) - T, keep * EA
         return EA * eps, EA
     stretch = np.sqrt(1.0 + 2.0 * eps)
     S = law[e, 2] - law[e, 3] / stretch
-    if law[e, 1] > 0.0 and T + S < 0.0:
-        return -T, 0.0
+    if T + S < 0.0:
+        keep = 1.0 - law[e, 1]
+        return keep * (T + S) - T, keep * law[e, 3] / stretch**3
     return S, law[e, 3] / stretch**3
 
 
