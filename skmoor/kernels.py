@@ -112,13 +112,30 @@ class CableKernel:
                    NO_BLOCKS, NO_BLOCKS, -1.0)
 
     def refresh_laws(self):
-        """Read the strain laws' parameters from the LineSet's fields: (nel, 7) [green,
-        tension_only, T0, e0, k, e_ref, EA] and the hinges (nel, m) knots and coef."""
+        """Read the strain laws' parameters from the LineSet's fields, rearranged for
+        the loop: (nel, 6) [green, tension_only, A, B, 1 + e_ref, EA] with S = A - B /
+        lambda, dS/deps = B / lambda^3 (A = k (1 + e_ref) - T, B = k (1 + e0) - T0 of
+        ``laws.axial_force``), and the hinges (nel, m): knots x_j and coef c_j (each
+        active hinge adds c_j (1 + e_ref) to A and c_j (1 + x_j) to B)."""
         f = self.lineset.cable_fields
+        p = {name: f[name][:, 0] for name in ("green", "tension_only", "T0", "e0", "k",
+                                                "e_ref", "EA", "T")}
+        grow = 1.0 + p["e_ref"]
         self.law = np.ascontiguousarray(np.stack(
-            [f[name][:, 0] for name in LAW_COLUMNS] + [f["EA"][:, 0]], axis=1))
+            [p["green"], p["tension_only"], p["k"] * grow - p["T"],
+             p["k"] * (1.0 + p["e0"]) - p["T0"], grow, p["EA"]], axis=1))
         self.knots = np.ascontiguousarray(f["knots"][:, :, 0].T)
         self.coef = np.ascontiguousarray(f["coef"][:, :, 0].T)
+
+    def element_tension_and_strain(self, u, ud=None):
+        """(nel,) tension (N; with ud, plus BA x strain rate) and strain of Eq. 3 (-) at
+        the element mid-points (``LineSet.element_tension_and_strain``, compiled)."""
+        tension, strain = np.empty(self.h.size), np.empty(self.h.size)
+        _element_tension(self.Xp, self.T, self.law, self.knots, self.coef, self.BA, self.h,
+                         self.dofs_i, self.dofs_j, u,
+                         self._no_velocity if ud is None else ud, ud is not None,
+                         tension, strain)
+        return tension, strain
 
     def _call(self, u, ud, damped, R, Ke, Ce, sign):
         _cable(self.Xp, self.T, self.law, self.knots, self.coef, self.BA, self.h,
@@ -149,29 +166,66 @@ class CableKernel:
         return f, K
 
 
-LAW_COLUMNS = ("green", "tension_only", "T0", "e0", "k", "e_ref")
-
-
 @njit(cache=True)
 def _stress(eps, T, law, knots, coef, e):
     """S(eps) and dS/deps of element e (``laws.stress_resultant``), N."""
-    green, only, EA = law[e, 0] > 0.0, law[e, 1] > 0.0, law[e, 6]
-    if green:
-        if only and T + EA * eps < 0.0:
-            return -T, 0.0
+    if law[e, 0] > 0.0:  # the paper's Eq. 6
+        EA = law[e, 5]
+        if T + EA * eps < 0.0:  # slack: compression kept times 1 - tension_only
+            keep = 1.0 - law[e, 1]
+            return keep * (T + EA * eps) - T, keep * EA
         return EA * eps, EA
     stretch = np.sqrt(1.0 + 2.0 * eps)
-    grow = 1.0 + law[e, 5]
-    strain = grow * stretch - 1.0
-    N = law[e, 2] + law[e, 4] * (strain - law[e, 3])
-    dN = law[e, 4]
-    for j in range(knots.shape[1]):
-        if strain > knots[e, j]:
-            N += coef[e, j] * (strain - knots[e, j])
-            dN += coef[e, j]
-    if only and N < 0.0:
-        return -T, 0.0
-    return N / stretch - T, (dN * grow / stretch - N / stretch**2) / stretch
+    A, B = law[e, 2], law[e, 3]
+    if knots.shape[1] > 0:
+        grow = law[e, 4]
+        strain = grow * stretch - 1.0
+        for j in range(knots.shape[1]):
+            if strain > knots[e, j]:
+                A += coef[e, j] * grow
+                B += coef[e, j] * (1.0 + knots[e, j])
+    S = A - B / stretch
+    if T + S < 0.0:
+        keep = 1.0 - law[e, 1]
+        return keep * (T + S) - T, keep * B / stretch**3
+    return S, B / stretch**3
+
+
+@njit(cache=True)
+def _stress_plain(eps, T, law, e):
+    """``_stress`` of a law without hinges (every law but a curve; a separate loop body
+    keeps the hinges' loop from slowing the element loop down by a third), N."""
+    if law[e, 0] > 0.0:
+        EA = law[e, 5]
+        if T + EA * eps < 0.0:
+            keep = 1.0 - law[e, 1]
+            return keep * (T + EA * eps) - T, keep * EA
+        return EA * eps, EA
+    stretch = np.sqrt(1.0 + 2.0 * eps)
+    S = law[e, 2] - law[e, 3] / stretch
+    if T + S < 0.0:
+        keep = 1.0 - law[e, 1]
+        return keep * (T + S) - T, keep * law[e, 3] / stretch**3
+    return S, law[e, 3] / stretch**3
+
+
+@njit(cache=True)
+def _element_tension(Xp, T, law, knots, coef, BA, h, dofs_i, dofs_j, u, ud, damped,
+                     tension, strain):
+    """tension[e] = (T + S + BA deps/dt) |r'| and strain[e] = eps at each mid-point."""
+    for e in range(h.size):
+        eps = 0.0
+        rate = 0.0
+        length = 0.0
+        for c in range(3):
+            up = (u[dofs_j[e, c]] - u[dofs_i[e, c]]) / h[e]
+            rp = Xp[e, c] + up
+            eps += (Xp[e, c] + 0.5 * up) * up
+            rate += rp * (ud[dofs_j[e, c]] - ud[dofs_i[e, c]]) / h[e]
+            length += rp * rp
+        S, _ = _stress(eps, T[e], law, knots, coef, e)  # element-wise: not in the time loop
+        tension[e] = (T[e] + S + (BA[e] * rate if damped else 0.0)) * np.sqrt(length)
+        strain[e] = eps
 
 
 @njit(cache=True)
@@ -180,6 +234,7 @@ def _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped
     """Adds sign x (Eq. 11 + axial damping) into R and their derivatives into Ke, Ce
     (when those have rows); one mid-point per element, weight[e] / h[e] = 1 for P1."""
     tangent = Ke.shape[0] > 0
+    hinged = knots.shape[1] > 0
     rp = np.empty(3)
     rate_slopes = np.empty(3)
     k = np.empty((3, 3))
@@ -192,7 +247,10 @@ def _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped
             eps += (Xp[e, c] + 0.5 * up) * up
             rate_slopes[c] = (ud[dofs_j[e, c]] - ud[dofs_i[e, c]]) / h[e]
             rate += rp[c] * rate_slopes[c]
-        S, dS = _stress(eps, T[e], law, knots, coef, e)
+        if hinged:
+            S, dS = _stress(eps, T[e], law, knots, coef, e)
+        else:
+            S, dS = _stress_plain(eps, T[e], law, e)
         axial = T[e] + S + (BA[e] * rate if damped else 0.0)
         flux = sign * weight[e] / h[e] * axial
         for c in range(3):

@@ -56,7 +56,9 @@ def _value(a):
 def axial_force(e, p):
     """(N, dN/de): tension (N) and its slope (N) at engineering strain e (-) for the
     parameters p (mapping of arrays shaped like e: T0, e0, k, tension_only; hinges
-    ``knots`` and ``coef`` with a leading axis of their count)."""
+    ``knots`` and ``coef`` with a leading axis of their count). A compressive N is kept
+    times 1 - tension_only: 0 for a tension-only cable (1: it pushes; in between: the
+    soft compression of a static solve's continuation)."""
     e = _value(e)
     T0, e0, k = _value(p["T0"]), _value(p["e0"]), _value(p["k"])
     N = T0 + k * (e - e0)
@@ -66,8 +68,8 @@ def axial_force(e, p):
         beyond = e[None] - knots
         N = N + ops.dot(coef, ops.maximum(beyond, 0.0))
         dN = dN + ops.dot(coef, ops.where(beyond > 0, 1.0, 0.0))
-    only = _value(p["tension_only"]) > 0
-    return (ops.where(only & (N < 0), 0.0, N), ops.where(only & (N < 0), 0.0, dN))
+    keep = ops.where(N < 0, 1.0 - _value(p["tension_only"]), 1.0)  # 0: a slack cable
+    return keep * N, keep * dN
 
 
 def stress_resultant(eps, T, p):
@@ -83,9 +85,9 @@ def stress_resultant(eps, T, p):
     S = N / lam - T
     dS = (dN * (1.0 + e_ref) / lam - N / lam**2) / lam
     EA = _value(p["EA"])
-    slack = (_value(p["tension_only"]) > 0) & (T + EA * eps < 0)
-    S_paper = ops.where(slack, -T, EA * eps)
-    dS_paper = ops.where(slack, 0.0, EA + 0.0 * eps)
+    keep = ops.where(T + EA * eps < 0, 1.0 - _value(p["tension_only"]), 1.0)
+    S_paper = keep * (T + EA * eps) - T
+    dS_paper = keep * EA + 0.0 * eps
     green = _value(p["green"]) > 0
     return ops.where(green, S_paper, S), ops.where(green, dS_paper, dS)
 

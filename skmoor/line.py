@@ -219,7 +219,7 @@ class LineSet:
         self.lines = lines
         self.laws = [line.line_type.law or self.law for line in lines]
         self._static = False  # the static laws in force (StaticDynamic lines)
-        self._pushing = False  # every line may push (a static solve's first stage)
+        self._pushing = 0.0  # compression let through (a static solve's continuation)
         self._mean = None  # per-element (T_mean, e_mean) of StaticDynamic lines
         offsets, coords, cells, node0 = [], [], [], 0
         start = 0.0
@@ -312,8 +312,7 @@ class LineSet:
             for name in laws.PARAMETERS:
                 out[name][cells] = p[name]
             hinges.append(h)
-        if self._pushing:
-            out["tension_only"][...] = 0.0
+        out["tension_only"] *= 1.0 - self._pushing
         m = max((len(h[0]) for h in hinges if h is not None), default=0)
         knots, coef = np.full((m,) + shape, np.inf), np.zeros((m,) + shape)
         for k, h in enumerate(hinges):
@@ -329,11 +328,15 @@ class LineSet:
         """True when a line's law carries no compression."""
         return any(law.tension_only for law in self.laws)
 
-    def carry_compression(self, pushing: bool):
-        """Let every line push (True) or restore the laws' tension-only (False); the
-        fields and the kernel's parameters change in place (statics' first stage)."""
-        if bool(pushing) != self._pushing:
-            self._pushing = bool(pushing)
+    def carry_compression(self, fraction: float):
+        """Let the tension-only lines carry ``fraction`` of their compression (1: they push
+        like the laws with tension_only=False, 0: the laws as they are); the fields and
+        the kernel's parameters change in place (a static solve's continuation)."""
+        fraction = float(fraction)
+        if not 0.0 <= fraction <= 1.0:
+            raise ValueError(f"carry_compression fraction: must lie in [0, 1], got {fraction}")
+        if fraction != self._pushing:
+            self._pushing = fraction
             self._refresh_laws()
 
     # --- the static and dynamic laws (StaticDynamic lines)
@@ -428,6 +431,8 @@ class LineSet:
         """(nel,) tension (N) and strain of Eq. 3 (-) at each element's mid-point. Given
         the velocity ud (m/s), the tension includes the internal damping BA deps/dt
         (MoorDyn's reported T + BA x strain rate); without it, the elastic tension."""
+        if self._kernels:  # the compiled copy of the forms below
+            return self._kernels[0].element_tension_and_strain(u, ud)
         f, up = self.cable_fields, self.element_slopes(u)
         Xp = f["Xp"][:, :, 0]
         point = {name: value[..., 0] for name, value in f.items() if name != "Xp"}

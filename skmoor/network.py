@@ -275,9 +275,15 @@ def _taut_tension(line_type: LineType, stretch):
 
 def _sagging(a, b, length, n, weight, seabed_z):
     """A stress-free polyline of ``length`` (m) from a to b, sagging down (up for a buoyant
-    line) as a parabola, kept above the bed: the slack line's first guess."""
+    line) as a parabola, kept above the bed: the slack line's first guess. A (nearly)
+    vertical chord bows sideways instead (a sag along the chord would fold the line onto
+    itself, a state tension-only elements cannot leave)."""
     t = np.linspace(0.0, 1.0, n + 1)[:, None]
     direction = np.array([0.0, 0.0, 1.0 if weight < 0 else -1.0])
+    chord = (b - a) / np.linalg.norm(b - a)
+    if abs(chord[2]) > 0.9:
+        side = np.cross(chord, [0.0, 1.0, 0.0])
+        direction = side / np.linalg.norm(side)
 
     def shape(d):
         X = a + t * (b - a) + d * 4 * t * (1 - t) * direction

@@ -95,7 +95,8 @@ def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
     stiffness); the solution (without held DOFs: the equilibrium of the whole network)
     becomes their mean state, about which the dynamic laws act. Where Newton fails on
     tension-only lines (an iterate with slack elements has no stiffness there), the
-    solve is made with lines that may push, then again tension-only from that state.
+    solve is continued from lines that push to tension-only ones (their compression
+    let through by 1, 0.1, ... 1e-4, then 0, each stage from the last one's state).
     """
     lines = system.lines
     lines.use_static_laws(True)
@@ -105,17 +106,36 @@ def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
         except ConvergenceError:
             if not lines.tension_only:
                 raise
-            lines.carry_compression(True)
-            try:
-                pushed = _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held)
-            finally:
-                lines.carry_compression(False)
-            solution = _solve_static(system, pushed.x, 1, t, xtol, maxiter, pretension, held)
-            solution.iterations += pushed.iterations
+            solution = _soft_compression(system, x0, steps, t, xtol, maxiter, pretension,
+                                         held)
     finally:
         lines.use_static_laws(False)
     if lines.has_static_laws and held is None:
         lines.set_static_state(system.full_displacement(solution.x, t))
+    return solution
+
+
+COMPRESSION_STAGES = (1.0, 1e-1, 1e-2, 1e-3, 1e-4)
+
+
+def _soft_compression(system, x0, steps, t, xtol, maxiter, pretension, held):
+    """The static solve of tension-only lines by continuation in the compression they
+    carry (``COMPRESSION_STAGES``, then none), with a pretension of at least the largest
+    unbalanced load at x0 (N; a weightless slack line holding a weight gets none from
+    its own weight)."""
+    lines, x, total = system.lines, x0, 0
+    start = np.zeros(system.n) if x0 is None else np.asarray(x0, float)
+    pretension = max(pretension or 0.0, float(np.max(np.abs(system.residual(start, t=t)[0]))))
+    try:
+        for k, fraction in enumerate(COMPRESSION_STAGES):
+            lines.carry_compression(fraction)
+            stage = _solve_static(system, x, steps if k == 0 else 1, t, xtol, maxiter,
+                                  pretension, held)
+            x, total = stage.x, total + stage.iterations
+    finally:
+        lines.carry_compression(0.0)
+    solution = _solve_static(system, x, 1, t, xtol, maxiter, pretension, held)
+    solution.iterations += total
     return solution
 
 

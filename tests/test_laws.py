@@ -108,14 +108,19 @@ def mixed_lines():
 
 
 def test_kernel_equals_forms_for_every_law_with_slack_elements():
-    """The compiled kernel's residual and tangents (with damping) equal the forms' on
-    lines of four laws, in a state where some elements are slack."""
+    """The compiled kernel's residual and tangents (with damping) and its element
+    tensions (with BA x strain rate) equal the forms' on lines of four laws, in a state
+    where some elements are slack."""
     lines = mixed_lines()
     rng = np.random.default_rng(3)
     u = 0.3 * rng.normal(size=lines.ndofs)
     ud = rng.normal(size=lines.ndofs)
     assert (lines.element_strain(u) < -0.005).any()  # some elements compressed
+    tension_forms, strain_forms = lines.element_tension_and_strain(u, ud)  # no kernel yet
     R, K, C = CableKernel(lines).evaluate(u, ud)
+    tension, strain = lines.element_tension_and_strain(u, ud)  # the kernel's copy
+    assert np.abs(tension - tension_forms).max() < 1e-12 * np.abs(tension_forms).max()
+    assert np.abs(strain - strain_forms).max() < 1e-15
     from skfem import asm
     from skmoor import forms
     f = lines.cable_fields
@@ -287,3 +292,27 @@ def test_unknown_law_names_the_field():
         LineType(EA=None, mass=1.0, diameter=0.1)
     with pytest.raises(ValueError, match=r"StaticDynamic: give EA_dynamic or alpha_MBL"):
         laws.StaticDynamic()
+
+
+def test_laws_trace_under_jax_and_their_slopes_are_the_derivatives():
+    """The pointwise law (skmoor.ops) traces under JAX: jax.grad of S(eps) equals the
+    hand slope dS/deps for every law, slack, taut and beyond a curve's knots."""
+    jax = pytest.importorskip("jax", reason="JAX traces the forms (skmoor[autodiff])")
+    jax.config.update("jax_enable_x64", True)
+    lines = mixed_lines()
+    p = {name: value[:, 0] for name, value in lines.cable_fields.items() if name != "Xp"}
+    eps = np.linspace(-0.01, 0.03, lines.mesh.t.shape[1])
+    T = p["T"]
+    grad = jax.grad(lambda x: laws.stress_resultant(x, T, p)[0].sum())(jax.numpy.asarray(eps))
+    slope = laws.stress_resultant(eps, T, p)[1]
+    assert np.abs(np.asarray(grad) - slope).max() <= 1e-9 * np.abs(slope).max()
+
+
+def test_case_key_tension_only():
+    """mooring.tension_only = false gives the paper's law that may push; a non-boolean
+    is refused naming the key."""
+    assert skmoor.paper_case().strain_law == "paper"
+    law = skmoor.paper_case(mooring__tension_only=False).strain_law
+    assert isinstance(law, laws.Paper) and not law.tension_only
+    with pytest.raises(ValueError, match=r"mooring\.tension_only: expected true or false"):
+        skmoor.paper_case(mooring__tension_only="no")

@@ -18,7 +18,9 @@
    mean stretch (its dynamic stiffness is then within 0.1 % of EA_d), the regime the
    static-dynamic law stands for. Static tension (EA_s) within 0.1 %; peak, mean and
    first harmonic of the fairlead tension within 1 % (measured 0.15 %); with the static
-   EA alone the first harmonic would be 2.5 times smaller.
+   EA alone the first harmonic would be 2.5 times smaller. The same with MoorDyn's
+   load-dependent ``EA_s|alphaMBL|beta`` (EA_d = alphaMBL + beta T_mean, T_mean the
+   static tension in skmoor, the creep spring's in MoorDyn).
 3. MoorDyn's viscoelastic test deck ``visco.txt`` (``EA_s|alphaMBL|beta``, ``BA|BA_D``)
    is read into a StaticDynamic law with the load-dependent dynamic stiffness, and
    refused (zero gravity) at its deck line.
@@ -121,7 +123,12 @@ FAIRLEAD = np.array([180.0, 0.0, -10.0])
 CHORD = (FAIRLEAD - [0.0, 0.0, -100.0]) / np.linalg.norm(FAIRLEAD - [0.0, 0.0, -100.0])
 
 
-def visco_deck(path):
+# MoorDyn's load-dependent dynamic stiffness EA_d = alphaMBL + beta T_mean, here about
+# EA_D at the line's static tension (1.137 MN)
+ALPHA_MBL, BETA = 2.0e8, 88.0
+
+
+def visco_deck(path, EA_column):
     num = lambda v: repr(float(v))  # noqa: E731
     BA_D = 1e-4 * EA_D
     BA = TAU * (EA_1 + EA_D) - BA_D
@@ -129,7 +136,7 @@ def visco_deck(path):
 ---------------------- LINE TYPES ----------------------------------
 TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
 (name)  (m)  (kg/m)  (N)  (N-s/-)  (N-m^2)  (-)  (-)  (-)  (-)
-poly  0.217  52.0  {num(EA_S)}|{num(EA_D)}  {num(BA)}|{num(BA_D)}  0  1.6  1.0  0.008  0
+poly  0.217  52.0  {EA_column}  {num(BA)}|{num(BA_D)}  0  1.6  1.0  0.008  0
 ---------------------- POINTS --------------------------------------
 ID  Attachment  X  Y  Z  Mass  Volume  CdA  Ca
 (#)  (word)  (m)  (m)  (m)  (kg)  (m^3)  (m^2)  (-)
@@ -180,16 +187,20 @@ def measures(t, T, duration):
         T * np.exp(-1j * OMEGA * t), t) / span)
 
 
-def test_viscoelastic_polyester_against_moordyn(tmp_path, monkeypatch):
+@pytest.mark.parametrize("EA_column", [f"{EA_S!r}|{EA_D!r}", f"{EA_S!r}|{ALPHA_MBL!r}|{BETA!r}"],
+                         ids=["EA_s|EA_d", "EA_s|alphaMBL|beta"])
+def test_viscoelastic_polyester_against_moordyn(tmp_path, monkeypatch, EA_column):
     monkeypatch.chdir(tmp_path)
-    deck = visco_deck(tmp_path / "visco.dat")
+    deck = visco_deck(tmp_path / "visco.dat", EA_column)
     lt = skmoor.read_deck(deck).line_types["poly"]
-    assert lt.EA_visco == (EA_D,) and lt.BA_dynamic == pytest.approx(1e-4 * EA_D)
+    assert lt.EA_visco == tuple(float(v) for v in EA_column.split("|")[1:])
+    assert lt.BA_dynamic == pytest.approx(1e-4 * EA_D)
     displacement, velocity = chord_motion()
     duration = 6 * PERIOD
     model, t_sk, T_sk = run_skmoor(deck, displacement, duration, 0.01)
     law = model.lines.laws[0]
-    assert isinstance(law, laws.StaticDynamic) and law.EA_dynamic == EA_D
+    assert isinstance(law, laws.StaticDynamic)
+    assert law.dynamic_EA(T_sk[0]) == pytest.approx(EA_D, rel=0.02)
     t_md, T_md = run_moordyn(deck, FAIRLEAD, displacement, velocity, duration, 0.01)
     assert T_sk[0] == pytest.approx(T_md[0], rel=1e-3)
     sk, md = measures(t_sk, T_sk, duration), measures(t_md, T_md, duration)

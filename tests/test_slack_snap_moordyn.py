@@ -57,7 +57,7 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 {num(lt.rho_water)}  rho
 100.0  WtrDpth
 0  kBot
-60  TmaxIC
+30  TmaxIC
 1e-9  threshIC
 1  disableOutput
 1  disableOutTime
