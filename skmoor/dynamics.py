@@ -66,7 +66,8 @@ class Scheme:
 
 @dataclass
 class State:
-    """One time level: t (s), step number, x (m / rad), v, a, Newton iterations used."""
+    """One time level: t (s), step number, x (m / rad), v, a, Newton iterations used,
+    steps subdivided so far."""
 
     t: float
     step: int
@@ -74,6 +75,7 @@ class State:
     v: np.ndarray
     a: np.ndarray
     iterations: int = 0
+    subdivided: int = 0  # steps split so far (a failed Newton retried in halves)
 
 
 def rayleigh_coefficients(zeta: float, omega1: float, omega2: float):
@@ -85,6 +87,7 @@ def rayleigh_coefficients(zeta: float, omega1: float, omega2: float):
 
 DENSE_BELOW = 200  # unknowns: below this, dense LAPACK beats sparse overhead (measured)
 CONTRACTION = 0.2  # modified Newton refreshes the tangent when |dx| shrinks slower than this
+SUBDIVIDE = 6  # levels of halving a step whose Newton fails (down to dt / 64)
 
 
 def matrix_layout(system):
@@ -125,7 +128,7 @@ class _IterationMatrix:
 
 
 def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-5,
-              maxiter=20):
+              maxiter=20, subdivide=SUBDIVIDE):
     """Yield a :class:`State` per step from (x0, v0) at t0 until t_end.
 
     system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., layout=...)
@@ -134,7 +137,11 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     stands after the first correction; plus 1e-12 m). Newton is modified: the factorized
     matrix is kept over iterations and steps and refreshed when a correction is larger
     than ``CONTRACTION`` times the one before; a step that does not converge so is
-    retried with full Newton.
+    retried with full Newton and a backtracking line search on the balance residual.
+    A step that still fails is split in two halves, each half split again when it fails,
+    up to ``subdivide`` levels (0: none); the run then goes on at dt, on the full step's
+    own matrix. States come at the full steps only; ``State.subdivided`` counts the steps
+    that were split so far.
     """
     if not dt > 0:
         raise ValueError(f"integrate dt: must be positive, got {dt}")
@@ -153,20 +160,20 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     mass.update(M)
     a = mass.solve(-force_old)
     yield State(t, 0, x, v, a)
-    c_x = (1 - am) / (beta * dt**2)
-    c_v = gamma / (beta * dt)
-    matrix = _IterationMatrix(layout)
-    n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
-    for step in range(1, n_steps + 1):
-        t1 = t0 + step * dt
-        x_pred = x + dt * v + dt**2 * (0.5 - beta) * a  # part of x1 known from level 0
-        v_pred = v + dt * (1 - gamma) * a
+
+    def advance(x, v, a, force_old, t1, h, matrix):
+        """One step of h from (x, v, a) to t1: ((x1, v1, a1, C v1 + R1), iterations), or
+        (None, why) when Newton fails."""
+        c_x = (1 - am) / (beta * h**2)
+        c_v = gamma / (beta * h)
+        x_pred = x + h * v + h**2 * (0.5 - beta) * a  # part of x1 known from level 0
+        v_pred = v + h * (1 - gamma) * a
         inertia_old = am * (M @ a) + af * force_old
 
         def balance(y, tangent):
             """alpha-level balance at x1 = y, and (when asked) its tangent."""
-            a1 = (y - x_pred) / (beta * dt**2)
-            v1 = v_pred + gamma * dt * a1
+            a1 = (y - x_pred) / (beta * h**2)
+            v1 = v_pred + gamma * h * a1
             R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, layout=layout)
             B = (1 - am) * (M @ a1) + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
             if not tangent:
@@ -175,30 +182,73 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             return B, c_x * M + (1 - af) * (c_v * Cv + K1)
 
         # first guess: constant acceleration; should modified Newton stall from it, the step
-        # again from constant velocity (robust on stiff axial modes) with full Newton
-        guess = x + dt * v + 0.5 * dt**2 * a
+        # again from constant velocity (robust on stiff axial modes) with full Newton and
+        # a line search
+        guess = x + h * v + 0.5 * h**2 * a
         x1, it = _newton(balance, guess, x, matrix, tol, maxiter, full=False)
         if x1 is None or x1 is False:
-            x1, it = _newton(balance, x + dt * v, x, matrix, tol, maxiter, full=True)
+            x1, more = _newton(balance, x + h * v, x, matrix, tol, maxiter, full=True)
+            it += more
         if x1 is None:
-            raise DivergenceError(_hint(t1, step, dt, f"Newton did not converge in {maxiter} "
-                                        "iterations"), t1, step)
+            return None, f"Newton did not converge in {maxiter} iterations"
         if x1 is False:
-            raise DivergenceError(_hint(t1, step, dt, "the Newton step is not finite"), t1, step)
-        a1 = (x1 - x_pred) / (beta * dt**2)
-        v1 = v_pred + gamma * dt * a1
+            return None, "the Newton step is not finite"
+        a1 = (x1 - x_pred) / (beta * h**2)
+        v1 = v_pred + gamma * h * a1
         # C v1 + R(x1) from the converged balance (saves a residual evaluation per step)
-        force_old = -((1 - am) * (M @ a1) + inertia_old) / (1 - af)
-        x, v, a = x1, v1, a1
-        yield State(t1, step, x, v, a, it)
+        force1 = -((1 - am) * (M @ a1) + inertia_old) / (1 - af)
+        return (x1, v1, a1, force1), it
+
+    halves = {}  # level -> the iteration matrix of steps dt / 2**level, kept for reuse
+
+    def split(level_state, t, t1, level):
+        """(x, v, a, force) at t1 through two halves of [t, t1], each split again when it
+        fails (down to ``subdivide`` levels); (None, why) if the smallest fails too."""
+        matrix = halves.setdefault(level, _IterationMatrix(layout))
+        total, h, mid = 0, dt / 2**level, t + 0.5 * (t1 - t)
+        for start, end in ((t, mid), (mid, t1)):
+            out, it = advance(*level_state, end, h, matrix)
+            if out is None and level < subdivide:
+                out, it = split(level_state, start, end, level + 1)
+            if out is None:
+                return None, it
+            level_state, total = out, total + it
+        return level_state, total
+
+    matrix = _IterationMatrix(layout)
+    n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
+    subdivided = 0
+    for step in range(1, n_steps + 1):
+        t1 = t0 + step * dt
+        out, it = advance(x, v, a, force_old, t1, dt, matrix)
+        if out is None:
+            why = it
+            if subdivide > 0:
+                out, it = split((x, v, a, force_old), t, t1, 1)
+            if out is None:
+                tried = (f" (and in steps down to dt / {2**subdivide:g})" if subdivide > 0
+                         else "")
+                raise DivergenceError(_hint(t1, step, dt, f"{why}{tried}"), t1, step)
+            subdivided += 1
+        x, v, a, force_old = out
+        t = t1
+        yield State(t1, step, x, v, a, it, subdivided)
+
+
+LINE_SEARCH = 6  # halvings of a full-Newton correction that does not lower the residual
 
 
 def _newton(balance, x1, x0, matrix, tol, maxiter, full):
     """Solve balance(x1) = 0 from x1 with the factorized ``matrix`` (refreshed every
     iteration when ``full``, else when convergence slows). Returns (x1, iterations),
-    (None, maxiter) when it does not converge, (False, k) on a non-finite step."""
+    (None, maxiter) when it does not converge, (False, k) on a non-finite step.
+
+    Full Newton backtracks: a correction that does not lower the residual's norm is
+    halved (up to ``LINE_SEARCH`` times) until it does (Armijo, 1e-4), which breaks the
+    two-cycles Newton falls into across a kink of the residual (a node touching the bed)."""
     B, A = balance(x1, tangent=full or matrix.factor is None)
     previous = scale = np.inf
+    norm = np.linalg.norm(B) if full else 0.0
     for it in range(1, maxiter + 1):
         if A is not None:
             matrix.update(A)
@@ -206,14 +256,30 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
         size = np.max(np.abs(dx))
         if not math.isfinite(size):
             return False, it
-        x1 = x1 + dx
+        x_new = x1 + dx
         if it == 1:  # the step's change, to scale the tolerance
-            scale = np.max(np.abs(x1 - x0))
+            scale = np.max(np.abs(x_new - x0))
         if size <= tol * scale + 1e-12:
-            return x1, it
-        slow = size > CONTRACTION * previous
-        previous = size
-        B, A = balance(x1, tangent=full or slow)
+            return x_new, it
+        if not full:
+            x1 = x_new
+            slow = size > CONTRACTION * previous
+            previous = size
+            B, A = balance(x1, tangent=slow)
+            continue
+        length = 1.0  # of the correction
+        for halving in range(LINE_SEARCH + 1):
+            B_try, A_try = balance(x_new, tangent=halving == 0)
+            norm_try = np.linalg.norm(B_try)
+            if (norm_try <= (1 - 1e-4 * length) * norm or not math.isfinite(norm_try)
+                    or halving == LINE_SEARCH):
+                break
+            length *= 0.5
+            x_new = x1 + length * dx
+        x1 = x_new
+        if length != 1.0 and math.isfinite(norm_try):  # the tangent where the search stopped
+            B_try, A_try = balance(x1, tangent=True)
+        B, A, norm = B_try, A_try, norm_try
     return None, maxiter
 
 

@@ -216,6 +216,7 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
 
     def finish():
         meta.update({"wall_time": time.perf_counter() - started, "steps": outcome["steps"],
+                     "subdivided_steps": outcome.get("subdivided", 0),
                      "stopped": outcome["stopped"],
                      "interrupted": outcome["stopped"] == INTERRUPTED})
         return recorder.results(meta)
@@ -265,15 +266,17 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     """Integrate ``system`` from rest at x0 for ``duration`` s with step dt, calling
     ``record(state)`` every ``every`` steps, under a progress bar. Returns (why it stopped
     early or None, the steps done): Ctrl-C or a diverging step keep what was recorded.
-    ``done``: a dict whose "steps" follows the steps done (read it after a crash)."""
+    ``done``: a dict whose "steps" follows the steps done (read it after a crash) and
+    "subdivided" the steps split in halves on a failed Newton
+    (:func:`~skmoor.dynamics.integrate`)."""
     n_steps = int(np.ceil(duration / dt - 1e-9))
     done = {} if done is None else done
-    done["steps"] = 0
+    done["steps"] = done["subdivided"] = 0
     bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=label[:30])
     try:
         for state in integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
                                scheme=scheme):
-            done["steps"] = state.step
+            done["steps"], done["subdivided"] = state.step, state.subdivided
             if state.step % every == 0:
                 record(state)
             bar.update(1 if state.step else 0)
@@ -497,6 +500,7 @@ def summary(results: Results) -> dict:
             "max_tension_steady": steady_max,
             "wall_time": meta.get("wall_time"), "simulated_time": float(results.t[-1]),
             "steps": meta.get("steps"), "steps_planned": meta.get("steps_planned"),
+            "subdivided_steps": meta.get("subdivided_steps", 0),
             "dt": meta.get("dt"), "stopped": meta.get("stopped"),
             "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", [])}
 
