@@ -150,7 +150,8 @@ def test_tangent_of_every_law_is_the_derivative():
 def test_reported_tension_includes_internal_damping():
     """With the velocity, the element tension is the elastic one plus BA deps/dt |r'|
     (deps/dt = lambda dlambda/dt on a straight element), as MoorDyn reports T + BA x
-    strain rate; the fairlead reaction of the System carries the same."""
+    strain rate; without the velocity, the elastic tension (a recorder that drops the
+    velocity, or a rate of the wrong sign, fails here)."""
     BA = 3e4
     lt = LineType(EA=EA, mass=1.0, diameter=0.01, BA=BA)
     X = np.c_[np.linspace(0.0, 10.0, 2), np.zeros(2), np.zeros(2)]
