@@ -36,6 +36,8 @@ from .run import (equilibrium, mooring_stiffness, run_case, simulate, static_res
                   write_outputs)
 from .seabed import Seabed, seabed_term
 from .statics import ConvergenceError, solve_static
+from . import laws
+from .laws import Curve, Engineering, Paper, StaticDynamic
 from .terms import BodyLoad, LineForm, PointLoad, Term, TangentCheck, check_tangent
 from .waves import AiryWave, Current, JonswapWave, Sea
 
@@ -47,7 +49,7 @@ __all__ = [
     "read_line_mesh", "write_line_mesh", "Catenary", "solve_catenary", "RigidBody",
     "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
     "Scheme", "DivergenceError", "BodyLoad", "PointLoad", "LineForm", "check_tangent",
-    "TangentCheck", "Sea", "Current", "AiryWave", "JonswapWave",
+    "TangentCheck", "laws", "Paper", "Engineering", "Curve", "StaticDynamic", "Sea", "Current", "AiryWave", "JonswapWave",
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
     "from_network", "mooring_stiffness", "Ends", "PointMass",

@@ -370,7 +370,17 @@ def explicit_network(case) -> Network:
     return Network(points, lines, bodies, depth=depth, rho=rho, g=g,
                    seabed=environment.seabed(data), sea=water_sea,
                    hydro=environment.has_line_hydrodynamics(data),
-                   strain_law=shared.get("strain_law", "engineering"))
+                   strain_law=_network_law(shared))
+
+
+def _network_law(shared):
+    """The network layout's [mooring] strain law (default 'engineering'), carrying
+    compression where ``tension_only = false``."""
+    name = shared.get("strain_law", "engineering")
+    if shared.get("tension_only", True):
+        return name
+    from .laws import LAWS
+    return LAWS[name](tension_only=False)
 
 
 def _explicit_body(case, spec, rho, g, sea) -> Body:

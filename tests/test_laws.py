@@ -335,3 +335,15 @@ def test_case_key_tension_only():
     assert isinstance(law, laws.Paper) and not law.tension_only
     with pytest.raises(ValueError, match=r"mooring\.tension_only: expected true or false"):
         skmoor.paper_case(mooring__tension_only="no")
+
+
+def test_the_network_layout_reads_tension_only():
+    """[mooring] tension_only = false in a case with network tables gives a law that can
+    push (the default is tension-only)."""
+    from skmoor.laws import as_law
+    from skmoor.model import explicit_network
+
+    case = skmoor.Case.from_toml("examples/network_buoy.toml")
+    assert as_law(explicit_network(case).strain_law).tension_only
+    pushing = explicit_network(case.replace("mooring.tension_only", False)).strain_law
+    assert not pushing.tension_only and pushing.name == "engineering"
