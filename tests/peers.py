@@ -150,3 +150,23 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
     with open(path, "w") as out:
         out.write(text)
     return path
+
+
+def faded_sine(amplitude, omega, fade, direction):
+    """(displacement, velocity) of a point driven amplitude sin(omega t) along direction,
+    faded in over ``fade`` s by (1 - cos(pi t / fade)) / 2: fn(t) -> (3,), m and m/s."""
+    def ramp(t):
+        if t >= fade:
+            return 1.0, 0.0
+        return (0.5 * (1 - np.cos(np.pi * t / fade)),
+                0.5 * np.pi / fade * np.sin(np.pi * t / fade))
+
+    def displacement(t):
+        return amplitude * ramp(t)[0] * np.sin(omega * t) * direction
+
+    def velocity(t):
+        f, df = ramp(t)
+        return amplitude * (df * np.sin(omega * t) + f * omega * np.cos(omega * t)) * direction
+
+    return displacement, velocity
+

@@ -36,6 +36,7 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
 
 import skmoor  # noqa: E402
 from skmoor import laws  # noqa: E402
+from peers import faded_sine  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import moordyn_decks as md_decks  # noqa: E402
@@ -163,20 +164,7 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 
 
 def chord_motion():
-    def fade(t):
-        if t >= PERIOD:
-            return 1.0, 0.0
-        return (0.5 * (1 - np.cos(np.pi * t / PERIOD)),
-                0.5 * np.pi / PERIOD * np.sin(np.pi * t / PERIOD))
-
-    def displacement(t):
-        return AMPLITUDE * fade(t)[0] * np.sin(OMEGA * t) * CHORD
-
-    def velocity(t):
-        f, df = fade(t)
-        return AMPLITUDE * (df * np.sin(OMEGA * t) + f * OMEGA * np.cos(OMEGA * t)) * CHORD
-
-    return displacement, velocity
+    return faded_sine(AMPLITUDE, OMEGA, PERIOD, CHORD)
 
 
 def measures(t, T, duration):

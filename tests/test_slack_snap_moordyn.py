@@ -24,6 +24,7 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
 
 import skmoor  # noqa: E402
 from skmoor.model import line_type  # noqa: E402
+from peers import faded_sine  # noqa: E402
 
 AMPLITUDE, OMEGA = 1.0, 1.6  # m, rad/s
 PERIOD = 2 * np.pi / OMEGA
@@ -67,20 +68,7 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 
 def motion(direction):
     """(displacement, velocity) of the fairlead, fn(t) -> (3,) m and m/s."""
-    def fade(t):
-        if t >= PERIOD:
-            return 1.0, 0.0
-        return (0.5 * (1 - np.cos(np.pi * t / PERIOD)),
-                0.5 * np.pi / PERIOD * np.sin(np.pi * t / PERIOD))
-
-    def displacement(t):
-        return AMPLITUDE * fade(t)[0] * np.sin(OMEGA * t) * direction
-
-    def velocity(t):
-        f, df = fade(t)
-        return AMPLITUDE * (df * np.sin(OMEGA * t) + f * OMEGA * np.cos(OMEGA * t)) * direction
-
-    return displacement, velocity
+    return faded_sine(AMPLITUDE, OMEGA, PERIOD, direction)
 
 
 def measures(t, T):
