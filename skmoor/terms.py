@@ -127,8 +127,9 @@ class LineForm(Term):
     quadrature: 'gauss', 'midpoint' or 'nodal' (see :class:`~skmoor.line.LineSet`).
     path: how the residual and its tangents are evaluated:
 
-    - 'compiled': the integrand and its derivatives traced once by JAX and compiled
-      (``jax.jit``), element by element;
+    - 'compiled': the integrand and its derivatives traced once by JAX and written out as
+      a numba element kernel (:mod:`skmoor.compiled`, cached on disk), or compiled with
+      ``jax.jit`` where the generator lacks an operation (``backend`` says which);
     - 'autodiff': scikit-fem's ``skfem.autodiff`` on its assembly (slow; a reference);
     - 'fd': NumPy evaluation, tangents by central differences (no JAX needed);
     - 'assembly': scikit-fem's assembly with the hand-written tangents;
