@@ -21,7 +21,6 @@ else:  # pragma: no cover
 
 import numpy as np
 
-from .schema import validate_case
 
 PAPER_CASE = {
     "name": "Wang, Er & Iu: moored box, d/l = 1/60, theta = 50 deg",
@@ -69,6 +68,8 @@ class Case:
     directory: Path | None = None  # the case file's folder: relative paths start there
 
     def __post_init__(self):
+        from .schema import validate_case  # here: pydantic loads only for case files
+
         self.data = copy.deepcopy(self.data)
         validate_case(self.data)
 

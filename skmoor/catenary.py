@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-from scipy.optimize import brentq
+from .roots import brent as brentq
 
 __all__ = ["Catenary", "solve_catenary"]
 
@@ -270,11 +270,40 @@ class _Problem:
         if self.span == 0.0:
             return self.build(L, 0.0, self.anchor_vertical_force(L, 0.0))
 
+        H0 = _horizontal_tension_guess(self, L)
+        if self.elastic.linear:
+            solved = self._newton_length(L, H0)
+            if solved is not None:
+                return self.build(L, *solved)
+
         def span_error(H):
             return float(self.end_offsets(L, H, self.anchor_vertical_force(L, H))[0]) - self.span
 
-        H = _root_of_increasing(span_error, _horizontal_tension_guess(self, L), 10.0)
+        H = _root_of_increasing(span_error, H0, 10.0)
         return self.build(L, H, self.anchor_vertical_force(L, H))
+
+    def _newton_length(self, L, H, iterations=60):
+        """(H, v) of the linear-law line of length L by Newton on both end offsets at once
+        (the Jacobian in closed form, as MoorPy / FAST solve it), from H (N); None when it
+        does not converge (the nested bracketed solves then take over)."""
+        w, c, X, Z = self.w, self.elastic.compliance, self.span, self.rise
+        lam = math.sqrt(3.0 * ((L * L - Z * Z) / (X * X) - 1.0)) if L > self.chord else 0.2
+        v = 0.5 * w * (Z / math.tanh(lam) + L) - w * L
+        for _ in range(iterations):
+            x, z, J = _linear_offsets_and_jacobian(L, H, v, w, c, self.touchdown)
+            ex, ez = x - X, z - Z
+            det = J[0][0] * J[1][1] - J[0][1] * J[1][0]
+            if not det or not math.isfinite(det):
+                return None
+            dH = -(J[1][1] * ex - J[0][1] * ez) / det
+            dv = -(-J[1][0] * ex + J[0][0] * ez) / det
+            step = 1.0
+            while H + step * dH <= 0.0 or (self.touchdown and v + step * dv <= -w * L):
+                step *= 0.5  # H stays positive, some of the line hanging
+            H, v = H + step * dH, v + step * dv
+            if step == 1.0 and abs(dH) <= 1e-12 * H and abs(dv) <= 1e-12 * (abs(v) + w * L):
+                return H, v
+        return None
 
     def with_tension(self, H) -> Catenary:
         """Solve for L: at fixed H the span reached grows with L."""
@@ -320,6 +349,26 @@ class _Problem:
         """
         branches = 0.5 * self.span / abs(self.rise) if self.rise else math.inf
         return min(branches, 0.5 * self.rise / self.span) if self.touchdown else branches
+
+
+def _linear_offsets_and_jacobian(L, H, v, w, c, touchdown):
+    """End offsets (x, z) (m) of a line of length L with tension = EA x strain (c = 1/EA)
+    and their derivatives [[x_H, x_v], [z_H, z_v]] (m/N); v as in _Problem.split."""
+    VF = v + w * L
+    TF = math.hypot(H, VF)
+    aF = math.asinh(VF / H)
+    if touchdown and v < 0.0:  # laid length -v / w, no vertical force at touchdown
+        x = -v / w + H * aF / w + c * H * L
+        z = (TF - H) / w + 0.5 * c * VF * VF / w
+        xv = (H / TF - 1.0) / w
+        return x, z, (((aF - VF / TF) / w + c * L, xv), (xv, VF / (TF * w) + c * VF / w))
+    TA = math.hypot(H, v)
+    aA = math.asinh(v / H)
+    x = H * (aF - aA) / w + c * H * L
+    z = (TF - TA) / w + c * (v + 0.5 * w * L) * L
+    xv = (H / TF - H / TA) / w
+    return x, z, (((aF - VF / TF - aA + v / TA) / w + c * L, xv),
+                  (xv, (VF / TF - v / TA) / w + c * L))
 
 
 def _plane_offsets(s, H, V_anchor, laid_length, w, elastic):

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
+from .roots import brent as brentq
 
 from . import environment
 from .body import RigidBody, hull_hydrostatics, uniform_box_inertia

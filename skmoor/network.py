@@ -26,7 +26,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import root
 
 from .body import RigidBody
 from .catenary import solve_catenary
@@ -361,6 +360,8 @@ def settle_points(network: Network) -> dict:
     z0 = np.concatenate([given[p.name] for p in free])
     unsettled = ("free points not settled on catenaries (the catenary-network solve did not "
                  "converge): the statics start from the given positions")
+    from scipy.optimize import root  # here: scipy.optimize takes 0.5 s to import
+
     try:
         with np.errstate(all="ignore"):
             sol = root(imbalance, z0, method="hybr", options={"xtol": 1e-12})

@@ -13,7 +13,6 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import quad
 
 from .validation import check_finite, check_positive
 
@@ -191,6 +190,8 @@ def _jonswap_shape(x, gamma):
 @lru_cache(maxsize=64)
 def _jonswap_area(gamma):
     """int_0^inf shape(x) dx (1/5 for gamma = 1)."""
+    from scipy.integrate import quad  # here: scipy.integrate is slow to import
+
     parts = [quad(_jonswap_shape, a, b, args=(gamma,), epsabs=0.0, epsrel=1e-13, limit=200)[0]
              for a, b in ((0.0, 1.0), (1.0, 2.0))]
     return sum(parts) + quad(_jonswap_shape, 2.0, np.inf, args=(gamma,), epsabs=0.0,
