@@ -1,0 +1,328 @@
+"""A real mooring side by side: the IEA 15 MW VolturnUS-S chain mooring in skmoor, MoorDyn
+and CableDyn, each at the largest step that meets the same accuracy criterion.
+
+The system: the MoorDyn deck of the IEA-15-240-RWT repository
+(``OpenFAST/IEA-15-240-RWT-UMaineSemi/IEA-15-240-RWT-UMaineSemi_MoorDyn.dat``: three 850 m
+studless chains, 0.333 m, 685 kg/m, EA 3.27e9 N, Cd 2.0, Ca 0.82, CdAx 0.4, CaAx 0.27,
+BA/-zeta -1, kBot 3e6 Pa/m, cBot 3e5 Pa s/m), read at run time from a local mirror
+($SKMOOR_IEA_MIRROR, default /work/.mirror/IEAWindTask37+IEA-15-240-RWT/repo; bring it with
+``git clone`` of IEAWindTask37/IEA-15-240-RWT), with the water depth of 200 m added (the
+deck leaves it to the host code) and each line split into 50, 100 or 200 segments. The
+fairleads (the deck's 'Vessel' points) are driven together, 5 m / 90 s in surge and
+2 m / 12 s in heave, faded in over the first 12 s, for 300 s, from static rest.
+
+Each code is run the way it runs in a host: skmoor ``build(deck, motion=...)`` and
+``simulate`` (generalized-alpha with rho_inf 0.5, as CableDyn is set; no Rayleigh
+damping, as a deck has none); MoorDyn v2
+(its RK2 at dtM, coupled every 0.125 s or every step when the step is longer: the fairleads
+move from the start of each coupling step at its mean velocity) from its own settled
+initial state; CableDyn (implicit generalized-alpha) through its in-process interface,
+the fairlead kinematics given at the end of every step. Wall times are
+time.perf_counter around the time loop only (no parsing, statics or initial conditions).
+
+Why rho_inf 0.5: a chain node resting on MoorDyn's bed is a spring of period ~0.17 s
+(kBot d over the node's mass and added mass; the bed's damping fades in with penetration),
+far below the steps of an implicit code. With Newmark (no numerical damping) or rho_inf 0.8
+skmoor's runs at 0.25 s pick up a spurious bed chatter near touchdown (12 % in the peak
+tension at rho_inf 0.8); rho_inf 0.5 damps it and leaves the 12-90 s motion alone (its
+reference agrees with the rho_inf 0.8 one within 0.4 % in std and peak).
+
+Accuracy (the issue's criterion): the standard deviation and the peak of each fairlead's
+tension over the run within 1 % of the same code's converged reference (its run at a
+small step: REFERENCE). A code's step is found by halving from START until the criterion
+holds; the timed run at that step is the best of REPEATS. The three references are also
+compared with each other (std and peak), which says whether the codes compute the same
+physics.
+
+Run: ``python benchmarks/volturnus.py [--segments 50 100 200] [--codes skmoor moordyn
+cabledyn] [--duration 300]`` prints the table and the ratios. MoorDyn's explicit step
+falls with the segment length: at 200 segments its reference run alone takes tens of
+minutes on this machine.
+"""
+from __future__ import annotations
+
+import os
+
+for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_name, "1")  # one core per code, as MoorDyn runs
+
+import argparse  # noqa: E402
+import copy  # noqa: E402
+import functools  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _cases import quiet  # noqa: E402
+
+import skmoor  # noqa: E402
+from skmoor.dynamics import DivergenceError  # noqa: E402
+
+DECK_PATH = "OpenFAST/IEA-15-240-RWT-UMaineSemi/IEA-15-240-RWT-UMaineSemi_MoorDyn.dat"
+DEPTH = 200.0  # m
+DURATION = 300.0  # s
+FADE = 12.0  # s
+SURGE, SURGE_PERIOD = 5.0, 90.0  # m, s
+HEAVE, HEAVE_PERIOD = 2.0, 12.0  # m, s
+OUTPUT = 0.125  # s, output (and MoorDyn coupling) interval
+TOLERANCE = 0.01  # of the reference's tension std and peak
+REPEATS = 3
+CODES = ("skmoor", "moordyn", "cabledyn")
+SEGMENTS = (50, 100, 200)
+START = {"skmoor": -1, "cabledyn": -1, "moordyn": -7}  # log2 of the first (largest) step
+REFERENCE = {"skmoor": -6, "cabledyn": -6, "moordyn": -14}  # log2 of the reference step
+RHO_INF = 0.5  # generalized-alpha spectral radius of both implicit codes
+
+
+def mirror_path() -> Path:
+    return Path(os.environ.get("SKMOOR_IEA_MIRROR",
+                               "/work/.mirror/IEAWindTask37+IEA-15-240-RWT/repo"))
+
+
+@functools.cache
+def iea_deck():
+    """The IEA deck as skmoor reads it (a skmoor.deck.Deck)."""
+    text = subprocess.run(["git", "-C", str(mirror_path()), "show", f"HEAD:{DECK_PATH}"],
+                          capture_output=True, text=True)
+    if text.returncode:
+        raise SystemExit(f"volturnus: cannot read {DECK_PATH} from the mirror "
+                         f"{mirror_path()} (set SKMOOR_IEA_MIRROR): {text.stderr.strip()}")
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "iea.dat"
+        path.write_text(text.stdout)
+        return skmoor.read_deck(path)
+
+
+def write_deck(code, n, dt, workdir) -> Path:
+    """The IEA deck for ``code`` on n segments per line at step dt (s): the water depth
+    added, the outputs cleared, the options each code needs."""
+    deck = copy.deepcopy(iea_deck())
+    for line in deck.lines:
+        line.n_segments = n
+    options = {"dtM": repr(dt), "kBot": deck.options["kBot"], "cBot": deck.options["cBot"],
+               "WtrDpth": repr(DEPTH)}
+    if code == "moordyn":
+        options.update(TmaxIC="200.0", threshIC="1e-6", dtIC="1.0", CdScaleIC="4.0",
+                       writeLog="0", disableOutput="1", disableOutTime="1")
+    elif code == "cabledyn":
+        options.update(TMax=repr(DURATION), rhoInf=repr(RHO_INF))
+    deck.options, deck.outputs = options, []
+    deck.option_lines = {}
+    return skmoor.write_deck(deck, Path(workdir) / f"{code}_{n}_{dt:g}.dat")
+
+
+def fade(t):
+    return 0.5 * (1 - np.cos(np.pi * min(t / FADE, 1.0)))
+
+
+def fairlead_offset(t):
+    """(surge, heave) of every fairlead at t, m."""
+    f = fade(t)
+    return (SURGE * f * np.sin(2 * np.pi * t / SURGE_PERIOD),
+            HEAVE * f * np.sin(2 * np.pi * t / HEAVE_PERIOD))
+
+
+def skmoor_motion(t):
+    """skmoor's prescribed displacements of the three coupled points (9,)."""
+    x, z = fairlead_offset(t)
+    y = np.zeros(9)
+    y[0::3], y[2::3] = x, z
+    return y
+
+
+def fairleads():
+    """(3, 3) the deck's fairlead positions, in its order of coupled points."""
+    return np.array([p.position for p in iea_deck().points if p.kind.lower() in ("coupled", "vessel")],
+                    float)
+
+
+# ------------------------------------------------------------------ the three codes
+
+@functools.cache
+def skmoor_model(n, workdir):
+    model = skmoor.build(write_deck("skmoor", n, 1e-3, workdir), motion=skmoor_motion)
+    model.solver.update(scheme="generalized-alpha", rho_inf=RHO_INF)  # as CableDyn's
+    return model, skmoor.equilibrium(model)
+
+
+def run_skmoor(n, dt, workdir):
+    """(wall s, fairlead tensions (samples, 3) N every OUTPUT s or every step)."""
+    model, eq = skmoor_model(n, workdir)
+    started = time.perf_counter()
+    results = skmoor.simulate(model, duration=DURATION, dt=dt,
+                              output_interval=max(dt, OUTPUT), progress=False, eq=eq)
+    wall = time.perf_counter() - started
+    if results.meta["stopped"] is not None:
+        raise RuntimeError(results.meta["stopped"])
+    return wall, np.asarray(results.fairlead_tension)
+
+
+@functools.cache
+def moordyn_initial_state(n, workdir):
+    """MoorDyn's settled initial state on n segments, saved once: its state file."""
+    import moordyn
+
+    path = Path(workdir) / f"moordyn_{n}_ic.bin"
+    with quiet():
+        md = moordyn.Create(str(write_deck("moordyn", n, 2.0**-13, workdir)))
+        moordyn.Init(md, list(fairleads().ravel()), [0.0] * 9)
+        moordyn.SaveState(md, str(path))
+        moordyn.Close(md)
+    return str(path)
+
+
+def run_moordyn(n, dt, workdir):
+    """MoorDyn v2 (RK2 at dtM = dt) from its settled state, coupled every OUTPUT s; the
+    tension is the end node's net force (the line's pull on the fairlead, as skmoor's)."""
+    import moordyn
+
+    state = moordyn_initial_state(n, workdir)
+    base = fairleads()
+    coupling = max(dt, OUTPUT)
+    with quiet():
+        md = moordyn.Create(str(write_deck("moordyn", n, dt, workdir)))
+        moordyn.Init_NoIC(md, list(base.ravel()), [0.0] * 9)
+        moordyn.LoadState(md, state)
+    lines = [moordyn.GetLine(md, k) for k in (1, 2, 3)]
+    try:
+        tensions = []
+        started = time.perf_counter()
+        with quiet(), np.errstate(over="ignore", invalid="ignore"):
+            for k in range(int(round(DURATION / coupling))):
+                t0, t1 = k * coupling, (k + 1) * coupling
+                (x0, z0), (x1, z1) = fairlead_offset(t0), fairlead_offset(t1)
+                r = base + [x0, 0.0, z0]
+                u = np.tile([(x1 - x0) / coupling, 0.0, (z1 - z0) / coupling], 3)
+                moordyn.Step(md, list(r.ravel()), list(u), t0, coupling)
+                tensions.append([np.linalg.norm(moordyn.GetLineNodeForce(line, n)) for line in lines])
+        wall = time.perf_counter() - started
+    finally:
+        with quiet():
+            moordyn.Close(md)
+    return wall, np.array(tensions)
+
+
+def run_cabledyn(n, dt, workdir):
+    """CableDyn through its in-process interface: step(dt, q, v, a), the fairlead
+    kinematics at the end of each step."""
+    import cabledyn
+
+    model = cabledyn.CableDyn(write_deck("cabledyn", n, dt, workdir))
+    try:
+        q, v, a = model.get_coupled_motion()
+        dofs = model.host_dofs().reshape(3, 3)  # [point, x y z] -> index in q
+        base = q[dofs].copy()
+        stride = max(1, int(round(OUTPUT / dt)))
+        tensions = []
+        started = time.perf_counter()
+        for k in range(1, int(round(DURATION / dt)) + 1):
+            t = k * dt
+            h = 1e-4
+            x, z = fairlead_offset(t)
+            xp, zp = fairlead_offset(t + h)
+            xm, zm = fairlead_offset(t - h)
+            for p in range(3):
+                q[dofs[p]] = base[p] + [x, 0.0, z]
+                v[dofs[p]] = [(xp - xm) / (2 * h), 0.0, (zp - zm) / (2 * h)]
+                a[dofs[p]] = [(xp - 2 * x + xm) / h**2, 0.0, (zp - 2 * z + zm) / h**2]
+            model.step(dt, q, v, a)
+            if k % stride == 0:
+                force = model.calc_output()[dofs]
+                tensions.append(np.linalg.norm(force, axis=1))
+        wall = time.perf_counter() - started
+    finally:
+        model.close()
+    return wall, np.array(tensions)
+
+
+RUNNERS = {"skmoor": run_skmoor, "moordyn": run_moordyn, "cabledyn": run_cabledyn}
+
+
+def run(code, n, dt, workdir):
+    """(wall, tensions) or (nan, None) when the run fails."""
+    try:
+        return RUNNERS[code](n, dt, workdir)
+    except (DivergenceError, RuntimeError, ValueError) as error:
+        print(f"    {code} n={n} dt={dt:g}: failed ({type(error).__name__}: {error})",
+              flush=True)
+        return np.nan, None
+
+
+# ------------------------------------------------------------------ accuracy and step
+
+def statistics(tensions):
+    """(std, peak) of each fairlead's tension over the run, N, (2, 3)."""
+    return np.array([tensions.std(axis=0), tensions.max(axis=0)])
+
+
+def error(tensions, ref):
+    """Largest relative difference of the std and the peak from the reference's."""
+    if tensions is None or not np.all(np.isfinite(tensions)):
+        return np.inf
+    a, b = statistics(tensions), statistics(ref)
+    return float(np.max(np.abs(a - b) / b))
+
+
+def find_step(code, n, workdir):
+    """The largest step 2^k (k from START down) within TOLERANCE of the reference."""
+    for k_ref in range(REFERENCE[code], START[code]):
+        ref_dt = 2.0**k_ref
+        _, ref = run(code, n, ref_dt, workdir)
+        if ref is not None:
+            break
+    else:
+        raise RuntimeError(f"{code}: no reference run completed")
+    tried = []
+    for k in range(START[code], k_ref, -1):
+        dt = 2.0**k
+        wall, tensions = run(code, n, dt, workdir)
+        err = error(tensions, ref)
+        tried.append((dt, err))
+        print(f"    {code} n={n} dt={dt:g}: wall {wall:.2f} s, error {err:.4f}", flush=True)
+        if err <= TOLERANCE:
+            walls = [wall] + [run(code, n, dt, workdir)[0] for _ in range(REPEATS - 1)]
+            return dict(dt=dt, error=err, wall=min(walls), ref=ref, ref_dt=ref_dt, tried=tried)
+    return dict(dt=np.nan, error=np.nan, wall=np.nan, ref=ref, ref_dt=ref_dt, tried=tried)
+
+
+def main(argv=None):
+    global DURATION
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--segments", type=int, nargs="+", default=list(SEGMENTS))
+    parser.add_argument("--codes", nargs="+", default=list(CODES), choices=CODES)
+    parser.add_argument("--duration", type=float, default=DURATION)
+    args = parser.parse_args(argv)
+    DURATION = args.duration
+    rows = []
+    with tempfile.TemporaryDirectory() as workdir:
+        for n in args.segments:
+            results = {}
+            for code in args.codes:
+                print(f"{code}, {n} segments per line", flush=True)
+                results[code] = find_step(code, n, workdir)
+            rows.append((n, results))
+            report(rows, args.codes)
+
+
+def report(rows, codes):
+    head = " | ".join(f"{c} step / wall" for c in codes)
+    ratios = [c for c in codes if c != "skmoor"] if "skmoor" in codes else []
+    print(f"\n| segments | {head} | " + " | ".join(f"skmoor/{c}" for c in ratios)
+          + " | references: " + ", ".join(f"skmoor-{c}" for c in ratios) + " |")
+    print("|---" * (2 + len(codes) + 2 * len(ratios)) + "|")
+    for n, res in rows:
+        cells = [f"{1e3 * res[c]['dt']:g} ms / {res[c]['wall']:.2f} s" for c in codes]
+        cells += [f"{res['skmoor']['wall'] / res[c]['wall']:.2f}" for c in ratios]
+        cells += [f"{error(res['skmoor']['ref'], res[c]['ref']):.4f}" for c in ratios]
+        print(f"| {n} | " + " | ".join(cells) + " |")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
