@@ -18,8 +18,9 @@ source/Seafloor.cpp); the files have MoorDyn's fixed names in the deck's folder:
 - ``Currents 2``: ``current_profile_dynamic.txt`` (line 5: the z's; from line 7: t and
   ux at each z [then uy, uz]).
 - ``Currents 5``: ``current_profile_4d.txt`` (line 1: nx ny nz nt; lines 2-5: the x, y,
-  z, t axes; from line 6: x y z t ux uy uz, every grid point once; MoorDyn-C skips line
-  6 as a header, leaving the point written there at zero velocity, where skmoor reads it).
+  z, t axes; line 6 a header; from line 7: x y z t ux uy uz; a grid point without a line
+  has zero current, as in MoorDyn-C, and is counted in the deck's notes: MoorDyn's own
+  files write a point on line 6, which both codes skip).
 - With a wave grid and ``UnifyCurrentGrid`` 1 (MoorDyn's default) the current is sampled
   at the wave grid's nodes and times and stretched with the waves, as MoorDyn adds it to
   that grid; otherwise it is interpolated on its own grid, unstretched.
@@ -203,9 +204,10 @@ def read_dynamic_current(path):
 
 
 def read_4d_current(path):
-    """(x, y, z m, times s, velocity (nx, ny, nz, nt, 3) m/s) of a
-    ``current_profile_4d.txt``; every grid point given once, from line 6 (or 7 after a
-    header line)."""
+    """(x, y, z m, times s, velocity (nx, ny, nz, nt, 3) m/s, missing) of a
+    ``current_profile_4d.txt``, read as MoorDyn-C reads it: the points from line 7 on
+    (line 6 is a header), each on the axes; a grid point without a line has zero velocity
+    (``missing`` counts them)."""
     f = _File(path, "a 4D current (Currents 5)")
     f.need(7, "the counts, the x, y, z, t axes, a header line, then the points")
     counts = f.numbers(1, exactly=4)
@@ -215,12 +217,9 @@ def read_4d_current(path):
     for number, (name, count) in enumerate(zip("xyzt", counts.astype(int)), start=2):
         values = f.numbers(number, exactly=count)
         axes.append(f.increasing(number, values, f"{name} coordinates"))
-    velocity = np.full(tuple(counts.astype(int)) + (3,), np.nan)
-    try:  # MoorDyn skips line 6 as a header; MoorDyn's own files have a point there
-        first = 6 if len(f.numbers(6)) == 7 else 7
-    except ValueError:
-        first = 7
-    for number, values in f.data_rows(first):
+    velocity = np.zeros(tuple(counts.astype(int)) + (3,))
+    given = np.zeros(velocity.shape[:-1], bool)
+    for number, values in f.data_rows(7):
         if len(values) != 7:
             raise f.error(number, f"{len(values)} values, need x y z t ux uy uz")
         index = []
@@ -229,14 +228,11 @@ def read_4d_current(path):
             if hit.size != 1:
                 raise f.error(number, f"{name} = {value:g} is not on the {name} axis")
             index.append(hit[0])
-        if not np.isnan(velocity[tuple(index)][0]):
+        if given[tuple(index)]:
             raise f.error(number, "this grid point is given twice")
+        given[tuple(index)] = True
         velocity[tuple(index)] = values[4:]
-    missing = int(np.isnan(velocity[..., 0]).sum())
-    if missing:
-        raise ValueError(f"{f.path.name}: {missing} of the {velocity[..., 0].size} grid "
-                         "points have no line")
-    return (*axes, velocity)
+    return (*axes, velocity, int(given.size - given.sum()))
 
 
 def read_seafloor(path):
@@ -302,7 +298,11 @@ def _current(deck, mode):
     if mode == 2:
         z, times, velocity = read_dynamic_current(path)
         return resampled_current([0.0], [0.0], z, times, velocity[None, None])
-    return resampled_current(*read_4d_current(path))
+    *grid, missing = read_4d_current(path)
+    if missing:
+        deck.notes.append(f"{path.name}: {missing} grid points have no line (line 6 is a "
+                          "header, as MoorDyn-C reads it): zero current there")
+    return resampled_current(*grid)
 
 
 def _waves(deck, mode, stretching):
