@@ -4,8 +4,9 @@ one period of time, and a sum of frequency components evaluated at the points.
 
 Both are fields of a :class:`~skmoor.waves.Sea` (``Sea(..., fields=[...])``): objects with
 ``kinematics(points, t) -> (velocity, acceleration)`` ((..., 3) each, m/s and m/s2),
-``elevation(xy, t)`` (m) and ``has_acceleration`` (whether the field's acceleration is
-ever non-zero, i.e. whether the lines see fluid inertia from it).
+``elevation(xy, t)`` (m), ``has_acceleration`` (whether the field's acceleration is
+ever non-zero, i.e. whether the lines see fluid inertia from it) and ``steady_parts()``
+(the fields a static solve sees: its currents, no waves; :meth:`skmoor.waves.Sea.steady`).
 
 Interpolation is MoorDyn's: linear in x, y, z and t, held at the grid's first / last
 value beyond its ends; in time the grid repeats with period nt dt, the sample index
@@ -136,6 +137,10 @@ class WaveGrid:
         self.dt = 2 * np.pi / (omega[1] * self.nt)
         self.stretching, self.currents = stretching, list(currents)
 
+    def steady_parts(self):
+        """The steady part: the currents added to the grid, each on its own grid."""
+        return list(self.currents)
+
     def _modes(self, x, y, t):
         """c_i exp(i theta_i) (..., n) at nodes x, y (...) and time t."""
         along = x[..., None] * np.cos(self.beta) + y[..., None] * np.sin(self.beta)
@@ -252,6 +257,10 @@ class SpectrumWaves:
         self.k = np.where(positive, wavenumber(np.where(positive, self.omega, 1.0), depth, g),
                           0.0)
 
+    def steady_parts(self):
+        """No steady part."""
+        return []
+
     def _phase(self, xy, t):
         along = xy[..., 0, None] * np.cos(self.beta) + xy[..., 1, None] * np.sin(self.beta)
         return self.omega * t - self.k * along + self.phi
@@ -297,6 +306,10 @@ class CurrentGrid:
             raise ValueError(f"CurrentGrid: velocity of shape {self.velocity.shape} does not "
                              f"fit the grid ({self.px.size}, {self.py.size}, {self.pz.size}, "
                              "nt, 3)")
+
+    def steady_parts(self):
+        """The current itself (time-varying ones too: MoorDyn's IC solve sees them)."""
+        return [self]
 
     def elevation(self, xy, t=0.0):
         return np.zeros(np.asarray(xy).shape[:-1])

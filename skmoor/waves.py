@@ -10,6 +10,7 @@ at z = 0 (no stretching), below the seabed at z = -depth.
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 from functools import lru_cache
 
 import numpy as np
@@ -255,9 +256,23 @@ class Sea:
         self.fields = list(fields)
         for i, item in enumerate(self.fields):
             if not all(hasattr(item, name) for name in
-                       ("kinematics", "elevation", "has_acceleration")):
+                       ("kinematics", "elevation", "has_acceleration", "steady_parts")):
                 raise ValueError(f"Sea fields[{i}]: a {type(item).__name__} is no water field "
-                                 "(needs kinematics, elevation and has_acceleration)")
+                                 "(needs kinematics, elevation, has_acceleration and "
+                                 "steady_parts)")
+
+    @contextmanager
+    def steady(self):
+        """Within this context the sea is its steady part: the current and the current
+        fields (each on its own grid), no waves; what a static solve sees (MoorDyn's
+        initial-condition solve has its currents on and its waves off)."""
+        saved = self.waves, self.fields
+        self.waves = []
+        self.fields = [part for item in saved[1] for part in item.steady_parts()]
+        try:
+            yield self
+        finally:
+            self.waves, self.fields = saved
 
     @property
     def has_waves(self) -> bool:
