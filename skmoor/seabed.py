@@ -398,6 +398,7 @@ class SeabedKernel(Term):
         self.ends = np.ascontiguousarray(lines.nodal_dofs[t])  # (2, nel, 3) DOFs of each end
         self.X = np.ascontiguousarray(lines.points[t])  # (2, nel, 3)
         self.bathymetry = seabed.bathymetry
+        self.n = self.offset = None  # a bathymetry's follow the nodes
         if self.bathymetry is None:  # a plane: one normal and offset for every node
             self.n = np.ascontiguousarray(np.broadcast_to(seabed.normal, self.X.shape))
             self.offset = np.full(self.X.shape[:2], float(seabed.offset))
