@@ -268,3 +268,28 @@ def test_seafloor_file_is_a_bathymetry_and_sets_the_wave_depth(tmp_path):
     network, _ = deck_network(deck)
     assert network.seabed.bathymetry is not None
     assert network.seabed.height(np.array([[-100.0, 0.0]]))[0] == pytest.approx(-35.0)
+
+
+def test_4d_current_is_quadrilinear_in_x_y_z_t(tmp_path):
+    """Currents 5: values on a 2 x 1 x 2 x 2 grid (line 6 a header, as MoorDyn reads it)
+    linear in x, z and t in between: u = 1 + x / 10 + z / 20 + t / 5 is reproduced
+    exactly inside the grid and held at its edge outside; a grid point without a line
+    has zero current and is noted."""
+    lines = ["2 1 2 2", "0 10", "0", "-20 0", "0 5", "x y z t ux uy uz"]
+    for x in (0, 10):
+        for z in (-20, 0):
+            for t in (0, 5):
+                lines.append(f"{x} 0 {z} {t} {1 + x / 10 + z / 20 + t / 5} 0 0")
+    deck = deck_folder(tmp_path, {"Currents": 5}, {"current_profile_4d.txt": "\n".join(lines)})
+    sea = deck_sea(deck)
+    points = np.array([[2.5, 3.0, -15.0], [7.0, 0.0, -1.0], [30.0, 0.0, -40.0]])
+    expected = lambda x, z, t: 1 + x / 10 + z / 20 + t / 5  # noqa: E731
+    for t in (0.0, 1.5, 4.0):
+        u = sea.velocity(points, t)[:, 0]
+        assert u == pytest.approx([expected(2.5, -15.0, t), expected(7.0, -1.0, t),
+                                   expected(10.0, -20.0, t)], abs=1e-12)
+    del lines[6]  # the point (0, 0, -20, 0) has no line now
+    deck = deck_folder(tmp_path, {"Currents": 5}, {"current_profile_4d.txt": "\n".join(lines)})
+    sea = deck_sea(deck)
+    assert sea.velocity(np.array([[0.0, 0.0, -20.0]]), 0.0)[0, 0] == 0.0
+    assert any("1 grid points have no line" in note for note in deck.notes)
