@@ -20,8 +20,8 @@ the folder MoorDyn's tests run in) are extracted into a temporary folder and run
   tension alone) and the same at end A; the IC residual MoorDyn logs, which says whether
   the state is static (SETTLED). Templates are filled (TEMPLATES) and decks that start
   from another deck's saved state get it made first (PREREQUISITES), as MoorDyn's tests do.
-- skmoor, in this process one deck after the other (``--isolate``: subprocesses), with a
-  time limit: ``model = skmoor.build(deck)``, ``eq = skmoor.equilibrium(model)``,
+- skmoor, in this process one deck after the other (``--isolate``: subprocesses), from
+  the same folder as MoorDyn (a SeafloorFile path is relative to it), with a time limit: ``model = skmoor.build(deck)``, ``eq = skmoor.equilibrium(model)``,
   ``st = skmoor.static_results(model, eq)``; per line (``st.line_names``, 'line<k>' for
   MoorDyn line k) the end-B tension ``st.fairlead_tension[0]`` and end-A
   ``st.anchor_tension[0]``. A ValueError is a refusal, which must name the deck file,
@@ -809,10 +809,11 @@ class SkmoorTimeout(Exception):
     """A deck's skmoor run went past its time limit (raised by the alarm)."""
 
 
-def run_skmoor_inline(deck: Path, timeout: float) -> dict:
+def run_skmoor_inline(deck: Path, timeout: float, cwd=None) -> dict:
     """skmoor on one deck in this process (one import, one compilation of its kernels
-    for the whole set), time-limited by SIGALRM when called from the main thread and no
-    other alarm is set (under pytest-timeout, that one guards the run)."""
+    for the whole set), from ``cwd`` (default: this process's folder; a SeafloorFile
+    path is relative to it, as in MoorDyn), time-limited by SIGALRM when called from the
+    main thread and no other alarm is set (under pytest-timeout, that one guards the run)."""
     import signal
     import threading
 
@@ -824,14 +825,17 @@ def run_skmoor_inline(deck: Path, timeout: float) -> dict:
         raise SkmoorTimeout(f"no result within {timeout:g} s")
 
     started = time.perf_counter()
+    here = os.getcwd()
     if alarm:
         previous = signal.signal(signal.SIGALRM, expire)
         signal.setitimer(signal.ITIMER_REAL, timeout)
     try:
+        os.chdir(cwd or here)
         result = skmoor_worker(deck)
     except SkmoorTimeout as err:
         result = dict(status="timeout", type="Timeout", message=str(err))
     finally:
+        os.chdir(here)
         if alarm:
             signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, previous)
@@ -876,14 +880,14 @@ def survey(mirror=None, only=None, jobs=None, moordyn_timeout=MOORDYN_TIMEOUT,
             if "skmoor" in sides and not inline:
                 work.append((d.path, "skmoor", skmoor_timeout))
         with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-            futures = {pool.submit(run_side, side, local[path][0], timeout,
-                                   local[path][1] if side == "moordyn" else None,
+            futures = {pool.submit(run_side, side, local[path][0], timeout, local[path][1],
                                    local[path][2] if side == "moordyn" else ()): (path, side)
                        for path, side, timeout in work}
             if inline:
                 for d in decks:
                     record(d.path, "skmoor",
-                           run_skmoor_inline(local[d.path][0], skmoor_timeout))
+                           run_skmoor_inline(local[d.path][0], skmoor_timeout,
+                                             local[d.path][1]))
             for future in concurrent.futures.as_completed(futures):
                 record(*futures[future], future.result())
     finally:

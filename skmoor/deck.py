@@ -189,6 +189,7 @@ class Deck:
     options: dict = field(default_factory=dict)
     outputs: list = field(default_factory=list)
     source: str = field(default="deck", compare=False)
+    folder: Path = field(default=Path("."), compare=False)  # MoorDyn's wave / current files
     notes: list = field(default_factory=list, compare=False)
     option_lines: dict = field(default_factory=dict, compare=False)
 
@@ -297,7 +298,7 @@ def read_deck(path) -> Deck:
     if path.is_dir():
         raise ValueError(f"deck {path}: is a folder, not a MoorDyn input file")
     text = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    deck = Deck(source=path.name)
+    deck = Deck(source=path.name, folder=path.parent)
     entries = _split_sections(text, deck)
     for entry in entries.get("LINE TYPES", []):
         _line_type(entry, deck, path.parent)

@@ -33,9 +33,11 @@ x, y, z in m and roll, pitch, yaw in rad; then 3 per coupled point). Without a m
 they stay where the deck puts them. ``skmoor run DECK --motion FILE`` reads such a motion
 from a time-series file (:func:`read_motion`).
 
+MoorDyn's water and bed input (WaveKin 1, 2, 3, 7; Currents 1, 2, 5; SeafloorFile) is
+read from the deck's folder (:mod:`skmoor.sea_files`).
+
 Refused, with the deck line and the reason: pinned bodies, mass or volume on a body
-point, bending stiffness (EI > 0), VIV (Cl > 0), MoorDyn's wave / current / seafloor
-files.
+point, bending stiffness (EI > 0), VIV (Cl > 0), MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
 
@@ -49,8 +51,8 @@ from .hydro import body_hydrodynamics
 from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
+from .sea_files import deck_bathymetry, deck_sea
 from .seabed import Seabed
-from .waves import Sea
 
 __all__ = ["deck_network", "heave_motion", "read_motion", "default_time_step"]
 
@@ -94,15 +96,10 @@ def _law(deck: Deck, t):
 
 
 def _check_options(deck: Deck):
-    for name in ("WaveKin", "Currents"):
-        if deck.option(name, 0.0) != 0:
-            raise _fail(deck, deck.option_lines[name], f"option {name} = "
-                        f"{deck.options[name]}: MoorDyn's wave / current input files are "
-                        "not supported (give a skmoor.waves.Sea)")
-    for name in ("SeafloorFile", "WaterKin"):
-        if name in deck.options:
-            raise _fail(deck, deck.option_lines[name], f"option {name}: bathymetry / "
-                        "water-kinematics files are not supported (flat bed, still water)")
+    if "WaterKin" in deck.options:
+        raise _fail(deck, deck.option_lines["WaterKin"], "option WaterKin: MoorDyn-F's "
+                    "water-kinematics file is not supported (MoorDyn-C's WaveKin and "
+                    "Currents are)")
 
 
 def _internal_damping(deck: Deck, line) -> float:
@@ -159,8 +156,10 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     """(Network, settings) of a deck (a :class:`~skmoor.deck.Deck` or a path).
 
     motion: fn(t) -> coupled-DOF displacements (see the module docstring), or None.
-    sea: a :class:`skmoor.waves.Sea` (currents, waves); default: still water of the
-    deck's depth, rho and g. hydro: add drag, fluid inertia and added mass
+    sea: a :class:`skmoor.waves.Sea` (currents, waves) in place of the deck's water;
+    default: the deck's own (:func:`skmoor.sea_files.deck_sea`: its WaveKin and Currents
+    files, still water without them), which is also what a WaveKin 1 deck's caller
+    builds its waves on (``Sea(..., fields=deck_sea(deck).fields)``). hydro: add drag, fluid inertia and added mass
     (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact.
     settings: the solver's defaults for the deck (Newmark, dtOut as the output interval).
     """
@@ -169,7 +168,8 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     if not deck.g > 0:
         raise _fail(deck, deck.option_lines.get("g", "?"), f"option g = {deck.g:g}: "
                     "gravity must be positive (skmoor's lines and bodies need weight)")
-    sea = Sea(deck.depth, rho=deck.rho, g=deck.g) if sea is None else sea
+    bathymetry = deck_bathymetry(deck)
+    sea = deck_sea(deck, bathymetry) if sea is None else sea
     bodies = [_deck_body(deck, b, sea) for b in deck.bodies]
     points = []
     for p in deck.points:
@@ -194,7 +194,7 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
     if seabed:
-        network.seabed = _seabed(deck, network)
+        network.seabed = _seabed(deck, network, bathymetry)
     dt_out = deck.option("dtOut") or None
     settings = {"solver": {"scheme": "newmark", "duration": 60.0,
                            **({"output_interval": dt_out} if dt_out else {})},
@@ -202,9 +202,9 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     return network, settings
 
 
-def _seabed(deck: Deck, network: Network):
+def _seabed(deck: Deck, network: Network, bathymetry=None):
     """MoorDyn's bottom for the deck's lines (pressures kBot, cBot on each line's
-    diameter), or None when kBot = 0."""
+    diameter; on the deck's bathymetry if it has one), or None when kBot = 0."""
     if deck.option("kBot") == 0:
         return None
     depth = deck.depth
@@ -217,7 +217,7 @@ def _seabed(deck: Deck, network: Network):
         friction = dict(mu_axial=mu_axial, mu_lateral=mu_lateral,
                         friction_velocity=segment / deck.option("FricDamp"))
     return Seabed(depth, stiffness=deck.option("kBot"), damping=deck.option("cBot"),
-                  per_diameter=True, **friction)
+                  per_diameter=True, bathymetry=bathymetry, **friction)
 
 
 def heave_motion(deck: Deck, amplitude: float, period: float, ramp=None):

@@ -8,6 +8,7 @@ are returned (and written) with ``meta["stopped"]`` saying why.
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -106,19 +107,23 @@ def _pretension(system) -> float:
 
 
 def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
-    """Static solve of the whole network, modes about it and Rayleigh damping (the
-    settings' ``damping.ratio`` at the first two natural frequencies, or ``damping.alpha``
-    / ``damping.beta``)."""
+    """Static solve of the whole network in the sea's steady part (its currents, no waves:
+    :meth:`skmoor.waves.Sea.steady`), modes about it and Rayleigh damping (the settings'
+    ``damping.ratio`` at the first two natural frequencies, or ``damping.alpha`` /
+    ``damping.beta``)."""
     system = model.system
-    try:
-        static = static_state(system)
-    except ConvergenceError as err:
-        free = unrestrained(model)
-        if free:
-            raise ConvergenceError(f"{err}; unrestrained at the given state: "
-                                   f"{', '.join(free)} (nothing holds them statically)") from None
-        raise
-    _, K, _ = system.residual(static.x)
+    sea = getattr(model.network, "sea", None)
+    with sea.steady() if sea is not None else contextlib.nullcontext():
+        try:
+            static = static_state(system)
+        except ConvergenceError as err:
+            free = unrestrained(model)
+            if free:
+                raise ConvergenceError(f"{err}; unrestrained at the given state: "
+                                       f"{', '.join(free)} (nothing holds them statically)"
+                                       ) from None
+            raise
+        _, K, _ = system.residual(static.x)
     damping = model.damping
     ratio = float(damping.get("ratio", 0.0))
     try:

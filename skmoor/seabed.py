@@ -48,6 +48,75 @@ DEFAULT_PENETRATION = 1e-3  # m: the default stiffness lets the heaviest line si
 _VERTICAL = 1e-12  # |P r'| below which an element stands on the bed: no axial direction
 
 
+class Bathymetry:
+    """A sea bed of heights z_b(x, y) (m, up) on a rectilinear grid: increasing x (nx,)
+    and y (ny,) in m, heights (nx, ny); bilinear in each cell and held at the edge values
+    beyond the grid (MoorDyn's seafloor file, source/Seafloor.cpp). Its normal at (x, y)
+    is (-dz_b/dx, -dz_b/dy, 1) normalised, of the cell's bilinear patch (slopes zero
+    along an axis beyond the grid's ends)."""
+
+    def __init__(self, x, y, heights, source="Bathymetry"):
+        self.x, self.y = np.asarray(x, float), np.asarray(y, float)
+        self.heights = np.asarray(heights, float)
+        for name, axis in (("x", self.x), ("y", self.y)):
+            if axis.ndim != 1 or axis.size < 1:
+                raise ValueError(f"{source}: {name} must be a list of coordinates")
+            check_finite(f"{source} {name}", axis)
+            if np.any(np.diff(axis) <= 0):
+                raise ValueError(f"{source}: the {name} coordinates must increase strictly, "
+                                 f"got {axis.tolist()}")
+        if self.heights.shape != (self.x.size, self.y.size):
+            raise ValueError(f"{source}: heights of shape {self.heights.shape}, expected "
+                             f"({self.x.size}, {self.y.size})")
+        check_finite(f"{source} heights", self.heights)
+        if np.any(self.heights >= 0):
+            raise ValueError(f"{source}: the bed must lie below the still water line (z < 0)")
+        self.mean_height = float(self.heights.mean())
+
+    def _cells(self, xy):
+        from .water_grids import interpolation
+
+        xy = np.asarray(xy, float)
+        return interpolation(self.x, xy[..., 0]), interpolation(self.y, xy[..., 1]), xy
+
+    def height(self, xy) -> np.ndarray:
+        """z_b (m) at horizontal positions xy (..., 2 or 3)."""
+        (i0, i1, fx), (j0, j1, fy), _ = self._cells(xy)
+        z = self.heights
+        return ((1 - fx) * ((1 - fy) * z[i0, j0] + fy * z[i0, j1])
+                + fx * ((1 - fy) * z[i1, j0] + fy * z[i1, j1]))
+
+    def slopes(self, xy) -> np.ndarray:
+        """(..., 2) dz_b/dx, dz_b/dy of the bilinear patch under xy."""
+        (i0, i1, fx), (j0, j1, fy), xy = self._cells(xy)
+        z = self.heights
+        out = np.zeros(xy.shape[:-1] + (2,))
+        if self.x.size > 1:
+            inside = (xy[..., 0] > self.x[0]) & (xy[..., 0] < self.x[-1])
+            out[..., 0] = inside * ((1 - fy) * (z[i1, j0] - z[i0, j0]) + fy * (
+                z[i1, j1] - z[i0, j1])) / (self.x[i1] - self.x[i0])
+        if self.y.size > 1:
+            inside = (xy[..., 1] > self.y[0]) & (xy[..., 1] < self.y[-1])
+            out[..., 1] = inside * ((1 - fx) * (z[i0, j1] - z[i0, j0]) + fx * (
+                z[i1, j1] - z[i1, j0])) / (self.y[j1] - self.y[j0])
+        return out
+
+    def normal(self, xy) -> np.ndarray:
+        """(..., 3) upward unit normal under xy."""
+        s = self.slopes(xy)
+        n = np.concatenate([-s, np.ones(s.shape[:-1] + (1,))], axis=-1)
+        return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+    def plane(self, points):
+        """The bed's tangent plane under points (..., 3): its normal n (..., 3) and n.P
+        (...), P = (x, y, z_b(x, y)): the penetration is n.P - n.x = n_z (z_b - z)."""
+        points = np.asarray(points, float)
+        n = self.normal(points)
+        offset = (n[..., 0] * points[..., 0] + n[..., 1] * points[..., 1]
+                  + n[..., 2] * self.height(points))
+        return np.ascontiguousarray(n), np.ascontiguousarray(offset)
+
+
 @dataclass
 class Seabed:
     """A plane sea bed with penalty contact and friction.
@@ -74,9 +143,16 @@ class Seabed:
     friction_velocity: float = 1e-3
     damping_onset: float | None = None
     per_diameter: bool = False
+    bathymetry: Bathymetry | None = None
 
     def __post_init__(self):
         check_positive("Seabed.depth", self.depth)
+        if self.bathymetry is not None:
+            if not isinstance(self.bathymetry, Bathymetry):
+                raise ValueError(f"Seabed.bathymetry: expected a Bathymetry or None, got "
+                                 f"{type(self.bathymetry).__name__}")
+            if self.slope_deg != 0:
+                raise ValueError("Seabed.slope_deg: give a slope or a bathymetry, not both")
         if self.stiffness is not None:
             check_positive("Seabed.stiffness", self.stiffness)
         for name in ("damping", "mu_axial", "mu_lateral", "damping_onset"):
@@ -113,7 +189,10 @@ class Seabed:
 
     @property
     def normal(self) -> np.ndarray:
-        """(3,) upward unit normal of the bed."""
+        """(3,) upward unit normal of the plane bed."""
+        if self.bathymetry is not None:
+            raise ValueError("Seabed.normal: a bathymetry bed has a normal per point "
+                             "(Bathymetry.normal)")
         a, h = np.radians(self.slope_deg), np.radians(self.slope_heading_deg)
         return np.array([-np.sin(a) * np.cos(h), -np.sin(a) * np.sin(h), np.cos(a)])
 
@@ -125,12 +204,19 @@ class Seabed:
     def height(self, xy) -> np.ndarray:
         """z of the bed (m) at horizontal positions xy (..., 2), m."""
         xy = np.asarray(xy, float)
+        if self.bathymetry is not None:
+            return self.bathymetry.height(xy)
         a, h = np.radians(self.slope_deg), np.radians(self.slope_heading_deg)
         return -self.depth + np.tan(a) * (xy[..., 0] * np.cos(h) + xy[..., 1] * np.sin(h))
 
     def penetration(self, points) -> np.ndarray:
-        """Depth of points (..., 3) below the bed, normal to it, m (negative above)."""
-        return self.offset - np.asarray(points, float) @ self.normal
+        """Depth of points (..., 3) below the bed, normal to it, m (negative above; on a
+        bathymetry n_z (z_b - z), the distance to the bed's tangent plane)."""
+        points = np.asarray(points, float)
+        if self.bathymetry is not None:
+            n, offset = self.bathymetry.plane(points)
+            return offset - np.sum(n * points, axis=-1)
+        return self.offset - points @ self.normal
 
     def coefficients(self, lines):
         """(stiffness N/m2, damping N s/m2) with the defaults resolved for a LineSet."""
@@ -279,6 +365,9 @@ def form_term(lines, seabed, *, path="auto"):
     """The sea bed as a :class:`~skmoor.terms.LineForm` on the forms above with nodal
     quadrature (the definition; the same numbers as the kernel to round-off). path:
     'auto' uses the hand-written tangents on scikit-fem's assembly."""
+    if seabed.bathymetry is not None:
+        raise ValueError("seabed form_term: a bathymetry bed is the compiled kernel only "
+                         "(seabed_term); the forms take a plane bed")
     k, c = seabed.cell_coefficients(lines)
     nqp = lines.nodal_basis.X.shape[1]
     fields = dict(X=_reference_positions(lines), bed_n=seabed.normal[:, None, None],
@@ -304,11 +393,15 @@ class SeabedKernel(Term):
         self.onset = seabed.onset(lines)
         self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
         self.v0 = float(seabed.friction_velocity)
-        self.n, self.offset = seabed.normal, float(seabed.offset)
         t = lines.mesh.t  # (2, nel)
         self.h = lines.element_lengths
         self.ends = np.ascontiguousarray(lines.nodal_dofs[t])  # (2, nel, 3) DOFs of each end
         self.X = np.ascontiguousarray(lines.points[t])  # (2, nel, 3)
+        self.bathymetry = seabed.bathymetry
+        self.n = self.offset = None  # a bathymetry's follow the nodes
+        if self.bathymetry is None:  # a plane: one normal and offset for every node
+            self.n = np.ascontiguousarray(np.broadcast_to(seabed.normal, self.X.shape))
+            self.offset = np.full(self.X.shape[:2], float(seabed.offset))
         self.friction = self.mu_a > 0 or self.mu_l > 0
         self.moving = bool(np.any(self.c > 0)) or self.friction
         self._no_velocity = np.zeros(lines.ndofs)
@@ -316,23 +409,28 @@ class SeabedKernel(Term):
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
         blocks (the term protocol, :mod:`skmoor.terms`)."""
-        _seabed(self.X, self.ends, self.h, self.n, self.offset, self.k, self.c, self.onset,
+        n, offset = self.n, self.offset
+        if self.bathymetry is not None:  # the bed's normal and height under each node
+            n, offset = self.bathymetry.plane(self.X + u[self.ends])
+        _seabed(self.X, self.ends, self.h, n, offset, self.k, self.c, self.onset,
                 self.mu_a, self.mu_l, self.v0, self.friction, u,
                 self._no_velocity if ud is None else ud, R,
                 NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
 
 
 @njit(cache=True)
-def _seabed(X, ends, h, n, offset, k, c, onset, mu_a, mu_l, v0, friction, u, ud, R, Ke, Ce):
+def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction, u, ud, R, Ke, Ce):
     """Adds seabed_residual into R and seabed_stiffness / seabed_damping into Ke, Ce at
-    the two ends of each element (weights h / 2)."""
+    the two ends of each element (weights h / 2), the bed's upward unit normal and n.P
+    (P a point of the bed) at each end in normals (2, nel, 3) and offsets (2, nel)."""
     tangent = Ke.shape[0] > 0
     x, vel, rp = np.zeros(3), np.zeros(3), np.zeros(3)
     a, vl, F = np.zeros(3), np.zeros(3), np.zeros(3)
     for e in range(h.size):
         W = 0.5 * h[e]
         for end in range(2):
-            g, vn = offset, 0.0
+            n = normals[end, e]
+            g, vn = offsets[end, e], 0.0
             for i in range(3):
                 x[i] = X[end, e, i] + u[ends[end, e, i]]
                 vel[i] = ud[ends[end, e, i]]

@@ -10,6 +10,7 @@ at z = 0 (no stretching), below the seabed at z = -depth.
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 from functools import lru_cache
 
 import numpy as np
@@ -229,10 +230,11 @@ class JonswapWave(_Components):
 
 class Sea:
     """The water: depth (m), density rho (kg/m3), gravity g (m/s2), an optional
-    :class:`Current` and any number of waves (:class:`AiryWave`, :class:`JonswapWave`),
+    :class:`Current`, any number of waves (:class:`AiryWave`, :class:`JonswapWave`) and
+    of tabulated fields (:mod:`skmoor.water_grids`: MoorDyn's wave and current files),
     superposed linearly."""
 
-    def __init__(self, depth, rho=1025.0, g=G, current=None, waves=()):
+    def __init__(self, depth, rho=1025.0, g=G, current=None, waves=(), fields=()):
         check_positive("Sea depth", depth)
         check_positive("Sea rho", rho)
         check_positive("Sea g", g)
@@ -252,15 +254,36 @@ class Sea:
             if not np.isclose(wave.g, self.g, rtol=1e-12, atol=0.0):
                 raise ValueError(f"Sea waves[{i}]: g {wave.g} differs from the sea's g {self.g}")
         self.waves = waves
+        self.fields = list(fields)
+        for i, item in enumerate(self.fields):
+            if not all(hasattr(item, name) for name in
+                       ("kinematics", "elevation", "has_acceleration", "steady_parts")):
+                raise ValueError(f"Sea fields[{i}]: a {type(item).__name__} is no water field "
+                                 "(needs kinematics, elevation, has_acceleration and "
+                                 "steady_parts)")
+
+    @contextmanager
+    def steady(self):
+        """Within this context the sea is its steady part: the current and the current
+        fields (each on its own grid), no waves; what a static solve sees (MoorDyn's
+        initial-condition solve has its currents on and its waves off)."""
+        saved = self.waves, self.fields
+        self.waves = []
+        self.fields = [part for item in saved[1] for part in item.steady_parts()]
+        try:
+            yield self
+        finally:
+            self.waves, self.fields = saved
 
     @property
     def has_waves(self) -> bool:
-        return bool(self.waves)
+        """True when the water accelerates (waves or an accelerating field)."""
+        return bool(self.waves) or any(item.has_acceleration for item in self.fields)
 
     @property
     def still(self) -> bool:
-        """True without current and waves."""
-        return self.current is None and not self.waves
+        """True without current, waves and fields."""
+        return self.current is None and not self.waves and not self.fields
 
     def kinematics(self, points, t=0.0):
         """Water velocity (current + waves, m/s) and acceleration (m/s2) at points
@@ -269,17 +292,19 @@ class Sea:
         velocity = (np.zeros(points.shape) if self.current is None
                     else self.current.velocity(points, t))
         acceleration = np.zeros(points.shape)
-        for wave in self.waves:
+        for wave in self.waves + self.fields:
             v, a = wave.kinematics(points, t)
             velocity, acceleration = velocity + v, acceleration + a
         return velocity, acceleration
 
     def velocity(self, points, t=0.0):
-        """(..., 3) water velocity at points (..., 3): current + waves, m/s."""
+        """(..., 3) water velocity at points (..., 3): current + waves + fields, m/s."""
         points = _points("Sea.velocity", points)
         out = np.zeros(points.shape) if self.current is None else self.current.velocity(points, t)
         for wave in self.waves:
             out = out + wave.velocity(points, t)
+        for item in self.fields:
+            out = out + item.kinematics(points, t)[0]
         return out
 
     def acceleration(self, points, t=0.0):
@@ -288,12 +313,14 @@ class Sea:
         out = np.zeros(points.shape)
         for wave in self.waves:
             out = out + wave.acceleration(points, t)
+        for item in self.fields:
+            out = out + item.kinematics(points, t)[1]
         return out
 
     def elevation(self, xy, t=0.0):
         """Free-surface elevation (m) at horizontal positions xy (..., 2 or 3) and times t."""
         xy = np.asarray(xy, float)
         out = np.zeros(np.broadcast_shapes(xy.shape[:-1], np.shape(t)))
-        for wave in self.waves:
+        for wave in self.waves + self.fields:
             out = out + wave.elevation(xy, t)
         return out
