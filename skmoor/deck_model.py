@@ -33,9 +33,18 @@ x, y, z in m and roll, pitch, yaw in rad; then 3 per coupled point). Without a m
 they stay where the deck puts them. ``skmoor run DECK --motion FILE`` reads such a motion
 from a time-series file (:func:`read_motion`).
 
-Refused, with the deck line and the reason: pinned bodies, mass or volume on a body
-point, bending stiffness (EI > 0), VIV (Cl > 0), MoorDyn's wave / current / seafloor
-files.
+Rods (:mod:`skmoor.rods`): a Free rod is a dynamic body of its own (reference point at
+end A) with its :class:`~skmoor.rods.RodLoad` and a spin spring; a Pinned rod the same,
+end A pinned in place; a CoupledPinned rod, end A on 3 coupled DOFs; a Fixed rod is its
+two end points, fixed; a Body<N> rod adds its mass and its RodLoad to body N (on a
+coupled or fixed body it only carries its line ends); a Body<N>Pinned rod on a fixed
+body is a Pinned rod there. Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` /
+``rodN.B`` on the rod. A CoupledPinned body is a dynamic body (its mass and its rods')
+pinned at its reference point on 3 coupled DOFs.
+
+Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), a
+Body<N>Pinned rod on a moving body, mass or volume on a body point, bending stiffness
+(EI > 0), VIV (Cl > 0), MoorDyn's wave / current / seafloor files.
 """
 from __future__ import annotations
 
@@ -49,6 +58,7 @@ from .hydro import body_hydrodynamics
 from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
+from .rods import RodLoad, RodType, SpinLoad, mount_rod, rod_body
 from .seabed import Seabed
 from .waves import Sea
 
@@ -124,34 +134,87 @@ def _six(values, kind):
 
 
 def _deck_body(deck: Deck, body, sea) -> Body:
-    """A deck body as a network Body (free -> dynamic)."""
+    """A deck body as a network Body (free -> dynamic; coupled pinned -> dynamic, pinned
+    on 3 coupled DOFs), with the rods fixed on it."""
     name = f"body{body.id}"
     position = np.array(body.r6[:3], float)
     attitude = np.radians(np.array(body.r6[3:], float))
     if body.kind in ("fixed", "coupled"):
         return Body(name, body.kind, position, attitude)
-    if body.kind != "free":
-        raise _fail(deck, body.where, f"BODIES {body.id}: a {body.kind} body is not "
-                    "supported (free, coupled or fixed bodies are)")
     R0 = moordyn_rotation(attitude)
     cg = np.array(body.cg, float) if len(body.cg) == 3 else np.array([0.0, 0.0, body.cg[0]])
     inertia = np.array(body.inertia, float)
     inertia = np.full(3, inertia[0]) if inertia.size == 1 else inertia
-    if body.mass <= 0 or np.any(inertia <= 0):
-        raise _fail(deck, body.where, f"BODIES {body.id}: a free body needs Mass > 0 and "
-                    f"inertia > 0 (got {body.mass:g} kg, {inertia.tolist()} kg m2)")
+    rods = [r for r in deck.rods if r.kind == "body" and r.body == body.id and not r.pinned]
+    if not rods and (body.mass <= 0 or np.any(inertia <= 0)):
+        raise _fail(deck, body.where, f"BODIES {body.id}: a {body.kind} body needs Mass > 0 "
+                    f"and inertia > 0, or a rod on it (got {body.mass:g} kg, "
+                    f"{inertia.tolist()} kg m2)")
     com = position + R0 @ cg
     hydro = (Hydrostatics.submerged(body.volume, com, position) if body.volume > 0 else None)
     added = deck.rho * body.volume * np.diag(_six(body.Ca, "Ca"))
     rotated = R0 @ np.diag(inertia) @ R0.T
-    rigid = RigidBody(body.mass, com, 0.5 * (rotated + rotated.T), reference_point=position,
-                      hydrostatics=hydro, added_mass=added, rho=deck.rho, g=deck.g)
+    rigid = None
+    if body.mass > 0:
+        rigid = RigidBody(body.mass, com, 0.5 * (rotated + rotated.T), reference_point=position,
+                          hydrostatics=hydro, added_mass=added, rho=deck.rho, g=deck.g)
+    elif hydro is not None or np.any(added):
+        raise _fail(deck, body.where, f"BODIES {body.id}: a body of no mass of its own "
+                    "with a Volume is not supported")
     terms = []
     cda = _six(body.CdA, "CdA")
     if any(cda):
         terms.append(body_hydrodynamics(drag_coefficients=np.ones(6), drag_areas=cda, sea=sea,
                                         reference_point=position, rho=deck.rho))
-    return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms)
+    for rod in rods:  # the rod's ends in the body frame -> global offsets at the start
+        rod_type, a, b = _rod_type(deck, rod), R0 @ rod.a, R0 @ rod.b
+        rigid = mount_rod(rigid, rod_type, position + a, position + b,
+                          reference_point=position, g=deck.g, name=f"rod{rod.id}")
+        terms.append(RodLoad(rod_type, a, b, reference_point=position,
+                             n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
+                             name=f"rod{rod.id}"))
+    return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms,
+                pin="coupled" if body.kind == "pinned" else None)
+
+
+def _rod_type(deck: Deck, rod) -> RodType:
+    t = deck.rod_types[rod.type]
+    return RodType(t.name, t.diameter, t.mass, t.Cd, t.Ca, t.CdEnd, t.CaEnd)
+
+
+def _deck_rod(deck: Deck, rod, bodies, sea):
+    """(points, body or None) of a deck rod: its end points ``rodN.A``, ``rodN.B`` and,
+    for a free or pinned rod, its own dynamic body."""
+    name = f"rod{rod.id}"
+    a, b = np.array(rod.a, float), np.array(rod.b, float)
+    if rod.kind == "body":
+        carrier = bodies[rod.body - 1]
+        if not rod.pinned:
+            return [Point(f"{name}.A", "body", a, body=carrier.name),
+                    Point(f"{name}.B", "body", b, body=carrier.name)], None
+        if carrier.kind != "fixed":
+            raise _fail(deck, rod.where, f"RODS {rod.id}: a Body{rod.body}Pinned rod on a "
+                        f"{carrier.kind} body is not supported (on a fixed body it is)")
+        R0 = carrier.rotation_matrix()
+        a, b = carrier.position + R0 @ a, carrier.position + R0 @ b
+        kind = "pinned"
+    else:
+        kind = rod.kind
+    if kind == "fixed":
+        return [Point(f"{name}.A", "fixed", a), Point(f"{name}.B", "fixed", b)], None
+    if kind == "coupled":
+        raise _fail(deck, rod.where, f"RODS {rod.id}: a Coupled rod (6 prescribed DOFs) is "
+                    "not supported (CoupledPinned, Pinned, Free, Fixed and Body<N> rods are)")
+    rod_type = _rod_type(deck, rod)
+    rigid = rod_body(rod_type, a, b, g=deck.g, name=name)
+    length = float(np.linalg.norm(b - a))
+    terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a,
+                     n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea, name=name),
+             SpinLoad(np.zeros(3), b - a, rigid.mass * deck.g * length)]
+    pin = {"free": None, "pinned": "fixed", "coupled pinned": "coupled"}[kind]
+    body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
+    return [Point(f"{name}.A", "body", np.zeros(3), body=name),
+            Point(f"{name}.B", "body", b - a, body=name)], body
 
 
 def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
@@ -172,6 +235,11 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     sea = Sea(deck.depth, rho=deck.rho, g=deck.g) if sea is None else sea
     bodies = [_deck_body(deck, b, sea) for b in deck.bodies]
     points = []
+    for rod in deck.rods:
+        ends, body = _deck_rod(deck, rod, bodies[:len(deck.bodies)], sea)
+        points += ends
+        if body is not None:
+            bodies.append(body)
     for p in deck.points:
         kind = p.kind
         if kind == "body":
@@ -186,7 +254,7 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     lines = []
     for line in deck.lines:
         lines.append(MooringLine(f"line{line.id}", line_type_of(deck, line),
-                                 f"point{line.a}", f"point{line.b}", line.length,
+                                 _end_name(line.a), _end_name(line.b), line.length,
                                  int(line.n_segments)))
     try:
         network = Network(points, lines, bodies, depth=deck.depth, rho=deck.rho, g=deck.g,
@@ -200,6 +268,11 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
                            **({"output_interval": dt_out} if dt_out else {})},
                 "damping": {"ratio": 0.0}, "load": {}}
     return network, settings
+
+
+def _end_name(end) -> str:
+    """The network point of a deck line end: a point number, or a rod end 'R<N>A'."""
+    return f"point{end}" if isinstance(end, int) else f"rod{end[1:-1]}.{end[-1]}"
 
 
 def _seabed(deck: Deck, network: Network):
@@ -229,9 +302,7 @@ def heave_motion(deck: Deck, amplitude: float, period: float, ramp=None):
     ramp = float(period if ramp is None else ramp)
     omega = 2 * np.pi / period
     heave, start = [], 0
-    coupled = ([6 for b in deck.bodies if b.kind == "coupled"]
-               + [3 for p in deck.points if p.kind == "coupled"])
-    for size in coupled:
+    for size in deck.coupled_sizes:
         heave.append(start + 2)
         start += size
     n = start

@@ -23,6 +23,7 @@ from . import body as rigid
 from .dynamics import DivergenceError, Scheme, State, integrate, rayleigh_coefficients
 from .model import Model, build
 from .modes import Modes, eigenmodes
+from .network import coupled_size
 from .results import BODY_DOFS, Results
 from .statics import ConvergenceError, solve_static
 
@@ -153,6 +154,8 @@ def released_state(model: Model) -> np.ndarray:
         u[dofs[a + 1:b]] = (1 - share) * u[dofs[a]] + share * u[dofs[b]]
     x0[system._columns] = u[system.free]  # (a point's column gets its own value back)
     held = np.concatenate([system.point_columns.ravel(), np.arange(system.nf, system.n)])
+    if len(np.unique(held)) == system.n:  # nothing left to settle
+        return x0
     return static_state(system, x0, held=held.astype(int)).x
 
 
@@ -334,7 +337,7 @@ def _coupled_stiffness(model: Model, eq: Equilibrium, body, step=1e-4) -> np.nda
     for obj in network.coupled:
         if obj is body:
             break
-        start += 6 if obj in network.bodies else 3
+        start += coupled_size(obj)
     ends = [(k, end) for k, line in enumerate(network.lines) for end, point in
             (("a", line.a), ("b", line.b)) if network.point(point).kind == "body"
             and network.point(point).body == body.name]
@@ -378,7 +381,7 @@ class _Recorder:
             b for b in network.bodies if b.kind == "dynamic")}
         self._coupled, start = {}, 0
         for obj in network.coupled:
-            size = 6 if obj in network.bodies else 3
+            size = coupled_size(obj)
             self._coupled[obj.name] = slice(start, start + size)
             start += size
         self._point_reference = np.array([model.positions[p.name] for p in network.points]
