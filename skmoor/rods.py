@@ -266,9 +266,12 @@ class PinLoad(BodyLoad):
 
 
 class SpinLoad(BodyLoad):
-    """A torsional spring k (N m/rad) on a rod's spin psi about its own axis (the rotation
-    left after the least rotation that turns the axis from t0 to its present direction):
-    a couple -k psi t, applied as two opposite forces one metre apart across the axis."""
+    """A torsional spring on a rod's spin psi about its own axis (the rotation left after
+    the least rotation that turns the axis from t0 to its present direction t): a couple
+    -k (1 + t0.t) / 2 psi t, applied as two opposite forces one metre apart across the
+    axis; k in N m/rad. The factor fades the spring out where the rod points opposite to
+    t0 and the least rotation is undefined (no load of an axisymmetric rod drives the
+    spin: the spring only keeps the statics regular)."""
 
     def __init__(self, a, b, stiffness, *, body=0):
         a, b, length = _axis(a, b, "spin")
@@ -280,12 +283,12 @@ class SpinLoad(BodyLoad):
         super().__init__(self.forces, body=body, tangent=self._central)
 
     def spin(self, q) -> float:
-        """psi (rad) of body DOFs q."""
+        """psi (rad) of body DOFs q (0 where the rod points opposite to t0)."""
         R = rotation_matrix(q[3:])
         t, n = R @ self.t0, R @ self.n0
         v, c = np.cross(self.t0, t), float(self.t0 @ t)
-        if c <= -1 + 1e-9:
-            raise ValueError("SpinLoad: the rod has turned end over end; its spin is undefined")
+        if c <= -1 + 1e-12:
+            return 0.0
         S = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
         least = (np.eye(3) + S + S @ S / (1 + c)) @ self.n0
         return math.atan2(float(t @ np.cross(least, n)), float(least @ n))
@@ -294,7 +297,8 @@ class SpinLoad(BodyLoad):
         q = np.asarray(q, float)
         R = rotation_matrix(q[3:])
         axis, n = R @ self.t0, R @ self.n0
-        f = -self.stiffness * self.spin(q) * np.cross(axis, n)  # moment n x f = -k psi t
+        fade = 0.5 * (1 + float(self.t0 @ axis))
+        f = -self.stiffness * fade * self.spin(q) * np.cross(axis, n)  # n x f = -k' psi t
         J = attachment_jacobian(q, np.array([self.a + self.n0, self.a]))
         return J[0].T @ f - J[1].T @ f
 

@@ -203,7 +203,7 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     scheme = Scheme.named(solver["scheme"], solver.get("rho_inf", 0.8))
     folder = None if out is None else prepare_output(out)
     started = time.perf_counter()
-    eq = eq or equilibrium(model)
+    eq = eq or _starting_equilibrium(model, start)
     notes = resolution_notes(model, eq, dt)
     for note in notes:
         warnings.warn(note, ResolutionWarning, stacklevel=2)
@@ -238,6 +238,21 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     if writer is not None:
         writer.finish(results)
     return results
+
+
+def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
+    """The model's equilibrium; for a release from the given state (``start='given'``)
+    without Rayleigh damping, a model with no static equilibrium (a buoyant rod pinned
+    below the surface turns over, nothing holds it horizontal) starts without one."""
+    try:
+        return equilibrium(model)
+    except ConvergenceError as err:
+        damping = model.damping
+        if start != "given" or any(damping.get(k) for k in ("ratio", "alpha", "beta")):
+            raise
+        model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "
+                           "released from the given state without one")
+        return Equilibrium(released_state(model), None, None, None, (0.0, 0.0))
 
 
 def _meta(model: Model, eq: Equilibrium) -> dict:
