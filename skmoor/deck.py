@@ -275,10 +275,9 @@ class Deck:
 
     @property
     def coupled_sizes(self) -> list:
-        """DOFs of each coupled object in MoorDyn's order: bodies (6 coupled, 3 pinned),
-        rods (6 coupled, 3 coupled pinned), points (3)."""
-        return ([6 if b.kind == "coupled" else 3 for b in self.bodies
-                 if b.kind in ("coupled", "pinned")]
+        """DOFs of each coupled object in MoorDyn's order (its NCoupledDOF): bodies (6,
+        coupled or pinned), rods (6 coupled, 3 coupled pinned), points (3)."""
+        return ([6 for b in self.bodies if b.kind in ("coupled", "pinned")]
                 + [6 if r.kind == "coupled" else 3 for r in self.rods
                    if r.kind in ("coupled", "coupled pinned")]
                 + [3 for p in self.points if p.kind == "coupled"])

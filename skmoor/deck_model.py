@@ -40,7 +40,9 @@ two end points, fixed; a Body<N> rod adds its mass and its RodLoad to body N (on
 coupled or fixed body it only carries its line ends); a Body<N>Pinned rod on a fixed
 body is a Pinned rod there. Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` /
 ``rodN.B`` on the rod. A CoupledPinned body is a dynamic body (its mass and its rods')
-pinned at its reference point on 3 coupled DOFs.
+pinned at its reference point on 3 coupled DOFs (MoorDyn's coupled-DOF vector gives it
+6, of which the first 3, its position, are used); a body of no mass of its own carrying
+one rod gets that rod's spin spring.
 
 Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), a
 Body<N>Pinned rod on a moving body, mass or volume on a body point, bending stiffness
@@ -173,6 +175,8 @@ def _deck_body(deck: Deck, body, sea) -> Body:
         terms.append(RodLoad(rod_type, a, b, reference_point=position,
                              n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
                              name=f"rod{rod.id}"))
+    if body.mass <= 0 and len(rods) == 1:  # a massless body on one rod: the rod's spin
+        terms.append(SpinLoad(a, b, rigid.mass * deck.g * np.linalg.norm(b - a)))
     return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms,
                 pin="coupled" if body.kind == "pinned" else None)
 
@@ -258,7 +262,8 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
                                  int(line.n_segments)))
     try:
         network = Network(points, lines, bodies, depth=deck.depth, rho=deck.rho, g=deck.g,
-                          sea=sea, hydro=hydro, strain_law="engineering", motion=motion)
+                          sea=sea, hydro=hydro, strain_law="engineering",
+                          motion=_network_motion(deck, motion))
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
     if seabed:
@@ -268,6 +273,30 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
                            **({"output_interval": dt_out} if dt_out else {})},
                 "damping": {"ratio": 0.0}, "load": {}}
     return network, settings
+
+
+def _network_motion(deck: Deck, motion):
+    """The network's coupled-DOF motion from MoorDyn's coupled-DOF vector: a
+    CoupledPinned body takes 6 entries there (MoorDyn's NCoupledDOF) of which its
+    position, the first 3, is used."""
+    if motion is None or not any(b.kind == "pinned" for b in deck.bodies):
+        return motion
+    keep, start = [], 0
+    for size, body in zip(deck.coupled_sizes, _coupled_kinds(deck)):
+        keep += list(range(start, start + (3 if body == "pinned" else size)))
+        start += size
+
+    def network_motion(t):
+        return np.asarray(motion(t), float)[keep]
+
+    return network_motion
+
+
+def _coupled_kinds(deck: Deck) -> list:
+    """The kind of each coupled object in MoorDyn's order (as Deck.coupled_sizes)."""
+    return ([b.kind for b in deck.bodies if b.kind in ("coupled", "pinned")]
+            + [r.kind for r in deck.rods if r.kind in ("coupled", "coupled pinned")]
+            + ["point" for p in deck.points if p.kind == "coupled"])
 
 
 def _end_name(end) -> str:

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .body import RigidBody, attachment_displacement, attachment_jacobian, rotation_matrix
+from .body import RigidBody, attachment_jacobian, attachment_state, rotation_matrix
 from .terms import BodyLoad
 
 __all__ = ["RodType", "rod_body", "mount_rod", "RodLoad", "PinLoad", "SpinLoad"]
@@ -142,8 +142,8 @@ class RodLoad(BodyLoad):
         self.rod_type, self.a, self.b, self.length = rod_type, a, b, length
         self.reference_point = np.asarray(reference_point, float)
         self.rho, self.g, self.sea, self.name = float(rho), float(g), sea, name
-        fractions = (np.arange(n_segments) + 0.5) / n_segments
-        self.midpoints = a + fractions[:, None] * (b - a)
+        self.fractions = (np.arange(n_segments) + 0.5) / n_segments  # segment midpoints
+        self.ends = np.ascontiguousarray([a, b])
         self.segment = length / n_segments
         self.mass = rod_type.mass * length
         mass, com, inertia = rod_inertia(rod_type, a + self.reference_point,
@@ -153,57 +153,49 @@ class RodLoad(BodyLoad):
         super().__init__(self.forces, body=body, added_mass=self.added_mass_matrix(),
                          tangent=self._central)
 
-    def _global(self, q, r):
-        return self.reference_point + r + attachment_displacement(q, r)
-
     def forces(self, q, qdot, t):
-        """Generalized load (6,), N and N m: J^T f summed over the rod's loads."""
+        """Generalized load (6,), N and N m: J^T f summed over the rod's loads. Positions
+        and Jacobians are linear along the rod: those of its ends, interpolated."""
         lt, rho, g = self.rod_type, self.rho, self.g
         q, qdot = np.asarray(q, float), np.asarray(qdot, float)
-        A, B = self._global(q, self.a), self._global(q, self.b)
+        moved, J = attachment_state(q, self.ends)
+        (A, B), (JA, JB) = self.reference_point + self.ends + moved, J.reshape(2, 3, 6)
+
+        def at(s):  # (position, Jacobian) a fraction s along the rod from end A
+            return A + s * (B - A), JA + s * (JB - JA)
+
         axis = (B - A) / self.length
-        com = 0.5 * (self.a + self.b)
-        F = attachment_jacobian(q, com).T @ np.array([0.0, 0.0, -self.mass * g])
+        F = at(0.5)[1].T @ np.array([0.0, 0.0, -self.mass * g])
         F0, K = self._linear  # the body model's linear weight of the rod, replaced
         F -= F0 - K @ q
         start, end = _submerged(A[2], B[2])
         if end > start:  # rho g A L_sub at the centre of the submerged length
-            centre = self.a + 0.5 * (start + end) * (self.b - self.a)
-            F += attachment_jacobian(q, centre).T @ np.array(
+            F += at(0.5 * (start + end))[1].T @ np.array(
                 [0.0, 0.0, rho * g * lt.area * (end - start) * self.length])
-        if lt.Cd or lt.CdEnd:
-            F += self._drag(q, qdot, t, axis)
+        if lt.Cd:  # 1/2 rho Cd d ds |w_n| w_n at the wet segment midpoints, w = U - v
+            s = self.fractions
+            X = A + s[:, None] * (B - A)
+            Js = JA + s[:, None, None] * (JB - JA)  # (n, 3, 6)
+            wet = X[:, 2] < 0
+            if np.any(wet):
+                w = self._water(X[wet], t) - Js[wet] @ qdot
+                normal = w - (w @ axis)[:, None] * axis
+                speed = np.linalg.norm(normal, axis=1)
+                f = 0.5 * rho * lt.Cd * lt.diameter * self.segment * speed[:, None] * normal
+                F += np.einsum("nka,nk->a", Js[wet], f)
+        if lt.CdEnd:  # 1/2 rho CdEnd A |w_a| w_a on each submerged end cap
+            for X_end, J_end in ((A, JA), (B, JB)):
+                if X_end[2] < 0:
+                    w = self._water(X_end[None], t)[0] - J_end @ qdot
+                    w_axial = (w @ axis) * axis
+                    F += J_end.T @ (0.5 * rho * lt.CdEnd * lt.area
+                                    * np.linalg.norm(w_axial) * w_axial)
         return F
 
     def _water(self, points, t):
         if self.sea is None or self.sea.still:
             return np.zeros_like(points)
         return self.sea.velocity(points, t)
-
-    def _drag(self, q, qdot, t, axis):
-        lt, rho = self.rod_type, self.rho
-        F = np.zeros(6)
-        points = self.midpoints
-        J = attachment_jacobian(q, points)  # (n, 3, 6)
-        X = self._global(q, points)
-        wet = X[:, 2] < 0
-        if lt.Cd and np.any(wet):  # 1/2 rho Cd d ds |w_n| w_n, w = U - v
-            w = self._water(X[wet], t) - J[wet] @ qdot
-            normal = w - (w @ axis)[:, None] * axis
-            speed = np.linalg.norm(normal, axis=1)
-            f = 0.5 * rho * lt.Cd * lt.diameter * self.segment * speed[:, None] * normal
-            F += np.einsum("nka,nk->a", J[wet], f)
-        if lt.CdEnd:  # 1/2 rho CdEnd A |w_a| w_a on each submerged end cap
-            for r in (self.a, self.b):
-                X_end = self._global(q, r)
-                if X_end[2] >= 0:
-                    continue
-                J_end = attachment_jacobian(q, r)
-                w = self._water(X_end[None], t)[0] - J_end @ qdot
-                w_axial = (w @ axis) * axis
-                F += J_end.T @ (0.5 * rho * lt.CdEnd * lt.area
-                                * np.linalg.norm(w_axial) * w_axial)
-        return F
 
     def added_mass_matrix(self) -> np.ndarray:
         """Added mass (6, 6) about the reference point at q = 0 (kg, kg m, kg m2):
@@ -279,6 +271,7 @@ class SpinLoad(BodyLoad):
         helper = np.eye(3)[int(np.argmin(np.abs(self.t0)))]
         n0 = np.cross(self.t0, helper)
         self.n0 = n0 / np.linalg.norm(n0)
+        self.points = np.ascontiguousarray([a + self.n0, a])
         self.stiffness = float(stiffness)
         super().__init__(self.forces, body=body, tangent=self._central)
 
@@ -299,8 +292,8 @@ class SpinLoad(BodyLoad):
         axis, n = R @ self.t0, R @ self.n0
         fade = 0.5 * (1 + float(self.t0 @ axis))
         f = -self.stiffness * fade * self.spin(q) * np.cross(axis, n)  # n x f = -k' psi t
-        J = attachment_jacobian(q, np.array([self.a + self.n0, self.a]))
-        return J[0].T @ f - J[1].T @ f
+        _, J = attachment_state(q, self.points)
+        return (J[:3] - J[3:]).T @ f
 
     def _central(self, q, qdot, t):
         q = np.asarray(q, float)
