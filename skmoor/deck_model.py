@@ -236,6 +236,9 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     if not deck.g > 0:
         raise _fail(deck, deck.option_lines.get("g", "?"), f"option g = {deck.g:g}: "
                     "gravity must be positive (skmoor's lines and bodies need weight)")
+    if not deck.rho > 0:
+        raise _fail(deck, deck.option_lines.get("rho", "?"), f"option rho = {deck.rho:g}: "
+                    "the water density must be positive (a deck in air is not supported)")
     sea = Sea(deck.depth, rho=deck.rho, g=deck.g) if sea is None else sea
     bodies = [_deck_body(deck, b, sea) for b in deck.bodies]
     points = []
