@@ -581,7 +581,10 @@ def _rod(e, deck):
     columns = ("Xa", "Ya", "Za", "Xb", "Yb", "Zb")
     ends = [e.number_at(i, c) for i, c in zip(range(3, 9), columns)]
     segments = e.integer_at(9, "NumSegs")
-    if segments < 1:
+    if segments == 0:
+        raise e.error("NumSegs: 0 makes a zero-length rod (MoorDyn's 6-DOF connection "
+                      "node), which is not supported")
+    if segments < 0:
         raise e.error(f"NumSegs: must be >= 1, got {segments}")
     if ends[:3] == ends[3:]:
         raise e.error("Xa..Zb: ends A and B at the same place (a zero-length rod is not "
