@@ -135,7 +135,7 @@ def _six(values, kind):
     return (v * 3 if len(v) == 1 else v) + [0.0, 0.0, 0.0]
 
 
-def _deck_body(deck: Deck, body, sea) -> Body:
+def _deck_body(deck: Deck, body, sea, bed=None) -> Body:
     """A deck body as a network Body (free -> dynamic; coupled pinned -> dynamic, pinned
     on 3 coupled DOFs), with the rods fixed on it."""
     name = f"body{body.id}"
@@ -174,11 +174,16 @@ def _deck_body(deck: Deck, body, sea) -> Body:
                           reference_point=position, g=deck.g, name=f"rod{rod.id}")
         terms.append(RodLoad(rod_type, a, b, reference_point=position,
                              n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
-                             name=f"rod{rod.id}"))
+                             bed=bed, name=f"rod{rod.id}"))
     if body.mass <= 0 and len(rods) == 1:  # a massless body on one rod: the rod's spin
         terms.append(SpinLoad(a, b, rigid.mass * deck.g * np.linalg.norm(b - a)))
     return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms,
                 pin="coupled" if body.kind == "pinned" else None)
+
+
+def _rod_bed(deck: Deck):
+    """MoorDyn's bottom for the rods: (depth m, kBot N/m3, cBot N s/m3), None if kBot = 0."""
+    return (deck.depth, deck.option("kBot"), deck.option("cBot")) if deck.option("kBot") else None
 
 
 def _rod_type(deck: Deck, rod) -> RodType:
@@ -186,7 +191,7 @@ def _rod_type(deck: Deck, rod) -> RodType:
     return RodType(t.name, t.diameter, t.mass, t.Cd, t.Ca, t.CdEnd, t.CaEnd)
 
 
-def _deck_rod(deck: Deck, rod, bodies, sea):
+def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
     """(points, body or None) of a deck rod: its end points ``rodN.A``, ``rodN.B`` and,
     for a free or pinned rod, its own dynamic body."""
     name = f"rod{rod.id}"
@@ -213,7 +218,8 @@ def _deck_rod(deck: Deck, rod, bodies, sea):
     rigid = rod_body(rod_type, a, b, g=deck.g, name=name)
     length = float(np.linalg.norm(b - a))
     terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a,
-                     n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea, name=name),
+                     n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
+                     bed=bed, name=name),
              SpinLoad(np.zeros(3), b - a, rigid.mass * deck.g * length)]
     pin = {"free": None, "pinned": "fixed", "coupled pinned": "coupled"}[kind]
     body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
@@ -228,7 +234,8 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     motion: fn(t) -> coupled-DOF displacements (see the module docstring), or None.
     sea: a :class:`skmoor.waves.Sea` (currents, waves); default: still water of the
     deck's depth, rho and g. hydro: add drag, fluid inertia and added mass
-    (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact.
+    (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact
+    (on the lines and the rods).
     settings: the solver's defaults for the deck (Newmark, dtOut as the output interval).
     """
     deck = read_deck(deck) if not isinstance(deck, Deck) else deck
@@ -240,10 +247,11 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
         raise _fail(deck, deck.option_lines.get("rho", "?"), f"option rho = {deck.rho:g}: "
                     "the water density must be positive (a deck in air is not supported)")
     sea = Sea(deck.depth, rho=deck.rho, g=deck.g) if sea is None else sea
-    bodies = [_deck_body(deck, b, sea) for b in deck.bodies]
+    bed = _rod_bed(deck) if seabed else None
+    bodies = [_deck_body(deck, b, sea, bed) for b in deck.bodies]
     points = []
     for rod in deck.rods:
-        ends, body = _deck_rod(deck, rod, bodies[:len(deck.bodies)], sea)
+        ends, body = _deck_rod(deck, rod, bodies[:len(deck.bodies)], sea, bed)
         points += ends
         if body is not None:
             bodies.append(body)

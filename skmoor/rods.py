@@ -127,21 +127,23 @@ class RodLoad(BodyLoad):
     conventions), a :class:`~skmoor.terms.BodyLoad` with its constant added mass.
 
     a, b: the rod's ends relative to the body's reference point at q = 0 (global axes,
-    m); reference_point: that point (global, m); n_segments: where the drag is evaluated
-    (segment midpoints); sea: a :class:`~skmoor.waves.Sea` (its current and wave
-    velocities drag the rod) or None. The body's RigidBody holds the rod's mass (see
+    m); reference_point: that point (global, m); n_segments: where the drag and the bed
+    contact are evaluated (segment midpoints); sea: a :class:`~skmoor.waves.Sea` (its
+    current and wave velocities drag the rod) or None; bed: (depth m, stiffness N/m3,
+    damping N s/m3) of MoorDyn's sea bed, a vertical spring-damper per unit of d ds
+    below z = -depth (Rod.cpp), or None. The body's RigidBody holds the rod's mass (see
     :func:`rod_body`, :func:`mount_rod`), so the System carries its weight linearly about
     q = 0; this load replaces that linear weight by the exact one."""
 
     def __init__(self, rod_type: RodType, a, b, *, reference_point, n_segments=1,
-                 rho=1025.0, g=9.81, sea=None, body=0, name="rod"):
+                 rho=1025.0, g=9.81, sea=None, bed=None, body=0, name="rod"):
         a, b, length = _axis(a, b, name)
         if isinstance(n_segments, bool) or not isinstance(n_segments, (int, np.integer)) \
                 or n_segments < 1:
             raise ValueError(f"rod {name} NumSegs: must be an integer >= 1, got {n_segments!r}")
         self.rod_type, self.a, self.b, self.length = rod_type, a, b, length
         self.reference_point = np.asarray(reference_point, float)
-        self.rho, self.g, self.sea, self.name = float(rho), float(g), sea, name
+        self.rho, self.g, self.sea, self.bed, self.name = float(rho), float(g), sea, bed, name
         self.fractions = (np.arange(n_segments) + 0.5) / n_segments  # segment midpoints
         self.ends = np.ascontiguousarray([a, b])
         self.segment = length / n_segments
@@ -172,10 +174,17 @@ class RodLoad(BodyLoad):
         if end > start:  # rho g A L_sub at the centre of the submerged length
             F += at(0.5 * (start + end))[1].T @ np.array(
                 [0.0, 0.0, rho * g * lt.area * (end - start) * self.length])
+        s = self.fractions
+        X = A + s[:, None] * (B - A)  # segment midpoints
+        Js = JA + s[:, None, None] * (JB - JA)  # (n, 3, 6)
+        if self.bed is not None:  # ((-h - z) kb - z' cb) d ds up, below the bed
+            depth, kb, cb = self.bed
+            low = X[:, 2] < -depth
+            if np.any(low):
+                lift = ((-depth - X[low, 2]) * kb - (Js[low] @ qdot)[:, 2] * cb) \
+                    * lt.diameter * self.segment
+                F += Js[low][:, 2, :].T @ lift
         if lt.Cd:  # 1/2 rho Cd d ds |w_n| w_n at the wet segment midpoints, w = U - v
-            s = self.fractions
-            X = A + s[:, None] * (B - A)
-            Js = JA + s[:, None, None] * (JB - JA)  # (n, 3, 6)
             wet = X[:, 2] < 0
             if np.any(wet):
                 w = self._water(X[wet], t) - Js[wet] @ qdot

@@ -9,6 +9,7 @@ tolerances sit a few times above it.
     floating_spar_archimedes      Archimedes' draft; heave period     2e-7 m; 6e-5
     rising_rods_added_mass        z(t) = z0 + a t^2 / 2, a from the   1e-13 m
                                   transverse / end-cap added mass
+    rod_settles_on_the_bed        weight / (kBot d L)                 1e-10 m
     rod_drag_conventions          1/2 rho Cd d L v^2, 1/2 rho CdEnd A v^2 per end
 """
 from pathlib import Path
@@ -104,6 +105,19 @@ def test_rising_rods_added_mass():
         a = (RHO * volume - mass) * G / (mass + added)
         z = point_track(r, name)[:, 2]
         assert np.max(np.abs(z - (z0 + 0.5 * a * r.t ** 2))) < 1e-9, name
+
+
+def test_rod_settles_on_the_bed():
+    """MoorDyn's bed under a rod: ((-h - z) kBot - z' cBot) d ds per segment; a rod
+    laid on it sinks in by its submerged weight over kBot d L (overdamped: settled in
+    1 s). Fails without the contact (the rod falls through) or with it on d^2 or L/2."""
+    model = build("rod_on_bed.dat")
+    r = run(model, 2.0, 0.02)
+    d, mu, L = 0.3, 200.0, 6.0
+    net = (mu - RHO * np.pi * d ** 2 / 4) * L * G
+    for end in ("rod1.A", "rod1.B"):
+        assert point_track(r, end)[-1, 2] == pytest.approx(-20.0 - net / (3e6 * d * L),
+                                                           abs=1e-8)
 
 
 def test_rod_drag_conventions():
