@@ -34,8 +34,7 @@ def _motion(args, source):
     if args.motion is not None and args.heave is not None:
         raise ValueError("--motion, --heave: give one of them")
     if args.motion is not None:
-        n = (6 * sum(b.kind == "coupled" for b in source.bodies)
-             + 3 * sum(p.kind == "coupled" for p in source.points))
+        n = sum(source.coupled_sizes)
         return read_motion(args.motion, n)
     if args.period is None:
         raise ValueError("--heave: give the heave period with --period T (s)")

@@ -9,12 +9,14 @@ starts a comment); OPTIONS lines are ``value name``; OUTPUTS lists channel names
 Read: LINE TYPES (EA: a number, a tension-strain curve file (path relative to the deck;
 three header lines, then strain and tension a line) or MoorDyn's viscoelastic
 ``EA_s|EA_d`` / ``EA_s|alphaMBL|beta``, each EA_s a number or a curve file; BA or -zeta,
-with ``BA|BA_D``; EI, Cd, Ca, CdAx, CaAx, optional VIV Cl dF cF), BODIES, POINTS (9
-columns, or 12 with a constant force), LINES between points, OPTIONS (names as MoorDyn-C
-spells them, aliases mapped; unknown options kept with a note) and OUTPUTS. Refused with
-the deck line and the reason: damping and bending curve files, the Syrope model, rods
-and rod ends, and the MoorDyn-F-only sections (FAILURE, CONTROL, EXTERNAL LOADS). The reader checks the format only; what skmoor can simulate is
-checked when the model is built (:mod:`skmoor.deck_model`).
+with ``BA|BA_D``; EI, Cd, Ca, CdAx, CaAx, optional VIV Cl dF cF), ROD TYPES (Name Diam
+Mass/m Cd Ca CdEnd CaEnd), BODIES, RODS (ID RodType Attachment Xa Ya Za Xb Yb Zb NumSegs
+RodOutputs), POINTS (9 columns, or 12 with a constant force), LINES between points and
+rod ends (``R<N>A``, ``R<N>B``), OPTIONS (names as MoorDyn-C spells them, aliases
+mapped; unknown options kept with a note) and OUTPUTS. Refused with the deck line and
+the reason: damping and bending curve files, the Syrope model, and the MoorDyn-F-only
+sections (FAILURE, CONTROL, EXTERNAL LOADS). The reader checks the format only; what
+skmoor can simulate is checked when the model is built (:mod:`skmoor.deck_model`).
 
 Units as MoorDyn: m, kg, N, s; body angles in degrees.
 """
@@ -25,8 +27,8 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["Deck", "DeckLineType", "DeckPoint", "DeckLine", "DeckBody", "read_deck",
-           "write_deck", "is_deck"]
+__all__ = ["Deck", "DeckLineType", "DeckPoint", "DeckLine", "DeckBody", "DeckRodType",
+           "DeckRod", "read_deck", "write_deck", "is_deck"]
 
 # section name as written -> canonical name (MoorDyn2.cpp's synonyms)
 SECTIONS = {
@@ -43,8 +45,6 @@ SECTIONS = {
     "SYROPE IC": "SYROPE IC",
 }
 REFUSED_SECTIONS = {
-    "ROD TYPES": "rods are not supported",
-    "RODS": "rods are not supported",
     "FAILURE": "line failures are not supported",
     "CONTROL": "line control channels are not supported",
     "EXTERNAL LOADS": "external loads on points / bodies are not supported",
@@ -85,6 +85,13 @@ BODY_KINDS = {"ANCHOR": "fixed", "FIXED": "fixed", "FIX": "fixed",
               "VESSELPINNED": "pinned", "VESPIN": "pinned", "CPLDPIN": "pinned",
               "COUPLEDPINNED": "pinned"}
 WORD = {"fixed": "Fixed", "coupled": "Coupled", "free": "Free", "pinned": "CoupledPinned"}
+ROD_KINDS = {"ANCHOR": "fixed", "FIXED": "fixed", "FIX": "fixed", "PINNED": "pinned",
+             "PIN": "pinned", "VESSEL": "coupled", "VES": "coupled", "COUPLED": "coupled",
+             "CPLD": "coupled", "VESSELPINNED": "coupled pinned", "VESPIN": "coupled pinned",
+             "CPLDPIN": "coupled pinned", "COUPLEDPINNED": "coupled pinned",
+             "POINT": "free", "CON": "free", "FREE": "free"}  # MoorDyn2.cpp's words
+ROD_WORD = {"fixed": "Fixed", "pinned": "Pinned", "coupled": "Coupled",
+            "coupled pinned": "CoupledPinned", "free": "Free"}
 
 
 @dataclass
@@ -140,14 +147,55 @@ class DeckPoint:
 
 
 @dataclass
-class DeckLine:
-    """A LINES entry: from point ``a`` (end A, anchor end) to point ``b`` (end B),
-    unstretched length (m), number of segments, MoorDyn's line-output flags."""
+class DeckRodType:
+    """A ROD TYPES entry: diameter (m), mass (kg/m), Cd, Ca (transverse), CdEnd, CaEnd
+    (the end caps, axial)."""
+
+    name: str
+    diameter: float
+    mass: float
+    Cd: float
+    Ca: float
+    CdEnd: float
+    CaEnd: float
+    where: int = field(default=0, compare=False)
+
+
+@dataclass
+class DeckRod:
+    """A RODS entry. kind: 'fixed', 'pinned' (end A fixed in place, free to turn),
+    'body' (on body ``body``; ``pinned``: by end A only), 'coupled', 'coupled pinned' or
+    'free'. a, b: end positions (m; on a body, in its frame relative to its reference
+    point); n_segments: NumSegs."""
 
     id: int
     type: str
-    a: int
-    b: int
+    kind: str
+    a: tuple
+    b: tuple
+    n_segments: int
+    body: int | None = None
+    pinned: bool = False
+    outputs: str = "-"
+    where: int = field(default=0, compare=False)
+
+    @property
+    def attachment(self) -> str:
+        if self.kind == "body":
+            return f"Body{self.body}" + ("Pinned" if self.pinned else "")
+        return ROD_WORD[self.kind]
+
+
+@dataclass
+class DeckLine:
+    """A LINES entry: from end ``a`` (end A, anchor end) to end ``b`` (end B): a point
+    number, or a rod end ``'R<N>A'`` / ``'R<N>B'``; unstretched length (m), number of
+    segments, MoorDyn's line-output flags."""
+
+    id: int
+    type: str
+    a: int | str
+    b: int | str
     length: float
     n_segments: int
     outputs: str = "-"
@@ -183,7 +231,9 @@ class Deck:
 
     title: list = field(default_factory=list)
     line_types: dict = field(default_factory=dict)
+    rod_types: dict = field(default_factory=dict)
     bodies: list = field(default_factory=list)
+    rods: list = field(default_factory=list)
     points: list = field(default_factory=list)
     lines: list = field(default_factory=list)
     options: dict = field(default_factory=dict)
@@ -223,6 +273,15 @@ class Deck:
     @property
     def g(self) -> float:
         return self.option("g")
+
+    @property
+    def coupled_sizes(self) -> list:
+        """DOFs of each coupled object in MoorDyn's order (its NCoupledDOF): bodies (6,
+        coupled or pinned), rods (6 coupled, 3 coupled pinned), points (3)."""
+        return ([6 for b in self.bodies if b.kind in ("coupled", "pinned")]
+                + [6 if r.kind == "coupled" else 3 for r in self.rods
+                   if r.kind in ("coupled", "coupled pinned")]
+                + [3 for p in self.points if p.kind == "coupled"])
 
     def point(self, point_id: int) -> DeckPoint:
         return self.points[point_id - 1]
@@ -302,8 +361,12 @@ def read_deck(path) -> Deck:
     entries = _split_sections(text, deck)
     for entry in entries.get("LINE TYPES", []):
         _line_type(entry, deck, path.parent)
+    for entry in entries.get("ROD TYPES", []):
+        _rod_type(entry, deck)
     for entry in entries.get("BODIES", []):
         _body(entry, deck)
+    for entry in entries.get("RODS", []):
+        _rod(entry, deck)
     for entry in entries.get("POINTS", []):
         _point(entry, deck)
     for entry in entries.get("LINES", []):
@@ -476,6 +539,63 @@ def _body(e, deck):
         where=e.number))
 
 
+def _rod_type(e, deck):
+    if len(e.words) < 7:
+        raise e.error("entry: needs the 7 columns TypeName Diam Mass/m Cd Ca CdEnd CaEnd, "
+                      f"got {len(e.words)}")
+    name = e.words[0]
+    if name in deck.rod_types:
+        raise e.error(f"name: {name!r} is defined twice")
+    values = [e.number_at(i, c) for i, c in enumerate(
+        ("Diam", "Mass/m", "Cd", "Ca", "CdEnd", "CaEnd"), start=1)]
+    for column, value in zip(("Diam", "Mass/m"), values):
+        if value <= 0:
+            raise e.error(f"{column}: must be positive, got {value:g}")
+    for column, value in zip(("Cd", "Ca", "CdEnd", "CaEnd"), values[2:]):
+        if value < 0:
+            raise e.error(f"{column}: must be >= 0, got {value:g}")
+    deck.rod_types[name] = DeckRodType(name, *values, where=e.number)
+
+
+def _rod(e, deck):
+    if len(e.words) < 11:
+        raise e.error("entry: needs the 11 columns ID RodType Attachment Xa Ya Za Xb Yb Zb "
+                      f"NumSegs RodOutputs, got {len(e.words)}")
+    number = _next_id(e, deck.rods)
+    if e.words[1] not in deck.rod_types:
+        raise e.error(f"RodType: {e.words[1]!r} is not in ROD TYPES "
+                      f"({', '.join(deck.rod_types) or 'none'})")
+    letters, body, rest = _decompose(e.words[2])
+    pinned = False
+    if letters == "BODY":
+        if body is None or not 1 <= body <= len(deck.bodies):
+            raise e.error(f"Attachment: {e.words[2]!r} names no body of the BODIES "
+                          f"section ({len(deck.bodies)} bodies)")
+        if rest not in ("", "PIN", "PINNED"):
+            raise e.error(f"Attachment: {e.words[2]!r} is not Body<N> or Body<N>Pinned")
+        kind, pinned = "body", rest != ""
+    elif letters in ROD_KINDS and body is None:
+        kind = ROD_KINDS[letters]
+    else:
+        raise e.error(f"Attachment: {e.words[2]!r} is not Fixed, Pinned, Body<N>, "
+                      "Body<N>Pinned, Coupled, CoupledPinned or Free")
+    columns = ("Xa", "Ya", "Za", "Xb", "Yb", "Zb")
+    ends = [e.number_at(i, c) for i, c in zip(range(3, 9), columns)]
+    segments = e.integer_at(9, "NumSegs")
+    if segments == 0:
+        raise e.error("NumSegs: 0 makes a zero-length rod (MoorDyn's 6-DOF connection "
+                      "node), which is not supported")
+    if segments < 0:
+        raise e.error(f"NumSegs: must be >= 1, got {segments}")
+    if ends[:3] == ends[3:]:
+        raise e.error("Xa..Zb: ends A and B at the same place (a zero-length rod is not "
+                      "supported)")
+    deck.rods.append(DeckRod(id=number, type=e.words[1], kind=kind, a=tuple(ends[:3]),
+                             b=tuple(ends[3:]), n_segments=segments,
+                             body=body if kind == "body" else None, pinned=pinned,
+                             outputs=e.words[10], where=e.number))
+
+
 def _point(e, deck):
     if len(e.words) not in (9, 12):
         raise e.error("entry: needs the 9 columns ID Attachment X Y Z Mass Volume CdA Ca "
@@ -514,9 +634,14 @@ def _line(e, deck):
                       f"({', '.join(deck.line_types) or 'none'})")
     ends = []
     for column, word in (("AttachA", e.words[2]), ("AttachB", e.words[3])):
-        letters, point, _ = _decompose(word)
+        letters, point, rest = _decompose(word)
         if letters in ("R", "ROD"):
-            raise e.error(f"{column}: {word!r} is a rod end (rods are not supported)")
+            if point is None or rest not in ("A", "B"):
+                raise e.error(f"{column}: {word!r} is not a rod end R<N>A or R<N>B")
+            if not 1 <= point <= len(deck.rods):
+                raise e.error(f"{column}: rod {point} is not in RODS ({len(deck.rods)} rods)")
+            ends.append(f"R{point}{rest}")
+            continue
         if letters not in ("", "C", "CON", "P", "POINT") or point is None:
             raise e.error(f"{column}: {word!r} is not a point number")
         if not 1 <= point <= len(deck.points):
@@ -587,6 +712,12 @@ def write_deck(deck: Deck, path) -> Path:
         BA = _num(lt.BA) + ("" if lt.BA_dynamic is None else "|" + _num(lt.BA_dynamic))
         out.append(" ".join([lt.name, _num(lt.diameter), _num(lt.mass), EA, BA] + [
             _num(v) for v in (lt.EI, lt.Cd, lt.Ca, lt.CdAx, lt.CaAx) + tuple(lt.viv)]))
+    if deck.rod_types:
+        out += [rule("ROD TYPES"), "TypeName Diam Mass/m Cd Ca CdEnd CaEnd",
+                "(name) (m) (kg/m) (-) (-) (-) (-)"]
+        for rt in deck.rod_types.values():
+            out.append(" ".join([rt.name] + [_num(v) for v in (
+                rt.diameter, rt.mass, rt.Cd, rt.Ca, rt.CdEnd, rt.CaEnd)]))
     if deck.bodies:
         out += [rule("BODIES"),
                 "ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca*",
@@ -595,6 +726,13 @@ def write_deck(deck: Deck, path) -> Path:
             out.append(" ".join([str(b.id), b.attachment] + [_num(v) for v in b.r6]
                                 + [_num(b.mass), _bar(b.cg), _bar(b.inertia),
                                    _num(b.volume), _bar(b.CdA), _bar(b.Ca)]))
+    if deck.rods:
+        out += [rule("RODS"), "ID RodType Attachment Xa Ya Za Xb Yb Zb NumSegs RodOutputs",
+                "(#) (name) (word) (m) (m) (m) (m) (m) (m) (-) (-)"]
+        for r in deck.rods:
+            out.append(" ".join([str(r.id), r.type, r.attachment]
+                                + [_num(v) for v in r.a + r.b]
+                                + [str(r.n_segments), r.outputs]))
     out += [rule("POINTS")]
     with_force = any(p.force is not None for p in deck.points)
     out += ["ID Attachment X Y Z Mass Volume " + ("FX FY FZ " if with_force else "")

@@ -36,8 +36,20 @@ from a time-series file (:func:`read_motion`).
 MoorDyn's water and bed input (WaveKin 1, 2, 3, 7; Currents 1, 2, 5; SeafloorFile) is
 read from the deck's folder (:mod:`skmoor.sea_files`).
 
-Refused, with the deck line and the reason: pinned bodies, mass or volume on a body
-point, bending stiffness (EI > 0), VIV (Cl > 0), MoorDyn-F's WaterKin file.
+Rods (:mod:`skmoor.rods`): a Free rod is a dynamic body of its own (reference point at
+end A) with its :class:`~skmoor.rods.RodLoad` and a spin spring; a Pinned rod the same,
+end A pinned in place; a CoupledPinned rod, end A on 3 coupled DOFs; a Fixed rod is its
+two end points, fixed; a Body<N> rod adds its mass and its RodLoad to body N (on a
+coupled or fixed body it only carries its line ends); a Body<N>Pinned rod on a fixed
+body is a Pinned rod there. Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` /
+``rodN.B`` on the rod. A CoupledPinned body is a dynamic body (its mass and its rods')
+pinned at its reference point on 3 coupled DOFs (MoorDyn's coupled-DOF vector gives it
+6, of which the first 3, its position, are used); a body of no mass of its own carrying
+one rod gets that rod's spin spring.
+
+Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), a
+Body<N>Pinned rod on a moving body, mass or volume on a body point, bending stiffness
+(EI > 0), VIV (Cl > 0), MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
 
@@ -51,6 +63,7 @@ from .hydro import body_hydrodynamics
 from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
+from .rods import RodLoad, RodType, SpinLoad, mount_rod, rod_body
 from .sea_files import deck_bathymetry, deck_sea
 from .seabed import Seabed
 
@@ -120,35 +133,96 @@ def _six(values, kind):
     return (v * 3 if len(v) == 1 else v) + [0.0, 0.0, 0.0]
 
 
-def _deck_body(deck: Deck, body, sea) -> Body:
-    """A deck body as a network Body (free -> dynamic)."""
+def _deck_body(deck: Deck, body, sea, bed=None) -> Body:
+    """A deck body as a network Body (free -> dynamic; coupled pinned -> dynamic, pinned
+    on 3 coupled DOFs), with the rods fixed on it."""
     name = f"body{body.id}"
     position = np.array(body.r6[:3], float)
     attitude = np.radians(np.array(body.r6[3:], float))
     if body.kind in ("fixed", "coupled"):
         return Body(name, body.kind, position, attitude)
-    if body.kind != "free":
-        raise _fail(deck, body.where, f"BODIES {body.id}: a {body.kind} body is not "
-                    "supported (free, coupled or fixed bodies are)")
     R0 = moordyn_rotation(attitude)
     cg = np.array(body.cg, float) if len(body.cg) == 3 else np.array([0.0, 0.0, body.cg[0]])
     inertia = np.array(body.inertia, float)
     inertia = np.full(3, inertia[0]) if inertia.size == 1 else inertia
-    if body.mass <= 0 or np.any(inertia <= 0):
-        raise _fail(deck, body.where, f"BODIES {body.id}: a free body needs Mass > 0 and "
-                    f"inertia > 0 (got {body.mass:g} kg, {inertia.tolist()} kg m2)")
+    rods = [r for r in deck.rods if r.kind == "body" and r.body == body.id and not r.pinned]
+    if not rods and (body.mass <= 0 or np.any(inertia <= 0)):
+        raise _fail(deck, body.where, f"BODIES {body.id}: a {body.kind} body needs Mass > 0 "
+                    f"and inertia > 0, or a rod on it (got {body.mass:g} kg, "
+                    f"{inertia.tolist()} kg m2)")
     com = position + R0 @ cg
     hydro = (Hydrostatics.submerged(body.volume, com, position) if body.volume > 0 else None)
     added = deck.rho * body.volume * np.diag(_six(body.Ca, "Ca"))
     rotated = R0 @ np.diag(inertia) @ R0.T
-    rigid = RigidBody(body.mass, com, 0.5 * (rotated + rotated.T), reference_point=position,
-                      hydrostatics=hydro, added_mass=added, rho=deck.rho, g=deck.g)
+    rigid = None
+    if body.mass > 0:
+        rigid = RigidBody(body.mass, com, 0.5 * (rotated + rotated.T), reference_point=position,
+                          hydrostatics=hydro, added_mass=added, rho=deck.rho, g=deck.g)
+    elif hydro is not None or np.any(added):
+        raise _fail(deck, body.where, f"BODIES {body.id}: a body of no mass of its own "
+                    "with a Volume is not supported")
     terms = []
     cda = _six(body.CdA, "CdA")
     if any(cda):
         terms.append(body_hydrodynamics(drag_coefficients=np.ones(6), drag_areas=cda, sea=sea,
                                         reference_point=position, rho=deck.rho))
-    return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms)
+    for rod in rods:  # the rod's ends in the body frame -> global offsets at the start
+        rod_type, a, b = _rod_type(deck, rod), R0 @ rod.a, R0 @ rod.b
+        rigid = mount_rod(rigid, rod_type, position + a, position + b,
+                          reference_point=position, g=deck.g, name=f"rod{rod.id}")
+        terms.append(RodLoad(rod_type, a, b, reference_point=position,
+                             n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
+                             bed=bed, name=f"rod{rod.id}"))
+    if body.mass <= 0 and len(rods) == 1:  # a massless body on one rod: the rod's spin
+        terms.append(SpinLoad(a, b, rigid.mass * deck.g * np.linalg.norm(b - a)))
+    return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms,
+                pin="coupled" if body.kind == "pinned" else None)
+
+
+def _rod_bed(deck: Deck):
+    """MoorDyn's bottom for the rods: (depth m, kBot N/m3, cBot N s/m3), None if kBot = 0."""
+    return (deck.depth, deck.option("kBot"), deck.option("cBot")) if deck.option("kBot") else None
+
+
+def _rod_type(deck: Deck, rod) -> RodType:
+    t = deck.rod_types[rod.type]
+    return RodType(t.name, t.diameter, t.mass, t.Cd, t.Ca, t.CdEnd, t.CaEnd)
+
+
+def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
+    """(points, body or None) of a deck rod: its end points ``rodN.A``, ``rodN.B`` and,
+    for a free or pinned rod, its own dynamic body."""
+    name = f"rod{rod.id}"
+    a, b = np.array(rod.a, float), np.array(rod.b, float)
+    if rod.kind == "body":
+        carrier = bodies[rod.body - 1]
+        if not rod.pinned:
+            return [Point(f"{name}.A", "body", a, body=carrier.name),
+                    Point(f"{name}.B", "body", b, body=carrier.name)], None
+        if carrier.kind != "fixed":
+            raise _fail(deck, rod.where, f"RODS {rod.id}: a Body{rod.body}Pinned rod on a "
+                        f"{carrier.kind} body is not supported (on a fixed body it is)")
+        R0 = carrier.rotation_matrix()
+        a, b = carrier.position + R0 @ a, carrier.position + R0 @ b
+        kind = "pinned"
+    else:
+        kind = rod.kind
+    if kind == "fixed":
+        return [Point(f"{name}.A", "fixed", a), Point(f"{name}.B", "fixed", b)], None
+    if kind == "coupled":
+        raise _fail(deck, rod.where, f"RODS {rod.id}: a Coupled rod (6 prescribed DOFs) is "
+                    "not supported (CoupledPinned, Pinned, Free, Fixed and Body<N> rods are)")
+    rod_type = _rod_type(deck, rod)
+    rigid = rod_body(rod_type, a, b, g=deck.g, name=name)
+    length = float(np.linalg.norm(b - a))
+    terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a,
+                     n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
+                     bed=bed, name=name),
+             SpinLoad(np.zeros(3), b - a, rigid.mass * deck.g * length)]
+    pin = {"free": None, "pinned": "fixed", "coupled pinned": "coupled"}[kind]
+    body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
+    return [Point(f"{name}.A", "body", np.zeros(3), body=name),
+            Point(f"{name}.B", "body", b - a, body=name)], body
 
 
 def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
@@ -160,7 +234,8 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     default: the deck's own (:func:`skmoor.sea_files.deck_sea`: its WaveKin and Currents
     files, still water without them), which is also what a WaveKin 1 deck's caller
     builds its waves on (``Sea(..., fields=deck_sea(deck).fields)``). hydro: add drag, fluid inertia and added mass
-    (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact.
+    (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact
+    (on the lines and the rods).
     settings: the solver's defaults for the deck (Newmark, dtOut as the output interval).
     """
     deck = read_deck(deck) if not isinstance(deck, Deck) else deck
@@ -168,10 +243,19 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     if not deck.g > 0:
         raise _fail(deck, deck.option_lines.get("g", "?"), f"option g = {deck.g:g}: "
                     "gravity must be positive (skmoor's lines and bodies need weight)")
+    if not deck.rho > 0:
+        raise _fail(deck, deck.option_lines.get("rho", "?"), f"option rho = {deck.rho:g}: "
+                    "the water density must be positive (a deck in air is not supported)")
     bathymetry = deck_bathymetry(deck)
     sea = deck_sea(deck, bathymetry) if sea is None else sea
-    bodies = [_deck_body(deck, b, sea) for b in deck.bodies]
+    bed = _rod_bed(deck) if seabed else None
+    bodies = [_deck_body(deck, b, sea, bed) for b in deck.bodies]
     points = []
+    for rod in deck.rods:
+        ends, body = _deck_rod(deck, rod, bodies[:len(deck.bodies)], sea, bed)
+        points += ends
+        if body is not None:
+            bodies.append(body)
     for p in deck.points:
         kind = p.kind
         if kind == "body":
@@ -186,11 +270,12 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     lines = []
     for line in deck.lines:
         lines.append(MooringLine(f"line{line.id}", line_type_of(deck, line),
-                                 f"point{line.a}", f"point{line.b}", line.length,
+                                 _end_name(line.a), _end_name(line.b), line.length,
                                  int(line.n_segments)))
     try:
         network = Network(points, lines, bodies, depth=deck.depth, rho=deck.rho, g=deck.g,
-                          sea=sea, hydro=hydro, strain_law="engineering", motion=motion)
+                          sea=sea, hydro=hydro, strain_law="engineering",
+                          motion=_network_motion(deck, motion))
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
     if seabed:
@@ -200,6 +285,35 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
                            **({"output_interval": dt_out} if dt_out else {})},
                 "damping": {"ratio": 0.0}, "load": {}}
     return network, settings
+
+
+def _network_motion(deck: Deck, motion):
+    """The network's coupled-DOF motion from MoorDyn's coupled-DOF vector: a
+    CoupledPinned body takes 6 entries there (MoorDyn's NCoupledDOF) of which its
+    position, the first 3, is used."""
+    if motion is None or not any(b.kind == "pinned" for b in deck.bodies):
+        return motion
+    keep, start = [], 0
+    for size, body in zip(deck.coupled_sizes, _coupled_kinds(deck)):
+        keep += list(range(start, start + (3 if body == "pinned" else size)))
+        start += size
+
+    def network_motion(t):
+        return np.asarray(motion(t), float)[keep]
+
+    return network_motion
+
+
+def _coupled_kinds(deck: Deck) -> list:
+    """The kind of each coupled object in MoorDyn's order (as Deck.coupled_sizes)."""
+    return ([b.kind for b in deck.bodies if b.kind in ("coupled", "pinned")]
+            + [r.kind for r in deck.rods if r.kind in ("coupled", "coupled pinned")]
+            + ["point" for p in deck.points if p.kind == "coupled"])
+
+
+def _end_name(end) -> str:
+    """The network point of a deck line end: a point number, or a rod end 'R<N>A'."""
+    return f"point{end}" if isinstance(end, int) else f"rod{end[1:-1]}.{end[-1]}"
 
 
 def _seabed(deck: Deck, network: Network, bathymetry=None):
@@ -229,9 +343,7 @@ def heave_motion(deck: Deck, amplitude: float, period: float, ramp=None):
     ramp = float(period if ramp is None else ramp)
     omega = 2 * np.pi / period
     heave, start = [], 0
-    coupled = ([6 for b in deck.bodies if b.kind == "coupled"]
-               + [3 for p in deck.points if p.kind == "coupled"])
-    for size in coupled:
+    for size in deck.coupled_sizes:
         heave.append(start + 2)
         start += size
     n = start

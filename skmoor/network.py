@@ -4,9 +4,10 @@
 Points are ``fixed``; ``free`` (a line junction, or a clump weight or buoy with mass,
 volume, CdA and Ca); ``coupled`` (moved by a given motion); or on a ``body`` (at a
 position in the body frame, relative to its reference point). Bodies are ``dynamic``
-(6 DOF: a :class:`~skmoor.body.RigidBody` with its loads), ``coupled`` (prescribed motion)
+(6 DOF: a :class:`~skmoor.body.RigidBody` with its loads; ``pin``: its reference point held
+in place or on a coupled motion, the body free to turn), ``coupled`` (prescribed motion)
 or ``fixed``. A multi-segment line is lines joined at free points; a shared line runs
-between two bodies.
+between two bodies. Rods (:mod:`skmoor.rods`) are bodies with a rod load.
 
 :func:`build_network` turns a :class:`Network` into a :class:`~skmoor.model.Model`: the
 free points are first settled on analytic catenaries (the catenary-network first guess),
@@ -17,7 +18,8 @@ sagging polyline when slack), and one :class:`~skmoor.coupling.System` joins the
 Coupled motion (``Network.motion``): fn(t) -> displacements of the coupled objects from
 their given positions in MoorDyn's order of coupled DOFs: 6 per coupled body (x, y, z in
 m; roll, pitch, yaw in rad, applied as MoorDyn does: R = Rx Ry Rz of the attitude plus
-the angles), then 3 per coupled point.
+the angles) and 3 per body pinned on a coupled motion (``pin='coupled'``: x, y, z of its
+reference point), in the order of ``Network.bodies``; then 3 per coupled point.
 """
 from __future__ import annotations
 
@@ -39,6 +41,7 @@ _LINEAR = Engineering(tension_only=False)
 
 POINT_KINDS = ("fixed", "free", "coupled", "body")
 BODY_KINDS = ("dynamic", "coupled", "fixed")
+PINS = (None, "fixed", "coupled")
 
 
 @dataclass
@@ -94,7 +97,10 @@ class MooringLine:
 class Body:
     """A body: kind 'dynamic' (``rigid``: its RigidBody, whose reference point is the
     body's position), 'coupled' or 'fixed' (``position``, m, and ``attitude``, rad, of
-    its reference point). terms: BodyLoads (drag, ...); load(t, q, qdot) -> 6-vector."""
+    its reference point). terms: BodyLoads (drag, ...); load(t, q, qdot) -> 6-vector.
+    pin (dynamic bodies): None (free), 'fixed' (its reference point held where it is)
+    or 'coupled' (held on 3 coupled DOFs of the network's motion); the body turns freely
+    about it (a stiff :class:`~skmoor.rods.PinLoad`)."""
 
     name: str
     kind: str
@@ -104,10 +110,15 @@ class Body:
     terms: list = field(default_factory=list)
     load: object = None
     rotation: str = "moordyn"  # order of the attitude angles: 'moordyn' (Rx Ry Rz) or 'skmoor'
+    pin: str | None = None
 
     def __post_init__(self):
         if self.kind not in BODY_KINDS:
             raise ValueError(f"body {self.name}: kind {self.kind!r} is not one of {BODY_KINDS}")
+        if self.pin not in PINS:
+            raise ValueError(f"body {self.name} pin: {self.pin!r} is not one of {PINS}")
+        if self.pin is not None and self.kind != "dynamic":
+            raise ValueError(f"body {self.name} pin: only a dynamic body is pinned")
         self.position = _vector(f"body {self.name} position", self.position)
         self.attitude = _vector(f"body {self.name} attitude", self.attitude)
         if self.kind == "dynamic" and self.rigid is None:
@@ -181,19 +192,26 @@ class Network:
 
     @property
     def coupled(self) -> list:
-        """The coupled objects in MoorDyn's coupled-DOF order: bodies, then points."""
-        return ([b for b in self.bodies if b.kind == "coupled"]
+        """The coupled objects in MoorDyn's coupled-DOF order: bodies (coupled ones, and
+        dynamic ones pinned on a coupled motion), then points."""
+        return ([b for b in self.bodies if b.kind == "coupled" or b.pin == "coupled"]
                 + [p for p in self.points if p.kind == "coupled"])
 
     @property
     def n_coupled_dofs(self) -> int:
-        return sum(6 if isinstance(c, Body) else 3 for c in self.coupled)
+        return sum(coupled_size(c) for c in self.coupled)
 
     def coupled_positions(self) -> np.ndarray:
         """MoorDyn's coupled-DOF vector of the given positions (body angles in rad)."""
-        parts = [np.r_[c.position, c.attitude] if isinstance(c, Body) else c.position
+        parts = [np.r_[c.position, c.attitude] if coupled_size(c) == 6 else c.position
                  for c in self.coupled]
         return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def coupled_size(obj) -> int:
+    """Coupled DOFs of a coupled object: 6 for a coupled body, 3 for a pinned body or a
+    coupled point."""
+    return 6 if isinstance(obj, Body) and obj.kind == "coupled" else 3
 
 
 def moordyn_rotation(angles) -> np.ndarray:
@@ -434,27 +452,60 @@ def build_system(network: Network, positions: dict | None = None):
             term = copy.copy(term)
             term.body = k
             terms.append(term)
+        if body.pin is not None:
+            terms.append(_pin(network, body, k))
     system = System(lineset, ends=ends, bodies=[b.rigid for b in dynamic], points=masses,
                     motion=motion, body_load=[b.load for b in dynamic], terms=terms,
                     sea=network.sea)
     return system, lineset, catenaries, positions
 
 
+def _pin(network: Network, body: Body, k: int):
+    """The PinLoad of a pinned dynamic body (number k among the dynamic bodies): stiff
+    on the length scale of its centre of mass from the pin (at least 1 m)."""
+    from .rods import PinLoad
+
+    rigid = body.rigid
+    scale = max(float(np.linalg.norm(rigid.center_of_mass - rigid.reference_point)), 1.0)
+    motion = None
+    if body.pin == "coupled":
+        where = _coupled_offsets(network)[("Body", body.name)]
+
+        def motion(t, dt=1e-6):
+            def at(time):
+                return _coupled_vector(network, time)[where]
+            return at(t), (at(t + dt) - at(t - dt)) / (2 * dt)
+
+    return PinLoad(rigid.mass, scale, g=network.g, motion=motion, body=k)
+
+
+def _coupled_offsets(network: Network) -> dict:
+    """{(type name, name): slice} of each coupled object in the coupled-DOF vector."""
+    offsets, start = {}, 0
+    for obj in network.coupled:
+        size = coupled_size(obj)
+        offsets[(type(obj).__name__, obj.name)] = slice(start, start + size)
+        start += size
+    return offsets
+
+
+def _coupled_vector(network: Network, t) -> np.ndarray:
+    """The network's coupled-DOF displacements at time t (zeros without a motion)."""
+    n = network.n_coupled_dofs
+    y = np.zeros(n) if network.motion is None else np.asarray(network.motion(t), float).ravel()
+    if y.shape != (n,):
+        raise ValueError(f"motion: expected {n} coupled DOFs "
+                         f"({', '.join(o.name for o in network.coupled)}), got {y.shape}")
+    return y
+
+
 def _slot_motion(network: Network, slots):
     """motion(t) -> (nslots, 3) displacements of the prescribed ends from the network's
     coupled-DOF motion (zeros without one)."""
-    offsets, start = {}, 0
-    for obj in network.coupled:
-        size = 6 if isinstance(obj, Body) else 3
-        offsets[(type(obj).__name__, obj.name)] = slice(start, start + size)
-        start += size
-    n = start
+    offsets = _coupled_offsets(network)
 
     def motion(t):
-        y = np.zeros(n) if network.motion is None else np.asarray(network.motion(t), float).ravel()
-        if y.shape != (n,):
-            raise ValueError(f"motion: expected {n} coupled DOFs "
-                             f"({', '.join(o.name for o in network.coupled)}), got {y.shape}")
+        y = _coupled_vector(network, t)
         out = np.zeros((len(slots), 3))
         for k, p in enumerate(slots):
             if p.kind == "coupled":

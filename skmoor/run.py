@@ -24,6 +24,7 @@ from . import body as rigid
 from .dynamics import DivergenceError, Scheme, State, integrate, rayleigh_coefficients
 from .model import Model, build
 from .modes import Modes, eigenmodes
+from .network import coupled_size
 from .results import BODY_DOFS, Results
 from .statics import ConvergenceError, solve_static
 
@@ -158,6 +159,8 @@ def released_state(model: Model) -> np.ndarray:
         u[dofs[a + 1:b]] = (1 - share) * u[dofs[a]] + share * u[dofs[b]]
     x0[system._columns] = u[system.free]  # (a point's column gets its own value back)
     held = np.concatenate([system.point_columns.ravel(), np.arange(system.nf, system.n)])
+    if len(np.unique(held)) == system.n:  # nothing left to settle
+        return x0
     return static_state(system, x0, held=held.astype(int)).x
 
 
@@ -205,7 +208,7 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     scheme = Scheme.named(solver["scheme"], solver.get("rho_inf", 0.8))
     folder = None if out is None else prepare_output(out)
     started = time.perf_counter()
-    eq = eq or equilibrium(model)
+    eq = eq or _starting_equilibrium(model, start)
     notes = resolution_notes(model, eq, dt)
     for note in notes:
         warnings.warn(note, ResolutionWarning, stacklevel=2)
@@ -240,6 +243,21 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     if writer is not None:
         writer.finish(results)
     return results
+
+
+def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
+    """The model's equilibrium; for a release from the given state (``start='given'``)
+    without Rayleigh damping, a model with no static equilibrium (a buoyant rod pinned
+    below the surface turns over, nothing holds it horizontal) starts without one."""
+    try:
+        return equilibrium(model)
+    except ConvergenceError as err:
+        damping = model.damping
+        if start != "given" or any(damping.get(k) for k in ("ratio", "alpha", "beta")):
+            raise
+        model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "
+                           "released from the given state without one")
+        return Equilibrium(released_state(model), None, None, None, (0.0, 0.0))
 
 
 def _meta(model: Model, eq: Equilibrium) -> dict:
@@ -339,7 +357,7 @@ def _coupled_stiffness(model: Model, eq: Equilibrium, body, step=1e-4) -> np.nda
     for obj in network.coupled:
         if obj is body:
             break
-        start += 6 if obj in network.bodies else 3
+        start += coupled_size(obj)
     ends = [(k, end) for k, line in enumerate(network.lines) for end, point in
             (("a", line.a), ("b", line.b)) if network.point(point).kind == "body"
             and network.point(point).body == body.name]
@@ -383,7 +401,7 @@ class _Recorder:
             b for b in network.bodies if b.kind == "dynamic")}
         self._coupled, start = {}, 0
         for obj in network.coupled:
-            size = 6 if obj in network.bodies else 3
+            size = coupled_size(obj)
             self._coupled[obj.name] = slice(start, start + size)
             start += size
         self._point_reference = np.array([model.positions[p.name] for p in network.points]

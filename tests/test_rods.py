@@ -1,0 +1,204 @@
+"""Rods (skmoor.rods, MoorDyn v2's ROD TYPES / RODS) against analytic numbers.
+
+The decks are in tests/decks/rods/ (each says what it holds). Newmark's period error
+(omega dt)^2 / 12 is the only discretisation error of these rigid-body motions; the
+tolerances sit a few times above it.
+
+    test                          compared with                       measured
+    pinned_rod_pendulum_period    compound pendulum, 5 deg amplitude  4e-5 (dt 0.02 s)
+    floating_spar_archimedes      Archimedes' draft; heave period     2e-7 m; 6e-5
+    rising_rods_added_mass        z(t) = z0 + a t^2 / 2, a from the   1e-13 m
+                                  transverse / end-cap added mass
+    rod_settles_on_the_bed        weight / (kBot d L)                 1e-10 m
+    rod_drag_conventions          1/2 rho Cd d L v^2, 1/2 rho CdEnd A v^2 per end
+"""
+from pathlib import Path
+import warnings
+
+import numpy as np
+import pytest
+from scipy.special import ellipk
+
+import skmoor
+from skmoor.deck import read_deck, write_deck
+from skmoor.rods import RodLoad, RodType
+
+DECKS = Path(__file__).parent / "decks" / "rods"
+G, RHO = 9.80665, 1025.0
+
+
+def build(name, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return skmoor.build(DECKS / name, **kw)
+
+
+def run(model, duration, dt):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return skmoor.simulate(model, duration=duration, dt=dt, output_interval=dt,
+                               start="given", progress=False)
+
+
+def point_track(results, name):
+    """(nt, 3) positions of network point ``name``, m."""
+    i = results.point_names.index(name)
+    return results.point_reference[i] + results.point_displacement[:, i]
+
+
+def crossings(t, x):
+    """Times where x crosses zero (either way), linearly interpolated."""
+    idx = np.flatnonzero(np.sign(x[:-1]) * np.sign(x[1:]) < 0)
+    return t[idx] - x[idx] * (t[idx + 1] - t[idx]) / (x[idx + 1] - x[idx])
+
+
+def test_pinned_rod_pendulum_period():
+    """A rod pinned at its end A swings as a compound pendulum: T = 4 K(sin(a/2)) / w0
+    with w0^2 = (m - rho V) g L/2 / (m (L^2/3 + r^2/4)). Fails if the inertia about
+    the pin, the buoyancy or the pin itself is wrong (a 2 % period error for a free
+    end instead of a pin, 7 % without buoyancy)."""
+    model = build("pinned_pendulum.dat")
+    r = run(model, 7.5, 0.025)
+    tip = point_track(r, "rod1.B")
+    L, d, mu = 10.0, 0.2, 250.0
+    mass, buoyant = mu * L, RHO * np.pi * d ** 2 / 4 * L
+    inertia = mass * (L ** 2 / 3 + (d / 2) ** 2 / 4)
+    w0 = np.sqrt((mass - buoyant) * G * L / 2 / inertia)
+    period = 4 * ellipk(np.sin(np.radians(5) / 2) ** 2) / w0
+    half = np.diff(crossings(r.t, tip[:, 0]))
+    assert len(half) >= 2
+    assert np.mean(2 * half) == pytest.approx(period, rel=3e-4)
+    pin = point_track(r, "rod1.A")
+    assert np.max(np.abs(pin - [0.0, 0.0, -5.0])) < 1e-4  # 1e-6 L under the weight
+
+
+def test_floating_spar_archimedes():
+    """A free vertical rod released below its draft heaves about Archimedes' draft
+    m L / (rho A) (its restoring force is linear: the mean of the swing is the
+    equilibrium) with the period 2 pi sqrt((m L + CaEnd rho 2/3 pi r^3) / (rho g A))
+    (one submerged end cap's added mass)."""
+    model = build("floating_spar.dat")
+    r = run(model, 10.0, 0.02)
+    z = point_track(r, "rod1.A")[:, 2]
+    d, mu, L = 0.5, 100.0, 10.0
+    area = np.pi * d ** 2 / 4
+    draft = mu * L / (RHO * area)
+    assert (z.max() + z.min()) / 2 == pytest.approx(-draft, abs=1e-5)
+    added = RHO * 2 / 3 * np.pi * (d / 2) ** 3
+    period = 2 * np.pi * np.sqrt((mu * L + added) / (RHO * G * area))
+    up = crossings(r.t, z + draft)[::2]
+    assert np.mean(np.diff(up)) == pytest.approx(period, rel=3e-4)
+    assert np.max(np.abs(r.bodies[:, 0, [0, 1, 3, 4, 5]])) < 1e-9  # it stays upright
+
+
+def test_rising_rods_added_mass():
+    """Two buoyant rods rise from rest at a = (rho V - m) g / (m + m_a): m_a = Ca rho V
+    for the horizontal one, 2 CaEnd rho 2/3 pi r^3 (two submerged end caps) for the
+    vertical one (until its top reaches the surface, after 1.64 s). Newmark integrates
+    a constant acceleration exactly."""
+    model = build("rising_rods.dat")
+    r = run(model, 1.5, 0.05)
+    d, mu, L = 0.5, 100.0, 2.0
+    volume, mass = np.pi * d ** 2 / 4 * L, mu * L
+    for name, z0, added in (("rod1.A", -10.0, RHO * volume),
+                            ("rod2.B", -10.0, 2 * RHO * 2 / 3 * np.pi * (d / 2) ** 3)):
+        a = (RHO * volume - mass) * G / (mass + added)
+        z = point_track(r, name)[:, 2]
+        assert np.max(np.abs(z - (z0 + 0.5 * a * r.t ** 2))) < 1e-9, name
+
+
+def test_rod_settles_on_the_bed():
+    """MoorDyn's bed under a rod: ((-h - z) kBot - z' cBot) d ds per segment; a rod
+    laid on it sinks in by its submerged weight over kBot d L (overdamped: settled in
+    1 s). Fails without the contact (the rod falls through) or with it on d^2 or L/2."""
+    model = build("rod_on_bed.dat")
+    r = run(model, 2.0, 0.02)
+    d, mu, L = 0.3, 200.0, 6.0
+    net = (mu - RHO * np.pi * d ** 2 / 4) * L * G
+    for end in ("rod1.A", "rod1.B"):
+        assert point_track(r, end)[-1, 2] == pytest.approx(-20.0 - net / (3e6 * d * L),
+                                                           abs=1e-8)
+
+
+def test_rod_drag_conventions():
+    """MoorDyn's rod drag: transverse 1/2 rho Cd d L |v| v over the length, axial
+    1/2 rho CdEnd (pi d^2 / 4) |v| v on each submerged end cap, none above the water.
+    At q = 0 the load is the buoyancy rho g V alone (the body model holds the weight
+    there)."""
+    rod = RodType("r", diameter=0.3, mass=50.0, Cd=1.2, CdEnd=0.8)
+    L, v = 4.0, 1.5
+    load = RodLoad(rod, np.zeros(3), np.array([L, 0.0, 0.0]), reference_point=[0.0, 0.0, -20.0],
+                   n_segments=3, rho=RHO, g=G)
+    q = np.zeros(6)
+    at_rest = load.forces(q, np.zeros(6), 0.0)
+    cap = np.pi * 0.3 ** 2 / 4
+    assert at_rest[:3] == pytest.approx([0.0, 0.0, RHO * cap * L * G])
+    across = load.forces(q, np.array([0.0, v, 0.0, 0.0, 0.0, 0.0]), 0.0) - at_rest
+    assert across[:3] == pytest.approx([0.0, -0.5 * RHO * 1.2 * 0.3 * L * v ** 2, 0.0])
+    along = load.forces(q, np.array([v, 0.0, 0.0, 0.0, 0.0, 0.0]), 0.0) - at_rest
+    assert along[:3] == pytest.approx([-2 * 0.5 * RHO * 0.8 * cap * v ** 2, 0.0, 0.0])
+    dry = RodLoad(rod, np.zeros(3), np.array([L, 0.0, 0.0]), reference_point=[0.0, 0.0, 1.0],
+                  rho=RHO, g=G)
+    assert dry.forces(q, np.array([0.0, v, v, 0.0, 0.0, 0.0]), 0.0) == pytest.approx(np.zeros(6))
+
+
+def test_rod_weight_is_exact_at_any_angle():
+    """The System holds a body's weight linearly about q = 0; the rod load corrects it:
+    the total moment of a pinned rod's weight turned by 60 deg about y is m g L/2
+    sin(60 deg), not the linear m g L/2 x 60 deg."""
+    system = build("pinned_pendulum.dat").system
+    L, d, mu = 10.0, 0.2, 250.0
+    net = (mu - RHO * np.pi * d ** 2 / 4) * L * G  # N, weight less buoyancy
+    x = np.zeros(system.n)
+    for angle in (5.0, 60.0, 120.0):  # the deck's rod hangs 5 deg off the vertical (ry = 0)
+        x[system.nf + 4] = -np.radians(angle - 5.0)  # ry < 0 turns it further away
+        R, _, _ = system.residual(x, tangent=False)
+        # residual = dV/d(ry), V = net L/2 (1 - cos(angle)), d(angle) = -d(ry)
+        assert R[system.nf + 4] == pytest.approx(-net * L / 2 * np.sin(np.radians(angle)),
+                                                 rel=1e-9)
+
+
+# ------------------------------------------------------------------ deck reading
+
+def test_deck_reads_and_writes_rods(tmp_path):
+    """ROD TYPES, RODS and R<N>A / R<N>B line ends read, and written back the same."""
+    deck = read_deck(DECKS / "floating_spar.dat")
+    assert deck.rod_types["spar"].diameter == 0.5 and deck.rod_types["spar"].CaEnd == 1.0
+    rod = deck.rods[0]
+    assert (rod.kind, rod.a, rod.b, rod.n_segments) == ("free", (0.0, 0.0, -6.0),
+                                                        (0.0, 0.0, 4.0), 5)
+    text = (DECKS / "floating_spar.dat").read_text().replace(
+        "1  dummy  1  2  1.0  1  -", "1  dummy  1  R1A  8.0  4  -")
+    (tmp_path / "ends.dat").write_text(text)
+    ends = read_deck(tmp_path / "ends.dat")
+    assert (ends.lines[0].a, ends.lines[0].b) == (1, "R1A")
+    again = read_deck(write_deck(ends, tmp_path / "again.dat"))
+    assert again.rods == ends.rods and again.rod_types == ends.rod_types
+    assert again.lines == ends.lines
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ("1  spar  Free ", "1  spar2  Free ", "RodType: 'spar2' is not in ROD TYPES"),
+    ("1  spar  Free ", "1  spar  Wobbly ", "Attachment: 'Wobbly' is not Fixed, Pinned"),
+    ("1  spar  Free ", "1  spar  Body1 ", "names no body of the BODIES section"),
+    ("0  0  4  5  -", "0  0  4  0  -", "NumSegs: 0 makes a zero-length rod"),
+    ("0  0  4  5  -", "0  0  4  -2  -", "NumSegs: must be >= 1"),
+    ("0  0  -6  0  0  4", "0  0  4  0  0  4", "ends A and B at the same place"),
+    ("spar  0.5  100.0", "spar  -0.5  100.0", "Diam: must be positive"),
+    ("1  dummy  1  2  1.0", "1  dummy  1  R2B  1.0", "AttachB: rod 2 is not in RODS"),
+    ("1  dummy  1  2  1.0", "1  dummy  1  R1C  1.0", "is not a rod end R<N>A or R<N>B"),
+])
+def test_bad_rod_input_names_the_deck_line(tmp_path, old, new, message):
+    text = (DECKS / "floating_spar.dat").read_text()
+    assert old in text
+    (tmp_path / "bad.dat").write_text(text.replace(old, new))
+    with pytest.raises(ValueError, match=r"bad\.dat line \d+: (ROD TYPES|RODS|LINES) .*"
+                       + message.replace("(", r"\(").replace("[", r"\[")):
+        read_deck(tmp_path / "bad.dat")
+
+
+def test_coupled_rod_is_refused_at_its_line(tmp_path):
+    text = (DECKS / "floating_spar.dat").read_text().replace("1  spar  Free ", "1  spar  Coupled ")
+    (tmp_path / "coupled.dat").write_text(text)
+    with pytest.raises(ValueError, match=r"coupled\.dat line 16: RODS 1: a Coupled rod"):
+        build(tmp_path / "coupled.dat")
