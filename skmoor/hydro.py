@@ -317,9 +317,23 @@ def line_hydrodynamics(lines, sea=None, *, lumped_mass=True):
     velocity, fluid inertia (when ``sea`` has waves) and added mass, coefficients from each
     line's LineType (MoorDyn v2 conventions, see the module docstring), as one compiled
     :class:`LineHydroKernel`. sea=None: still water. lumped_mass: block-lump the added
-    mass as the System lumps the line's mass (keep the two alike)."""
+    mass as the System lumps the line's mass (keep the two alike). P1 lines only (see
+    :func:`line_terms` for bending lines)."""
     _check_sea(lines, sea)
+    if lines.hermite:
+        raise ValueError("line_hydrodynamics: the compiled kernel is for P1 lines; bending "
+                         "(Hermite) lines take skmoor.hydro.line_terms")
     return LineHydroKernel(lines, sea, lumped_mass)
+
+
+def line_terms(lines, sea=None, *, lumped_mass=True) -> list:
+    """The hydrodynamic line terms of a System on ``lines``: the compiled kernel
+    (:func:`line_hydrodynamics`) on P1; on a bending (Hermite) LineSet the forms
+    (:func:`form_terms`) on scikit-fem's assembly, with the consistent added mass (as
+    the Hermite line mass)."""
+    if lines.hermite:
+        return form_terms(lines, sea, lumped_mass=False)
+    return [line_hydrodynamics(lines, sea, lumped_mass=lumped_mass)]
 
 
 def form_terms(lines, sea=None, *, lumped_mass=True, path="auto"):

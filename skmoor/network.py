@@ -31,7 +31,7 @@ from scipy.optimize import root
 from .body import RigidBody
 from .catenary import solve_catenary
 from .coupling import Ends, PointMass, System
-from .hydro import line_hydrodynamics
+from .hydro import line_terms
 from .laws import Engineering
 from .line import Line, LineSet, LineType
 from .seabed import seabed_term
@@ -427,7 +427,7 @@ def build_system(network: Network, positions: dict | None = None):
         terms.append(seabed_term(lineset, network.seabed))
     if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
-        terms.append(line_hydrodynamics(lineset, network.sea))
+        terms += line_terms(lineset, network.sea)
     for k, body in enumerate(dynamic):
         for term in body.terms:
             term = copy.copy(term)

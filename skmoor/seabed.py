@@ -264,14 +264,16 @@ def seabed_damping(du, v, w):
 
 
 def _reference_positions(lines):
-    """(ndofs,) reference node positions as a DOF vector, m."""
-    X = np.zeros(lines.ndofs)
-    X[lines.nodal_dofs] = lines.points
-    return X
+    """(ndofs,) reference geometry as a DOF vector: node positions, m (and on Hermite
+    the nodal tangents)."""
+    return lines.reference_dofs.copy()
 
 
 def seabed_term(lines, seabed):
-    """The sea bed as a line term of a System: the compiled :class:`SeabedKernel`."""
+    """The sea bed as a line term of a System: the compiled :class:`SeabedKernel` (on a
+    bending, Hermite, LineSet: :func:`form_term`, the forms on scikit-fem's assembly)."""
+    if lines.hermite:
+        return form_term(lines, seabed)
     return SeabedKernel(lines, seabed)
 
 

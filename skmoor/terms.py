@@ -7,7 +7,8 @@ N or N m), and its derivatives with respect to the displacements and to the velo
 
 - on lines (``acts_on = "lines"``): u, v the cable displacement (m) and velocity (m/s)
   on all DOFs of the LineSet (ndofs,), R (ndofs,), K and C element blocks (nel, 6, 6),
-  DOFs [node i x, y, z, node j x, y, z];
+  DOFs [node i x, y, z, node j x, y, z] (on a bending LineSet, Hermite: (nel, 12, 12),
+  DOFs ``LineSet.element_dofs``);
 - on a free point (``"points"``, index ``term.point``): u, v, R (3,), K, C (3, 3);
 - on a dynamic body (``"bodies"``, index ``term.body``): q, qdot, R (6,), K, C (6, 6).
 
@@ -199,9 +200,9 @@ class LineForm(Term):
 # --- the engines: each returns f(u, v, t, R, K, C) adding into R and the element blocks
 
 def _local_order(lines, basis):
-    """Permutation from scikit-fem's local DOFs to [node i x, y, z, node j x, y, z]."""
-    t = lines.mesh.t
-    ours = np.concatenate([lines.nodal_dofs[t[0]], lines.nodal_dofs[t[1]]], axis=1)
+    """Permutation from scikit-fem's local DOFs to the element blocks' order
+    (``LineSet.element_dofs``: [node i x, y, z, node j x, y, z] on P1)."""
+    ours = lines.element_dofs
     theirs = basis.element_dofs.T  # (nel, Nbfun)
     order = np.array([int(np.flatnonzero(theirs[0] == d)[0]) for d in ours[0]])
     if not np.array_equal(theirs[:, order], ours):
@@ -210,7 +211,7 @@ def _local_order(lines, basis):
 
 
 def _blocks(coo, order):
-    """Element blocks (nel, 6, 6) [row test, column trial] of scikit-fem's COOData."""
+    """Element blocks (nel, nloc, nloc) [row test, column trial] of scikit-fem's COOData."""
     local = coo.tolocal()  # (nel, trial, test)
     return np.swapaxes(local, 1, 2)[:, order][:, :, order]
 
@@ -282,6 +283,10 @@ class _Local:
 
     def __init__(self, term):
         lines = term.lines
+        if lines.hermite:
+            raise ValueError(f"LineForm {term.name} path {term.path!r}: P1 lines only; on "
+                             "bending (Hermite) lines use path='assembly' with hand-written "
+                             "tangents")
         basis, _ = term.basis_and_fields()
         t = lines.mesh.t
         self.edofs = np.concatenate([lines.nodal_dofs[t[0]], lines.nodal_dofs[t[1]]], axis=1)
