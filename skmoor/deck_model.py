@@ -33,9 +33,12 @@ x, y, z in m and roll, pitch, yaw in rad; then 3 per coupled point). Without a m
 they stay where the deck puts them. ``skmoor run DECK --motion FILE`` reads such a motion
 from a time-series file (:func:`read_motion`).
 
+A line type with EI > 0 is a bending line (:mod:`skmoor.bending`: the deck's lines then
+all go on the Hermite element, the cables with EI = 0), its ends pinned (MoorDyn clamps
+a line only by ending it on a rod, which is refused).
+
 Refused, with the deck line and the reason: pinned bodies, mass or volume on a body
-point, bending stiffness (EI > 0), VIV (Cl > 0), MoorDyn's wave / current / seafloor
-files.
+point, rods, VIV (Cl > 0), MoorDyn's wave / current / seafloor files.
 """
 from __future__ import annotations
 
@@ -64,9 +67,6 @@ def line_type_of(deck: Deck, line) -> LineType:
     its internal damping BA, which MoorDyn sets per line from -zeta)."""
     name = line.type
     t = deck.line_types[name]
-    if t.EI != 0:
-        raise _fail(deck, t.where, f"LINE TYPES {name}: EI = {t.EI:g} N m2: bending "
-                    "stiffness is not supported (skmoor lines are cables)")
     if t.viv and t.viv[0] > 0:
         raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {t.viv[0]:g}: vortex-induced "
                     "vibration is not supported")
@@ -74,7 +74,8 @@ def line_type_of(deck: Deck, line) -> LineType:
     if isinstance(law, laws.StaticDynamic):
         BA = t.BA_dynamic or 0.0
     return LineType(EA=t.EA, mass=t.mass, diameter=t.diameter, Cd_n=t.Cd, Cd_t=t.CdAx,
-                    Ca_n=t.Ca, Ca_t=t.CaAx, BA=BA, rho_water=deck.rho, g=deck.g, law=law)
+                    Ca_n=t.Ca, Ca_t=t.CaAx, BA=BA, rho_water=deck.rho, g=deck.g, law=law,
+                    EI=t.EI)
 
 
 def _law(deck: Deck, t):

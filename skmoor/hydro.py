@@ -326,13 +326,13 @@ def line_hydrodynamics(lines, sea=None, *, lumped_mass=True):
     return LineHydroKernel(lines, sea, lumped_mass)
 
 
-def line_terms(lines, sea=None, *, lumped_mass=True) -> list:
+def line_terms(lines, sea=None, *, lumped_mass=True, path="auto") -> list:
     """The hydrodynamic line terms of a System on ``lines``: the compiled kernel
     (:func:`line_hydrodynamics`) on P1; on a bending (Hermite) LineSet the forms
-    (:func:`form_terms`) on scikit-fem's assembly, with the consistent added mass (as
-    the Hermite line mass)."""
+    (:func:`form_terms` on ``path``), with the consistent added mass (as the Hermite
+    line mass)."""
     if lines.hermite:
-        return form_terms(lines, sea, lumped_mass=False)
+        return form_terms(lines, sea, lumped_mass=False, path=path)
     return [line_hydrodynamics(lines, sea, lumped_mass=lumped_mass)]
 
 

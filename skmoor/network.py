@@ -131,7 +131,11 @@ class Network:
     (currents and waves on the lines, when their coefficients are non-zero); hydro: add
     the lines' Morison terms when any coefficient is non-zero; strain_law: the strain law
     of the line types without their own (``LineType.law``): a :class:`skmoor.laws.Law`
-    or 'paper' / 'engineering'; motion: see the module docstring.
+    or 'paper' / 'engineering'; motion: see the module docstring. form_path: how the
+    hydrodynamic and sea-bed forms run on bending (Hermite) lines, a
+    :class:`~skmoor.terms.LineForm` path: 'auto' (scikit-fem's assembly with the exact
+    tangents: no compile, slow per call) or 'compiled' (numba kernels generated once,
+    ~30 s each, cached on disk: for time integration). P1 lines have compiled kernels.
     """
 
     points: list
@@ -145,6 +149,7 @@ class Network:
     hydro: bool = True
     strain_law: object = "engineering"
     motion: object = None
+    form_path: str = "auto"
     notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
 
     def __post_init__(self):
@@ -424,10 +429,10 @@ def build_system(network: Network, positions: dict | None = None):
               for p in free]
     terms = []
     if network.seabed is not None:
-        terms.append(seabed_term(lineset, network.seabed))
+        terms.append(seabed_term(lineset, network.seabed, path=network.form_path))
     if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
-        terms += line_terms(lineset, network.sea)
+        terms += line_terms(lineset, network.sea, path=network.form_path)
     for k, body in enumerate(dynamic):
         for term in body.terms:
             term = copy.copy(term)

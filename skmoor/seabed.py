@@ -269,11 +269,11 @@ def _reference_positions(lines):
     return lines.reference_dofs.copy()
 
 
-def seabed_term(lines, seabed):
+def seabed_term(lines, seabed, *, path="auto"):
     """The sea bed as a line term of a System: the compiled :class:`SeabedKernel` (on a
-    bending, Hermite, LineSet: :func:`form_term`, the forms on scikit-fem's assembly)."""
+    bending, Hermite, LineSet: :func:`form_term` on ``path``)."""
     if lines.hermite:
-        return form_term(lines, seabed)
+        return form_term(lines, seabed, path=path)
     return SeabedKernel(lines, seabed)
 
 

@@ -195,7 +195,8 @@ def test_reader_refuses_with_the_deck_line(tmp_path, old, new, message):
 
 
 @pytest.mark.parametrize("old, new, message", [
-    ("-1.0      0.0", "-1.0      3.0e5", "line 8: LINE TYPES chain: EI = 300000 N m2: bending"),
+    ("-1.0      0.0", "-1.0      -3.0e5", "line 8: LINE TYPES chain: LineType.EI: bending "
+     "stiffness must be >= 0"),
     ("1          disableOutput", "1 disableOutput\n2 WaveKin", "line 30: option WaveKin = 2"),
     ("410.0", "150.0", "line 17: LINES 1: its ends are 403.113 m apart, 169 % more than its length 150 m"),
 ])
