@@ -97,6 +97,8 @@ class Line:
     tangent(s) -> (..., 3) and tension(s) -> (...) give the reference fields at any s.
     stretch(s): reference stretch (1 + T/EA for an elastic catenary, 1 for a stress-free
     polyline); mass and weight per unit reference length are divided by it.
+    end_tangents: unit tangents (along increasing s) that replace the reference's at end
+    A and B (None: keep it), e.g. the direction a clamped bending line leaves its end in.
     """
 
     name: str
@@ -106,8 +108,13 @@ class Line:
     tangent: object
     tension: object
     stretch: object = field(default=lambda s: np.ones_like(s))
+    end_tangents: tuple = (None, None)
 
     def __post_init__(self):
+        self.end_tangents = tuple(None if t is None else _unit(f"Line {self.name!r} end tangent", t)
+                                  for t in self.end_tangents)
+        if len(self.end_tangents) != 2:
+            raise ValueError(f"Line {self.name!r} end_tangents: need two entries (A, B)")
         self.s = np.asarray(self.s, float)
         self.X = np.asarray(self.X, float)
         check_finite(f"Line {self.name!r} s", self.s)
@@ -153,10 +160,11 @@ class Line:
         """The same reference state numbered from the other end (tangent flipped)."""
         total = self.s[-1] + self.s[0]
         tangent, tension, stretch = self.tangent, self.tension, self.stretch
+        a, b = (None if t is None else -t for t in self.end_tangents)
         return Line(self.name, self.line_type, total - self.s[::-1], self.X[::-1].copy(),
                     lambda s: -tangent(total - np.asarray(s)),
                     lambda s: tension(total - np.asarray(s)),
-                    lambda s: stretch(total - np.asarray(s)))
+                    lambda s: stretch(total - np.asarray(s)), (b, a))
 
     @classmethod
     def from_polyline(cls, points, line_type: LineType, name="line", tension=0.0):
@@ -180,6 +188,15 @@ class Line:
 
         return cls(name, line_type, s, X, lambda sq: directions[element(sq)],
                    lambda sq: np.full(np.shape(sq), float(tension)))
+
+
+def _unit(name, vector):
+    """A direction as a unit 3-vector (ValueError naming it when it is not one)."""
+    v = np.asarray(vector, float)
+    check_finite(name, v)
+    if v.shape != (3,) or np.linalg.norm(v) == 0:
+        raise ValueError(f"{name}: need a non-zero 3-vector, got {vector!r}")
+    return v / np.linalg.norm(v)
 
 
 def _inverse_monotone(f, upper):
@@ -289,7 +306,11 @@ class LineSet:
                 before = line.tangent(np.maximum(line.s - step, line.s[0]))
                 after = line.tangent(np.minimum(line.s + step, line.s[-1]))
                 mean = before + after
-                tangents.append(mean / np.linalg.norm(mean, axis=1, keepdims=True))
+                mean /= np.linalg.norm(mean, axis=1, keepdims=True)
+                for node, given in zip((0, -1), line.end_tangents):
+                    if given is not None:
+                        mean[node] = given
+                tangents.append(mean)
             X[self.slope_dofs] = np.concatenate(tangents)
         return X
 
@@ -363,7 +384,9 @@ class LineSet:
         if self.hermite:  # the bending form's fields (skmoor.bending)
             EI = np.array([line.line_type.EI for line in self.lines])[self.line_of_cell]
             out["EI"] = np.repeat(EI[:, None], s_global.shape[1], axis=1)
-            out["Xpp"] = basis.interpolate(self.reference_dofs).hess[:, 0, 0]
+            geometry = basis.interpolate(self.reference_dofs)
+            out["Xp"] = geometry.grad[:, 0]  # X' of the C1 reference geometry, as in r'
+            out["Xpp"] = geometry.hess[:, 0, 0]
         return out
 
     def _law_fields(self, T, EA, e_ref, shape):

@@ -69,7 +69,10 @@ class Point:
 @dataclass
 class MooringLine:
     """A line from point ``a`` to point ``b`` (names): its LineType, unstretched length
-    (m) and number of elements."""
+    (m) and number of elements. clamp_a, clamp_b: clamp a bending line (EI > 0) at that
+    end (on a fixed or coupled point): True holds its tangent along the chord from a to
+    b (a straight beam's axis), a 3-vector along that direction (the line's tangent
+    there, pointing from a towards b); False (default): pinned, the end tangent free."""
 
     name: str
     line_type: LineType
@@ -77,6 +80,8 @@ class MooringLine:
     b: str
     length: float
     n_elements: int
+    clamp_a: object = False
+    clamp_b: object = False
 
     def __post_init__(self):
         if not (isinstance(self.length, (int, float)) and math.isfinite(self.length)
@@ -401,7 +406,6 @@ def build_system(network: Network, positions: dict | None = None):
                              else f"line {ln.name}: {message}") from None
         lines.append(line)
         catenaries.append(cat)
-    lineset = LineSet(lines, law=network.strain_law)
     dynamic = [b for b in network.bodies if b.kind == "dynamic"]
     body_index = {b.name: k for k, b in enumerate(dynamic)}
     free = [p for p in network.points if p.kind == "free"]
@@ -423,7 +427,24 @@ def build_system(network: Network, positions: dict | None = None):
         slots.append(p)
         return ("prescribed", len(slots) - 1)
 
-    ends = Ends([end(ln.a) for ln in network.lines], [end(ln.b) for ln in network.lines])
+    ends_a, ends_b = [end(ln.a) for ln in network.lines], [end(ln.b) for ln in network.lines]
+    clamped = []
+    for k, ln in enumerate(network.lines):
+        for side, clamp, held in (("a", ln.clamp_a, ends_a[k]), ("b", ln.clamp_b, ends_b[k])):
+            if clamp is False or clamp is None:
+                continue
+            if ln.line_type.EI <= 0:
+                raise ValueError(f"line {ln.name} clamp_{side}: only a bending line (EI > 0) "
+                                 "can be clamped; a cable end is pinned")
+            if held[0] not in ("fixed", "prescribed"):
+                raise ValueError(f"line {ln.name} clamp_{side}: point {getattr(ln, side)} is "
+                                 f"{'free' if held[0] == 'point' else 'on a dynamic body'}; "
+                                 "only ends on fixed or coupled points can be clamped")
+            clamped.append((k, side))
+            lines[k].end_tangents = _clamp_tangents(ln, side, clamp, positions,
+                                                    lines[k].end_tangents)
+    ends = Ends(ends_a, ends_b, clamped=clamped)
+    lineset = LineSet(lines, law=network.strain_law)
     motion = _slot_motion(network, slots) if slots else None
     masses = [PointMass(p.mass, p.volume, p.CdA, p.Ca, rho=network.rho, g=network.g)
               for p in free]
@@ -442,6 +463,22 @@ def build_system(network: Network, positions: dict | None = None):
                     motion=motion, body_load=[b.load for b in dynamic], terms=terms,
                     sea=network.sea)
     return system, lineset, catenaries, positions
+
+
+def _clamp_tangents(ln: MooringLine, side, clamp, positions, tangents):
+    """The line's end tangents with the clamped end's direction (see MooringLine)."""
+    if clamp is True:
+        direction = np.asarray(positions[ln.b], float) - np.asarray(positions[ln.a], float)
+    else:
+        direction = np.asarray(clamp, float)
+        if direction.shape != (3,) or not np.all(np.isfinite(direction)):
+            raise ValueError(f"line {ln.name} clamp_{side}: need True, False or a direction "
+                             f"(3-vector), got {clamp!r}")
+    if not np.linalg.norm(direction) > 0:
+        raise ValueError(f"line {ln.name} clamp_{side}: the direction is zero")
+    direction = direction / np.linalg.norm(direction)
+    a, b = tangents
+    return (direction, b) if side == "a" else (a, direction)
 
 
 def _slot_motion(network: Network, slots):

@@ -177,3 +177,38 @@ def test_bad_bending_inputs():
         Ends([("fixed",)], [("point", 0)], clamped=[(0, "b")])
     with pytest.raises(ValueError, match="Ends clamped"):
         Ends([("fixed",)], [("fixed",)], clamped=[(1, "a")])
+
+
+def test_outputs_carry_curvature_and_moment(tmp_path):
+    """A propped cantilever built as a network (clamped at a, pinned at b): Results,
+    summary.json and the VTU series carry the bending moment, Euler-Bernoulli's
+    |w L^2 / 8 - 5 w L s / 8 + w s^2 / 2| at the element mid-points (largest next to the
+    clamp); the clamped end turns no tangent, the pinned one does."""
+    import json
+    import meshio
+    from skmoor.export import write_vtu_series
+    from skmoor.model import from_network
+    from skmoor.network import MooringLine, Network, Point
+    from skmoor.run import equilibrium, static_results, write_outputs
+
+    n = 8
+    points = [Point("a", "fixed", [0.0, 0.0, -5.0]), Point("b", "fixed", [L, 0.0, -5.0])]
+    beam = MooringLine("beam", beam_type(), "a", "b", L, n, clamp_a=True)
+    model = from_network(Network(points, [beam], depth=50.0, hydro=False))
+    eq = equilibrium(model, n_modes=1)
+    results = static_results(model, eq)
+    assert results.bending and results.bending_moment.shape == (1, n)
+    info = write_outputs(results, tmp_path)
+    saved = json.loads((tmp_path / "summary.json").read_text())
+    s = (np.arange(n) + 0.5) * L / n
+    exact = np.abs(W * L**2 / 8 - 5 * W * L * s / 8 + W * s**2 / 2)
+    np.testing.assert_allclose(results.bending_moment[0], exact, rtol=0.02, atol=0.02 * exact.max())
+    assert saved["max_bending_moment"]["beam"] == pytest.approx(exact.max(), rel=0.01)
+    assert saved["max_curvature"]["beam"] == pytest.approx(saved["max_bending_moment"]["beam"] / EI)
+    assert info["max_bending_moment"] == saved["max_bending_moment"]
+    u = model.system.full_displacement(eq.x)
+    assert np.abs(u[model.lines.slope_dofs[0]]).max() == 0.0  # clamped: the tangent held
+    assert abs(u[model.lines.slope_dofs[-1]][2]) > 1e-5  # pinned: the tangent turns
+    write_vtu_series(results, tmp_path)
+    vtu = meshio.read(tmp_path / "motion" / "lines_0000.vtu")
+    np.testing.assert_allclose(vtu.cell_data["bending_moment"][0], results.bending_moment[0])
