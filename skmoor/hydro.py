@@ -186,6 +186,11 @@ class SeaTerm(LineForm):
         super().__init__(residual, **kw)
         self.sea, self.water, self.lumped = sea, water, lumped
 
+    def add_to(self, u, v, t, R, K=None, C=None):
+        if self.water == "velocity" and (self.sea is None or self.sea.still) and not np.any(v):
+            return  # drag and its derivatives vanish with the relative velocity
+        super().add_to(u, v, t, R, K, C)
+
     def fields_at(self, t, u):
         name = "uw" if self.water == "velocity" else "aw"
         return dict(self.fields, **{name: nodal_water(self.lines, self.sea, u, t, self.water)})

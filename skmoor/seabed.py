@@ -290,9 +290,22 @@ def form_term(lines, seabed, *, path="auto"):
                   v0=float(seabed.friction_velocity))
     hand = path in ("auto", "assembly")
     moving = np.any(c > 0) or seabed.mu_axial > 0 or seabed.mu_lateral > 0
-    return LineForm(seabed_residual, stiffness=seabed_stiffness if hand else None,
-                    damping=seabed_damping if hand and moving else None, fields=fields,
-                    quadrature="nodal", path=path, lines=lines, name="seabed")
+    return SeabedForm(seabed, seabed_residual, stiffness=seabed_stiffness if hand else None,
+                      damping=seabed_damping if hand and moving else None, fields=fields,
+                      quadrature="nodal", path=path, lines=lines, name="seabed")
+
+
+class SeabedForm(LineForm):
+    """The seabed's LineForm, skipped while no node touches the bed (every term of the
+    forms carries the contact H(g) or the normal force, so all are zero there)."""
+
+    def __init__(self, seabed, residual, **kw):
+        super().__init__(residual, **kw)
+        self.seabed = seabed
+
+    def add_to(self, u, v, t, R, K=None, C=None):
+        if np.any(self.seabed.penetration(self.lines.points + u[self.lines.nodal_dofs]) > 0):
+            super().add_to(u, v, t, R, K, C)
 
 
 class SeabedKernel(Term):
