@@ -58,14 +58,29 @@ class Ends:
     ``("fixed",)``; ``("prescribed", slot)`` (moved by ``motion(t)[slot]``); ``("point", p)``
     (free point p: its own 3 DOFs); ``("body", b)`` (on dynamic body b, where the line's
     reference state puts the end).
+
+    clamped: the ends of bending (Hermite) lines whose tangent is held at the reference
+    tangent, as ``(line index, "a" or "b")`` pairs, on fixed or prescribed ends (the
+    others are pinned: the end tangent free). MoorDyn clamps a line by ending it on a
+    fixed rod; here the line end says so itself.
     """
 
     a: list
     b: list
+    clamped: tuple = ()
 
     def __post_init__(self):
         if len(self.a) != len(self.b):
             raise ValueError(f"Ends: {len(self.a)} A ends and {len(self.b)} B ends")
+        self.clamped = tuple((int(k), str(end)) for k, end in self.clamped)
+        for k, end in self.clamped:
+            if end not in ("a", "b") or not 0 <= k < len(self.a):
+                raise ValueError(f"Ends clamped: ({k}, {end!r}) is not a (line index, 'a' "
+                                 f"or 'b') of the {len(self.a)} lines")
+            held = (self.a if end == "a" else self.b)[k]
+            if held[0] not in ("fixed", "prescribed"):
+                raise ValueError(f"Ends clamped: end {end.upper()} of line {k} is on a "
+                                 f"{held[0]!r}; only fixed or prescribed ends can be clamped")
         for end in self.a + self.b:
             if end[0] not in ("fixed", "prescribed", "point", "body"):
                 raise ValueError(f"Ends: {end[0]!r} is not 'fixed', 'prescribed', 'point' "
@@ -124,8 +139,13 @@ class System:
         self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
                            else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
         self._terms = {"lines": [], "points": [], "bodies": []}
-        self.kernel = CableKernel(lines)
-        self._block_shape = (self.kernel.pattern.nel, 6, 6)
+        if lines.hermite:
+            from .bending import HermiteKernel
+            self.kernel = HermiteKernel(lines)
+        else:
+            self.kernel = CableKernel(lines)
+        nloc = self.kernel.pattern.nloc
+        self._block_shape = (self.kernel.pattern.nel, nloc, nloc)
         self._damped = lines.damped
         self._number_dofs()
         self._attachment_cache = (None, None, None)
@@ -149,6 +169,12 @@ class System:
         for k, (a, b) in enumerate(zip(ends.a, ends.b)):
             held[int(lines.anchor_nodes[k])] = a
             held[int(lines.fairlead_nodes[k])] = b
+        slopes = lines.slope_dofs  # Hermite: each node's tangent DOFs, free unless clamped
+        if ends.clamped and slopes is None:
+            raise ValueError("System ends: clamped ends need bending lines (a LineType "
+                             "with EI > 0); cables are pinned")
+        clamped = {int((lines.anchor_nodes if end == "a" else lines.fairlead_nodes)[k])
+                   for k, end in ends.clamped}
         npoints = len(self.point_masses)
         position = np.full(lines.ndofs, -1)
         self.point_columns = np.full((npoints, 3), -1)
@@ -182,6 +208,9 @@ class System:
                                   lines.points[node] - self.bodies[end[1]].reference_point))
             elif end[0] == "prescribed":
                 prescribed_ends.append((int(end[1]), node))
+            if slopes is not None and node not in clamped:
+                position[slopes[node]] = np.arange(columns, columns + 3)
+                columns += 3
         unused = np.flatnonzero(self.point_columns[:, 0] < 0)
         if len(unused):
             raise ValueError(f"System points: free point {int(unused[0])} has no line")

@@ -439,6 +439,8 @@ def _line_type(e, deck, folder=Path(".")):
     for column, value in (("Diam", lt.diameter), ("Mass/m", lt.mass), ("EA", lt.EA)):
         if value <= 0:
             raise e.error(f"{column}: must be positive, got {value:g}")
+    if lt.EI < 0:
+        raise e.error(f"EI: bending stiffness must be >= 0 N m2, got {lt.EI:g}")
     deck.line_types[name] = lt
 
 

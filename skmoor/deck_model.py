@@ -47,9 +47,13 @@ pinned at its reference point on 3 coupled DOFs (MoorDyn's coupled-DOF vector gi
 6, of which the first 3, its position, are used); a body of no mass of its own carrying
 one rod gets that rod's spin spring.
 
+A line type with EI > 0 is a bending line (:mod:`skmoor.bending`: the deck's lines then
+all go on the Hermite element, the cables with EI = 0), its ends pinned (MoorDyn clamps a
+line where it ends on a rod; here a line end on a rod is pinned to it).
+
 Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), a
-Body<N>Pinned rod on a moving body, mass or volume on a body point, bending stiffness
-(EI > 0), VIV (Cl > 0), MoorDyn-F's WaterKin file.
+Body<N>Pinned rod on a moving body, mass or volume on a body point, VIV (Cl > 0),
+MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
 
@@ -79,9 +83,6 @@ def line_type_of(deck: Deck, line) -> LineType:
     its internal damping BA, which MoorDyn sets per line from -zeta)."""
     name = line.type
     t = deck.line_types[name]
-    if t.EI != 0:
-        raise _fail(deck, t.where, f"LINE TYPES {name}: EI = {t.EI:g} N m2: bending "
-                    "stiffness is not supported (skmoor lines are cables)")
     if t.viv and t.viv[0] > 0:
         raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {t.viv[0]:g}: vortex-induced "
                     "vibration is not supported")
@@ -89,7 +90,8 @@ def line_type_of(deck: Deck, line) -> LineType:
     if isinstance(law, laws.StaticDynamic):
         BA = t.BA_dynamic or 0.0
     return LineType(EA=t.EA, mass=t.mass, diameter=t.diameter, Cd_n=t.Cd, Cd_t=t.CdAx,
-                    Ca_n=t.Ca, Ca_t=t.CaAx, BA=BA, rho_water=deck.rho, g=deck.g, law=law)
+                    Ca_n=t.Ca, Ca_t=t.CaAx, BA=BA, rho_water=deck.rho, g=deck.g, law=law,
+                    EI=t.EI)
 
 
 def _law(deck: Deck, t):

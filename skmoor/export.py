@@ -2,7 +2,8 @@
 VTU + PVD series.
 
 Arrays written on the lines, SI: point data ``displacement`` (m) and ``velocity`` (m/s),
-cell data ``tension`` (N), ``strain`` (-) and ``line`` (line index of the element).
+cell data ``tension`` (N), ``strain`` (-) and ``line`` (line index of the element); with
+bending lines also ``curvature`` (1/m) and ``bending_moment`` (N m).
 
 The network's points (anchors, junctions, clump weights, fairleads: ``results.point_names``)
 go into the VTU series as a third part, one vertex per point, with point data ``index``
@@ -200,8 +201,11 @@ def _point_data(results, i):
 
 
 def _cell_data(results, i):
-    return {"tension": [results.tension[i]], "strain": [results.strain[i]],
+    data = {"tension": [results.tension[i]], "strain": [results.strain[i]],
             "line": [np.asarray(results.line_of_cell, dtype=np.int32)]}
+    if results.bending:
+        data.update(curvature=[results.curvature[i]], bending_moment=[results.bending_moment[i]])
+    return data
 
 
 def _write_pvd(path, entries):

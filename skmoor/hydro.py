@@ -186,6 +186,11 @@ class SeaTerm(LineForm):
         super().__init__(residual, **kw)
         self.sea, self.water, self.lumped = sea, water, lumped
 
+    def add_to(self, u, v, t, R, K=None, C=None):
+        if self.water == "velocity" and (self.sea is None or self.sea.still) and not np.any(v):
+            return  # drag and its derivatives vanish with the relative velocity
+        super().add_to(u, v, t, R, K, C)
+
     def fields_at(self, t, u):
         name = "uw" if self.water == "velocity" else "aw"
         return dict(self.fields, **{name: nodal_water(self.lines, self.sea, u, t, self.water)})
@@ -317,9 +322,23 @@ def line_hydrodynamics(lines, sea=None, *, lumped_mass=True):
     velocity, fluid inertia (when ``sea`` has waves) and added mass, coefficients from each
     line's LineType (MoorDyn v2 conventions, see the module docstring), as one compiled
     :class:`LineHydroKernel`. sea=None: still water. lumped_mass: block-lump the added
-    mass as the System lumps the line's mass (keep the two alike)."""
+    mass as the System lumps the line's mass (keep the two alike). P1 lines only (see
+    :func:`line_terms` for bending lines)."""
     _check_sea(lines, sea)
+    if lines.hermite:
+        raise ValueError("line_hydrodynamics: the compiled kernel is for P1 lines; bending "
+                         "(Hermite) lines take skmoor.hydro.line_terms")
     return LineHydroKernel(lines, sea, lumped_mass)
+
+
+def line_terms(lines, sea=None, *, lumped_mass=True, path="auto") -> list:
+    """The hydrodynamic line terms of a System on ``lines``: the compiled kernel
+    (:func:`line_hydrodynamics`) on P1; on a bending (Hermite) LineSet the forms
+    (:func:`form_terms` on ``path``), with the consistent added mass (as the Hermite
+    line mass)."""
+    if lines.hermite:
+        return form_terms(lines, sea, lumped_mass=False, path=path)
+    return [line_hydrodynamics(lines, sea, lumped_mass=lumped_mass)]
 
 
 def form_terms(lines, sea=None, *, lumped_mass=True, path="auto"):

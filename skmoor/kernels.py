@@ -9,7 +9,9 @@ fixed once. The tests hold every kernel equal to the assembly of its forms to ro
 Kernel protocol (what :class:`~skmoor.coupling.System` calls): ``add_to(lines, u, ud, t,
 R, Ke, Ce)`` adds the residual (N) into R (ndofs,) and, when Ke is not None, its
 derivatives with respect to u (N/m) and to the velocity (N s/m) into the (nel, 6, 6)
-blocks Ke and Ce, DOFs ordered [node i x, y, z, node j x, y, z].
+blocks Ke and Ce, DOFs ordered [node i x, y, z, node j x, y, z] (on a Hermite LineSet
+(nel, 12, 12), ``LineSet.element_dofs``; its cable kernel is
+:class:`skmoor.bending.HermiteKernel`).
 """
 import numpy as np
 import scipy.sparse as sp
@@ -21,19 +23,19 @@ NO_BLOCKS = np.zeros((0, 6, 6))  # stands for "no tangent" in the compiled loops
 
 
 class ElementPattern:
-    """The fixed sparsity pattern of per-element 6x6 blocks on a LineSet, mapped by
+    """The fixed sparsity pattern of per-element blocks on a LineSet (nloc x nloc, nloc
+    the element's DOF count: 6 on P1, 12 on Hermite), mapped by
     ``position`` (ndofs,): the row / column each cable DOF goes to, -1 to drop it (as the
     held DOFs of a System without bodies); several DOFs may share one (line ends on one
     free point). Default: the identity."""
 
     def __init__(self, lineset, position=None):
-        nodal, t = lineset.nodal_dofs, lineset.mesh.t
-        edofs = np.concatenate([nodal[t[0]], nodal[t[1]]], axis=1)  # (nel, 6)
-        self.nel = len(edofs)
+        edofs = lineset.element_dofs  # (nel, nloc)
+        self.nel, self.nloc = edofs.shape
         position = np.arange(lineset.ndofs) if position is None else np.asarray(position)
         self.ndofs = n = int(position.max()) + 1
-        rows = position[np.repeat(edofs[:, :, None], 6, axis=2).ravel()]
-        cols = position[np.repeat(edofs[:, None, :], 6, axis=1).ravel()]
+        rows = position[np.repeat(edofs[:, :, None], self.nloc, axis=2).ravel()]
+        cols = position[np.repeat(edofs[:, None, :], self.nloc, axis=1).ravel()]
         kept = (rows >= 0) & (cols >= 0)
         keys = np.where(kept, rows.astype(np.int64) * n + cols, -1)
         unique = np.unique(keys[kept])
@@ -53,12 +55,12 @@ class ElementPattern:
         if not tangent:
             add_to(R, None, None)
             return R, None, None
-        Ke, Ce = np.zeros((self.nel, 6, 6)), np.zeros((self.nel, 6, 6))
+        Ke, Ce = (np.zeros((self.nel, self.nloc, self.nloc)) for _ in range(2))
         add_to(R, Ke, Ce)
         return R, self.assemble(Ke, layout), self.assemble(Ce, layout) if rate else None
 
     def assemble(self, ke, layout="sparse"):
-        """(nel, 6, 6) element blocks summed into a matrix: 'sparse' (CSR), 'dense' (an
+        """(nel, nloc, nloc) element blocks summed into a matrix: 'sparse' (CSR), 'dense' (an
         array) or 'band' (a :class:`~skmoor.banded.Band`, kl = ku = :attr:`bandwidth`)."""
         n = self.ndofs
         if layout == "dense":

@@ -1,4 +1,5 @@
-"""Mooring lines as one scikit-fem model: a ``MeshLine1`` in s, a vector P1 basis.
+"""Mooring lines as one scikit-fem model: a ``MeshLine1`` in s, a vector P1 basis (cables)
+or a vector Hermite basis (lines with bending stiffness EI > 0, see :mod:`skmoor.bending`).
 
 A :class:`Line` is a reference (static) state: node arclengths s (m), node positions
 X (m), and the reference fields X'(s) (unit tangent) and T(s) (tension, N). It is built
@@ -14,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import Basis, ElementLineP1, ElementVector, MeshLine1, asm
+from skfem import Basis, ElementLineHermite, ElementLineP1, ElementVector, MeshLine1, asm
 
-from . import forms, laws
+from . import bending, forms, laws
 from .validation import check_finite, check_positive
 
 RHO_WATER = 1025.0
@@ -36,6 +37,8 @@ class LineType:
     law: the strain law (:mod:`skmoor.laws`: a Law or 'paper' / 'engineering'; None: the
     LineSet's). With a :class:`~skmoor.laws.Curve`, EA may be None: the curve's last
     secant (MoorDyn's EA of a curve), which stands for the law where one number is needed.
+    EI: bending stiffness, N m2 (MoorDyn's EI; 0: a cable on P1 elements, > 0: the line
+    goes on the C1 Hermite element with the bending form, :mod:`skmoor.bending`).
     """
 
     EA: float | None
@@ -50,6 +53,7 @@ class LineType:
     rho_water: float = RHO_WATER
     g: float = G
     law: object = None
+    EI: float = 0.0
 
     def __post_init__(self):
         if self.law is not None:
@@ -61,10 +65,12 @@ class LineType:
                                  "whose last secant stands for it")
         for name in ("EA", "mass", "diameter"):
             check_positive(f"LineType.{name}", getattr(self, name))
-        for name in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "rho_water", "g"):
+        for name in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "rho_water", "g", "EI"):
             check_finite(f"LineType.{name}", getattr(self, name))
         if self.BA < 0:
             raise ValueError(f"LineType.BA: internal damping must be >= 0 N s, got {self.BA}")
+        if self.EI < 0:
+            raise ValueError(f"LineType.EI: bending stiffness must be >= 0 N m2, got {self.EI}")
         if self.weight is None:
             self.weight = (self.mass - self.rho_water * self.area) * self.g
         check_finite("LineType.weight", self.weight)
@@ -91,6 +97,8 @@ class Line:
     tangent(s) -> (..., 3) and tension(s) -> (...) give the reference fields at any s.
     stretch(s): reference stretch (1 + T/EA for an elastic catenary, 1 for a stress-free
     polyline); mass and weight per unit reference length are divided by it.
+    end_tangents: unit tangents (along increasing s) that replace the reference's at end
+    A and B (None: keep it), e.g. the direction a clamped bending line leaves its end in.
     """
 
     name: str
@@ -100,8 +108,13 @@ class Line:
     tangent: object
     tension: object
     stretch: object = field(default=lambda s: np.ones_like(s))
+    end_tangents: tuple = (None, None)
 
     def __post_init__(self):
+        self.end_tangents = tuple(None if t is None else _unit(f"Line {self.name!r} end tangent", t)
+                                  for t in self.end_tangents)
+        if len(self.end_tangents) != 2:
+            raise ValueError(f"Line {self.name!r} end_tangents: need two entries (A, B)")
         self.s = np.asarray(self.s, float)
         self.X = np.asarray(self.X, float)
         check_finite(f"Line {self.name!r} s", self.s)
@@ -147,10 +160,11 @@ class Line:
         """The same reference state numbered from the other end (tangent flipped)."""
         total = self.s[-1] + self.s[0]
         tangent, tension, stretch = self.tangent, self.tension, self.stretch
+        a, b = (None if t is None else -t for t in self.end_tangents)
         return Line(self.name, self.line_type, total - self.s[::-1], self.X[::-1].copy(),
                     lambda s: -tangent(total - np.asarray(s)),
                     lambda s: tension(total - np.asarray(s)),
-                    lambda s: stretch(total - np.asarray(s)))
+                    lambda s: stretch(total - np.asarray(s)), (b, a))
 
     @classmethod
     def from_polyline(cls, points, line_type: LineType, name="line", tension=0.0):
@@ -176,6 +190,15 @@ class Line:
                    lambda sq: np.full(np.shape(sq), float(tension)))
 
 
+def _unit(name, vector):
+    """A direction as a unit 3-vector (ValueError naming it when it is not one)."""
+    v = np.asarray(vector, float)
+    check_finite(name, v)
+    if v.shape != (3,) or np.linalg.norm(v) == 0:
+        raise ValueError(f"{name}: need a non-zero 3-vector, got {vector!r}")
+    return v / np.linalg.norm(v)
+
+
 def _inverse_monotone(f, upper):
     """x(y) for an increasing function y = f(x) with f' ~ 1, by Newton from x = y."""
 
@@ -195,25 +218,36 @@ def _inverse_monotone(f, upper):
 
 
 class LineSet:
-    """All lines on one ``MeshLine1`` with a vector P1 basis (3 DOFs per node).
+    """All lines on one ``MeshLine1`` with one vector basis: P1 (3 DOFs per node) for
+    cables, or Hermite (6 per node: the displacement and its d/ds) for bending lines.
 
-    Attributes: ``mesh``, ``basis`` (vector P1, Gauss quadrature), ``cable_basis`` (the
-    same at the element mid-points, for the displacement-dependent cable terms; see
-    forms.py), ``points`` (nnodes, 3) reference positions, ``anchor_nodes``
+    Attributes: ``mesh``, ``basis`` (Gauss quadrature), ``cable_basis`` (for the
+    displacement-dependent cable terms: the element mid-points on P1, see forms.py; the
+    Gauss points on Hermite), ``points`` (nnodes, 3) reference positions, ``anchor_nodes``
     and ``fairlead_nodes`` (one per line), ``line_of_cell``, and the reference fields at
     quadrature points (``Xp``, ``T``, ``EA``, ``m``, ``w``, ``BA`` and the strain law's
-    parameters, see :mod:`skmoor.forms`).
+    parameters, see :mod:`skmoor.forms`; on Hermite also ``EI`` and ``Xpp``, the
+    reference curvature vector X'', see :mod:`skmoor.bending`).
 
     law: the strain law of the lines whose LineType has none (a :class:`skmoor.laws.Law`
-    or 'paper' / 'engineering'); ``laws`` lists each line's.
+    or 'paper' / 'engineering'); ``laws`` lists each line's. element: 'p1', 'hermite' or
+    None (Hermite when a line type has EI > 0; one element for the whole set, so the
+    cables of a set with a bending line are Hermite lines with EI = 0).
     """
 
     GAP = 1.0  # m of s between two lines on the shared mesh
+    ELEMENTS = ("p1", "hermite")
 
-    def __init__(self, lines, law="paper", intorder: int = 4):
+    def __init__(self, lines, law="paper", intorder: int = 4, element=None):
         lines = list(lines)
         if not lines:
             raise ValueError("LineSet: no lines")
+        if element is None:
+            element = "hermite" if any(ln.line_type.EI > 0 for ln in lines) else "p1"
+        if element not in self.ELEMENTS:
+            raise ValueError(f"LineSet element: {element!r} is not one of {self.ELEMENTS}")
+        self.element = element
+        self.hermite = element == "hermite"
         self.law = laws.as_law(law, "LineSet law")
         self.law_name = self.law.name
         self.lines = lines
@@ -231,10 +265,13 @@ class LineSet:
             node0 += n
             start = coords[-1][-1] + self.GAP
         self.mesh = MeshLine1(np.concatenate(coords)[None, :], np.concatenate(cells, axis=1))
-        element = ElementVector(ElementLineP1(), dim=3)
-        self.basis = Basis(self.mesh, element, intorder=intorder)
-        self.cable_basis = Basis(self.mesh, element,
-                                 quadrature=(np.array([[0.5]]), np.array([1.0])))
+        if self.hermite:  # 4 Gauss points: the cubic's mass and bending forms exactly
+            self.basis = Basis(self.mesh, self._element(), intorder=max(intorder, 7))
+            self.cable_basis = self.basis
+        else:
+            self.basis = Basis(self.mesh, self._element(), intorder=intorder)
+            self.cable_basis = Basis(self.mesh, self._element(),
+                                     quadrature=(np.array([[0.5]]), np.array([1.0])))
         self.points = np.concatenate([line.X for line in lines])
         sizes = [len(line.s) for line in lines]
         first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -242,21 +279,48 @@ class LineSet:
         self.fairlead_nodes = first + np.array(sizes) - 1
         self.line_of_cell = np.repeat(np.arange(len(lines)), [n - 1 for n in sizes])
         self._offsets = np.array(offsets)
+        if self.hermite and self.has_static_laws:
+            raise ValueError("LineSet: StaticDynamic laws are not available on bending "
+                             "(EI > 0) line sets")
+        self.reference_dofs = self._reference_dofs()
         self.fields = self._fields(self.basis)
-        self.cable_fields = self._fields(self.cable_basis)
+        self.cable_fields = (self.fields if self.cable_basis is self.basis
+                             else self._fields(self.cable_basis))
         self._reference = asm(forms.reference_force, self.basis, **self.fields)
         self._nodal_basis = self._nodal_fields = self._bandwidth = None
         self._kernels = []  # CableKernels reading the law fields (refreshed with them)
         self._element_lengths = np.diff(self.mesh.p[0, self.mesh.t], axis=0)[0]
 
+    def _element(self):
+        return ElementVector(ElementLineHermite() if self.hermite else ElementLineP1(), dim=3)
+
+    def _reference_dofs(self):
+        """The reference geometry as a DOF vector of the basis: node positions (m) and, on
+        Hermite, the unit tangents at the nodes (the mean of the two sides at a kink)."""
+        X = np.zeros(self.ndofs)
+        X[self.nodal_dofs] = self.points
+        if self.hermite:
+            tangents = []
+            for line in self.lines:
+                step = 1e-9 * line.length
+                before = line.tangent(np.maximum(line.s - step, line.s[0]))
+                after = line.tangent(np.minimum(line.s + step, line.s[-1]))
+                mean = before + after
+                mean /= np.linalg.norm(mean, axis=1, keepdims=True)
+                for node, given in zip((0, -1), line.end_tangents):
+                    if given is not None:
+                        mean[node] = given
+                tangents.append(mean)
+            X[self.slope_dofs] = np.concatenate(tangents)
+        return X
+
     @property
     def nodal_basis(self):
-        """The vector P1 basis with nodal quadrature (the element ends, weights h/2): for
+        """The line basis with nodal quadrature (the element ends, weights h/2): for
         point-wise terms such as sea-bed contact, one decision per node as in a lumped
         model."""
         if self._nodal_basis is None:
-            element = ElementVector(ElementLineP1(), dim=3)
-            self._nodal_basis = Basis(self.mesh, element,
+            self._nodal_basis = Basis(self.mesh, self._element(),
                                       quadrature=(np.array([[0.0, 1.0]]), np.array([0.5, 0.5])))
         return self._nodal_basis
 
@@ -274,7 +338,28 @@ class LineSet:
     @property
     def nodal_dofs(self) -> np.ndarray:
         """(nnodes, 3) global DOF numbers of each node's x, y, z displacement."""
-        return self.basis.nodal_dofs.T
+        return self.basis.nodal_dofs[:3].T
+
+    @property
+    def slope_dofs(self):
+        """(nnodes, 3) global DOF numbers of each node's d/ds of the displacement (the
+        tangent's change, -) on Hermite; None on P1."""
+        return self.basis.nodal_dofs[3:].T if self.hermite else None
+
+    @property
+    def element_dofs(self) -> np.ndarray:
+        """(nel, nloc) global DOFs of each element in the order of the element blocks:
+        P1 [node i x, y, z, node j x, y, z]; Hermite [node i x, y, z, x', y', z', node j
+        ...] (scikit-fem's local order)."""
+        if self.hermite:
+            return self.basis.element_dofs.T
+        t = self.mesh.t
+        return np.concatenate([self.nodal_dofs[t[0]], self.nodal_dofs[t[1]]], axis=1)
+
+    @property
+    def block_size(self) -> int:
+        """DOFs per element block: 6 on P1, 12 on Hermite."""
+        return 12 if self.hermite else 6
 
     def _fields(self, basis):
         """Reference fields at the quadrature points of ``basis``: Xp, T, EA, m, w, BA and
@@ -294,8 +379,15 @@ class LineSet:
             w[cells] = line.line_type.weight / stretch
             e_ref[cells] = self.laws[k].static_strain(np.maximum(T[cells], 0.0),
                                                       line.line_type.EA)
-        return dict(Xp=Xp, T=T, EA=EA, m=m, w=w, BA=BA,
-                    **self._law_fields(T, EA, e_ref, s_global.shape))
+        out = dict(Xp=Xp, T=T, EA=EA, m=m, w=w, BA=BA,
+                   **self._law_fields(T, EA, e_ref, s_global.shape))
+        if self.hermite:  # the bending form's fields (skmoor.bending)
+            EI = np.array([line.line_type.EI for line in self.lines])[self.line_of_cell]
+            out["EI"] = np.repeat(EI[:, None], s_global.shape[1], axis=1)
+            geometry = basis.interpolate(self.reference_dofs)
+            out["Xp"] = geometry.grad[:, 0]  # X' of the C1 reference geometry, as in r'
+            out["Xpp"] = geometry.hess[:, 0, 0]
+        return out
 
     def _law_fields(self, T, EA, e_ref, shape):
         """The strain laws' parameters at points of shape (nel, nqp) (forms' fields)."""
@@ -382,8 +474,12 @@ class LineSet:
 
     # --- assembly through the forms (the definition; see kernels.py for the fast path)
     def internal_force(self, u):
-        """Eq. 9 = Eq. 11 + reference part: internal force vector, N."""
-        return asm(forms.cable_force, self.cable_basis, u=u, **self.cable_fields) + self._reference
+        """Eq. 9 = Eq. 11 + reference part (+ the bending form on Hermite): internal
+        force vector, N."""
+        f = asm(forms.cable_force, self.cable_basis, u=u, **self.cable_fields) + self._reference
+        if self.hermite:
+            f += asm(bending.bending_force, self.basis, u=u, **self.fields)
+        return f
 
     @property
     def damped(self) -> bool:
@@ -400,8 +496,11 @@ class LineSet:
         return self._reference.copy()
 
     def tangent_stiffness(self, u):
-        """Eq. 17: d(internal_force)/du, sparse, N/m."""
-        return asm(forms.cable_tangent, self.cable_basis, u=u, **self.cable_fields)
+        """Eq. 17 (+ the bending tangent on Hermite): d(internal_force)/du, sparse, N/m."""
+        K = asm(forms.cable_tangent, self.cable_basis, u=u, **self.cable_fields)
+        if self.hermite:
+            K = K + asm(bending.bending_tangent, self.basis, u=u, **self.fields)
+        return K
 
     def unit_tension_stiffness(self):
         """Geometric stiffness of a 1 N tension in every line (sparse, 1/m)."""
@@ -412,9 +511,10 @@ class LineSet:
         return asm(forms.weight, self.basis, **self.fields)
 
     def mass_matrix(self, lumped: bool = True):
-        """Eq. 20 (lumped, default) or Eq. 19 (consistent), sparse, kg."""
+        """Eq. 20 (lumped, default) or Eq. 19 (consistent), sparse, kg. On Hermite always
+        Eq. 19 (row sums would give the slope DOFs no mass)."""
         M = asm(forms.mass, self.basis, **self.fields)
-        if lumped:  # Eq. 20 as the row sums of Eq. 19: keeps the line's mass exactly
+        if lumped and not self.hermite:  # Eq. 20 as the row sums of Eq. 19: keeps the line's mass exactly
             return sp.diags(np.asarray(M.sum(axis=1)).ravel()).tocsr()
         return M
 
@@ -431,8 +531,9 @@ class LineSet:
         """(nel,) tension (N) and strain of Eq. 3 (-) at each element's mid-point. Given
         the velocity ud (m/s), the tension includes the internal damping BA deps/dt
         (MoorDyn's reported T + BA x strain rate); without it, the elastic tension."""
-        if self._kernels:  # the compiled copy of the forms below
-            return self._kernels[0].element_tension_and_strain(u, ud)
+        if self._kernels or self.hermite:  # the compiled copy of the forms below
+            kernel = self._bending_kernel() if self.hermite else self._kernels[0]
+            return kernel.element_tension_and_strain(u, ud)
         f, up = self.cable_fields, self.element_slopes(u)
         Xp = f["Xp"][:, :, 0]
         point = {name: value[..., 0] for name, value in f.items() if name != "Xp"}
@@ -441,8 +542,32 @@ class LineSet:
             rate = forms.dot(Xp + up, self.element_slopes(ud))
         return forms.tension(Xp, up, point, rate), forms.strain(Xp, up)
 
+    def curvature(self, u):
+        """(nel,) curvature |r' x r''| / |r'|^3 of the deformed line at each element's
+        mid-point, 1/m (zeros on P1, whose lines have no curvature inside an element)."""
+        if not self.hermite:
+            return np.zeros(len(self.line_of_cell))
+        return self._bending_kernel().curvature(u)
+
+    def bending_moment(self, u):
+        """(nel,) bending moment EI kappa at each element's mid-point, N m."""
+        if not self.hermite:
+            return np.zeros(len(self.line_of_cell))
+        return self.fields["EI"][:, 0] * self.curvature(u)
+
+    def _bending_kernel(self):
+        from .bending import HermiteKernel
+        for kernel in self._kernels:
+            if isinstance(kernel, HermiteKernel):
+                return kernel
+        return HermiteKernel(self)
+
     def element_slopes(self, u):
-        """(3, nel) u' on each element (constant for P1)."""
+        """(3, nel) u' on each element (constant for P1; at the mid-point on Hermite)."""
+        if self.hermite:
+            from .bending import hermite_shapes
+            _, dN, _ = hermite_shapes(np.array([0.5]), self.element_lengths)
+            return np.einsum("eb,ebc->ce", dN[:, 0], u[self.element_dofs].reshape(-1, 4, 3))
         U = u[self.nodal_dofs]  # (nnodes, 3)
         t = self.mesh.t
         return ((U[t[1]] - U[t[0]]) / self.element_lengths[:, None]).T
@@ -451,8 +576,7 @@ class LineSet:
     def bandwidth(self) -> int:
         """Half-bandwidth of the line matrices (5 for one P1 line, node-major DOFs)."""
         if self._bandwidth is None:
-            t = self.mesh.t
-            edofs = np.concatenate([self.nodal_dofs[t[0]], self.nodal_dofs[t[1]]], axis=1)
+            edofs = self.element_dofs
             self._bandwidth = int(np.max(edofs.max(axis=1) - edofs.min(axis=1)))
         return self._bandwidth
 

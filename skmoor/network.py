@@ -32,7 +32,7 @@ import numpy as np
 from .body import RigidBody
 from .catenary import solve_catenary
 from .coupling import Ends, PointMass, System
-from .hydro import line_hydrodynamics
+from .hydro import line_terms
 from .laws import Engineering
 from .line import Line, LineSet, LineType
 from .seabed import seabed_term
@@ -71,7 +71,10 @@ class Point:
 @dataclass
 class MooringLine:
     """A line from point ``a`` to point ``b`` (names): its LineType, unstretched length
-    (m) and number of elements."""
+    (m) and number of elements. clamp_a, clamp_b: clamp a bending line (EI > 0) at that
+    end (on a fixed or coupled point): True holds its tangent along the chord from a to
+    b (a straight beam's axis), a 3-vector along that direction (the line's tangent
+    there, pointing from a towards b); False (default): pinned, the end tangent free."""
 
     name: str
     line_type: LineType
@@ -79,6 +82,8 @@ class MooringLine:
     b: str
     length: float
     n_elements: int
+    clamp_a: object = False
+    clamp_b: object = False
 
     def __post_init__(self):
         if not (isinstance(self.length, (int, float)) and math.isfinite(self.length)
@@ -141,7 +146,11 @@ class Network:
     (currents and waves on the lines, when their coefficients are non-zero); hydro: add
     the lines' Morison terms when any coefficient is non-zero; strain_law: the strain law
     of the line types without their own (``LineType.law``): a :class:`skmoor.laws.Law`
-    or 'paper' / 'engineering'; motion: see the module docstring.
+    or 'paper' / 'engineering'; motion: see the module docstring. form_path: how the
+    hydrodynamic and sea-bed forms run on bending (Hermite) lines, a
+    :class:`~skmoor.terms.LineForm` path: 'auto' (scikit-fem's assembly with the exact
+    tangents: no compile, slow per call) or 'compiled' (numba kernels generated once,
+    ~30 s each, cached on disk: for time integration). P1 lines have compiled kernels.
     """
 
     points: list
@@ -155,6 +164,7 @@ class Network:
     hydro: bool = True
     strain_law: object = "engineering"
     motion: object = None
+    form_path: str = "auto"
     notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
 
     def __post_init__(self):
@@ -415,7 +425,6 @@ def build_system(network: Network, positions: dict | None = None):
                              else f"line {ln.name}: {message}") from None
         lines.append(line)
         catenaries.append(cat)
-    lineset = LineSet(lines, law=network.strain_law)
     dynamic = [b for b in network.bodies if b.kind == "dynamic"]
     body_index = {b.name: k for k, b in enumerate(dynamic)}
     free = [p for p in network.points if p.kind == "free"]
@@ -437,16 +446,33 @@ def build_system(network: Network, positions: dict | None = None):
         slots.append(p)
         return ("prescribed", len(slots) - 1)
 
-    ends = Ends([end(ln.a) for ln in network.lines], [end(ln.b) for ln in network.lines])
+    ends_a, ends_b = [end(ln.a) for ln in network.lines], [end(ln.b) for ln in network.lines]
+    clamped = []
+    for k, ln in enumerate(network.lines):
+        for side, clamp, held in (("a", ln.clamp_a, ends_a[k]), ("b", ln.clamp_b, ends_b[k])):
+            if clamp is False or clamp is None:
+                continue
+            if ln.line_type.EI <= 0:
+                raise ValueError(f"line {ln.name} clamp_{side}: only a bending line (EI > 0) "
+                                 "can be clamped; a cable end is pinned")
+            if held[0] not in ("fixed", "prescribed"):
+                raise ValueError(f"line {ln.name} clamp_{side}: point {getattr(ln, side)} is "
+                                 f"{'free' if held[0] == 'point' else 'on a dynamic body'}; "
+                                 "only ends on fixed or coupled points can be clamped")
+            clamped.append((k, side))
+            lines[k].end_tangents = _clamp_tangents(ln, side, clamp, positions,
+                                                    lines[k].end_tangents)
+    ends = Ends(ends_a, ends_b, clamped=clamped)
+    lineset = LineSet(lines, law=network.strain_law)
     motion = _slot_motion(network, slots) if slots else None
     masses = [PointMass(p.mass, p.volume, p.CdA, p.Ca, rho=network.rho, g=network.g)
               for p in free]
     terms = []
     if network.seabed is not None:
-        terms.append(seabed_term(lineset, network.seabed))
+        terms.append(seabed_term(lineset, network.seabed, path=network.form_path))
     if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
-        terms.append(line_hydrodynamics(lineset, network.sea))
+        terms += line_terms(lineset, network.sea, path=network.form_path)
     for k, body in enumerate(dynamic):
         for term in body.terms:
             term = copy.copy(term)
@@ -497,6 +523,22 @@ def _coupled_vector(network: Network, t) -> np.ndarray:
         raise ValueError(f"motion: expected {n} coupled DOFs "
                          f"({', '.join(o.name for o in network.coupled)}), got {y.shape}")
     return y
+
+
+def _clamp_tangents(ln: MooringLine, side, clamp, positions, tangents):
+    """The line's end tangents with the clamped end's direction (see MooringLine)."""
+    if clamp is True:
+        direction = np.asarray(positions[ln.b], float) - np.asarray(positions[ln.a], float)
+    else:
+        direction = np.asarray(clamp, float)
+        if direction.shape != (3,) or not np.all(np.isfinite(direction)):
+            raise ValueError(f"line {ln.name} clamp_{side}: need True, False or a direction "
+                             f"(3-vector), got {clamp!r}")
+    if not np.linalg.norm(direction) > 0:
+        raise ValueError(f"line {ln.name} clamp_{side}: the direction is zero")
+    direction = direction / np.linalg.norm(direction)
+    a, b = tangents
+    return (direction, b) if side == "a" else (a, direction)
 
 
 def _slot_motion(network: Network, slots):

@@ -42,6 +42,8 @@ class Results:
     point_names         [npoints]        names of all points of the network
     point_reference     (npoints, 3)     point positions in the reference state, m
     point_displacement  (nt, npoints, 3) point displacements from it, m
+    curvature           (nt, nel)        curvature at the element mid-points, 1/m (zeros on cables)
+    bending_moment      (nt, nel)        bending moment EI x curvature there, N m (zeros on cables)
     """
 
     t: np.ndarray
@@ -67,9 +69,14 @@ class Results:
     point_names: list = field(default_factory=list)
     point_reference: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     point_displacement: np.ndarray = None
+    curvature: np.ndarray = None
+    bending_moment: np.ndarray = None
 
     def __post_init__(self):
         nt = len(self.t)
+        for name in ("curvature", "bending_moment"):
+            if getattr(self, name) is None:
+                setattr(self, name, np.zeros((nt, len(self.line_of_cell))))
         if self.bodies is None:
             self.bodies = np.zeros((nt, len(self.body_names), 6))
         if self.point_displacement is None:
@@ -78,6 +85,18 @@ class Results:
     def point_positions(self, i: int) -> np.ndarray:
         """(npoints, 3) positions of the network's points at sample ``i``, m."""
         return self.point_reference + self.point_displacement[i]
+
+    @property
+    def bending(self) -> bool:
+        """True when the run has bending lines (EI > 0): curvature and moment are data."""
+        return bool(self.meta.get("bending", False))
+
+    def line_maxima(self, name: str) -> dict:
+        """{line name: largest value} of a (nt, nel) array (e.g. ``bending_moment``) over
+        the run and each line's elements."""
+        values = np.abs(getattr(self, name)).max(axis=0)
+        return {line: float(values[self.line_of_cell == k].max())
+                for k, line in enumerate(self.line_names)}
 
     @property
     def max_tension(self) -> np.ndarray:
@@ -133,7 +152,8 @@ class Results:
 
 
 _TIME_ARRAYS = ("t", "body", "displacement", "velocity", "tension", "strain",
-                "fairlead_tension", "anchor_tension", "bodies", "point_displacement")
+                "fairlead_tension", "anchor_tension", "bodies", "point_displacement",
+                "curvature", "bending_moment")
 _NAMES = ("line_names", "body_names", "point_names")
 
 

@@ -396,7 +396,7 @@ class _Recorder:
         self.model = model
         network = model.network
         self.rows = {k: [] for k in ("t", "bodies", "points", "u", "v", "tension", "strain",
-                                     "fair", "anchor")}
+                                     "fair", "anchor", "curvature", "moment")}
         self._dynamic = {b.name: k for k, b in enumerate(
             b for b in network.bodies if b.kind == "dynamic")}
         self._coupled, start = {}, 0
@@ -471,6 +471,10 @@ class _Recorder:
                            ("strain", strain), ("fair", np.linalg.norm(fair, axis=1)),
                            ("anchor", np.linalg.norm(anchor, axis=1))):
             self.rows[key].append(value)
+        if lines.hermite:  # bending lines: curvature and moment at the element mid-points
+            curvature = lines.curvature(u)
+            self.rows["curvature"].append(curvature)
+            self.rows["moment"].append(lines.fields["EI"][:, 0] * curvature)
 
     def results(self, meta) -> Results:
         r, model = {k: np.array(v) for k, v in self.rows.items()}, self.model
@@ -478,7 +482,8 @@ class _Recorder:
         nt = len(r["t"])
         bodies = r["bodies"].reshape(nt, len(network.bodies), 6)
         drawn = model.body  # the first dynamic body's RigidBody, drawn as its box
-        meta = {**meta, "has_body": bool(network.bodies),
+        bending = bool(lines.hermite)
+        meta = {**meta, "has_body": bool(network.bodies), "bending": bending,
                 "point_kinds": [p.kind for p in network.points],
                 "point_masses": [p.mass for p in network.points]}
         return Results(t=r["t"], body=bodies[:, 0] if network.bodies else np.zeros((nt, 6)),
@@ -497,7 +502,9 @@ class _Recorder:
                        body_reference=np.array([b.position for b in network.bodies]).reshape(-1, 3),
                        bodies=bodies, point_names=[p.name for p in network.points],
                        point_reference=self._point_reference,
-                       point_displacement=r["points"].reshape(nt, len(network.points), 3))
+                       point_displacement=r["points"].reshape(nt, len(network.points), 3),
+                       curvature=r["curvature"] if bending else None,
+                       bending_moment=r["moment"] if bending else None)
 
 
 def summary(results: Results) -> dict:
@@ -525,7 +532,10 @@ def summary(results: Results) -> dict:
             "steps": meta.get("steps"), "steps_planned": meta.get("steps_planned"),
             "subdivided_steps": meta.get("subdivided_steps", 0),
             "dt": meta.get("dt"), "stopped": meta.get("stopped"),
-            "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", [])}
+            "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", []),
+            **({"max_curvature": results.line_maxima("curvature"),
+                "max_bending_moment": results.line_maxima("bending_moment")}
+               if results.bending else {})}
 
 
 def _timeseries_header(body_names, line_names, free_names) -> list:

@@ -350,14 +350,16 @@ def seabed_damping(du, v, w):
 
 
 def _reference_positions(lines):
-    """(ndofs,) reference node positions as a DOF vector, m."""
-    X = np.zeros(lines.ndofs)
-    X[lines.nodal_dofs] = lines.points
-    return X
+    """(ndofs,) reference geometry as a DOF vector: node positions, m (and on Hermite
+    the nodal tangents)."""
+    return lines.reference_dofs.copy()
 
 
-def seabed_term(lines, seabed):
-    """The sea bed as a line term of a System: the compiled :class:`SeabedKernel`."""
+def seabed_term(lines, seabed, *, path="auto"):
+    """The sea bed as a line term of a System: the compiled :class:`SeabedKernel` (on a
+    bending, Hermite, LineSet: :func:`form_term` on ``path``)."""
+    if lines.hermite:
+        return form_term(lines, seabed, path=path)
     return SeabedKernel(lines, seabed)
 
 
@@ -377,9 +379,22 @@ def form_term(lines, seabed, *, path="auto"):
                   v0=float(seabed.friction_velocity))
     hand = path in ("auto", "assembly")
     moving = np.any(c > 0) or seabed.mu_axial > 0 or seabed.mu_lateral > 0
-    return LineForm(seabed_residual, stiffness=seabed_stiffness if hand else None,
-                    damping=seabed_damping if hand and moving else None, fields=fields,
-                    quadrature="nodal", path=path, lines=lines, name="seabed")
+    return SeabedForm(seabed, seabed_residual, stiffness=seabed_stiffness if hand else None,
+                      damping=seabed_damping if hand and moving else None, fields=fields,
+                      quadrature="nodal", path=path, lines=lines, name="seabed")
+
+
+class SeabedForm(LineForm):
+    """The seabed's LineForm, skipped while no node touches the bed (every term of the
+    forms carries the contact H(g) or the normal force, so all are zero there)."""
+
+    def __init__(self, seabed, residual, **kw):
+        super().__init__(residual, **kw)
+        self.seabed = seabed
+
+    def add_to(self, u, v, t, R, K=None, C=None):
+        if np.any(self.seabed.penetration(self.lines.points + u[self.lines.nodal_dofs]) > 0):
+            super().add_to(u, v, t, R, K, C)
 
 
 class SeabedKernel(Term):

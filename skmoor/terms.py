@@ -7,7 +7,8 @@ N or N m), and its derivatives with respect to the displacements and to the velo
 
 - on lines (``acts_on = "lines"``): u, v the cable displacement (m) and velocity (m/s)
   on all DOFs of the LineSet (ndofs,), R (ndofs,), K and C element blocks (nel, 6, 6),
-  DOFs [node i x, y, z, node j x, y, z];
+  DOFs [node i x, y, z, node j x, y, z] (on a bending LineSet, Hermite: (nel, 12, 12),
+  DOFs ``LineSet.element_dofs``);
 - on a free point (``"points"``, index ``term.point``): u, v, R (3,), K, C (3, 3);
 - on a dynamic body (``"bodies"``, index ``term.body``): q, qdot, R (6,), K, C (6, 6).
 
@@ -199,9 +200,9 @@ class LineForm(Term):
 # --- the engines: each returns f(u, v, t, R, K, C) adding into R and the element blocks
 
 def _local_order(lines, basis):
-    """Permutation from scikit-fem's local DOFs to [node i x, y, z, node j x, y, z]."""
-    t = lines.mesh.t
-    ours = np.concatenate([lines.nodal_dofs[t[0]], lines.nodal_dofs[t[1]]], axis=1)
+    """Permutation from scikit-fem's local DOFs to the element blocks' order
+    (``LineSet.element_dofs``: [node i x, y, z, node j x, y, z] on P1)."""
+    ours = lines.element_dofs
     theirs = basis.element_dofs.T  # (nel, Nbfun)
     order = np.array([int(np.flatnonzero(theirs[0] == d)[0]) for d in ours[0]])
     if not np.array_equal(theirs[:, order], ours):
@@ -210,7 +211,7 @@ def _local_order(lines, basis):
 
 
 def _blocks(coo, order):
-    """Element blocks (nel, 6, 6) [row test, column trial] of scikit-fem's COOData."""
+    """Element blocks (nel, nloc, nloc) [row test, column trial] of scikit-fem's COOData."""
     local = coo.tolocal()  # (nel, trial, test)
     return np.swapaxes(local, 1, 2)[:, order][:, :, order]
 
@@ -275,19 +276,26 @@ def _autodiff_engine(term):
 
 
 class _Local:
-    """Element-local evaluation of a residual integrand on P1 lines (NumPy or JAX).
+    """Element-local evaluation of a residual integrand on the lines (NumPy or JAX).
 
-    Fields split into: per-element arrays (last two axes (nel, nqp)), P1 DOF vectors
-    (ndofs,), and constants (scalars, broadcastable arrays, other objects)."""
+    Fields split into: per-element arrays (last two axes (nel, nqp)), DOF vectors of the
+    line basis (ndofs,), and constants (scalars, broadcastable arrays, other objects).
+    ``phi``: the P1 shape functions (2, nqp), or on Hermite the reference cubics and
+    their d/dxi (2, 4, nqp) (scaled by the element length in :func:`_hermite_field`)."""
 
     def __init__(self, term):
         lines = term.lines
         basis, _ = term.basis_and_fields()
-        t = lines.mesh.t
-        self.edofs = np.concatenate([lines.nodal_dofs[t[0]], lines.nodal_dofs[t[1]]], axis=1)
-        self.ndofs, self.nel = lines.ndofs, self.edofs.shape[0]
-        xi = basis.X[0]
-        self.phi = np.stack([1.0 - xi, xi])  # (2, nqp)
+        self.edofs = lines.element_dofs
+        self.ndofs, (self.nel, self.nloc) = lines.ndofs, self.edofs.shape
+        self.hermite = lines.hermite
+        self.xi = xi = basis.X[0]
+        if self.hermite:
+            from .bending import hermite_shapes
+            N, dN, _ = hermite_shapes(xi, np.ones(1))
+            self.phi = np.stack([N[0].T, dN[0].T])  # (2, 4, nqp) on a unit element
+        else:
+            self.phi = np.stack([1.0 - xi, xi])  # (2, nqp)
         self.nqp = xi.size
         self.h = lines.element_lengths  # (nel,)
         self.dx = basis.dx  # (nel, nqp)
@@ -299,7 +307,7 @@ class _Local:
         per, dofs, const = {}, {}, {}
         for name, value in w.items():
             if isinstance(value, np.ndarray) and value.shape == (self.ndofs,):
-                dofs[name] = value[self.edofs]  # (nel, 6)
+                dofs[name] = value[self.edofs]  # (nel, nloc)
             elif (isinstance(value, np.ndarray) and value.ndim >= 2
                   and value.shape[-2:] == (self.nel, self.nqp)):
                 per[name] = value
@@ -335,19 +343,50 @@ def _tests(xp, h, phi):
     return out
 
 
+def _hermite_scales(xp, h):
+    """(nel, 4) factors of the unit-element cubics for their values and their d/ds."""
+    one = xp.ones_like(h)
+    return xp.stack([one, h, one, h], axis=1), xp.stack([1.0 / h, one, 1.0 / h, one], axis=1)
+
+
+def _hermite_field(xp, ue, h, phi):
+    """The Hermite field of element DOFs ue (nel, 12) [u_i, u_i', u_j, u_j'] x 3: value
+    (3, nel, nqp), grad (3, 1, nel, nqp)."""
+    values, slopes = _hermite_scales(xp, h)
+    U = ue.reshape(h.shape[0], 4, 3)
+    value = xp.einsum("ebc,eb,bq->ceq", U, values, phi[0])
+    grad = xp.einsum("ebc,eb,bq->ceq", U, slopes, phi[1])
+    return value, grad[:, None]
+
+
+def _hermite_tests(xp, h, phi):
+    """The 12 local test functions of the Hermite element, in the order of its DOFs."""
+    values, slopes = _hermite_scales(xp, h)
+    zero = xp.zeros((h.shape[0], phi.shape[2]))
+    out = []
+    for b in range(4):
+        value, slope = values[:, b, None] * phi[0, b], slopes[:, b, None] * phi[1, b]
+        for c in range(3):
+            out.append((xp.stack([value if k == c else zero for k in range(3)]),
+                        xp.stack([slope if k == c else zero for k in range(3)])[:, None]))
+    return out
+
+
 def _element_residual(xp, field, raw, ue, ude, t, h, dx, x, phi, per, dofs, const):
-    """(nel, 6) element residual vectors of the integrand ``raw``."""
+    """(nel, nloc) element residual vectors of the integrand ``raw``."""
+    interpolate, tests = ((_hermite_field, _hermite_tests) if phi.ndim == 3
+                          else (_p1_field, _tests))
     w = {name: value for name, value in const.items()}
     w.update(per)
     for name, values in dofs.items():
-        w[name] = field(*_p1_field(xp, values, h, phi))
-    w["u"] = field(*_p1_field(xp, ue, h, phi))
-    w["du"] = field(*_p1_field(xp, ude, h, phi))
+        w[name] = field(*interpolate(xp, values, h, phi))
+    w["u"] = field(*interpolate(xp, ue, h, phi))
+    w["du"] = field(*interpolate(xp, ude, h, phi))
     w["t"], w["x"] = t, x
     w = FormExtraParams(w)
     columns = [xp.sum(raw(field(value, grad), w) * dx, axis=-1)
-               for value, grad in _tests(xp, h, phi)]
-    return xp.stack(columns, axis=-1).reshape(h.shape[0], 6)
+               for value, grad in tests(xp, h, phi)]
+    return xp.stack(columns, axis=-1).reshape(h.shape[0], ue.shape[1])
 
 
 def _numpy_field(value, grad):
@@ -374,8 +413,8 @@ def _fd_engine(term):
             return
         scale = 1e-6 * (1.0 + np.max(np.abs(ue), initial=0.0))
         vscale = 1e-6 * (1.0 + np.max(np.abs(ude), initial=0.0))
-        for k in range(6):
-            step = np.zeros((1, 6))
+        for k in range(local.nloc):
+            step = np.zeros((1, local.nloc))
             step[0, k] = 1.0
             K[:, :, k] += (residual(ue + scale * step, ude, t, per, dofs, const)
                            - residual(ue - scale * step, ude, t, per, dofs, const)) / (2 * scale)
@@ -469,12 +508,16 @@ def _numba_engine(term):
     residual_jaxpr = jax.make_jaxpr(flux)(z0)
     tangent_jaxpr = jax.make_jaxpr(with_tangent)(z0)
     kernel, term.source = build_kernel((residual_jaxpr.jaxpr, residual_jaxpr.consts),
-                                       (tangent_jaxpr.jaxpr, tangent_jaxpr.consts), n_inputs)
+                                       (tangent_jaxpr.jaxpr, tangent_jaxpr.consts), n_inputs,
+                                       hermite=local.hermite)
     edofs = np.ascontiguousarray(local.edofs, dtype=np.int64)
     h, dx, phi = local.h, np.ascontiguousarray(local.dx), np.ascontiguousarray(local.phi)
+    if local.hermite:  # each element's cubics and their d/ds: (2, nel, nqp, 4)
+        from .bending import hermite_shapes
+        phi = np.ascontiguousarray(np.stack(hermite_shapes(local.xi, h)[:2]))
     x = np.ascontiguousarray(local.x[0])
     try:  # compile now: a form numba cannot type goes to jax.jit instead
-        zero, blocks = np.zeros(local.ndofs), np.zeros((local.nel, 6, 6))
+        zero, blocks = np.zeros(local.ndofs), np.zeros((local.nel, local.nloc, local.nloc))
         for tangent in (True, False):
             kernel(zero, zero, 0.0, edofs, h, dx, phi, x, P0, D0, zero.copy(), blocks,
                    blocks.copy(), tangent)
@@ -499,7 +542,7 @@ def _numba_engine(term):
 
 def _jax_engine(term):
     """The integrand, its d/du and d/dv traced by JAX once and compiled with jax.jit:
-    element residuals and (6, 6) blocks by forward-mode differentiation (vmap over
+    element residuals and (nloc, nloc) blocks by forward-mode differentiation (vmap over
     elements), the residual scattered inside the compiled function."""
     import jax
     import jax.numpy as jnp
@@ -552,7 +595,9 @@ def _jax_engine(term):
             _, w = term._w(u, v, t)
             extra = {k: a for k, a in w.items()
                      if k not in ("u", "du", "t") and k not in static}
-            per, dofs, rest = local.split(extra)
+            per, _, rest = local.split(extra)
+            dofs = {k: a for k, a in extra.items()  # DOF vectors: gathered in the jit
+                    if isinstance(a, np.ndarray) and a.shape == (local.ndofs,)}
             if rest:
                 raise ValueError(f"LineForm {term.name}: time-dependent fields must be "
                                  f"arrays of shape (..., nel, nqp) or (ndofs,): {sorted(rest)}")

@@ -1,0 +1,77 @@
+"""Bending lines from MoorDyn's decks: the simply supported beam (tests/Mooring/
+BeamSimplySupported.txt) against Euler-Bernoulli, and the Lowe & Langley (2006) flexible
+jumper (tests/Mooring/lowe_and_langley_2006/) against the paper's static end forces.
+
+The decks are read from the local mirror of FloatingArrayDesign/MoorDyn
+($SKMOOR_MOORDYN_MIRROR, default /work/.mirror/FloatingArrayDesign+MoorDyn/repo); without
+it the tests are skipped.
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import skmoor
+from skmoor.deck import read_deck
+from skmoor.run import equilibrium
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import moordyn_decks as md  # noqa: E402
+
+try:
+    MIRROR = md.Mirror(md.mirror_path())
+except md.MirrorMissing as err:
+    MIRROR, NO_MIRROR = None, str(err)
+
+pytestmark = pytest.mark.skipif(MIRROR is None, reason="no MoorDyn mirror")
+JUMPER = "tests/Mooring/lowe_and_langley_2006/"
+
+
+def deck_file(tmp_path, path):
+    out = tmp_path / Path(path).name
+    out.write_bytes(MIRROR.read(path))
+    return out
+
+
+def static_state(deck):
+    model = skmoor.build(deck)
+    eq = equilibrium(model, n_modes=1)
+    return model, eq.x, model.system.full_displacement(eq.x)
+
+
+@pytest.mark.filterwarnings("ignore:point point")  # the deck's beam is 10 m above water
+def test_simply_supported_beam_deck(tmp_path):
+    """BeamSimplySupported.txt (EI = 1e7 N m2, L = 10 m, 19 segments, both ends pinned):
+    the static deflection is Euler-Bernoulli's w x (L^3 - 2 L x^2 + x^3) / 24 EI within
+    0.5 % (the rest: the membrane tension of ends that cannot slide), the largest moment
+    w L^2 / 8 within 0.5 %. w is skmoor's submerged weight (Mass/m - rho A) g = 487 N/m:
+    skmoor takes lines as submerged, MoorDyn's own check (beam.cpp) the dry 981 N/m."""
+    model, _, u = static_state(read_deck(deck_file(tmp_path, "tests/Mooring/BeamSimplySupported.txt")))
+    lines = model.lines
+    assert lines.element == "hermite"
+    w, EI, L = lines.lines[0].line_type.weight, 1e7, 10.0
+    assert w == pytest.approx((100.0 - 1025.0 * np.pi * 0.25**2 / 4) * 9.80665, rel=1e-4)
+    X = lines.points + u[lines.nodal_dofs]
+    x = X[:, 0]
+    exact = -w * x * (L**3 - 2 * L * x**2 + x**3) / (24 * EI)
+    assert np.abs(X[:, 2] - 10.0 - exact).max() < 5e-3 * np.abs(exact).max()
+    assert lines.bending_moment(u).max() == pytest.approx(w * L**2 / 8, rel=5e-3)
+
+
+def test_lowe_langley_jumper_static_end_forces(tmp_path):
+    """The flexible jumper (170 m, EI = 120.8 kN m2, 68 segments, anchor (-100, 0, -55),
+    top (0, 0, -5)): Lowe & Langley's static top force (11.40, 0, 45.71) kN and bottom
+    force (-11.40, 0, 24.04) kN within 0.02 kN (the cable alone, EI = 0, gives 11.47 kN
+    horizontally). The deck's WaveKin = 1 (waves through MoorDyn's API) is dropped: it
+    does not enter the statics."""
+    deck = read_deck(deck_file(tmp_path, JUMPER + "line.txt"))
+    assert deck.option("WaveKin") == 1
+    del deck.options["WaveKin"]
+    model, x, u = static_state(deck)
+    top, bottom = (f[0] / 1e3 for f in model.system.reactions(x))  # on the line's ends
+    np.testing.assert_allclose(-top, [11.40, 0.0, 45.71], atol=0.02)
+    np.testing.assert_allclose([-bottom[0], 0.0, -bottom[2]], [-11.40, 0.0, 24.04], atol=0.02)
+    kappa = model.lines.curvature(u)
+    assert 0.02 < kappa.max() < 0.05  # 1/m: a bend radius of 20 to 50 m at the sag bend
