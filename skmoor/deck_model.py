@@ -49,7 +49,8 @@ one rod gets that rod's spin spring.
 
 A line type with EI > 0 is a bending line (:mod:`skmoor.bending`: the deck's lines then
 all go on the Hermite element, the cables with EI = 0), its ends pinned (MoorDyn clamps a
-line where it ends on a rod; here a line end on a rod is pinned to it).
+line where it ends on a rod; here a line end on a Fixed rod is clamped along the rod's
+axis, on a moving rod pinned to it).
 
 Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), a
 Body<N>Pinned rod on a moving body, mass or volume on a body point, VIV (Cl > 0),
@@ -271,9 +272,11 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
                             mass=p.mass, volume=p.volume, CdA=p.CdA, Ca=p.Ca))
     lines = []
     for line in deck.lines:
-        lines.append(MooringLine(f"line{line.id}", line_type_of(deck, line),
-                                 _end_name(line.a), _end_name(line.b), line.length,
-                                 int(line.n_segments)))
+        line_type = line_type_of(deck, line)
+        clamps = ({} if not line_type.EI > 0 else
+                  {"clamp_a": _rod_clamp(deck, line.a, "a"), "clamp_b": _rod_clamp(deck, line.b, "b")})
+        lines.append(MooringLine(f"line{line.id}", line_type, _end_name(line.a),
+                                 _end_name(line.b), line.length, int(line.n_segments), **clamps))
     try:
         network = Network(points, lines, bodies, depth=deck.depth, rho=deck.rho, g=deck.g,
                           sea=sea, hydro=hydro, strain_law="engineering",
@@ -311,6 +314,19 @@ def _coupled_kinds(deck: Deck) -> list:
     return ([b.kind for b in deck.bodies if b.kind in ("coupled", "pinned")]
             + [r.kind for r in deck.rods if r.kind in ("coupled", "coupled pinned")]
             + ["point" for p in deck.points if p.kind == "coupled"])
+
+
+def _rod_clamp(deck: Deck, end, side):
+    """The clamp of a bending line's end ``side`` ('a' or 'b') on a Fixed rod's end: the
+    line leaves the rod along its axis, as MoorDyn attaches it (False elsewhere: pinned)."""
+    if isinstance(end, int):
+        return False
+    rod = next(r for r in deck.rods if r.id == int(end[1:-1]))
+    if rod.kind != "fixed":
+        return False
+    axis = np.asarray(rod.b, float) - np.asarray(rod.a, float)  # A -> B
+    outward = axis if end[-1] == "B" else -axis  # out of the rod at that end
+    return outward if side == "a" else -outward  # the line's tangent runs a -> b
 
 
 def _end_name(end) -> str:

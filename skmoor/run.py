@@ -92,9 +92,13 @@ def unrestrained(model: Model, x=None) -> list:
     for column in range(system.nf):
         if not names[column]:
             dof = system.free[np.flatnonzero(system._columns == column)[0]]
-            node = int(np.flatnonzero((model.lines.nodal_dofs == dof).any(axis=1))[0])
+            at, what = (model.lines.nodal_dofs == dof).any(axis=1), "node"
+            if not at.any():  # a bending line's slope DOF
+                at, what = (model.lines.slope_dofs == dof).any(axis=1), "slope at node"
+            node = int(np.flatnonzero(at)[0])
             line = int(np.searchsorted(model.lines.fairlead_nodes, node))
-            names[column] = f"{model.lines.lines[line].name} node {node - model.lines.anchor_nodes[line]}"
+            names[column] = (f"{model.lines.lines[line].name} {what} "
+                             f"{node - model.lines.anchor_nodes[line]}")
     found = []
     for k in np.flatnonzero(np.abs(w) < 1e-10 * scale):
         v = np.abs(V[:, k])

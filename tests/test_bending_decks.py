@@ -60,6 +60,22 @@ def test_simply_supported_beam_deck(tmp_path):
     assert lines.bending_moment(u).max() == pytest.approx(w * L**2 / 8, rel=5e-3)
 
 
+@pytest.mark.filterwarnings("ignore:point point")
+def test_cantilevered_beam_deck_is_clamped_on_its_fixed_rod(tmp_path):
+    """BeamCantilevered.txt: the beam's end A on the end B of a Fixed rod (MoorDyn attaches
+    it along the rod's axis), its tip on a free massless point. Clamped there, the tip sags
+    Euler-Bernoulli's w L^4 / 8 EI and the moment in the root element w (L - h/2)^2 / 2 (at
+    its middle), both within 0.5 %; a pinned end would leave the beam free to swing (no
+    static equilibrium at all)."""
+    model, _, u = static_state(read_deck(deck_file(tmp_path, "tests/Mooring/BeamCantilevered.txt")))
+    lines = model.lines
+    w, EI, L = lines.lines[0].line_type.weight, 1e7, 10.0
+    X = lines.points + u[lines.nodal_dofs]
+    assert 10.0 - X[-1, 2] == pytest.approx(w * L**4 / (8 * EI), rel=5e-3)
+    h = L / lines.lines[0].n_elements
+    assert lines.bending_moment(u).max() == pytest.approx(w * (L - h / 2) ** 2 / 2, rel=5e-3)
+
+
 def test_lowe_langley_jumper_static_end_forces(tmp_path):
     """The flexible jumper (170 m, EI = 120.8 kN m2, 68 segments, anchor (-100, 0, -55),
     top (0, 0, -5)): Lowe & Langley's static top force (11.40, 0, 45.71) kN and bottom
