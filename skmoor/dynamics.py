@@ -6,6 +6,10 @@ beta = 1/4, gamma = 1/2. Each step solves the alpha-level balance with Newton:
 
     (1-am) M a1 + am M a0 + (1-af) [C v1 + R(x1, v1, t1)] + af [C v0 + R(x0, v0, t0)] = 0
 
+A system with a state-dependent inertia (``system.nonlinear_inertia``: rigid bodies with
+exact rotations) gives it as G(x, v, a) beside the constant M (``system.inertia``); M a
+becomes M a + G at each level, and G's derivatives in a, v and x join the Newton matrix.
+
 The integrator is a generator of states, so a caller decides what to record and when
 to stop; a Newton failure raises :class:`DivergenceError` with the time, the step and a
 hint instead of carrying NaN on.
@@ -156,9 +160,24 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
     R, _, _ = system.residual(x, v, t, tangent=False)
     force_old = C @ v + R
+    nonlinear = getattr(system, "nonlinear_inertia", False)
+
+    def inertia(x, v, a, tangent=False):
+        """M a plus the system's state-dependent inertia G(x, v, a) (and its derivatives
+        d/da, d/dv, d/dx) when it has one."""
+        if not nonlinear:
+            return M @ a, None
+        G, *slopes = system.inertia(x, v, a, tangent=tangent, layout=layout)
+        return M @ a + G, (slopes if tangent else None)
+
     mass = _IterationMatrix(layout)
-    mass.update(M)
-    a = mass.solve(-force_old)
+    if nonlinear:  # G is affine in a: (M + dG/da) a = -(C v + R + G(x, v, 0))
+        G0, slopes = inertia(x, v, np.zeros_like(v), tangent=True)
+        mass.update(M + slopes[0])
+        a = mass.solve(-(force_old + G0))
+    else:
+        mass.update(M)
+        a = mass.solve(-force_old)
     yield State(t, 0, x, v, a)
 
     def advance(x, v, a, force_old, t1, h, matrix):
@@ -168,18 +187,24 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         c_v = gamma / (beta * h)
         x_pred = x + h * v + h**2 * (0.5 - beta) * a  # part of x1 known from level 0
         v_pred = v + h * (1 - gamma) * a
-        inertia_old = am * (M @ a) + af * force_old
+        inertia_old = am * inertia(x, v, a)[0] + af * force_old
 
         def balance(y, tangent):
             """alpha-level balance at x1 = y, and (when asked) its tangent."""
             a1 = (y - x_pred) / (beta * h**2)
             v1 = v_pred + gamma * h * a1
             R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, layout=layout)
-            B = (1 - am) * (M @ a1) + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
+            inertia1, slopes = inertia(y, v1, a1, tangent)
+            B = (1 - am) * inertia1 + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
             if not tangent:
                 return B, None
             Cv = C if Kv1 is None else C + Kv1
-            return B, c_x * M + (1 - af) * (c_v * Cv + K1)
+            A = c_x * M + (1 - af) * (c_v * Cv + K1)
+            if slopes is not None:  # d/dy of (1 - am) G(y, v1(y), a1(y))
+                d_acc, d_rate, d_pose = slopes
+                A = A + (1 - am) * (d_acc / (beta * h**2) + gamma / (beta * h) * d_rate
+                                    + d_pose)
+            return B, A
 
         # first guess: constant acceleration; should modified Newton stall from it, the step
         # again from constant velocity (robust on stiff axial modes) with full Newton and
@@ -196,7 +221,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         a1 = (x1 - x_pred) / (beta * h**2)
         v1 = v_pred + gamma * h * a1
         # C v1 + R(x1) from the converged balance (saves a residual evaluation per step)
-        force1 = -((1 - am) * (M @ a1) + inertia_old) / (1 - af)
+        force1 = -((1 - am) * inertia(x1, v1, a1)[0] + inertia_old) / (1 - af)
         return (x1, v1, a1, force1), it
 
     halves = {}  # level -> the iteration matrix of steps dt / 2**level, kept for reuse
