@@ -605,3 +605,27 @@ class RigidBody:
             d_pose[:, k] = (self.inertia_load(q + e, qdot, qddot)
                             - self.inertia_load(q - e, qdot, qddot)) / (2 * step)
         return mass, d_rate, d_pose
+
+    def step_inertia_load(self, q1, qdot1, q0, qdot0, load0, h, gamma) -> np.ndarray:
+        """Inertia load (N, N m) at the end of a time step of h (s) from (q0, qdot0) with
+        inertia load ``load0``, in momentum form
+        (:func:`skmoor.large_rotations.momentum_inertia_load`)."""
+        return exact.momentum_inertia_load(
+            rotation_and_slopes(q1[3:])[0], q1, qdot1, rotation_and_slopes(q0[3:])[0], q0,
+            qdot0, load0, h, gamma, self.mass, self.inertia,
+            self.center_of_mass - self.reference_point)
+
+    def step_inertia_tangents(self, q1, qdot1, q0, qdot0, load0, h, gamma, step=1e-6):
+        """Derivatives (6, 6 each) of :meth:`step_inertia_load` in qdot1 (exact central
+        differences: it is linear in qdot1) and in q1 (central differences of ``step``)."""
+        def load(q, qdot):
+            return self.step_inertia_load(q, qdot, q0, qdot0, load0, h, gamma)
+
+        d_rate, d_pose = np.zeros((6, 6)), np.zeros((6, 6))
+        for k in range(6):
+            e = np.zeros(6)
+            e[k] = 1.0
+            d_rate[:, k] = (load(q1, qdot1 + e) - load(q1, qdot1 - e)) / 2
+            e[k] = step
+            d_pose[:, k] = (load(q1 + e, qdot1) - load(q1 - e, qdot1)) / (2 * step)
+        return d_rate, d_pose

@@ -137,6 +137,7 @@ class System:
         self._attachment_cache = (None, None, None)
         self._prescribed_cache = (None, None, None)
         self.K_bodies = [b.hydrostatic_stiffness(generalized=True) for b in bodies]
+        self._rigid_masses = [b.mass_matrix() for b in bodies]  # at q = 0, kg / kg m / kg m2
         self.F_bodies0 = [b.static_force() for b in bodies]
         self.K_body = self.K_bodies[0] if bodies else None
         self.weight = lines.weight_load()
@@ -597,10 +598,12 @@ class System:
         comes from :meth:`inertia` (the time integrator asks for it)."""
         return any(body.rotations == "exact" for body in self.bodies)
 
-    def inertia(self, x, v, a, tangent=False, layout="sparse"):
-        """G = Q_inertia(q, qdot, qddot) - M0 qddot of the 'exact' bodies (N, N m; M0 their
-        rigid mass at q = 0, which M holds), and with ``tangent`` its derivatives
-        (dG/da, dG/dv, dG/dx) in ``layout``; (G, None, None, None) without."""
+    def inertia(self, x, v, a, tangent=False, layout="sparse", previous=None):
+        """G = Q_inertia - M0 qddot of the 'exact' bodies (N, N m; M0 their rigid mass at
+        q = 0, which M holds), and with ``tangent`` its derivatives (dG/da, dG/dv, dG/dx)
+        in ``layout``; (G, None, None, None) without. Q_inertia is the Newton-Euler load
+        at (x, v, a), or with ``previous`` = (x0, v0, a0, G0, h, gamma) (a time step's
+        start) its momentum form over the step (:meth:`RigidBody.step_inertia_load`)."""
         G = np.zeros(self.n)
         blocks = [np.zeros((self.nb, self.nb)) for _ in range(3)] if tangent else None
         for k, body in enumerate(self.bodies):
@@ -608,10 +611,19 @@ class System:
                 continue
             block = self._body_block(k)
             q, qdot, qddot = x[block], v[block], a[block]
-            M0 = body.mass_matrix()
-            G[block] = body.inertia_load(q, qdot, qddot) - M0 @ qddot
+            M0 = self._rigid_masses[k]
+            if previous is None:
+                G[block] = body.inertia_load(q, qdot, qddot) - M0 @ qddot
+            else:
+                x0, v0, a0, G0, h, gamma = previous
+                start = (x0[block], v0[block], G0[block] + M0 @ a0[block], h, gamma)
+                G[block] = body.step_inertia_load(q, qdot, *start) - M0 @ qddot
             if tangent:
-                d_acc, d_rate, d_pose = body.inertia_tangents(q, qdot, qddot)
+                if previous is None:
+                    d_acc, d_rate, d_pose = body.inertia_tangents(q, qdot, qddot)
+                else:
+                    d_acc = np.zeros((6, 6))
+                    d_rate, d_pose = body.step_inertia_tangents(q, qdot, *start)
                 b = slice(6 * k, 6 * k + 6)
                 for out, value in zip(blocks, (d_acc - M0, d_rate, d_pose)):
                     out[b, b] = value

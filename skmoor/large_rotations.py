@@ -18,6 +18,10 @@ and the load conjugate to q (virtual work F.dx + M.(E dq[3:])) is Q = [F, E^T M]
 derivative in qddot is the exact mass matrix T^T M6(q) T, T = diag(1, E). A load given as
 a force and a moment (global, about x_ref) enters the same way: [F, E^T M].
 
+In a time step the same load is taken in momentum form (:func:`momentum_inertia_load`):
+F = dP/dt and M = dL/dt, with the momenta P = m v_G and L advanced by the integrator's
+own velocity rule, so that a free body keeps P and L exactly (to Newton's tolerance).
+
 Hydrostatics at a pose: the hull (closed, outward triangles) is moved rigidly, clipped
 at z = 0, and the displaced volume V and its centroid c_B come from the divergence
 theorem on the wetted faces (the cap at z = 0 adds nothing to int z n_z dS); the
@@ -32,6 +36,8 @@ import numpy as np
 __all__ = [
     "rate_matrix",
     "inertia_load",
+    "momenta",
+    "momentum_inertia_load",
     "exact_mass_matrix",
     "submerged_volume",
     "box_triangles",
@@ -159,3 +165,32 @@ def submerged_volume(tri) -> tuple[float, np.ndarray]:
     if volume <= 0.0:
         return 0.0, np.zeros(3)
     return volume, np.array([integral(x, z), integral(y, z), integral(z, z) / 2.0]) / volume
+
+
+def momenta(R, q, qdot, mass, inertia, arm, offset) -> tuple[np.ndarray, np.ndarray]:
+    """Linear momentum P = m v_G (N s) and angular momentum L = (x_G - O) x P + R I_G R^T
+    omega (N m s) about the fixed point O = x_ref - ``offset``."""
+    omega = rate_matrix(q[3:])[0] @ qdot[3:]
+    rho = R @ arm
+    linear = mass * (qdot[:3] + _cross(omega, rho))
+    return linear, _cross(offset + rho, linear) + R @ inertia @ R.T @ omega
+
+
+def momentum_inertia_load(R1, q1, v1, R0, q0, v0, load0, h, gamma, mass, inertia,
+                          arm) -> np.ndarray:
+    """Inertia load Q1 = [Pdot1, E1^T M1] (N, N m) at the end of a step of h (s) whose
+    momentum rates follow the scheme's velocity rule, as v and a do:
+
+        P1 = P0 + h ((1 - gamma) Pdot0 + gamma Pdot1),  same for L about x_ref0,
+
+    with Pdot0 and the moment about x_ref0 from the start's load0 = [Pdot0, E0^T M0];
+    M1 = Ldot1 - (x_ref1 - x_ref0) x Pdot1. Without loads P and L stay constant exactly.
+    """
+    E0, E1 = rate_matrix(q0[3:])[0], rate_matrix(q1[3:])[0]
+    pdot0, mdot0 = load0[:3], np.linalg.solve(E0.T, load0[3:])
+    p0, l0 = momenta(R0, q0, v0, mass, inertia, arm, np.zeros(3))
+    shift = q1[:3] - q0[:3]
+    p1, l1 = momenta(R1, q1, v1, mass, inertia, arm, shift)
+    pdot1 = (p1 - p0 - h * (1 - gamma) * pdot0) / (gamma * h)
+    ldot1 = (l1 - l0 - h * (1 - gamma) * mdot0) / (gamma * h)
+    return np.concatenate([pdot1, E1.T @ (ldot1 - _cross(shift, pdot1))])

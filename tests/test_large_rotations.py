@@ -142,18 +142,20 @@ def invariant_errors(body, states):
 
 @pytest.mark.parametrize("omega0", [[0.0, 0.05, 1.0], [1.0, 0.05, 0.05]],
                          ids=["intermediate-axis", "stable-axis"])
-def test_free_spin_keeps_energy_and_momentum_at_second_order(omega0):
+def test_free_spin_keeps_momentum_exactly_and_energy_at_second_order(omega0):
     """Near the intermediate axis the body flips; near the largest axis it wobbles. The
-    invariants' errors fall as dt^2 (average acceleration) and are small at 160 steps a
-    period (a dropped gyroscopic term breaks both at O(1))."""
+    angular momentum (inertial frame) stays to Newton's tolerance (the momentum form of
+    the step); the energy error falls as dt^2 (a dropped gyroscopic term breaks both at
+    O(1); the pointwise Newton-Euler form drifts in momentum: 2e-4 here)."""
     period = 2 * np.pi / np.linalg.norm(omega0)
     errors = []
     for steps in (80, 160):
         body, states = free_spin(ASYMMETRIC, omega0, period / steps, 3 * period)
         errors.append(invariant_errors(body, states))
     (e1, h1), (e2, h2) = errors
-    assert e2 < 2e-5 and h2 < 2e-4
-    assert 3.0 < e1 / e2 < 5.0 and 3.0 < h1 / h2 < 5.0
+    assert h1 < 1e-7 and h2 < 1e-7
+    assert e2 < 3e-5
+    assert 3.0 < e1 / e2 < 5.0
 
 
 def test_symmetric_top_precesses_at_the_analytic_rate():
@@ -175,13 +177,13 @@ def test_symmetric_top_precesses_at_the_analytic_rate():
 
 @pytest.mark.slow
 def test_free_spin_invariants_over_100_periods():
-    """100 periods near the intermediate axis at 1000 steps a period: energy to 1e-6."""
+    """100 periods near the intermediate axis at 800 steps a period: both to 1e-6."""
     omega0 = [0.0, 0.05, 1.0]
     period = 2 * np.pi / np.linalg.norm(omega0)
-    body, states = free_spin(ASYMMETRIC, omega0, period / 1000, 100 * period)
+    body, states = free_spin(ASYMMETRIC, omega0, period / 800, 100 * period)
     energy, momentum = invariant_errors(body, states)
     assert energy < 1e-6
-    assert momentum < 1e-3
+    assert momentum < 1e-6
 
 
 # --------------------------------------------------------------------------- floating decay
