@@ -560,7 +560,7 @@ class RigidBody:
         origin = self.reference_point + q[:3]
         weight = np.array([0.0, 0.0, -self.mass * self.g])
         force = weight.copy()
-        moment = exact._cross(R @ (self.center_of_mass - self.reference_point), weight)
+        moment = exact.cross3(R @ (self.center_of_mass - self.reference_point), weight)
         if self.hydrostatics is not None:
             if self.hull is not None:
                 volume, centroid = exact.submerged_volume(origin + self.hull @ R.T)
@@ -570,7 +570,7 @@ class RigidBody:
                 arm = R @ (self.hydrostatics.center_of_buoyancy - self.reference_point)
             buoyancy = np.array([0.0, 0.0, self.rho * self.g * volume])
             force += buoyancy
-            moment += exact._cross(arm, buoyancy)
+            moment += exact.cross3(arm, buoyancy)
         return exact.generalized_load(q[3:], force, moment)
 
     def restoring_stiffness(self, q, step: float = 1e-6) -> np.ndarray:

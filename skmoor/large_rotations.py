@@ -51,7 +51,7 @@ def _skew(v) -> np.ndarray:
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
-def _cross(a, b) -> np.ndarray:
+def cross3(a, b) -> np.ndarray:
     """a x b of two 3-vectors (np.cross costs ten times more on one pair)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                      a[0] * b[1] - a[1] * b[0]])
@@ -92,8 +92,8 @@ def inertia_load(R, q, qdot, qddot, mass, inertia, arm) -> np.ndarray:
     alpha = E @ qddot[3:] + (rates[1] * dE_dry + rates[2] * dE_drz) @ rates
     rho, I_ref = _rigid_state(R, mass, inertia, arm)
     a_ref = qddot[:3]
-    force = mass * (a_ref + _cross(alpha, rho) + _cross(omega, _cross(omega, rho)))
-    moment = I_ref @ alpha + _cross(omega, I_ref @ omega) + mass * _cross(rho, a_ref)
+    force = mass * (a_ref + cross3(alpha, rho) + cross3(omega, cross3(omega, rho)))
+    moment = I_ref @ alpha + cross3(omega, I_ref @ omega) + mass * cross3(rho, a_ref)
     return np.concatenate([force, E.T @ moment])
 
 
@@ -172,8 +172,8 @@ def momenta(R, q, qdot, mass, inertia, arm, offset) -> tuple[np.ndarray, np.ndar
     omega (N m s) about the fixed point O = x_ref - ``offset``."""
     omega = rate_matrix(q[3:])[0] @ qdot[3:]
     rho = R @ arm
-    linear = mass * (qdot[:3] + _cross(omega, rho))
-    return linear, _cross(offset + rho, linear) + R @ inertia @ R.T @ omega
+    linear = mass * (qdot[:3] + cross3(omega, rho))
+    return linear, cross3(offset + rho, linear) + R @ inertia @ R.T @ omega
 
 
 def momentum_inertia_load(R1, q1, v1, R0, q0, v0, load0, h, gamma, mass, inertia,
@@ -193,4 +193,4 @@ def momentum_inertia_load(R1, q1, v1, R0, q0, v0, load0, h, gamma, mass, inertia
     p1, l1 = momenta(R1, q1, v1, mass, inertia, arm, shift)
     pdot1 = (p1 - p0 - h * (1 - gamma) * pdot0) / (gamma * h)
     ldot1 = (l1 - l0 - h * (1 - gamma) * mdot0) / (gamma * h)
-    return np.concatenate([pdot1, E1.T @ (ldot1 - _cross(shift, pdot1))])
+    return np.concatenate([pdot1, E1.T @ (ldot1 - cross3(shift, pdot1))])

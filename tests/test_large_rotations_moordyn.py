@@ -66,9 +66,9 @@ def run_moordyn(path, coupling=1e-3, sample=0.05):
         x, v = hook(0.0)
         assert moordyn.Init(md, list(x), list(v)) == 0
         body, point = moordyn.GetBody(md, 1), moordyn.GetPoint(md, 8)
-        every = int(round(sample / coupling))
+        every = round(sample / coupling)
         t, R, P = [], [], []
-        for k in range(int(round(T_END / coupling))):
+        for k in range(round(T_END / coupling)):
             x, v = hook(k * coupling)
             moordyn.Step(md, list(x), list(v), k * coupling, coupling)
             if (k + 1) % every == 0:
