@@ -611,9 +611,19 @@ class RigidBody:
         inertia load ``load0``, in momentum form
         (:func:`skmoor.large_rotations.momentum_inertia_load`)."""
         return exact.momentum_inertia_load(
-            rotation_and_slopes(q1[3:])[0], q1, qdot1, rotation_and_slopes(q0[3:])[0], q0,
-            qdot0, load0, h, gamma, self.mass, self.inertia,
-            self.center_of_mass - self.reference_point)
+            rotation_and_slopes(q1[3:])[0], q1, qdot1, self._step_start(q0, qdot0, load0),
+            h, gamma, self.mass, self.inertia, self.center_of_mass - self.reference_point)
+
+    def _step_start(self, q0, qdot0, load0):
+        """:func:`skmoor.large_rotations.step_start`, kept for the step's iterations."""
+        key = (q0.tobytes(), qdot0.tobytes(), load0.tobytes())
+        cached = getattr(self, "_start_cache", (None, None))
+        if cached[0] != key:
+            cached = (key, exact.step_start(
+                rotation_and_slopes(q0[3:])[0], q0, qdot0, load0, self.mass, self.inertia,
+                self.center_of_mass - self.reference_point))
+            self._start_cache = cached
+        return cached[1]
 
     def step_inertia_tangents(self, q1, qdot1, q0, qdot0, load0, h, gamma, step=1e-6):
         """Derivatives (6, 6 each) of :meth:`step_inertia_load` in qdot1 (exact central

@@ -38,6 +38,7 @@ __all__ = [
     "inertia_load",
     "momenta",
     "momentum_inertia_load",
+    "step_start",
     "exact_mass_matrix",
     "submerged_volume",
     "box_triangles",
@@ -176,21 +177,27 @@ def momenta(R, q, qdot, mass, inertia, arm, offset) -> tuple[np.ndarray, np.ndar
     return linear, cross3(offset + rho, linear) + R @ inertia @ R.T @ omega
 
 
-def momentum_inertia_load(R1, q1, v1, R0, q0, v0, load0, h, gamma, mass, inertia,
-                          arm) -> np.ndarray:
-    """Inertia load Q1 = [Pdot1, E1^T M1] (N, N m) at the end of a step of h (s) whose
-    momentum rates follow the scheme's velocity rule, as v and a do:
+def step_start(R0, q0, v0, load0, mass, inertia, arm):
+    """What a step's momentum form needs of its start: P0, L0 (about x_ref0), Pdot0 and
+    the moment about x_ref0, from the start's inertia load load0 = [Pdot0, E0^T M0]."""
+    E0 = rate_matrix(q0[3:])[0]
+    p0, l0 = momenta(R0, q0, v0, mass, inertia, arm, np.zeros(3))
+    return q0, p0, l0, load0[:3], np.linalg.solve(E0.T, load0[3:])
+
+
+def momentum_inertia_load(R1, q1, v1, start, h, gamma, mass, inertia, arm) -> np.ndarray:
+    """Inertia load Q1 = [Pdot1, E1^T M1] (N, N m) at the end of a step of h (s) from
+    ``start`` (:func:`step_start`), the momentum rates following the scheme's velocity
+    rule, as v and a do:
 
         P1 = P0 + h ((1 - gamma) Pdot0 + gamma Pdot1),  same for L about x_ref0,
 
-    with Pdot0 and the moment about x_ref0 from the start's load0 = [Pdot0, E0^T M0];
-    M1 = Ldot1 - (x_ref1 - x_ref0) x Pdot1. Without loads P and L stay constant exactly.
+    and M1 = Ldot1 - (x_ref1 - x_ref0) x Pdot1. Without loads P and L stay constant exactly.
     """
-    E0, E1 = rate_matrix(q0[3:])[0], rate_matrix(q1[3:])[0]
-    pdot0, mdot0 = load0[:3], np.linalg.solve(E0.T, load0[3:])
-    p0, l0 = momenta(R0, q0, v0, mass, inertia, arm, np.zeros(3))
+    q0, p0, l0, pdot0, mdot0 = start
     shift = q1[:3] - q0[:3]
     p1, l1 = momenta(R1, q1, v1, mass, inertia, arm, shift)
     pdot1 = (p1 - p0 - h * (1 - gamma) * pdot0) / (gamma * h)
     ldot1 = (l1 - l0 - h * (1 - gamma) * mdot0) / (gamma * h)
+    E1 = rate_matrix(q1[3:])[0]
     return np.concatenate([pdot1, E1.T @ (ldot1 - cross3(shift, pdot1))])
