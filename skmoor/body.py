@@ -399,6 +399,10 @@ def hull_hydrostatics(mesh, reference_point=(0.0, 0.0, 0.0),
 
 # --------------------------------------------------------------------------- rigid body
 
+_NEEDS_HULL = ("rotations: 'exact' needs the hull geometry of a surface-piercing body "
+               "(build it with RigidBody.box or RigidBody.from_hull, or give hull)")
+
+
 @dataclass
 class RigidBody:
     """A 6-DOF rigid body.
@@ -475,9 +479,7 @@ class RigidBody:
             self.hull = hull
         if (self.rotations == "exact" and self.hull is None and self.hydrostatics is not None
                 and self.hydrostatics.waterplane_area > 0):
-            raise ValueError("rotations: 'exact' needs the hull geometry of a surface-piercing "
-                             "body (build it with RigidBody.box or RigidBody.from_hull, or "
-                             "give hull)")
+            raise ValueError(_NEEDS_HULL)
 
     @classmethod
     def box(cls, length: float, width: float, height: float, mass: float, draft: float,
@@ -565,6 +567,8 @@ class RigidBody:
             if self.hull is not None:
                 volume, centroid = exact.submerged_volume(origin + self.hull @ R.T)
                 arm = centroid - origin
+            elif self.hydrostatics.waterplane_area > 0:  # rotations set after construction
+                raise ValueError(_NEEDS_HULL)
             else:
                 volume = self.hydrostatics.volume
                 arm = R @ (self.hydrostatics.center_of_buoyancy - self.reference_point)
