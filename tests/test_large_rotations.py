@@ -293,24 +293,24 @@ def roll_reference(roll0, t_end):
         buoyancy = RHO * G * LENGTH * area
         return [heave_rate, roll_rate, (buoyancy - mass * G) / mass, arm_y * buoyancy / i_roll]
 
-    return mass, solve_ivp(rhs, (0.0, t_end), [0.0, roll0, 0.0, 0.0], rtol=1e-10, atol=1e-12,
+    return mass, solve_ivp(rhs, (0.0, t_end), [0.0, roll0, 0.0, 0.0], rtol=1e-9, atol=1e-12,
                            dense_output=True)
 
 
 def test_large_roll_of_a_box_matches_an_independent_integration():
     """30 deg roll of a box with a small GM: the bottom corner emerges and the wall-sided
     restoring grows with tan^2; the exact model follows scipy's integration of the same
-    hydrostatics (0.12 % of the amplitude at dt = 0.05 s, 0.03 % at 0.025 s), the
-    small-rotation one (GM = 0.28 m: a far longer period) does not."""
+    hydrostatics (0.09 % of the amplitude over 12 s at dt = 0.05 s), the small-rotation
+    one (GM = 0.28 m: a far longer period) does not (145 %)."""
     roll0 = np.radians(30.0)
-    mass, reference = roll_reference(roll0, 20.0)  # two roll periods (9.86 s)
+    mass, reference = roll_reference(roll0, 12.0)  # a roll period (9.86 s) and more
     histories = {}
     for rotations in ("exact", "small"):
         body = RigidBody.box(LENGTH, WIDTH, HEIGHT, mass, DRAFT, rho=RHO, g=G,
                              rotations=rotations)
         q0 = np.zeros(6)
         q0[3] = roll0
-        states = list(integrate(lone_body_system(body), q0, np.zeros(6), 0.05, 20.0))
+        states = list(integrate(lone_body_system(body), q0, np.zeros(6), 0.05, 12.0))
         t = np.array([s.t for s in states])
         histories[rotations] = np.array([s.x[3] for s in states]) - reference.sol(t)[1]
     assert np.max(np.abs(histories["exact"])) < 0.01 * roll0
