@@ -30,6 +30,9 @@ from functools import lru_cache
 import numpy as np
 from numba import njit
 
+from . import large_rotations as exact
+from .large_rotations import box_triangles
+
 __all__ = [
     "rotation_matrix",
     "attachment_displacement",
@@ -327,18 +330,9 @@ def _as_polydata(mesh):
     raise ValueError(f"mesh: expected a triangulated surface, got {type(mesh).__name__}")
 
 
-def hull_hydrostatics(mesh, reference_point=(0.0, 0.0, 0.0),
-                      offset=(0.0, 0.0, 0.0)) -> Hydrostatics:
-    """Hydrostatics of a closed hull surface (pyvista PolyData, meshio.Mesh or file path).
-
-    The surface is moved by ``offset`` (m, done in double precision) into its floating
-    position; duplicate points are merged and the faces oriented outward. It is clipped at
-    z = 0, and the displaced volume, its centroid and the waterplane integrals are computed
-    exactly for the triangulated surface (divergence theorem on the wetted faces; the
-    waterplane cap at z = 0 needs no triangulation).
-    """
-    ref = _finite_array("reference_point", reference_point, (3,))
-    offset = _finite_array("offset", offset, (3,))
+def _hull_surface(mesh, offset):
+    """The closed hull surface moved by ``offset`` (m): triangulated, duplicate points
+    merged, faces oriented outward (ValueError when it is not watertight)."""
     surf = _as_polydata(mesh).triangulate()  # a new mesh: the input is left as it is
     if surf.n_cells == 0:
         raise ValueError("mesh: the surface has no faces")
@@ -351,14 +345,28 @@ def hull_hydrostatics(mesh, reference_point=(0.0, 0.0, 0.0),
     if bad:
         raise ValueError(f"mesh: the hull surface is not closed ({bad} open or non-manifold "
                          "edges); hydrostatics need a watertight surface")
+    return surf.compute_normals(cell_normals=True, point_normals=False,
+                                consistent_normals=True, auto_orient_normals=True)
+
+
+def hull_hydrostatics(mesh, reference_point=(0.0, 0.0, 0.0),
+                      offset=(0.0, 0.0, 0.0)) -> Hydrostatics:
+    """Hydrostatics of a closed hull surface (pyvista PolyData, meshio.Mesh or file path).
+
+    The surface is moved by ``offset`` (m, done in double precision) into its floating
+    position; duplicate points are merged and the faces oriented outward. It is clipped at
+    z = 0, and the displaced volume, its centroid and the waterplane integrals are computed
+    exactly for the triangulated surface (divergence theorem on the wetted faces; the
+    waterplane cap at z = 0 needs no triangulation).
+    """
+    ref = _finite_array("reference_point", reference_point, (3,))
+    surf = _hull_surface(mesh, _finite_array("offset", offset, (3,)))
     zmin, zmax = surf.bounds[4], surf.bounds[5]
     if zmin >= 0.0:
         raise ValueError(f"mesh: the hull does not reach below the waterline (lowest z = {zmin} m)")
     if zmax <= 0.0:
         raise ValueError(f"mesh: the hull is fully submerged (highest z = {zmax} m), "
                          "it has no waterplane")
-    surf = surf.compute_normals(cell_normals=True, point_normals=False,
-                                consistent_normals=True, auto_orient_normals=True)
     wet = surf.clip(normal="z", origin=(0.0, 0.0, 0.0), invert=True).triangulate()
 
     pts = np.asarray(wet.points, dtype=float) - np.array([ref[0], ref[1], 0.0])
@@ -391,6 +399,10 @@ def hull_hydrostatics(mesh, reference_point=(0.0, 0.0, 0.0),
 
 # --------------------------------------------------------------------------- rigid body
 
+_NEEDS_HULL = ("rotations: 'exact' needs the hull geometry of a surface-piercing body "
+               "(build it with RigidBody.box or RigidBody.from_hull, or give hull)")
+
+
 @dataclass
 class RigidBody:
     """A 6-DOF rigid body.
@@ -406,6 +418,13 @@ class RigidBody:
     rho, g           water density kg/m3, gravity m/s2
     box_size         (3,) box dimensions (m) for drawing, or None
     box_center       (3,) box centre relative to the reference point (m), for drawing
+    rotations        'small': the constant mass matrix at q = 0 and the linear
+                     hydrostatic stiffness (the paper's model); 'exact': the inertia,
+                     gyroscopic terms and hydrostatics at the current pose
+                     (:mod:`skmoor.large_rotations`)
+    hull             (n, 3, 3) closed hull as outward triangles relative to the
+                     reference point at q = 0 (m): the geometry 'exact' clips at z = 0
+                     (set by :meth:`box` and :meth:`from_hull`)
     """
 
     mass: float
@@ -419,6 +438,8 @@ class RigidBody:
     g: float = 9.81
     box_size: np.ndarray | None = None
     box_center: np.ndarray | None = None
+    rotations: str = "small"
+    hull: np.ndarray | None = None
 
     def __post_init__(self):
         self.mass = _positive("mass", self.mass)
@@ -445,6 +466,20 @@ class RigidBody:
                 self.hydrostatics.reference_point, self.reference_point):
             raise ValueError(f"hydrostatics: computed about {self.hydrostatics.reference_point}, "
                              f"but the body's reference_point is {self.reference_point}")
+        self._check_rotations()
+
+    def _check_rotations(self):
+        if self.rotations not in ("small", "exact"):
+            raise ValueError(f"rotations: {self.rotations!r} is not 'small' or 'exact'")
+        if self.hull is not None:
+            hull = np.array(self.hull, dtype=float)
+            if hull.ndim != 3 or hull.shape[1:] != (3, 3) or not np.all(np.isfinite(hull)):
+                raise ValueError(f"hull: expected finite triangles of shape (n, 3, 3), got "
+                                 f"shape {hull.shape}")
+            self.hull = hull
+        if (self.rotations == "exact" and self.hull is None and self.hydrostatics is not None
+                and self.hydrostatics.waterplane_area > 0):
+            raise ValueError(_NEEDS_HULL)
 
     @classmethod
     def box(cls, length: float, width: float, height: float, mass: float, draft: float,
@@ -465,6 +500,7 @@ class RigidBody:
             hydrostatics=box_hydrostatics(length, width, height, draft, reference_point=ref),
             box_size=np.array([length, width, height], dtype=float),
             box_center=center - ref,
+            hull=box_triangles([length, width, height], center - ref),
             **kwargs,
         )
 
@@ -476,11 +512,14 @@ class RigidBody:
         ``center_of_mass`` and ``reference_point`` are global (after ``offset``); other
         keyword arguments go to :class:`RigidBody`.
         """
-        ref = center_of_mass if reference_point is None else reference_point
+        ref = _finite_array("reference_point", center_of_mass if reference_point is None
+                            else reference_point, (3,))
+        hull = _hull_surface(mesh, _finite_array("offset", offset, (3,)))
+        triangles = np.asarray(hull.points, float)[hull.faces.reshape(-1, 4)[:, 1:]] - ref
         return cls(mass=mass, center_of_mass=center_of_mass, inertia=inertia,
                    reference_point=ref,
                    hydrostatics=hull_hydrostatics(mesh, reference_point=ref, offset=offset),
-                   **kwargs)
+                   hull=triangles, **kwargs)
 
     def mass_matrix(self) -> np.ndarray:
         """Rigid-body mass matrix (6, 6) about the reference point (small rotations)."""
@@ -513,3 +552,94 @@ class RigidBody:
             load[3:] += np.cross(self.hydrostatics.center_of_buoyancy - self.reference_point,
                                  buoyancy)
         return load
+
+    # --- large rotations (rotations='exact'), see skmoor.large_rotations
+    def restoring_load(self, q) -> np.ndarray:
+        """Buoyancy + weight at pose ``q`` as the load conjugate to q (N, N m): the hull
+        clipped at z = 0 (a submerged body without a hull: its volume at its body-fixed
+        centre of buoyancy)."""
+        R = rotation_and_slopes(q[3:])[0]
+        origin = self.reference_point + q[:3]
+        weight = np.array([0.0, 0.0, -self.mass * self.g])
+        force = weight.copy()
+        moment = exact.cross3(R @ (self.center_of_mass - self.reference_point), weight)
+        if self.hydrostatics is not None:
+            if self.hull is not None:
+                volume, centroid = exact.submerged_volume(origin + self.hull @ R.T)
+                arm = centroid - origin
+            elif self.hydrostatics.waterplane_area > 0:  # rotations set after construction
+                raise ValueError(_NEEDS_HULL)
+            else:
+                volume = self.hydrostatics.volume
+                arm = R @ (self.hydrostatics.center_of_buoyancy - self.reference_point)
+            buoyancy = np.array([0.0, 0.0, self.rho * self.g * volume])
+            force += buoyancy
+            moment += exact.cross3(arm, buoyancy)
+        return exact.generalized_load(q[3:], force, moment)
+
+    def restoring_stiffness(self, q, step: float = 1e-6) -> np.ndarray:
+        """-d(restoring_load)/dq (6, 6) by central differences of ``step`` (m, rad)."""
+        columns = [(self.restoring_load(q - step * e) - self.restoring_load(q + step * e))
+                   / (2 * step) for e in np.eye(6)]
+        return np.column_stack(columns)
+
+    def inertia_load(self, q, qdot, qddot) -> np.ndarray:
+        """Exact inertia + gyroscopic load conjugate to q (N, N m) at pose q, DOF rates
+        qdot and accelerations qddot (:func:`skmoor.large_rotations.inertia_load`)."""
+        R = rotation_and_slopes(q[3:])[0]
+        return exact.inertia_load(R, q, qdot, qddot, self.mass, self.inertia,
+                                  self.center_of_mass - self.reference_point)
+
+    def inertia_tangents(self, q, qdot, qddot, step: float = 1e-6):
+        """Derivatives of :meth:`inertia_load` (6, 6 each): d/dqddot (the exact mass
+        matrix), d/dqdot (gyroscopic; exact central differences, the load is quadratic
+        in qdot) and d/dq (central differences of ``step`` rad in the angles)."""
+        R = rotation_and_slopes(q[3:])[0]
+        arm = self.center_of_mass - self.reference_point
+        mass = exact.exact_mass_matrix(R, q, self.mass, self.inertia, arm)
+        d_rate = np.zeros((6, 6))
+        d_pose = np.zeros((6, 6))
+        scale = 1.0 + np.max(np.abs(qdot[3:]))
+        for k in range(3, 6):
+            e = np.zeros(6)
+            e[k] = scale
+            d_rate[:, k] = (self.inertia_load(q, qdot + e, qddot)
+                            - self.inertia_load(q, qdot - e, qddot)) / (2 * scale)
+            e[k] = step
+            d_pose[:, k] = (self.inertia_load(q + e, qdot, qddot)
+                            - self.inertia_load(q - e, qdot, qddot)) / (2 * step)
+        return mass, d_rate, d_pose
+
+    def step_inertia_load(self, q1, qdot1, q0, qdot0, load0, h, gamma) -> np.ndarray:
+        """Inertia load (N, N m) at the end of a time step of h (s) from (q0, qdot0) with
+        inertia load ``load0``, in momentum form
+        (:func:`skmoor.large_rotations.momentum_inertia_load`)."""
+        return exact.momentum_inertia_load(
+            rotation_and_slopes(q1[3:])[0], q1, qdot1, self._step_start(q0, qdot0, load0),
+            h, gamma, self.mass, self.inertia, self.center_of_mass - self.reference_point)
+
+    def _step_start(self, q0, qdot0, load0):
+        """:func:`skmoor.large_rotations.step_start`, kept for the step's iterations."""
+        key = (q0.tobytes(), qdot0.tobytes(), load0.tobytes())
+        cached = getattr(self, "_start_cache", (None, None))
+        if cached[0] != key:
+            cached = (key, exact.step_start(
+                rotation_and_slopes(q0[3:])[0], q0, qdot0, load0, self.mass, self.inertia,
+                self.center_of_mass - self.reference_point))
+            self._start_cache = cached
+        return cached[1]
+
+    def step_inertia_tangents(self, q1, qdot1, q0, qdot0, load0, h, gamma, step=1e-6):
+        """Derivatives (6, 6 each) of :meth:`step_inertia_load` in qdot1 (exact central
+        differences: it is linear in qdot1) and in q1 (central differences of ``step``)."""
+        def load(q, qdot):
+            return self.step_inertia_load(q, qdot, q0, qdot0, load0, h, gamma)
+
+        d_rate, d_pose = np.zeros((6, 6)), np.zeros((6, 6))
+        for k in range(6):
+            e = np.zeros(6)
+            e[k] = 1.0
+            d_rate[:, k] = (load(q1, qdot1 + e) - load(q1, qdot1 - e)) / 2
+            e[k] = step
+            d_pose[:, k] = (load(q1 + e, qdot1) - load(q1 - e, qdot1)) / (2 * step)
+        return d_rate, d_pose

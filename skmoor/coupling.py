@@ -12,6 +12,11 @@ displacement and P = du/dx:
     the body residual adds hydrostatics, its linear damping and the applied loads; a
     free point's, its net buoyancy (rho V - m) g and its drag.
 
+A body with ``rotations='exact'`` takes its buoyancy and weight at the current pose (hull
+clipped at z = 0) and its applied moments through E^T (:mod:`skmoor.large_rotations`);
+its inertia beyond the constant M (which holds its mass matrix at q = 0) is
+:meth:`System.inertia`, added by the time integrator.
+
 (``skfem.mpc`` drops the slave equations, so the reduction is written out here.)
 """
 from __future__ import annotations
@@ -26,6 +31,7 @@ import scipy.sparse as sp
 from . import body as rigid
 from .banded import LAYOUTS, as_layout
 from .kernels import CableKernel, ElementPattern
+from .large_rotations import generalized_load
 from .terms import Term
 
 
@@ -151,6 +157,7 @@ class System:
         self._attachment_cache = (None, None, None)
         self._prescribed_cache = (None, None, None)
         self.K_bodies = [b.hydrostatic_stiffness(generalized=True) for b in bodies]
+        self._rigid_masses = [b.mass_matrix() for b in bodies]  # at q = 0, kg / kg m / kg m2
         self.F_bodies0 = [b.static_force() for b in bodies]
         self.K_body = self.K_bodies[0] if bodies else None
         self.weight = lines.weight_load()
@@ -551,10 +558,16 @@ class System:
         for k, body in enumerate(self.bodies):
             block = self._body_block(k)
             q, qdot = x[block], v[block]
-            R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
+            if body.rotations == "exact":  # at the pose; (1 - load_factor) F0 as K q - lf F0
+                R[block] -= body.restoring_load(q) - (1 - load_factor) * self.F_bodies0[k]
+            else:
+                R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
             R[block] += body.linear_damping @ qdot
             if self.body_loads[k] is not None:
-                R[block] -= self.body_loads[k](t, q, qdot)
+                load = self.body_loads[k](t, q, qdot)
+                if body.rotations == "exact":  # force and moment (global) -> [F, E^T M]
+                    load = generalized_load(q[3:], load[:3], load[3:])
+                R[block] -= load
             Kk, Ck = (np.zeros((6, 6)), np.zeros((6, 6))) if tangent else (None, None)
             Rk = np.zeros(6)
             for term in self._terms["bodies"]:
@@ -582,7 +595,9 @@ class System:
             rows = self._body_rows[k]
             H = (rigid.attachment_hessian(x[self._body_block(k)], self._r_local[k],
                                           end_forces[rows]) if len(rows) else 0.0)
-            K_bodies[b, b] = H + self.K_bodies[k] + body_K[k]
+            restoring = (body.restoring_stiffness(x[self._body_block(k)])
+                         if body.rotations == "exact" else self.K_bodies[k])
+            K_bodies[b, b] = H + restoring + body_K[k]
             D_bodies[b, b] = body.linear_damping + body_Kv[k]
         slope = (self._velocity_slope(Kv_full, x, v, J)
                  if Kv_full is not None and np.any(v[self.nf:]) else None)
@@ -605,6 +620,52 @@ class System:
                 D = self._embed_bodies(D_bodies)
                 Kv = D if Kv is None else Kv + D
         return (R, *self._add_point_blocks(K, Kv, point_K, point_C, layout))
+
+    @property
+    def nonlinear_inertia(self) -> bool:
+        """True when a body has rotations='exact': its inertia beyond the constant M
+        comes from :meth:`inertia` (the time integrator asks for it)."""
+        return any(body.rotations == "exact" for body in self.bodies)
+
+    def inertia(self, x, v, a, tangent=False, layout="sparse", previous=None):
+        """G = Q_inertia - M0 qddot of the 'exact' bodies (N, N m; M0 their rigid mass at
+        q = 0, which M holds), and with ``tangent`` its derivatives (dG/da, dG/dv, dG/dx)
+        in ``layout``; (G, None, None, None) without. Q_inertia is the Newton-Euler load
+        at (x, v, a), or with ``previous`` = (x0, v0, a0, G0, h, gamma) (a time step's
+        start) its momentum form over the step (:meth:`RigidBody.step_inertia_load`)."""
+        G = np.zeros(self.n)
+        blocks = [np.zeros((self.nb, self.nb)) for _ in range(3)] if tangent else None
+        for k, body in enumerate(self.bodies):
+            if body.rotations != "exact":
+                continue
+            block = self._body_block(k)
+            q, qdot, qddot = x[block], v[block], a[block]
+            M0 = self._rigid_masses[k]
+            if previous is None:
+                G[block] = body.inertia_load(q, qdot, qddot) - M0 @ qddot
+            else:
+                x0, v0, a0, G0, h, gamma = previous
+                start = (x0[block], v0[block], G0[block] + M0 @ a0[block], h, gamma)
+                G[block] = body.step_inertia_load(q, qdot, *start) - M0 @ qddot
+            if tangent:
+                if previous is None:
+                    d_acc, d_rate, d_pose = body.inertia_tangents(q, qdot, qddot)
+                else:
+                    d_acc = np.zeros((6, 6))
+                    d_rate, d_pose = body.step_inertia_tangents(q, qdot, *start)
+                b = slice(6 * k, 6 * k + 6)
+                for out, value in zip(blocks, (d_acc - M0, d_rate, d_pose)):
+                    out[b, b] = value
+        if not tangent:
+            return G, None, None, None
+        if layout == "dense":
+            embedded = []
+            for A in blocks:
+                full = np.zeros((self.n, self.n))
+                full[self.nf:, self.nf:] = A
+                embedded.append(full)
+            return (G, *embedded)
+        return (G, *(self._embed_bodies(A) for A in blocks))
 
     def _velocity_slope(self, Kv_full, x, v, J):
         """(n, 6 nbodies) P^T Kv_full d(udot)/dq: the body ends' velocity J(q) v changes

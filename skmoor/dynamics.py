@@ -6,6 +6,12 @@ beta = 1/4, gamma = 1/2. Each step solves the alpha-level balance with Newton:
 
     (1-am) M a1 + am M a0 + (1-af) [C v1 + R(x1, v1, t1)] + af [C v0 + R(x0, v0, t0)] = 0
 
+A system with a state-dependent inertia (``system.nonlinear_inertia``: rigid bodies with
+exact rotations) gives it beside the constant M (``system.inertia``): M a becomes M a + G
+at each level, G1 computed from the step's start (x0, v0, a0, G0, h, gamma) so that the
+momenta follow the scheme's own velocity rule, and G's derivatives in a, v and x join the
+Newton matrix.
+
 The integrator is a generator of states, so a caller decides what to record and when
 to stop; a Newton failure raises :class:`DivergenceError` with the time, the step and a
 hint instead of carrying NaN on.
@@ -156,30 +162,55 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
     R, _, _ = system.residual(x, v, t, tangent=False)
     force_old = C @ v + R
+    nonlinear = getattr(system, "nonlinear_inertia", False)
+
     mass = _IterationMatrix(layout)
-    mass.update(M)
-    a = mass.solve(-force_old)
+    G = None  # the state-dependent inertia at the last level (None: the system has none)
+    if nonlinear:  # G is affine in a at t0: (M + dG/da) a = -(C v + R + G(x, v, 0))
+        G0, d_acc, _, _ = system.inertia(x, v, np.zeros_like(v), tangent=True, layout=layout)
+        mass.update(M + d_acc)
+        a = mass.solve(-(force_old + G0))
+        G = system.inertia(x, v, a)[0]
+    else:
+        mass.update(M)
+        a = mass.solve(-force_old)
     yield State(t, 0, x, v, a)
 
-    def advance(x, v, a, force_old, t1, h, matrix):
-        """One step of h from (x, v, a) to t1: ((x1, v1, a1, C v1 + R1), iterations), or
-        (None, why) when Newton fails."""
+    def advance(x, v, a, force_old, G_old, t1, h, matrix):
+        """One step of h from (x, v, a) to t1: ((x1, v1, a1, C v1 + R1, G1), iterations),
+        or (None, why) when Newton fails."""
         c_x = (1 - am) / (beta * h**2)
         c_v = gamma / (beta * h)
         x_pred = x + h * v + h**2 * (0.5 - beta) * a  # part of x1 known from level 0
         v_pred = v + h * (1 - gamma) * a
-        inertia_old = am * (M @ a) + af * force_old
+        inertia_old = am * (M @ a if G_old is None else M @ a + G_old) + af * force_old
+        previous = (x, v, a, G_old, h, gamma)
+
+        def inertia(y, v1, a1, tangent=False):
+            """M a1 plus the system's state-dependent inertia G1 (momentum-consistent over
+            the step from level 0) and its derivatives d/da, d/dv, d/dx when it has one."""
+            if G_old is None:
+                return M @ a1, None, None
+            G1, *slopes = system.inertia(y, v1, a1, tangent=tangent, layout=layout,
+                                         previous=previous)
+            return M @ a1 + G1, (slopes if tangent else None), G1
 
         def balance(y, tangent):
             """alpha-level balance at x1 = y, and (when asked) its tangent."""
             a1 = (y - x_pred) / (beta * h**2)
             v1 = v_pred + gamma * h * a1
             R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, layout=layout)
-            B = (1 - am) * (M @ a1) + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
+            inertia1, slopes, _ = inertia(y, v1, a1, tangent)
+            B = (1 - am) * inertia1 + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
             if not tangent:
                 return B, None
             Cv = C if Kv1 is None else C + Kv1
-            return B, c_x * M + (1 - af) * (c_v * Cv + K1)
+            A = c_x * M + (1 - af) * (c_v * Cv + K1)
+            if slopes is not None:  # d/dy of (1 - am) G(y, v1(y), a1(y))
+                d_acc, d_rate, d_pose = slopes
+                A = A + (1 - am) * (d_acc / (beta * h**2) + gamma / (beta * h) * d_rate
+                                    + d_pose)
+            return B, A
 
         # first guess: constant acceleration; should modified Newton stall from it, the step
         # again from constant velocity (robust on stiff axial modes) with full Newton and
@@ -196,13 +227,14 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         a1 = (x1 - x_pred) / (beta * h**2)
         v1 = v_pred + gamma * h * a1
         # C v1 + R(x1) from the converged balance (saves a residual evaluation per step)
-        force1 = -((1 - am) * (M @ a1) + inertia_old) / (1 - af)
-        return (x1, v1, a1, force1), it
+        inertia1, _, G1 = inertia(x1, v1, a1)
+        force1 = -((1 - am) * inertia1 + inertia_old) / (1 - af)
+        return (x1, v1, a1, force1, G1), it
 
     halves = {}  # level -> the iteration matrix of steps dt / 2**level, kept for reuse
 
     def split(level_state, t, t1, level):
-        """(x, v, a, force) at t1 through two halves of [t, t1], each split again when it
+        """(x, v, a, force, G) at t1 through two halves of [t, t1], each split again when it
         fails (down to ``subdivide`` levels); (None, why) if the smallest fails too."""
         matrix = halves.setdefault(level, _IterationMatrix(layout))
         total, h, mid = 0, dt / 2**level, t + 0.5 * (t1 - t)
@@ -220,17 +252,17 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     subdivided = 0
     for step in range(1, n_steps + 1):
         t1 = t0 + step * dt
-        out, it = advance(x, v, a, force_old, t1, dt, matrix)
+        out, it = advance(x, v, a, force_old, G, t1, dt, matrix)
         if out is None:
             why = it
             if subdivide > 0:
-                out, it = split((x, v, a, force_old), t, t1, 1)
+                out, it = split((x, v, a, force_old, G), t, t1, 1)
             if out is None:
                 tried = (f" (and in steps down to dt / {2**subdivide:g})" if subdivide > 0
                          else "")
                 raise DivergenceError(_hint(t1, step, dt, f"{why}{tried}"), t1, step)
             subdivided += 1
-        x, v, a, force_old = out
+        x, v, a, force_old, G = out
         t = t1
         yield State(t1, step, x, v, a, it, subdivided)
 

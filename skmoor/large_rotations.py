@@ -1,0 +1,203 @@
+"""Exact rigid-body dynamics for large rotations: inertia, gyroscopic terms and the
+hydrostatics of a hull at its current pose.
+
+The body DOFs stay q = [x, y, z, rx, ry, rz] (m, rad) with R = Rz(rz) Ry(ry) Rx(rx)
+(:mod:`skmoor.body`). Everything here is in global axes about the displaced reference
+point x_ref = reference_point + q[:3]; rho = R r_G is the arm from it to the centre of
+mass. Angular velocity and acceleration from the angle rates (R = Rz Ry Rx):
+
+    omega = E(q) qdot[3:],  alpha = E qddot[3:] + Edot qdot[3:],
+    E = [Rz Ry e_x, Rz e_y, e_z] = [[cy cz, -sz, 0], [cy sz, cz, 0], [-sy, 0, 1]]
+
+Newton-Euler about the reference point (I_ref = R I_G R^T - m [rho]x^2):
+
+    F = m (a_ref + alpha x rho + omega x (omega x rho))
+    M = I_ref alpha + omega x (I_ref omega) + m rho x a_ref
+
+and the load conjugate to q (virtual work F.dx + M.(E dq[3:])) is Q = [F, E^T M]; its
+derivative in qddot is the exact mass matrix T^T M6(q) T, T = diag(1, E). A load given as
+a force and a moment (global, about x_ref) enters the same way: [F, E^T M].
+
+In a time step the same load is taken in momentum form (:func:`momentum_inertia_load`):
+F = dP/dt and M = dL/dt, with the momenta P = m v_G and L advanced by the integrator's
+own velocity rule, so that a free body keeps P and L exactly (to Newton's tolerance).
+
+Hydrostatics at a pose: the hull (closed, outward triangles) is moved rigidly, clipped
+at z = 0, and the displaced volume V and its centroid c_B come from the divergence
+theorem on the wetted faces (the cap at z = 0 adds nothing to int z n_z dS); the
+pressure -rho g z integrated over the wetted hull is the buoyancy rho g V e_z at c_B.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "rate_matrix",
+    "inertia_load",
+    "momenta",
+    "momentum_inertia_load",
+    "step_start",
+    "exact_mass_matrix",
+    "submerged_volume",
+    "box_triangles",
+    "generalized_load",
+]
+
+
+def _skew(v) -> np.ndarray:
+    """Matrix S with S @ a = v x a."""
+    x, y, z = v
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def cross3(a, b) -> np.ndarray:
+    """a x b of two 3-vectors (np.cross costs ten times more on one pair)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
+
+
+def rate_matrix(angles) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """E (omega = E angle_rates, rad/s) of R = Rz Ry Rx and its slopes dE/dry, dE/drz."""
+    _, ry, rz = angles
+    cy, sy, cz, sz = math.cos(ry), math.sin(ry), math.cos(rz), math.sin(rz)
+    E = np.array([[cy * cz, -sz, 0.0], [cy * sz, cz, 0.0], [-sy, 0.0, 1.0]])
+    dE_dry = np.array([[-sy * cz, 0.0, 0.0], [-sy * sz, 0.0, 0.0], [-cy, 0.0, 0.0]])
+    dE_drz = np.array([[-cy * sz, -cz, 0.0], [cy * cz, -sz, 0.0], [0.0, 0.0, 0.0]])
+    return E, dE_dry, dE_drz
+
+
+def generalized_load(angles, force, moment) -> np.ndarray:
+    """[F, E^T M] (N, N m): a force and a moment about x_ref (global) as the load
+    conjugate to q."""
+    E = rate_matrix(angles)[0]
+    return np.concatenate([force, E.T @ moment])
+
+
+def _rigid_state(R, mass, inertia, arm):
+    """rho = R arm (m) and I_ref = R I_G R^T - m [rho]x^2 (kg m2) at rotation R."""
+    rho = R @ arm
+    S = _skew(rho)
+    return rho, R @ inertia @ R.T - mass * S @ S
+
+
+def inertia_load(R, q, qdot, qddot, mass, inertia, arm) -> np.ndarray:
+    """Generalized inertia load Q = [F, E^T M] (N, N m) of a rigid body (module docstring).
+
+    R: rotation at q; mass kg; inertia (3, 3) about the centre of mass at q = 0, global
+    axes (kg m2); arm: centre of mass - reference point at q = 0 (m)."""
+    E, dE_dry, dE_drz = rate_matrix(q[3:])
+    rates = qdot[3:]
+    omega = E @ rates
+    alpha = E @ qddot[3:] + (rates[1] * dE_dry + rates[2] * dE_drz) @ rates
+    rho, I_ref = _rigid_state(R, mass, inertia, arm)
+    a_ref = qddot[:3]
+    force = mass * (a_ref + cross3(alpha, rho) + cross3(omega, cross3(omega, rho)))
+    moment = I_ref @ alpha + cross3(omega, I_ref @ omega) + mass * cross3(rho, a_ref)
+    return np.concatenate([force, E.T @ moment])
+
+
+def exact_mass_matrix(R, q, mass, inertia, arm) -> np.ndarray:
+    """dQ/dqddot = T^T M6 T (6, 6): the mass matrix at pose q (kg, kg m, kg m2)."""
+    E = rate_matrix(q[3:])[0]
+    rho, I_ref = _rigid_state(R, mass, inertia, arm)
+    S = _skew(rho)
+    out = np.empty((6, 6))
+    out[:3, :3] = mass * np.eye(3)
+    out[:3, 3:] = -mass * S @ E
+    out[3:, :3] = out[:3, 3:].T
+    out[3:, 3:] = E.T @ I_ref @ E
+    return out
+
+
+def box_triangles(size, center) -> np.ndarray:
+    """The 12 outward triangles (12, 3, 3) of a box of ``size`` (m) centred at ``center``."""
+    half = 0.5 * np.asarray(size, float)
+    corners = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], float)
+    corners = corners * half + np.asarray(center, float)
+    # corner index = 4 i + 2 j + k with i, j, k in {0, 1}; faces counter-clockwise seen
+    # from outside
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
+             (1, 5, 7, 3)]
+    tri = [(a, b, c) for a, b, c, d in quads] + [(a, c, d) for a, b, c, d in quads]
+    return corners[np.array(tri)]
+
+
+def _clip_below_waterline(tri):
+    """The parts with z <= 0 of triangles (n, 3, 3), as triangles of the same orientation."""
+    below = tri[:, :, 2] <= 0.0
+    count = below.sum(axis=1)
+    keep = [tri[count == 3]]
+    for n_below in (1, 2):  # the odd vertex: the one below (1) or the one above (2)
+        sel = tri[count == n_below]
+        if not len(sel):
+            continue
+        odd_is_below = n_below == 1
+        flags = below[count == n_below]
+        odd = np.argmax(flags if odd_is_below else ~flags, axis=1)
+        order = (odd[:, None] + np.arange(3)) % 3  # roll the odd vertex to position 0
+        v = np.take_along_axis(sel, order[:, :, None], axis=1)
+        p0, p1, p2 = v[:, 0], v[:, 1], v[:, 2]
+        cut01 = p0 + (p0[:, 2] / (p0[:, 2] - p1[:, 2]))[:, None] * (p1 - p0)
+        cut02 = p0 + (p0[:, 2] / (p0[:, 2] - p2[:, 2]))[:, None] * (p2 - p0)
+        if odd_is_below:
+            keep.append(np.stack([p0, cut01, cut02], axis=1))
+        else:
+            keep.append(np.stack([cut01, p1, p2], axis=1))
+            keep.append(np.stack([cut01, p2, cut02], axis=1))
+    return np.concatenate(keep)
+
+
+def submerged_volume(tri) -> tuple[float, np.ndarray]:
+    """Volume (m3) and centroid (3,) of the part below z = 0 of a closed hull given as
+    outward triangles (n, 3, 3) in global coordinates (m); (0, zeros) when dry."""
+    wet = _clip_below_waterline(tri)
+    if not len(wet):
+        return 0.0, np.zeros(3)
+    area_z = 0.5 * np.cross(wet[:, 1] - wet[:, 0], wet[:, 2] - wet[:, 0])[:, 2]  # n_z dS
+    x, y, z = wet[..., 0], wet[..., 1], wet[..., 2]
+
+    def integral(a, b):
+        """Exact sum over faces of int a b n_z dS for a, b linear on each face."""
+        return area_z @ (np.einsum("ij,ij->i", a, b) + a.sum(1) * b.sum(1)) / 12.0
+
+    volume = integral(z, np.ones_like(z))
+    if volume <= 0.0:
+        return 0.0, np.zeros(3)
+    return volume, np.array([integral(x, z), integral(y, z), integral(z, z) / 2.0]) / volume
+
+
+def momenta(R, q, qdot, mass, inertia, arm, offset) -> tuple[np.ndarray, np.ndarray]:
+    """Linear momentum P = m v_G (N s) and angular momentum L = (x_G - O) x P + R I_G R^T
+    omega (N m s) about the fixed point O = x_ref - ``offset``."""
+    omega = rate_matrix(q[3:])[0] @ qdot[3:]
+    rho = R @ arm
+    linear = mass * (qdot[:3] + cross3(omega, rho))
+    return linear, cross3(offset + rho, linear) + R @ inertia @ R.T @ omega
+
+
+def step_start(R0, q0, v0, load0, mass, inertia, arm):
+    """What a step's momentum form needs of its start: P0, L0 (about x_ref0), Pdot0 and
+    the moment about x_ref0, from the start's inertia load load0 = [Pdot0, E0^T M0]."""
+    E0 = rate_matrix(q0[3:])[0]
+    p0, l0 = momenta(R0, q0, v0, mass, inertia, arm, np.zeros(3))
+    return q0, p0, l0, load0[:3], np.linalg.solve(E0.T, load0[3:])
+
+
+def momentum_inertia_load(R1, q1, v1, start, h, gamma, mass, inertia, arm) -> np.ndarray:
+    """Inertia load Q1 = [Pdot1, E1^T M1] (N, N m) at the end of a step of h (s) from
+    ``start`` (:func:`step_start`), the momentum rates following the scheme's velocity
+    rule, as v and a do:
+
+        P1 = P0 + h ((1 - gamma) Pdot0 + gamma Pdot1),  same for L about x_ref0,
+
+    and M1 = Ldot1 - (x_ref1 - x_ref0) x Pdot1. Without loads P and L stay constant exactly.
+    """
+    q0, p0, l0, pdot0, mdot0 = start
+    shift = q1[:3] - q0[:3]
+    p1, l1 = momenta(R1, q1, v1, mass, inertia, arm, shift)
+    pdot1 = (p1 - p0 - h * (1 - gamma) * pdot0) / (gamma * h)
+    ldot1 = (l1 - l0 - h * (1 - gamma) * mdot0) / (gamma * h)
+    E1 = rate_matrix(q1[3:])[0]
+    return np.concatenate([pdot1, E1.T @ (ldot1 - cross3(shift, pdot1))])
