@@ -212,3 +212,23 @@ def test_outputs_carry_curvature_and_moment(tmp_path):
     write_vtu_series(results, tmp_path)
     vtu = meshio.read(tmp_path / "motion" / "lines_0000.vtu")
     np.testing.assert_allclose(vtu.cell_data["bending_moment"][0], results.bending_moment[0])
+
+
+def test_seabed_kernel_on_bending_lines_equals_the_form():
+    """On a Hermite set the compiled contact (node positions) gives the seabed form's
+    normal force and damping (nodal quadrature: the same points), here for a line that
+    dips 5 cm into the bed over part of its length."""
+    from skmoor.seabed import Seabed, SeabedKernel, form_term
+    line_type = LineType(EA=1e7, mass=20.0, diameter=0.1, EI=3e4)
+    x = np.linspace(0.0, 10.0, 11)
+    points = np.c_[x, np.zeros(11), -30.0 + 0.01 * (x - 5.0) ** 2 - 0.05]
+    lines = LineSet([Line.from_polyline(points, line_type)])
+    bed = Seabed(depth=30.0)
+    rng = np.random.default_rng(1)
+    u, v = 1e-3 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
+    R, K, C = SeabedKernel(lines, bed).evaluate(u, v)
+    R_form, K_form, C_form = form_term(lines, bed).evaluate(u, v)
+    assert np.abs(R_form).max() > 0
+    np.testing.assert_allclose(R, R_form, atol=1e-9 * np.abs(R_form).max())
+    np.testing.assert_allclose(K.toarray(), K_form.toarray(), atol=1e-9 * np.abs(K_form).max())
+    np.testing.assert_allclose(C.toarray(), C_form.toarray(), atol=1e-9 * np.abs(C_form).max())
