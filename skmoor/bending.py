@@ -31,7 +31,7 @@ assembly.
 from __future__ import annotations
 
 import numpy as np
-from skfem import BilinearForm, LinearForm
+from skfem import Basis, BilinearForm, LinearForm
 
 from . import laws
 from .ops import dot
@@ -97,6 +97,9 @@ class HermiteKernel:
         lineset._kernels.append(self)
         _, dNm, d2Nm = hermite_shapes(np.array([0.5]), self.h)
         self._midpoint = (dNm, d2Nm)
+        middle = Basis(lineset.mesh, lineset.basis.elem,
+                       quadrature=(np.array([[0.5]]), np.array([1.0])))
+        self._middle_fields = {k: v[..., 0] for k, v in lineset._fields(middle).items()}
         # constant parts: the weighted test slopes, the pairs of slopes per point and the
         # bending form (linear in u): its blocks and its force at u = 0, EI X'' . v''
         nel, nqp = self.dx.shape
@@ -168,7 +171,7 @@ class HermiteKernel:
     def element_tension_and_strain(self, u, ud=None):
         """(nel,) tension (N; with ud, plus BA x strain rate) and strain of Eq. 3 (-) at
         the element mid-points."""
-        point = _midpoint_fields(self.lineset)
+        point = self._middle_fields  # the reference fields at the mid-points, (nel,) each
         dN, _ = self._midpoint
         Xp, up = point["Xp"].T, self._slopes(u, dN)[:, 0]
         rp = Xp + up
@@ -184,14 +187,3 @@ class HermiteKernel:
         rp, rpp = self.midpoint_slopes(u)
         return (np.linalg.norm(np.cross(rp, rpp), axis=1)
                 / np.linalg.norm(rp, axis=1) ** 3)
-
-
-def _midpoint_fields(lines):
-    """The strain law's and tension fields at the element mid-points, (nel,) each."""
-    if getattr(lines, "_midpoint_fields", None) is None:
-        from skfem import Basis
-        basis = Basis(lines.mesh, lines._element(),
-                      quadrature=(np.array([[0.5]]), np.array([1.0])))
-        fields = lines._fields(basis)
-        lines._midpoint_fields = {k: v[..., 0] for k, v in fields.items()}
-    return lines._midpoint_fields
