@@ -287,3 +287,17 @@ def test_user_form_compiled_on_bending_lines():
     np.testing.assert_allclose(R, R_fd, atol=1e-12 * np.abs(R_fd).max())
     np.testing.assert_allclose(K.toarray(), K_fd.toarray(), atol=1e-6 * np.abs(K_fd).max())
     np.testing.assert_allclose(C.toarray(), C_fd.toarray(), atol=1e-6 * np.abs(C_fd).max())
+
+
+def test_case_file_line_type_takes_EI():
+    """A case file's line type with EI (N m2) is a bending line type: the paper's layout
+    then runs on the Hermite element; a negative EI is refused by the schema."""
+    from pathlib import Path
+    from skmoor.case import Case
+    from skmoor.model import line_type
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "paper_case.toml"
+    case = Case.from_toml(path).replace("line_types.steel.EI", 2.5e5)
+    assert line_type(case, "steel").EI == 2.5e5
+    with pytest.raises(ValueError, match="EI"):
+        Case.from_toml(path).replace("line_types.steel.EI", -1.0)
