@@ -144,9 +144,10 @@ def test_kernel_equals_the_forms():
     theta = np.linspace(0.0, 1.2, 9)
     points = 20.0 * np.c_[np.sin(theta), np.zeros(9), 1.0 - np.cos(theta)]
     lines = LineSet([Line.from_polyline(points, line_type, tension=1e4)])
-    from skmoor.bending import HermiteKernel
-    from skmoor import forms
     from skfem import asm
+
+    from skmoor import forms
+    from skmoor.bending import HermiteKernel
     kernel = HermiteKernel(lines)
     rng = np.random.default_rng(3)
     u, ud = 0.05 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
@@ -185,7 +186,9 @@ def test_outputs_carry_curvature_and_moment(tmp_path):
     |w L^2 / 8 - 5 w L s / 8 + w s^2 / 2| at the element mid-points (largest next to the
     clamp); the clamped end turns no tangent, the pinned one does."""
     import json
+
     import meshio
+
     from skmoor.export import write_vtu_series
     from skmoor.model import from_network
     from skmoor.network import MooringLine, Network, Point
@@ -237,6 +240,7 @@ def test_seabed_kernel_on_bending_lines_equals_the_form():
 def _user_form_case():
     """A Hermite set, a state and a small user integrand in u, u' and the velocity."""
     from skfem import LinearForm
+
     from skmoor.ops import d_ds, dot
 
     @LinearForm
@@ -253,6 +257,7 @@ def test_user_form_on_bending_lines():
     functions per element): residual = scikit-fem's assembly, tangents = the exact
     derivative forms assembled."""
     from skfem import BilinearForm, asm
+
     from skmoor.ops import d_ds, dot
     from skmoor.terms import LineForm
 
@@ -293,6 +298,7 @@ def test_case_file_line_type_takes_EI():
     """A case file's line type with EI (N m2) is a bending line type: the paper's layout
     then runs on the Hermite element; a negative EI is refused by the schema."""
     from pathlib import Path
+
     from skmoor.case import Case
     from skmoor.model import line_type
 
