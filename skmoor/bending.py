@@ -31,7 +31,7 @@ assembly.
 from __future__ import annotations
 
 import numpy as np
-from skfem import BilinearForm, LinearForm
+from skfem import Basis, BilinearForm, LinearForm
 
 from . import laws
 from .ops import dot
@@ -97,6 +97,19 @@ class HermiteKernel:
         lineset._kernels.append(self)
         _, dNm, d2Nm = hermite_shapes(np.array([0.5]), self.h)
         self._midpoint = (dNm, d2Nm)
+        middle = Basis(lineset.mesh, lineset.basis.elem,
+                       quadrature=(np.array([[0.5]]), np.array([1.0])))
+        self._middle_fields = {k: v[..., 0] for k, v in lineset._fields(middle).items()}
+        # constant parts: the weighted test slopes, the pairs of slopes per point and the
+        # bending form (linear in u): its blocks and its force at u = 0, EI X'' . v''
+        nel, nqp = self.dx.shape
+        self._wdN = np.ascontiguousarray((self.dx[..., None] * self.dN).transpose(0, 2, 1))
+        self._pairs = np.ascontiguousarray(
+            (self.dx[..., None, None] * self.dN[..., :, None] * self.dN[..., None, :])
+            .reshape(nel, nqp, 16).transpose(0, 2, 1))
+        weights = np.einsum("eq,eqi,eqj->eij", self.dx * self.EI, self.d2N, self.d2N)
+        self._bending_blocks = np.einsum("eij,cd->eicjd", weights, np.eye(3)).reshape(nel, 12, 12)
+        self._bending_force = np.einsum("eq,eqb,eqc->ebc", self.dx * self.EI, self.d2N, self.Xpp)
 
     def refresh_laws(self):
         """The law parameters are read from the LineSet's fields at each call."""
@@ -109,33 +122,39 @@ class HermiteKernel:
     def add_to(self, u, ud, R, Ke=None, Ce=None):
         """Add the internal force (Eq. 9 + bending) and, given the velocity ud, the axial
         damping into R (N); with Ke their u-derivatives (N/m), with Ce the ud-derivatives."""
-        up, upp = self._slopes(u, self.dN), self._slopes(u, self.d2N)
+        up = self._slopes(u, self.dN)
         rp = self.Xp + up
         eps = np.einsum("eqc,eqc->eq", self.Xp + 0.5 * up, up)  # Eq. 3
         S, dS = laws.stress_resultant(eps, self.T, self.fields)
         damped = ud is not None
-        rate = np.einsum("eqc,eqc->eq", rp, self._slopes(ud, self.dN)) if damped else 0.0
-        b = self.BA if damped else np.zeros_like(self.T)
-        flux = (S + b * rate)[..., None] * rp + self.T[..., None] * up  # Eq. 11 + damping
-        moment = self.EI[..., None] * (self.Xpp + upp)  # EI r''
-        Re = (np.einsum("eq,eqb,eqc->ebc", self.dx, self.dN, flux)
-              + np.einsum("eq,eqb,eqc->ebc", self.dx, self.d2N, moment))
+        if damped:
+            rate_slopes = self._slopes(ud, self.dN)
+            rate = np.einsum("eqc,eqc->eq", rp, rate_slopes)
+            axial = S + self.BA * rate
+        else:
+            axial = S
+        flux = axial[..., None] * rp + self.T[..., None] * up  # Eq. 11 (+ damping)
+        # int (flux . v' + EI r'' . v'') ds; the bending part is linear: K_b u + f_b
+        Re = (np.matmul(self._wdN, flux) + self._bending_force).reshape(-1, 12)
+        Re += np.matmul(self._bending_blocks, u[self.edofs][..., None])[..., 0]
         R += self.constant
-        np.add.at(R, self.edofs, Re.reshape(-1, 12))
+        np.add.at(R, self.edofs, Re)
         if Ke is None:
             return
         # d flux / du' (Eq. 17): S' r' r'^T + (T + S + BA rate) I + BA r' rate'^T
         k = dS[..., None, None] * rp[..., :, None] * rp[..., None, :]
+        k[..., [0, 1, 2], [0, 1, 2]] += (self.T + axial)[..., None]
         if damped:
-            k = k + b[..., None, None] * rp[..., :, None] * self._slopes(ud, self.dN)[..., None, :]
-        k = k + (self.T + S + b * rate)[..., None, None] * np.eye(3)
-        Ke += (np.einsum("eq,eqb,eqd,eqcf->ebcdf", self.dx, self.dN, self.dN, k)
-               + np.einsum("eq,eqb,eqd,cf->ebcdf", self.dx * self.EI, self.d2N, self.d2N,
-                           np.eye(3))).reshape(-1, 12, 12)
+            k += self.BA[..., None, None] * rp[..., :, None] * rate_slopes[..., None, :]
+        Ke += self._slope_blocks(k) + self._bending_blocks
         if damped and Ce is not None:
-            c = b[..., None, None] * rp[..., :, None] * rp[..., None, :]
-            Ce += np.einsum("eq,eqb,eqd,eqcf->ebcdf", self.dx, self.dN, self.dN,
-                            c).reshape(-1, 12, 12)
+            Ce += self._slope_blocks(self.BA[..., None, None] * rp[..., :, None] * rp[..., None, :])
+
+    def _slope_blocks(self, k):
+        """(nel, 12, 12) blocks of int v'^T k du' ds for k (nel, nqp, 3, 3) at the points."""
+        nel, nqp = self.dx.shape
+        pairs = np.matmul(self._pairs, k.reshape(nel, nqp, 9))  # (nel, 16, 9)
+        return pairs.reshape(nel, 4, 4, 3, 3).transpose(0, 1, 3, 2, 4).reshape(nel, 12, 12)
 
     def evaluate(self, u, ud=None, tangent=True, layout="sparse"):
         """(R, K, Kv) as :meth:`skmoor.kernels.CableKernel.evaluate`."""
@@ -152,7 +171,7 @@ class HermiteKernel:
     def element_tension_and_strain(self, u, ud=None):
         """(nel,) tension (N; with ud, plus BA x strain rate) and strain of Eq. 3 (-) at
         the element mid-points."""
-        point = _midpoint_fields(self.lineset)
+        point = self._middle_fields  # the reference fields at the mid-points, (nel,) each
         dN, _ = self._midpoint
         Xp, up = point["Xp"].T, self._slopes(u, dN)[:, 0]
         rp = Xp + up
@@ -168,14 +187,3 @@ class HermiteKernel:
         rp, rpp = self.midpoint_slopes(u)
         return (np.linalg.norm(np.cross(rp, rpp), axis=1)
                 / np.linalg.norm(rp, axis=1) ** 3)
-
-
-def _midpoint_fields(lines):
-    """The strain law's and tension fields at the element mid-points, (nel,) each."""
-    if getattr(lines, "_midpoint_fields", None) is None:
-        from skfem import Basis
-        basis = Basis(lines.mesh, lines._element(),
-                      quadrature=(np.array([[0.5]]), np.array([1.0])))
-        fields = lines._fields(basis)
-        lines._midpoint_fields = {k: v[..., 0] for k, v in fields.items()}
-    return lines._midpoint_fields

@@ -111,7 +111,8 @@ class System:
 
     Unknowns x = [line DOFs | 6 DOFs per body]: the line DOFs are the free line nodes and
     the free points (3 each, numbered where a line first reaches them, so that a chain of
-    lines keeps a narrow band). ends: an :class:`Ends`; or the anchor -> fairlead shorthand
+    lines keeps a narrow band), and on a bending (Hermite) LineSet every node's 3 tangent
+    DOFs but those of clamped ends (``Ends.clamped``). ends: an :class:`Ends`; or the anchor -> fairlead shorthand
     ``fairleads`` = 'body' (on ``body``), 'fixed' or 'prescribed' (by ``motion``).
     bodies: dynamic :class:`~skmoor.body.RigidBody` objects (``body`` alone: one).
     points: a :class:`PointMass` per free point. motion(t) -> (nslots, 3) displacements of

@@ -556,17 +556,15 @@ class LineSet:
         return self.fields["EI"][:, 0] * self.curvature(u)
 
     def _bending_kernel(self):
-        from .bending import HermiteKernel
         for kernel in self._kernels:
-            if isinstance(kernel, HermiteKernel):
+            if isinstance(kernel, bending.HermiteKernel):
                 return kernel
-        return HermiteKernel(self)
+        return bending.HermiteKernel(self)
 
     def element_slopes(self, u):
         """(3, nel) u' on each element (constant for P1; at the mid-point on Hermite)."""
         if self.hermite:
-            from .bending import hermite_shapes
-            _, dN, _ = hermite_shapes(np.array([0.5]), self.element_lengths)
+            _, dN, _ = bending.hermite_shapes(np.array([0.5]), self.element_lengths)
             return np.einsum("eb,ebc->ce", dN[:, 0], u[self.element_dofs].reshape(-1, 4, 3))
         U = u[self.nodal_dofs]  # (nnodes, 3)
         t = self.mesh.t

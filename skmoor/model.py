@@ -173,9 +173,11 @@ def _settings(case) -> dict:
 
 def line_type(case, name) -> LineType:
     """The LineType ``name`` of a case (from EA, mass, diameter or from E, diameter, density;
-    optional Morison coefficients Cd_n, Cd_t, Ca_n, Ca_t and internal damping BA, N s)."""
+    optional Morison coefficients Cd_n, Cd_t, Ca_n, Ca_t, internal damping BA, N s, and
+    bending stiffness EI, N m2)."""
     t = case.data["line_types"][name]
-    extra = {key: float(t[key]) for key in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA") if key in t}
+    extra = {key: float(t[key]) for key in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "EI")
+             if key in t}
     rho, g = case.water["density"], case.water["gravity"]
     if "EA" in t:
         return LineType(EA=t["EA"], mass=t["mass"], diameter=t["diameter"], weight=t.get("weight"),

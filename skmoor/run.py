@@ -89,16 +89,16 @@ def unrestrained(model: Model, x=None) -> list:
     for k, name in enumerate(dynamic):
         for j, dof in enumerate(("x", "y", "z", "rx", "ry", "rz")):
             names[system.nf + 6 * k + j] = f"{name} {dof}"
+    lines = model.lines
     for column in range(system.nf):
         if not names[column]:
             dof = system.free[np.flatnonzero(system._columns == column)[0]]
-            at, what = (model.lines.nodal_dofs == dof).any(axis=1), "node"
-            if not at.any():  # a bending line's slope DOF
-                at, what = (model.lines.slope_dofs == dof).any(axis=1), "slope at node"
-            node = int(np.flatnonzero(at)[0])
-            line = int(np.searchsorted(model.lines.fairlead_nodes, node))
-            names[column] = (f"{model.lines.lines[line].name} {what} "
-                             f"{node - model.lines.anchor_nodes[line]}")
+            slope = lines.slope_dofs is not None and dof in lines.slope_dofs
+            dofs = lines.slope_dofs if slope else lines.nodal_dofs
+            node = int(np.flatnonzero((dofs == dof).any(axis=1))[0])
+            line = int(np.searchsorted(lines.fairlead_nodes, node))
+            names[column] = (f"{lines.lines[line].name} node {node - lines.anchor_nodes[line]}"
+                             + (" tangent" if slope else ""))
     found = []
     for k in np.flatnonzero(np.abs(w) < 1e-10 * scale):
         v = np.abs(V[:, k])

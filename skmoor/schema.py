@@ -366,14 +366,15 @@ class Water(_Table):
     depth: Positive
 
 
-LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA")
+LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "EI")
 _BY_EA = ("EA", "mass", "diameter", "weight")
 _BY_E = ("E", "diameter", "density")
 
 
 class LineTypeSpec(_Table):
     """Either EA (N), mass (kg/m), diameter (m) [, weight (N/m, submerged)] or E (Pa),
-    diameter (m), density (kg/m3); Morison coefficients and BA (N s) >= 0."""
+    diameter (m), density (kg/m3); Morison coefficients, BA (N s) and the bending
+    stiffness EI (N m2) >= 0."""
 
     EA: Positive = None
     mass: Positive = None
@@ -386,6 +387,7 @@ class LineTypeSpec(_Table):
     Ca_n: NonNegative = None
     Ca_t: NonNegative = None
     BA: NonNegative = None
+    EI: NonNegative = None
 
     @staticmethod
     def _by_EA(keys) -> bool:

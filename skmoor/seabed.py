@@ -356,9 +356,9 @@ def _reference_positions(lines):
 
 
 def seabed_term(lines, seabed, *, path="auto"):
-    """The sea bed as a line term of a System: the compiled :class:`SeabedKernel` (on a
-    bending, Hermite, LineSet: :func:`form_term` on ``path``)."""
-    if lines.hermite:
+    """The sea bed as a line term of a System: the compiled :class:`SeabedKernel`; on a
+    bending (Hermite) LineSet with ``path`` other than 'auto', :func:`form_term` on it."""
+    if lines.hermite and path != "auto":
         return form_term(lines, seabed, path=path)
     return SeabedKernel(lines, seabed)
 
@@ -400,7 +400,10 @@ class SeabedForm(LineForm):
 class SeabedKernel(Term):
     """Compiled fast path of the seabed forms (see :mod:`skmoor.kernels`), a line
     :class:`~skmoor.terms.Term`, at the nodal quadrature points (2 per element: node i of
-    element e with weight h_e / 2)."""
+    element e with weight h_e / 2). On a bending (Hermite) LineSet it acts on the node
+    positions with each element's chord as the tangent of the friction (MoorDyn's lumped
+    contact; :func:`form_term` takes the C1 tangent), its blocks placed on the position
+    DOFs of the 12 x 12 element blocks."""
 
     def __init__(self, lines, seabed):
         self.lines = lines
@@ -420,17 +423,29 @@ class SeabedKernel(Term):
         self.friction = self.mu_a > 0 or self.mu_l > 0
         self.moving = bool(np.any(self.c > 0)) or self.friction
         self._no_velocity = np.zeros(lines.ndofs)
+        # Hermite: the position DOFs [node i x, y, z, node j x, y, z] in the element blocks
+        self._positions = np.array([0, 1, 2, 6, 7, 8]) if lines.hermite else None
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
         blocks (the term protocol, :mod:`skmoor.terms`)."""
+        if self._positions is not None and Ke is not None:
+            ke, ce = np.zeros((len(self.h), 6, 6)), np.zeros((len(self.h), 6, 6))
+            self._run(u, ud, R, ke, ce)
+            p = self._positions
+            Ke[:, p[:, None], p] += ke
+            if Ce is not None:
+                Ce[:, p[:, None], p] += ce
+            return
+        self._run(u, ud, R, NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
+
+    def _run(self, u, ud, R, Ke, Ce):
         n, offset = self.n, self.offset
         if self.bathymetry is not None:  # the bed's normal and height under each node
             n, offset = self.bathymetry.plane(self.X + u[self.ends])
         _seabed(self.X, self.ends, self.h, n, offset, self.k, self.c, self.onset,
                 self.mu_a, self.mu_l, self.v0, self.friction, u,
-                self._no_velocity if ud is None else ud, R,
-                NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
+                self._no_velocity if ud is None else ud, R, Ke, Ce)
 
 
 @njit(cache=True)

@@ -121,8 +121,8 @@ class LineForm(Term):
     displacement ``w.u`` and velocity ``w.du`` (fields: ``.value`` (3, nel, nqp),
     ``.grad``; :func:`skmoor.ops.d_ds`), the time ``w.t`` (s), the arclength ``w.x`` (m),
     the LineSet's reference fields (``Xp``, ``T``, ``EA``, ``m``, ``w``, ``BA``) and
-    ``fields`` (a dict, or a function of t returning one; an (ndofs,) array is a P1 field,
-    interpolated like u). Write it with :mod:`skmoor.ops` for the automatic tangents.
+    ``fields`` (a dict, or a function of t returning one; an (ndofs,) array is a field of
+    the line basis, interpolated like u: P1, or Hermite on bending lines). Write it with :mod:`skmoor.ops` for the automatic tangents.
     stiffness, damping: hand-written BilinearForms of its d/du and d/dv (optional; given,
     they are used on scikit-fem's assembly). mass: a BilinearForm of a constant mass (kg/m).
     quadrature: 'gauss', 'midpoint' or 'nodal' (see :class:`~skmoor.line.LineSet`).

@@ -144,9 +144,10 @@ def test_kernel_equals_the_forms():
     theta = np.linspace(0.0, 1.2, 9)
     points = 20.0 * np.c_[np.sin(theta), np.zeros(9), 1.0 - np.cos(theta)]
     lines = LineSet([Line.from_polyline(points, line_type, tension=1e4)])
-    from skmoor.bending import HermiteKernel
-    from skmoor import forms
     from skfem import asm
+
+    from skmoor import forms
+    from skmoor.bending import HermiteKernel
     kernel = HermiteKernel(lines)
     rng = np.random.default_rng(3)
     u, ud = 0.05 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
@@ -185,7 +186,9 @@ def test_outputs_carry_curvature_and_moment(tmp_path):
     |w L^2 / 8 - 5 w L s / 8 + w s^2 / 2| at the element mid-points (largest next to the
     clamp); the clamped end turns no tangent, the pinned one does."""
     import json
+
     import meshio
+
     from skmoor.export import write_vtu_series
     from skmoor.model import from_network
     from skmoor.network import MooringLine, Network, Point
@@ -212,3 +215,95 @@ def test_outputs_carry_curvature_and_moment(tmp_path):
     write_vtu_series(results, tmp_path)
     vtu = meshio.read(tmp_path / "motion" / "lines_0000.vtu")
     np.testing.assert_allclose(vtu.cell_data["bending_moment"][0], results.bending_moment[0])
+
+
+def test_seabed_kernel_on_bending_lines_equals_the_form():
+    """On a Hermite set the compiled contact (node positions) gives the seabed form's
+    normal force and damping (nodal quadrature: the same points), here for a line that
+    dips 5 cm into the bed over part of its length."""
+    from skmoor.seabed import Seabed, SeabedKernel, form_term
+    line_type = LineType(EA=1e7, mass=20.0, diameter=0.1, EI=3e4)
+    x = np.linspace(0.0, 10.0, 11)
+    points = np.c_[x, np.zeros(11), -30.0 + 0.01 * (x - 5.0) ** 2 - 0.05]
+    lines = LineSet([Line.from_polyline(points, line_type)])
+    bed = Seabed(depth=30.0)
+    rng = np.random.default_rng(1)
+    u, v = 1e-3 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
+    R, K, C = SeabedKernel(lines, bed).evaluate(u, v)
+    R_form, K_form, C_form = form_term(lines, bed).evaluate(u, v)
+    assert np.abs(R_form).max() > 0
+    np.testing.assert_allclose(R, R_form, atol=1e-9 * np.abs(R_form).max())
+    np.testing.assert_allclose(K.toarray(), K_form.toarray(), atol=1e-9 * np.abs(K_form).max())
+    np.testing.assert_allclose(C.toarray(), C_form.toarray(), atol=1e-9 * np.abs(C_form).max())
+
+
+def _user_form_case():
+    """A Hermite set, a state and a small user integrand in u, u' and the velocity."""
+    from skfem import LinearForm
+
+    from skmoor.ops import d_ds, dot
+
+    @LinearForm
+    def springy(v, w):
+        return 3.0 * w.u[2] * dot(w.u, v) + 2.0 * dot(d_ds(w.u), d_ds(v)) + 0.5 * dot(w.du, v)
+
+    lines = LineSet([straight(6, LineType(EA=1e7, mass=20.0, diameter=0.1, EI=3e4))])
+    rng = np.random.default_rng(2)
+    return springy, lines, 0.1 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
+
+
+def test_user_form_on_bending_lines():
+    """A user LineForm on a Hermite set, NumPy path (the Hermite fields and the 12 test
+    functions per element): residual = scikit-fem's assembly, tangents = the exact
+    derivative forms assembled."""
+    from skfem import BilinearForm, asm
+
+    from skmoor.ops import d_ds, dot
+    from skmoor.terms import LineForm
+
+    springy, lines, u, v = _user_form_case()
+
+    @BilinearForm
+    def stiffness(du, v, w):  # d/du of springy
+        return (3.0 * du[2] * dot(w.u, v) + 3.0 * w.u[2] * dot(du, v)
+                + 2.0 * dot(d_ds(du), d_ds(v)))
+
+    R, K, C = LineForm(springy, path="fd", lines=lines).evaluate(u, v)
+    fields = dict(u=u, du=v, **lines.fields)
+    R_asm = asm(springy, lines.basis, **fields)
+    K_asm = asm(stiffness, lines.basis, **fields).toarray()
+    C_asm = 0.5 * asm(BilinearForm(lambda du, v, w: dot(du, v)), lines.basis).toarray()
+    np.testing.assert_allclose(R, R_asm, atol=1e-12 * np.abs(R_asm).max())
+    np.testing.assert_allclose(K.toarray(), K_asm, atol=1e-7 * np.abs(K_asm).max())
+    np.testing.assert_allclose(C.toarray(), C_asm, atol=1e-7 * np.abs(C_asm).max())
+
+
+@pytest.mark.slow
+def test_user_form_compiled_on_bending_lines():
+    """The same form on the compiled path: the generated numba kernel's Hermite element
+    loop against the NumPy path (20 s cold: JAX's trace and numba's compile)."""
+    from skmoor.terms import LineForm
+
+    springy, lines, u, v = _user_form_case()
+    compiled = LineForm(springy, path="compiled", lines=lines)
+    R, K, C = compiled.evaluate(u, v)
+    assert compiled.backend == "numba"
+    R_fd, K_fd, C_fd = LineForm(springy, path="fd", lines=lines).evaluate(u, v)
+    np.testing.assert_allclose(R, R_fd, atol=1e-12 * np.abs(R_fd).max())
+    np.testing.assert_allclose(K.toarray(), K_fd.toarray(), atol=1e-6 * np.abs(K_fd).max())
+    np.testing.assert_allclose(C.toarray(), C_fd.toarray(), atol=1e-6 * np.abs(C_fd).max())
+
+
+def test_case_file_line_type_takes_EI():
+    """A case file's line type with EI (N m2) is a bending line type: the paper's layout
+    then runs on the Hermite element; a negative EI is refused by the schema."""
+    from pathlib import Path
+
+    from skmoor.case import Case
+    from skmoor.model import line_type
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "paper_case.toml"
+    case = Case.from_toml(path).replace("line_types.steel.EI", 2.5e5)
+    assert line_type(case, "steel").EI == 2.5e5
+    with pytest.raises(ValueError, match="EI"):
+        Case.from_toml(path).replace("line_types.steel.EI", -1.0)
