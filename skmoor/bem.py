@@ -126,22 +126,22 @@ def _mesh_bytes(mesh) -> bytes:
     return np.ascontiguousarray(mesh.vertices).tobytes() + np.ascontiguousarray(mesh.faces).tobytes()
 
 
-def from_mesh(mesh, omega, *, draft_offset=0.0, reference_point=(0.0, 0.0, 0.0),
+def from_mesh(mesh, omega, *, offset=(0.0, 0.0, 0.0), reference_point=(0.0, 0.0, 0.0),
               headings=(0.0,), depth=np.inf, rho=1025.0, g=9.81, lid=True, cache=CACHE,
               n_threads=1) -> Hydrodynamics:
     """Solve the body's radiation and diffraction problems with Capytaine.
 
     mesh: a closed hull mesh file (any format Capytaine reads, e.g. ``meshes/box_hull.stl``)
-    or a Capytaine mesh, in the body frame; draft_offset: the vertical shift (m) that
-    floats it (z = 0 the still water line); reference_point: the point the DOFs refer to
-    (m, global, after the shift; usually the centre of mass), its horizontal position the
-    phase origin of the excitation. omega (rad/s): the frequencies (for the retardation
+    or a Capytaine mesh; offset: the translation (m) that puts it in the global frame, where
+    it floats (z = 0 the still water line), as for :func:`skmoor.body.hull_hydrostatics`;
+    reference_point: the point the DOFs refer to (m, global; usually the centre of mass),
+    its horizontal position the phase origin of the excitation. omega (rad/s): the frequencies (for the retardation
     kernel, cover B(omega) up to where it has decayed); headings (deg). lid: an internal
     lid at the waterline against irregular frequencies. cache: a folder (None: no cache)
     where the result is kept under a hash of the mesh and every setting.
     """
     omega = np.asarray(omega, float)
-    settings = dict(omega=omega.tolist(), draft_offset=float(draft_offset),
+    settings = dict(omega=omega.tolist(), offset=np.asarray(offset, float).tolist(),
                     reference_point=np.asarray(reference_point, float).tolist(),
                     headings=np.atleast_1d(np.asarray(headings, float)).tolist(),
                     depth=float(depth), rho=float(rho), g=float(g), lid=bool(lid), version=1)
@@ -158,7 +158,7 @@ def from_mesh(mesh, omega, *, draft_offset=0.0, reference_point=(0.0, 0.0, 0.0),
     return result
 
 
-def _solve_capytaine(mesh, *, omega, draft_offset, reference_point, headings, depth, rho,
+def _solve_capytaine(mesh, *, omega, offset, reference_point, headings, depth, rho,
                      g, lid, version, n_threads):
     try:
         import capytaine as cpt
@@ -170,17 +170,16 @@ def _solve_capytaine(mesh, *, omega, draft_offset, reference_point, headings, de
         if not Path(mesh).exists():
             raise ValueError(f"from_mesh mesh: no file {mesh}")
         mesh = cpt.load_mesh(str(mesh))
-    mesh = mesh.translated([0.0, 0.0, draft_offset])
     centre = np.asarray(reference_point, float)
-    # the hull in coordinates centred horizontally on the reference point: the excitation
-    # phase is then referred to it
-    mesh = mesh.translated([-centre[0], -centre[1], 0.0])
+    # the floating hull in coordinates centred horizontally on the reference point: the
+    # excitation phase is then referred to it
+    mesh = mesh.translated(np.asarray(offset, float) - [centre[0], centre[1], 0.0])
     local = np.array([0.0, 0.0, centre[2]])
     hull = cpt.FloatingBody(mesh=mesh, dofs=cpt.rigid_body_dofs(rotation_center=local),
                             center_of_mass=local).immersed_part(water_depth=depth)
     if hull.mesh.nb_faces == 0:
         raise ValueError("from_mesh: no panel of the hull lies under the water line "
-                         "(check draft_offset)")
+                         "(check offset)")
     # an internal lid at the waterline removes the irregular frequencies; A_inf (where
     # the lid has no role) is solved on the hull alone
     waves = (cpt.FloatingBody(mesh=hull.mesh, lid_mesh=hull.mesh.generate_lid(z=-1e-2 * _draft(hull)),

@@ -124,6 +124,7 @@ class System:
         self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
                            else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
         self._terms = {"lines": [], "points": [], "bodies": []}
+        self._committing = []  # terms with a history (commit(t, u, v))
         self.kernel = CableKernel(lines)
         self._block_shape = (self.kernel.pattern.nel, 6, 6)
         self._damped = lines.damped
@@ -267,6 +268,8 @@ class System:
                                  f"not exist ({count} in the system)")
         term.bind(self)
         self._terms[kind].append(term)
+        if callable(getattr(term, "commit", None)):
+            self._committing.append(term)
 
     def _assemble_mass(self):
         """M_red = P0^T (M_lines + term masses) P0 + point and body masses, kg."""
@@ -291,6 +294,19 @@ class System:
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
             M[block, block] = M[block, block].toarray() + body_mass
         self.M = M.tocsr()
+
+    def commit(self, t, x, v):
+        """An accepted time level (t, s; x, v reduced): passed to the terms that keep a
+        history, each on its own DOFs (see :mod:`skmoor.terms`)."""
+        for term in self._committing:
+            if term.acts_on == "bodies":
+                block = self._body_block(term.body)
+                term.commit(t, x[block], v[block])
+            elif term.acts_on == "points":
+                columns = self.point_columns[term.point]
+                term.commit(t, x[columns], v[columns])
+            else:
+                term.commit(t, self.full_displacement(x, t), self.full_velocity(x, v, t))
 
     # --- maps between reduced and full cable DOFs
     def q(self, x, body=0):

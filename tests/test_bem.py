@@ -19,7 +19,7 @@ def coarse(tmp_path_factory):
     mesh = cpt.mesh_parallelepiped(size=(26.0, 10.0, 5.0), resolution=(13, 5, 3))
     cache = tmp_path_factory.mktemp("bem")
     started = time.perf_counter()
-    hydro = bem.from_mesh(mesh, [0.05, 1.0], draft_offset=CENTRE[2], reference_point=CENTRE,
+    hydro = bem.from_mesh(mesh, [0.05, 1.0], offset=CENTRE, reference_point=CENTRE,
                           depth=100.0, cache=cache)
     return mesh, cache, hydro, time.perf_counter() - started
 
@@ -54,7 +54,7 @@ def test_cache_reused(coarse):
     other settings solve again under another key."""
     mesh, cache, hydro, first = coarse
     started = time.perf_counter()
-    again = bem.from_mesh(mesh, [0.05, 1.0], draft_offset=CENTRE[2], reference_point=CENTRE,
+    again = bem.from_mesh(mesh, [0.05, 1.0], offset=CENTRE, reference_point=CENTRE,
                           depth=100.0, cache=cache)
     assert time.perf_counter() - started < 0.2 * first
     assert len(list(cache.glob("*.npz"))) == 1
