@@ -210,6 +210,8 @@ class PotentialFlow(Term):
         last one starts a new history (a new run)."""
         if self._count and t <= self._t[self._count - 1]:
             self._count = 0
+        if self._count == 0:  # a new history in its own arrays (copies of a term share none)
+            self._t, self._v = np.zeros(256), np.zeros((256, 6))
         horizon = t - self.kernel_t[-1]
         if self._count == len(self._t):  # full: drop what has run out, else grow
             keep = self._count - max(int(np.searchsorted(self._t, horizon)) - 1, 0)

@@ -107,3 +107,43 @@ def test_wamit_errors_name_file_and_line(tmp_path):
         bem.read_wamit(tmp_path / "nofreq")
     with pytest.raises(ValueError, match="no file"):
         bem.read_wamit(tmp_path / "missing")
+
+
+def _write_wamit(root, periods, heave_phase_deg):
+    """WAMIT files of a made-up body: A = 1e5 kg (x 1.2 at infinite frequency), B = 2e4 N s/m
+    on the diagonal (rho = 1025, L = 1), heave excitation rho g 260 per m with the given
+    phase (WAMIT's: the force leads the elevation at the origin, exp(+i omega t))."""
+    rows = [f"0.0 {i} {i} {1.2e5 / 1025:.9e}" for i in range(1, 7)]
+    for T in periods:
+        rows += [f"{T} {i} {i} {1e5 / 1025:.9e} {2e4 / 1025 / (2 * np.pi / T):.9e}"
+                 for i in range(1, 7)]
+    root.with_suffix(".1").write_text("\n".join(rows) + "\n")
+    phase = np.radians(heave_phase_deg)
+    root.with_suffix(".3").write_text("".join(
+        f"{T} 0.0 3 260.0 {heave_phase_deg} {260 * np.cos(phase)} {260 * np.sin(phase)}\n"
+        for T in periods))
+
+
+def test_case_file_body_potential_flow(tmp_path):
+    """A case file's body.potential_flow (WAMIT files of known coefficients, a wave from
+    the case's [sea]): the body's mass gains A_inf, and its heave excitation is
+    rho g 260 a cos(omega t - phi + 30 deg) for the wave a cos(phi - omega t) at the
+    reference point and a WAMIT heave force 30 deg ahead of the elevation."""
+    import skmoor
+
+    _write_wamit(tmp_path / "body", periods=[2 * np.pi / 0.8, 2 * np.pi / 1.2], heave_phase_deg=30.0)
+    wave = {"type": "airy", "height": 0.2, "period": 2 * np.pi, "phase": 0.7}
+    case = skmoor.paper_case(sea={"waves": [wave]},
+                             body__potential_flow={"wamit": str(tmp_path / "body")})
+    model = skmoor.build(case)
+    term = model.system.body_terms[-1]
+    assert isinstance(term, skmoor.PotentialFlow)
+    body = slice(model.system.nf, model.system.nf + 6)
+    system, rigid = model.system, model.system.bodies[0]
+    without = (system._reduce_constant(system.M_lines).toarray()[body, body]
+               + rigid.mass_matrix() + rigid.added_mass)  # the lines' fairlead masses too
+    np.testing.assert_allclose(system.M.toarray()[body, body] - without, term.added_mass_inf,
+                               atol=1e-9 * np.abs(without).max())
+    for t in (0.0, 1.0, 2.5, 4.0):
+        expected = 1025 * 9.81 * 260 * 0.1 * np.cos(t - 0.7 + np.radians(30.0))
+        assert abs(term.excitation(t)[2] - expected) < 1e-9 * 1025 * 9.81 * 260
