@@ -64,6 +64,19 @@ def _paper_model():
     return skmoor.build(skmoor.paper_case())
 
 
+def test_waves_the_coefficients_do_not_cover_are_refused(box):
+    import skmoor
+
+    fast = skmoor.Sea(depth=100.0, waves=[skmoor.AiryWave(0.1, 1.5, 100.0)])  # 4.2 rad/s
+    with pytest.raises(ValueError, match=r"sea\.waves\[0\].*outside the computed range"):
+        PotentialFlow(box, fast)
+    beam = skmoor.Sea(depth=100.0, waves=[skmoor.AiryWave(0.1, 8.0, 100.0, heading_deg=90.0)])
+    with pytest.raises(ValueError, match=r"sea\.waves\[0\].*heading: 90"):
+        PotentialFlow(box, beam)
+    with pytest.raises(ValueError, match="added_mass_inf"):
+        PotentialFlow(box, added_mass_inf="wamit")
+
+
 def box_in_waves(box, omega, amplitude=0.05, periods=None, steps_per_period=80):
     """The paper's box on its four lines in a regular head wave of ``amplitude`` (m) at
     omega (rad/s), the paper's sine load off: the surge, heave and pitch amplitudes of the
