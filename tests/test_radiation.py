@@ -9,7 +9,7 @@ import pytest
 from skmoor.bem import Hydrodynamics
 from skmoor.radiation import PotentialFlow, memory_response, retardation_kernel
 
-DATA = Path(__file__).parent / "data" / "box_hull_bem.npz"  # by meshes/make_box_bem.py
+DATA = Path(__file__).parents[1] / "meshes" / "box_hull_bem.npz"  # by meshes/make_box_bem.py
 
 
 @pytest.fixture(scope="module")
