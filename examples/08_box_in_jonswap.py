@@ -4,8 +4,9 @@ The body's wave loads come from potential flow (Capytaine's coefficients of
 meshes/box_hull.stl, in meshes/box_hull_bem.npz: meshes/make_box_bem.py writes them, or
 ``skmoor.bem.from_mesh`` computes and caches them), through Cummins' equation in the
 same implicit step as the lines. Shown: body motions, fairlead tension statistics and
-spectra, and an animation; the surge, heave and pitch records against the linear
-frequency-domain response of the whole linearized network to the same wave components.
+spectra, and an animation with the free surface; the surge, heave and pitch records
+against the linear frequency-domain response of the whole linearized network to the same
+wave components.
 
 Run: python examples/08_box_in_jonswap.py [duration_s]   (default 150 s; 3600 for an hour)
 Writes into box-in-jonswap/: motions.png, tension_spectra.png, run.gif.
@@ -17,14 +18,14 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-import skmoor  # noqa: E402
-from skmoor.render import animate  # noqa: E402
+import skmoor
+from skmoor.render import animate
 
 DURATION = float(sys.argv[1]) if len(sys.argv) > 1 and __name__ == "__main__" else float(
-    os.environ.get("SKMOOR_EXAMPLE_DURATION", 150.0))
+    os.environ.get("SKMOOR_EXAMPLE_DURATION", "150"))
 OUT = Path(os.environ.get("SKMOOR_EXAMPLE_OUT", "box-in-jonswap"))
 DT, RAMP = 0.1, 20.0  # s
 OUT.mkdir(parents=True, exist_ok=True)
@@ -99,7 +100,7 @@ fig.savefig(OUT / "tension_spectra.png", dpi=110)
 plt.close("all")
 
 frames = animate(results, OUT / "run.gif", every=max(1, len(t) // 20), window_size=(480, 360),
-                 progress=False)
+                 progress=False, surface=sea.elevation)  # the same sea's free surface
 
 if __name__ == "__main__":
     for name in dofs:

@@ -105,7 +105,7 @@ class Hydrodynamics:
                  if self.hydrostatic_stiffness is None else self.hydrostatic_stiffness)
 
     @classmethod
-    def load(cls, path) -> "Hydrodynamics":
+    def load(cls, path) -> Hydrodynamics:
         with np.load(path) as data:
             fields = {k: data[k] for k in _FIELDS}
             C = data["hydrostatic_stiffness"]
