@@ -75,7 +75,8 @@ class Hydrodynamics:
         one heading (deg, one of ``headings``): real and imaginary parts interpolated
         linearly in omega. ValueError outside the computed range or headings."""
         omega = np.atleast_1d(np.asarray(omega, float))
-        j = np.flatnonzero(np.isclose(self.headings, heading_deg, atol=1e-9))
+        apart = (self.headings - heading_deg + 180.0) % 360.0 - 180.0  # -90 is 270
+        j = np.flatnonzero(np.abs(apart) < 1e-6)
         if not len(j):
             raise ValueError(f"Hydrodynamics heading: {heading_deg} deg was not computed "
                              f"(have {self.headings.tolist()})")
