@@ -29,6 +29,7 @@ import numpy as np
 
 DOFS = ("Surge", "Sway", "Heave", "Roll", "Pitch", "Yaw")  # Capytaine's rigid-body names
 CACHE = Path(os.environ.get("SKMOOR_CACHE", Path.home() / ".cache" / "skmoor")) / "bem"
+CACHE_VERSION = 1  # raise when what a cached file holds changes
 
 
 @dataclass
@@ -145,8 +146,9 @@ def from_mesh(mesh, omega, *, offset=(0.0, 0.0, 0.0), reference_point=(0.0, 0.0,
     settings = dict(omega=omega.tolist(), offset=np.asarray(offset, float).tolist(),
                     reference_point=np.asarray(reference_point, float).tolist(),
                     headings=np.atleast_1d(np.asarray(headings, float)).tolist(),
-                    depth=float(depth), rho=float(rho), g=float(g), lid=bool(lid), version=1)
-    key = hashlib.sha256(_mesh_bytes(mesh) + json.dumps(settings, sort_keys=True).encode())
+                    depth=float(depth), rho=float(rho), g=float(g), lid=bool(lid))
+    key = hashlib.sha256(_mesh_bytes(mesh) + json.dumps(dict(settings, version=CACHE_VERSION),
+                                                         sort_keys=True).encode())
     path = None if cache is None else Path(cache) / f"{key.hexdigest()[:24]}.npz"
     if path is not None and path.exists():
         return Hydrodynamics.load(path)
@@ -160,7 +162,7 @@ def from_mesh(mesh, omega, *, offset=(0.0, 0.0, 0.0), reference_point=(0.0, 0.0,
 
 
 def _solve_capytaine(mesh, *, omega, offset, reference_point, headings, depth, rho,
-                     g, lid, version, n_threads):
+                     g, lid, n_threads):
     try:
         import capytaine as cpt
         import xarray as xr
