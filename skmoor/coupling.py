@@ -124,7 +124,6 @@ class System:
         self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
                            else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
         self._terms = {"lines": [], "points": [], "bodies": []}
-        self._committing = []  # terms with a history (commit(t, u, v))
         self.kernel = CableKernel(lines)
         self._block_shape = (self.kernel.pattern.nel, 6, 6)
         self._damped = lines.damped
@@ -137,6 +136,7 @@ class System:
         self.weight = lines.weight_load()
         self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
         self._free_pattern = None if self.nb else ElementPattern(lines, position=self._position)
+        self._committing = []  # terms with a history (commit(t, u, v))
         for term in terms:
             self._join(term)
         self._assemble_mass()
