@@ -31,6 +31,9 @@ from .line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
 from .model import Model, build, from_network
 from .network import Body, MooringLine, Network, Point
 from .modes import eigenmodes
+from . import bem
+from .bem import Hydrodynamics
+from .radiation import PotentialFlow
 from .results import Results
 from .run import (equilibrium, mooring_stiffness, run_case, simulate, static_results, summary,
                   write_outputs)
@@ -52,5 +55,6 @@ __all__ = [
     "TangentCheck", "laws", "Paper", "Engineering", "Curve", "StaticDynamic", "Sea", "Current", "AiryWave", "JonswapWave",
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
-    "from_network", "mooring_stiffness", "Ends", "PointMass",
+    "from_network", "mooring_stiffness", "Ends", "PointMass", "bem", "Hydrodynamics",
+    "PotentialFlow",
 ]

@@ -164,6 +164,7 @@ class System:
         self.weight = lines.weight_load()
         self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
         self._free_pattern = None if self.nb else ElementPattern(lines, position=self._position)
+        self._committing = []  # terms with a history (commit(t, u, v))
         for term in terms:
             self._join(term)
         self._assemble_mass()
@@ -304,6 +305,8 @@ class System:
                                  f"not exist ({count} in the system)")
         term.bind(self)
         self._terms[kind].append(term)
+        if callable(getattr(term, "commit", None)):
+            self._committing.append(term)
 
     def _assemble_mass(self):
         """M_red = P0^T (M_lines + term masses) P0 + point and body masses, kg."""
@@ -328,6 +331,19 @@ class System:
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
             M[block, block] = M[block, block].toarray() + body_mass
         self.M = M.tocsr()
+
+    def commit(self, t, x, v):
+        """An accepted time level (t, s; x, v reduced): passed to the terms that keep a
+        history, each on its own DOFs (see :mod:`skmoor.terms`)."""
+        for term in self._committing:
+            if term.acts_on == "bodies":
+                block = self._body_block(term.body)
+                term.commit(t, x[block], v[block])
+            elif term.acts_on == "points":
+                columns = self.point_columns[term.point]
+                term.commit(t, x[columns], v[columns])
+            else:
+                term.commit(t, self.full_displacement(x, t), self.full_velocity(x, v, t))
 
     # --- maps between reduced and full cable DOFs
     def q(self, x, body=0):

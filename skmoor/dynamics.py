@@ -147,7 +147,9 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     A step that still fails is split in two halves, each half split again when it fails,
     up to ``subdivide`` levels (0: none); the run then goes on at dt, on the full step's
     own matrix. States come at the full steps only; ``State.subdivided`` counts the steps
-    that were split so far.
+    that were split so far. A system with ``commit(t, x, v)`` has it called with the
+    initial state and after every accepted step, the halves of a split step included
+    (terms with a memory of the past, :mod:`skmoor.radiation`, keep their history so).
     """
     if not dt > 0:
         raise ValueError(f"integrate dt: must be positive, got {dt}")
@@ -174,6 +176,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     else:
         mass.update(M)
         a = mass.solve(-force_old)
+    commit = getattr(system, "commit", None) or (lambda t, x, v: None)
+    commit(t, x, v)
     yield State(t, 0, x, v, a)
 
     def advance(x, v, a, force_old, G_old, t1, h, matrix):
@@ -242,6 +246,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             out, it = advance(*level_state, end, h, matrix)
             if out is None and level < subdivide:
                 out, it = split(level_state, start, end, level + 1)
+            elif out is not None:
+                commit(end, out[0], out[1])
             if out is None:
                 return None, it
             level_state, total = out, total + it
@@ -262,6 +268,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
                          else "")
                 raise DivergenceError(_hint(t1, step, dt, f"{why}{tried}"), t1, step)
             subdivided += 1
+        else:
+            commit(t1, out[0], out[1])
         x, v, a, force_old, G = out
         t = t1
         yield State(t1, step, x, v, a, it, subdivided)

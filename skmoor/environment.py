@@ -20,8 +20,16 @@ sea bed). In TOML:
     [body]                      # quadratic drag on the body (MoorDyn's CdA)
     drag_coefficients = [1.0, 1.0, 1.0]
     drag_areas = [50.0, 130.0, 260.0]
+
+    [body.potential_flow]       # Cummins' equation: radiation and the [sea]'s wave excitation
+    mesh = "box_hull.stl"       # the hull about the reference point (or wamit = "root")
+    frequencies = [0.05, 3.0, 0.05]   # rad/s: first, last, step of the BEM solve (cached)
+    memory = 60.0               # s, the retardation kernel's length
+    ramp = 20.0                 # s, the excitation's fade-in
 """
 from __future__ import annotations
+
+from pathlib import Path
 
 from .hydro import body_hydrodynamics
 from .seabed import Seabed
@@ -93,12 +101,44 @@ def has_line_hydrodynamics(data: dict) -> bool:
                for name in LINE_COEFFICIENTS)
 
 
-def body_terms(data: dict, body, water_sea=None) -> list:
-    """The BodyLoads of a body section (``data["body"]``): its quadratic drag, if any."""
+def body_terms(data: dict, body, water_sea=None, directory=None) -> list:
+    """The terms of a body section (``data["body"]``): its quadratic drag and its
+    potential flow (Cummins' equation), if any; relative file names start at
+    ``directory``."""
     spec = data["body"]
-    if "drag_coefficients" not in spec and "drag_areas" not in spec:
-        return []
-    return [_named("body", lambda: body_hydrodynamics(
-        drag_coefficients=spec.get("drag_coefficients"), drag_areas=spec.get("drag_areas"),
-        sea=water_sea, reference_point=body.reference_point,
-        rho=float(data["water"]["density"])))]
+    terms = []
+    if "drag_coefficients" in spec or "drag_areas" in spec:
+        terms.append(_named("body", lambda: body_hydrodynamics(
+            drag_coefficients=spec.get("drag_coefficients"), drag_areas=spec.get("drag_areas"),
+            sea=water_sea, reference_point=body.reference_point,
+            rho=float(data["water"]["density"]))))
+    if spec.get("potential_flow") is not None:
+        terms.append(_named("body.potential_flow", lambda: potential_flow(
+            spec["potential_flow"], data["water"], body, water_sea, directory)))
+    return terms
+
+
+def potential_flow(spec: dict, water: dict, body, water_sea=None, directory=None):
+    """The :class:`~skmoor.radiation.PotentialFlow` of a body's ``potential_flow`` table."""
+    import numpy as np
+
+    from . import bem
+    from .radiation import PotentialFlow
+
+    def path(name):
+        found = Path(name)
+        return found if found.is_absolute() or directory is None else Path(directory) / found
+
+    rho, g = float(water["density"]), float(water.get("gravity", 9.81))
+    depth, point = float(water["depth"]), np.asarray(body.reference_point, float)
+    headings = spec.get("headings", [0.0])
+    if spec.get("mesh") is not None:
+        first, last, step = spec["frequencies"]
+        omega = np.arange(first, last + 0.5 * step, step)
+        hydro = bem.from_mesh(path(spec["mesh"]), omega, offset=point, reference_point=point,
+                              headings=headings, depth=depth, rho=rho, g=g)
+    else:
+        hydro = bem.read_wamit(path(spec["wamit"]), rho=rho, g=g, depth=depth,
+                               length=spec.get("wamit_length", 1.0), reference_point=point)
+    return PotentialFlow(hydro, water_sea, memory=spec.get("memory", 60.0),
+                         ramp=spec.get("ramp", 0.0))

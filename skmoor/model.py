@@ -303,7 +303,7 @@ def _paper_layout(case, motion=None) -> Model:
     rigid = paper_body(case, draft)
     com = rigid.reference_point
     water_sea = environment.sea(case.data)
-    body_terms = environment.body_terms(case.data, rigid, water_sea)
+    body_terms = environment.body_terms(case.data, rigid, water_sea, case.directory)
     body = Body("body", "dynamic", com, rigid=rigid, terms=body_terms, load=body_load(case),
                 rotation="skmoor")
     points, lines = [], []
@@ -426,5 +426,6 @@ def _explicit_body(case, spec, rho, g, sea) -> Body:
                                             else damping)
     rigid = RigidBody(mass, com, inertia, reference_point=position, hydrostatics=hydro,
                       added_mass=added, linear_damping=damping, rho=rho, g=g, box_size=box)
-    terms = environment.body_terms({"water": case.water, "body": spec}, rigid, sea)
+    terms = environment.body_terms({"water": case.water, "body": spec}, rigid, sea,
+                                   case.directory)
     return Body(name, "dynamic", position, rigid=rigid, terms=terms, rotation="skmoor")

@@ -4,7 +4,7 @@ Lines are drawn as tubes coloured by tension on one colour range for the whole r
 the body as its box, the network's free points (line junctions, clump weights, buoys) as
 dark spheres where they are at each frame (:func:`point_radii`: a point with mass is drawn
 larger, up to twice the size for the heaviest), the sea bed at -depth and a translucent
-water surface at z = 0. The solver never imports this module.
+water surface at z = 0, or moving with the waves (``surface=sea.elevation``). The solver never imports this module.
 """
 from __future__ import annotations
 
@@ -51,7 +51,7 @@ POINT_COLOUR = "#262626"
 
 
 def snapshot(results, i, path, camera="iso", scale=1.0, window_size=WINDOW_SIZE,
-             point_radius=None, zoom=1.0, focus=None, colorbar=True) -> Path:
+             point_radius=None, zoom=1.0, focus=None, colorbar=True, surface=None) -> Path:
     """PNG of sample ``i`` at ``path``; ``scale`` magnifies the displacements.
 
     point_radius: how the network's points are drawn (see :func:`point_radii`): None (the
@@ -59,12 +59,14 @@ def snapshot(results, i, path, camera="iso", scale=1.0, window_size=WINDOW_SIZE,
     one radius per point of ``results.point_names`` (m; 0: not drawn). zoom: magnifies
     the view (> 1: closer) about ``focus`` (3,) m, default the scene's centre; the tubes
     and the default spheres are made thinner by the same factor, so they keep their size
-    on the picture. colorbar: draw the tension colour bar. A static state
-    (``static_results``) is labelled "static equilibrium" instead of its time."""
+    on the picture. colorbar: draw the tension colour bar. surface: the free surface,
+    elevation(xy (n, 2), t) -> (n,) m (e.g. ``sea.elevation``), drawn unscaled on the water
+    (None: flat). A static state (``static_results``) is labelled "static equilibrium"
+    instead of its time."""
     path = _check_suffix(path, (".png",))
     i = _check_index(results, i)
     scene = _RunScene(results, camera, scale, window_size, point_radius, zoom, focus,
-                      colorbar)
+                      colorbar, surface)
     try:
         scene.show(i)
         scene.plotter.screenshot(str(path))
@@ -75,13 +77,13 @@ def snapshot(results, i, path, camera="iso", scale=1.0, window_size=WINDOW_SIZE,
 
 def animate(results, path, fps=20, every=None, scale=1.0, camera="iso",
             window_size=WINDOW_SIZE, progress=True, point_radius=None, zoom=1.0,
-            focus=None, start=0, colorbar=True) -> int:
+            focus=None, start=0, colorbar=True, surface=None) -> int:
     """MP4 or GIF (by the suffix of ``path``) of every ``every``-th sample from sample
     ``start`` on.
 
     ``every=None`` picks the step that plays the run in real time at ``fps`` frames
-    per second; point_radius, zoom, focus and colorbar as for :func:`snapshot`. Returns
-    the number of frames."""
+    per second; point_radius, zoom, focus, colorbar and surface (the moving free surface)
+    as for :func:`snapshot`. Returns the number of frames."""
     path = _check_suffix(path, (".gif", ".mp4"))
     _check_positive("fps", fps)
     if every is None:
@@ -92,7 +94,7 @@ def animate(results, path, fps=20, every=None, scale=1.0, camera="iso",
     start = _check_index(results, start) % len(results.t)
     frames = range(start, len(results.t), int(every))
     scene = _RunScene(results, camera, scale, window_size, point_radius, zoom, focus,
-                      colorbar)
+                      colorbar, surface)
     return _record(scene, frames, path, fps, progress)
 
 
@@ -158,7 +160,8 @@ class _Scene:
     holds every position they will take, to fix the camera."""
 
     def __init__(self, points, cells, extent, bed_z, bar_title, clim, camera, scale, window_size,
-                 box=None, spheres=None, zoom=1.0, focus=None, colorbar=True):
+                 box=None, spheres=None, zoom=1.0, focus=None, colorbar=True,
+                 water_resolution=10):
         if camera not in CAMERAS:
             raise ValueError(f"camera must be one of {sorted(CAMERAS)}, got {camera!r}")
         _check_positive("zoom", zoom)
@@ -174,8 +177,10 @@ class _Scene:
         centre = (lo + hi) / 2
         span = (hi - lo)[:2] + 0.15 * size
         for z, colour, opacity in ((bed_z, "#c2b280", 1.0), (0.0, "#3d85c6", view.water)):
+            resolution = 10 if z < 0 else water_resolution
             plane = pv.Plane(center=(centre[0], centre[1], z), i_size=span[0], j_size=span[1],
-                             i_resolution=10, j_resolution=10)
+                             i_resolution=resolution, j_resolution=resolution)
+            self.water = plane  # the last one: the water, moved by a free surface
             if opacity > 0:
                 pl.add_mesh(plane, color=colour, opacity=opacity, show_edges=bool(z < 0),
                             edge_color="#a89968")
@@ -255,10 +260,12 @@ class _RunScene(_Scene):
     """The scene of a run, sample by sample."""
 
     def __init__(self, results, camera, scale, window_size, point_radius=None, zoom=1.0,
-                 focus=None, colorbar=True):
+                 focus=None, colorbar=True, surface=None):
         _check_positive("scale", scale)
         _check_positive("zoom", zoom)
-        self.results, self.scale = results, float(scale)
+        if surface is not None and not callable(surface):
+            raise ValueError(f"surface: need a function elevation(xy, t) -> m, got {surface!r}")
+        self.results, self.scale, self.surface = results, float(scale), surface
         points, u = np.asarray(results.points), np.asarray(results.displacement)
         extent = np.vstack([points + self.scale * u.min(axis=0),
                             points + self.scale * u.max(axis=0)])
@@ -271,7 +278,8 @@ class _RunScene(_Scene):
         spheres = ((self._centres(0), radii[self.drawn]) if len(self.drawn) else None)
         super().__init__(points, np.asarray(results.cells), extent,
                          _bed_z(results.depth, extent), "tension [kN]", clim, camera,
-                         self.scale, window_size, box, spheres, zoom, focus, colorbar)
+                         self.scale, window_size, box, spheres, zoom, focus, colorbar,
+                         10 if surface is None else 80)
 
     def _centres(self, i):
         r = self.results
@@ -280,6 +288,10 @@ class _RunScene(_Scene):
 
     def show(self, i):
         r = self.results
+        if self.surface is not None:
+            water = self.water.points.copy()
+            water[:, 2] = self.surface(water[:, :2], float(r.t[i]))
+            self.water.points = water
         self.set(r.points + self.scale * r.displacement[i], r.tension[i] / 1e3,
                  "static equilibrium" if r.meta.get("static") else f"t = {r.t[i]:.1f} s",
                  box_points(r, i, self.scale) if self.box is not None else None,

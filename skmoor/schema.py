@@ -416,6 +416,37 @@ class LineTypeSpec(_Table):
         return self
 
 
+class PotentialFlowSpec(_Table):
+    """A body's ``potential_flow`` table: Cummins' equation (skmoor.radiation) from the
+    hull ``mesh`` (Capytaine, in the body frame about the reference point, like
+    body.hull) or from WAMIT files ``wamit`` (the path without .1 / .3), with
+    ``frequencies`` [first, last, step] (rad/s, for the mesh), wave ``headings`` (deg),
+    the kernel's ``memory`` and the excitation's ``ramp`` (s)."""
+
+    mesh: Name = None
+    wamit: Name = None
+    wamit_length: Positive = 1.0
+    frequencies: Annotated[list, _vector(what="[first, last, step] in rad/s, all > 0", lo=0,
+                                         lo_open=True)] = None
+    headings: Annotated[list, _vector((1, 2, 3, 4, 5, 6, 7, 8), "1 to 8 headings (deg)")] = None
+    memory: Positive = 60.0
+    ramp: NonNegative = 0.0
+
+    @model_validator(mode="after")
+    def _source(self):
+        given = [k for k in ("mesh", "wamit") if k in self.model_fields_set]
+        if len(given) != 1:
+            _fail("give one of mesh (a hull mesh for Capytaine) or wamit (WAMIT files)",
+                  given[1] if given else "mesh")
+        if "mesh" in given and "frequencies" not in self.model_fields_set:
+            _fail("missing (need [first, last, step] in rad/s for the BEM solve)", "frequencies")
+        if "frequencies" in self.model_fields_set:
+            first, last, step = self.frequencies
+            if last < first:
+                _fail(f"last {last} is below first {first} rad/s", "frequencies")
+        return self
+
+
 class ParametricBody(_Table):
     """The parametric layout's body: the box of ``size``, or the closed ``hull`` mesh
     (then ``inertia`` [Ixx, Iyy, Izz] about the centre of mass, or ``size`` for a uniform
@@ -430,6 +461,7 @@ class ParametricBody(_Table):
                                      lo=0, lo_open=True)] = None
     drag_coefficients: DragVector = None
     drag_areas: DragVector = None
+    potential_flow: PotentialFlowSpec = None
 
     @classmethod
     def _hint(cls, key, data):
@@ -756,6 +788,7 @@ class BodySpec(_Table):
     linear_damping: Matrix6 = None
     drag_coefficients: DragVector = None
     drag_areas: DragVector = None
+    potential_flow: PotentialFlowSpec = None
 
     @model_validator(mode="after")
     def _complete(self):

@@ -13,7 +13,11 @@ N or N m), and its derivatives with respect to the displacements and to the velo
 - on a dynamic body (``"bodies"``, index ``term.body``): q, qdot, R (6,), K, C (6, 6).
 
 K and C are None when only the residual is wanted. ``term.mass_matrix()`` is a constant
-mass on the same DOFs (kg; sparse (ndofs, ndofs) on lines), or None. ``model.add(term)``
+mass on the same DOFs (kg; sparse (ndofs, ndofs) on lines), or None. A term with a
+memory of the past (:class:`~skmoor.radiation.PotentialFlow`) also has
+``term.commit(t, u, v)``, which the time integration calls with the initial state and
+after every accepted step, on the term's DOFs; within a step, ``add_to`` sees a time
+later than the last committed one. ``model.add(term)``
 puts a term into statics, modes and dynamics alike (its mass included).
 
 :class:`LineForm` turns a residual integrand written as a scikit-fem ``LinearForm``

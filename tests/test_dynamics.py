@@ -108,3 +108,42 @@ def test_simulate_keeps_results_when_interrupted():
     assert "interrupted" in results.meta["stopped"]
     assert 0.9 <= results.t[-1] <= 1.0 + 1e-9
     assert np.all(np.isfinite(results.body))
+
+
+def test_commit_after_every_accepted_step_and_half_step():
+    """integrate passes System.commit the initial state and every accepted step, on the
+    term's own DOFs; a step whose Newton fails (here: a residual that is not finite at
+    that step's end for the full step's two Newton tries) is split, and both halves are
+    committed."""
+    from skmoor.catenary import solve_catenary
+    from skmoor.line import LineType
+    from skmoor.terms import Term
+
+    rope = LineType(EA=5e8, mass=80.0, diameter=0.12)
+    cat = solve_catenary([0.0, 0.0, -60.0], [90.0, 20.0, -5.0], rope.weight, rope.EA,
+                         length=115.0)
+    lines = LineSet([Line.from_catenary(cat, rope, 8)], law="engineering")
+    dt, bad = 0.1, 0.3
+
+    class History(Term):
+        def __init__(self):
+            self.commits, self.failures = [], 2
+
+        def add_to(self, u, v, t, R, K=None, C=None):
+            if abs(t - bad) < 1e-12 and self.failures:  # the full step to 0.3 s fails
+                self.failures -= 1
+                R += np.nan
+
+        def commit(self, t, u, v):
+            self.commits.append((t, u.copy()))
+
+    term = History()
+    system = System(lines, fairleads="prescribed", terms=[term],
+                    motion=lambda t: [[0.0, 0.0, 0.5 * np.sin(t)]])
+    states = list(integrate(system, np.zeros(system.n), np.zeros(system.n), dt, 0.5))
+    times = [t for t, _ in term.commits]
+    np.testing.assert_allclose(times, [0.0, 0.1, 0.2, 0.25, 0.3, 0.4, 0.5], atol=1e-12)
+    assert states[3].subdivided == 1
+    for state in states:  # the committed u is the state's full line displacement
+        u = dict((round(t, 9), u) for t, u in term.commits)[round(state.t, 9)]
+        np.testing.assert_allclose(u, system.full_displacement(state.x, state.t))
