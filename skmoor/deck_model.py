@@ -60,7 +60,8 @@ from .hydro import body_hydrodynamics
 from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
-from .rods import RodLoad, RodType, SpinLoad, mount_rod, rod_body
+from . import rods
+from .rods import RodLoad, RodType, SpinLoad, mount_rod
 from .seabed import Seabed
 from .waves import Sea
 
@@ -214,17 +215,10 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
     if kind == "coupled":
         raise _fail(deck, rod.where, f"RODS {rod.id}: a Coupled rod (6 prescribed DOFs) is "
                     "not supported (CoupledPinned, Pinned, Free, Fixed and Body<N> rods are)")
-    rod_type = _rod_type(deck, rod)
-    rigid = rod_body(rod_type, a, b, g=deck.g, name=name)
-    length = float(np.linalg.norm(b - a))
-    terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a,
-                     n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
-                     bed=bed, name=name),
-             SpinLoad(np.zeros(3), b - a, rigid.mass * deck.g * length)]
     pin = {"free": None, "pinned": "fixed", "coupled pinned": "coupled"}[kind]
-    body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
-    return [Point(f"{name}.A", "body", np.zeros(3), body=name),
-            Point(f"{name}.B", "body", b - a, body=name)], body
+    body, ends = rods.rod(name, _rod_type(deck, rod), a, b, pin=pin, n_segments=rod.n_segments,
+                          rho=deck.rho, g=deck.g, sea=sea, bed=bed)
+    return ends, body
 
 
 def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,

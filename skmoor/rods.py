@@ -29,7 +29,7 @@ import numpy as np
 from .body import RigidBody, attachment_jacobian, attachment_state, rotation_matrix
 from .terms import BodyLoad
 
-__all__ = ["RodType", "rod_body", "mount_rod", "RodLoad", "PinLoad", "SpinLoad"]
+__all__ = ["RodType", "rod", "rod_body", "mount_rod", "RodLoad", "PinLoad", "SpinLoad"]
 
 PIN_DEFLECTION = 1e-6  # pin deflection under the rod's weight, per metre of rod
 
@@ -86,6 +86,24 @@ def rod_body(rod_type: RodType, a, b, *, g=9.81, name="rod") -> RigidBody:
     end A, no hydrostatics (buoyancy is in its :class:`RodLoad`)."""
     mass, com, inertia = rod_inertia(rod_type, a, b, name)
     return RigidBody(mass, com, inertia, reference_point=np.asarray(a, float), g=g)
+
+
+def rod(name, rod_type: RodType, a, b, *, pin=None, n_segments=1, rho=1025.0, g=9.81,
+        sea=None, bed=None):
+    """(Body, [end A, end B]) of a free (``pin`` None) or pinned rod (``pin`` 'fixed' or
+    'coupled', see :class:`~skmoor.network.Body`) from a to b (global, m): a dynamic
+    body ``name`` at end A with the rod's RodLoad and spin spring, and its end points
+    ``name.A``, ``name.B`` for lines to end on. Keywords as :class:`RodLoad`'s."""
+    from .network import Body, Point
+
+    a, b, length = _axis(a, b, name)
+    rigid = rod_body(rod_type, a, b, g=g, name=name)
+    terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a, n_segments=n_segments,
+                     rho=rho, g=g, sea=sea, bed=bed, name=name),
+             SpinLoad(np.zeros(3), b - a, rigid.mass * g * length)]
+    body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
+    return body, [Point(f"{name}.A", "body", np.zeros(3), body=name),
+                  Point(f"{name}.B", "body", b - a, body=name)]
 
 
 def mount_rod(rigid: RigidBody | None, rod_type: RodType, a, b, *, reference_point,
