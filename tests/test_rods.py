@@ -158,6 +158,26 @@ def test_rod_weight_is_exact_at_any_angle():
                                                  rel=1e-9)
 
 
+def test_spin_is_the_turn_about_the_axis():
+    """SpinLoad's psi: a turn of 0.4 rad about the rod's own axis reads 0.4; a swing of
+    1.2 rad about an axis across the rod reads 0 (its spring must not hold the swing)."""
+    from scipy.spatial.transform import Rotation
+
+    from skmoor.rods import SpinLoad
+
+    axis = np.array([1.0, 0.2, -0.3]) / np.linalg.norm([1.0, 0.2, -0.3])
+    spin = SpinLoad(np.zeros(3), axis, stiffness=10.0)
+
+    def angles(rotvec):  # skmoor's body angles: R = Rz Ry Rx
+        return Rotation.from_rotvec(rotvec).as_euler("ZYX")[::-1]
+
+    assert spin.spin(np.r_[0.0, 0.0, 0.0, angles(0.4 * axis)]) == pytest.approx(0.4)
+    across = np.cross(axis, [0.0, 0.0, 1.0])
+    swing = np.r_[0.0, 0.0, 0.0, angles(1.2 * across / np.linalg.norm(across))]
+    assert spin.spin(swing) == pytest.approx(0.0, abs=1e-12)
+    assert spin.forces(swing, np.zeros(6), 0.0) == pytest.approx(np.zeros(6), abs=1e-9)
+
+
 # ------------------------------------------------------------------ deck reading
 
 def test_deck_reads_and_writes_rods(tmp_path):
