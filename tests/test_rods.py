@@ -158,6 +158,17 @@ def test_rod_weight_is_exact_at_any_angle():
                                                  rel=1e-9)
 
 
+@pytest.mark.parametrize("deck", ["rod_on_bed.dat", "pinned_pendulum.dat"])
+def test_rod_tangents_pass_the_taylor_test(deck):
+    """The rod, spin and pin loads' tangents (central differences, or exact for the
+    pin) fall off at second order: a wrong one would stall Newton."""
+    model = build(deck)
+    state = np.array([0.1, -0.05, -0.02, 0.05, -0.1, 0.2])  # wet, on the bed, turned
+    for term in model.system.body_terms:
+        check = skmoor.check_tangent(model, term, u=state)
+        assert check.ok, (type(term).__name__, str(check))
+
+
 def test_spin_is_the_turn_about_the_axis():
     """SpinLoad's psi: a turn of 0.4 rad about the rod's own axis reads 0.4; a swing of
     1.2 rad about an axis across the rod reads 0 (its spring must not hold the swing)."""
