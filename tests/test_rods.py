@@ -9,6 +9,7 @@ tolerances sit a few times above it.
     floating_spar_archimedes      Archimedes' draft; heave period     2e-7 m; 6e-5
     rising_rods_added_mass        z(t) = z0 + a t^2 / 2, a from the   1e-13 m
                                   transverse / end-cap added mass
+    rod_on_a_body_rises_...       the same, the rod on a massless body 1e-13 m
     rod_settles_on_the_bed        weight / (kBot d L)                 1e-10 m
     rod_drag_conventions          1/2 rho Cd d L v^2, 1/2 rho CdEnd A v^2 per end
 """
@@ -105,6 +106,20 @@ def test_rising_rods_added_mass():
         a = (RHO * volume - mass) * G / (mass + added)
         z = point_track(r, name)[:, 2]
         assert np.max(np.abs(z - (z0 + 0.5 * a * r.t ** 2))) < 1e-9, name
+
+
+def test_rod_on_a_body_rises_as_a_free_rod():
+    """A rod on a free body of no mass of its own (mounted: its mass, inertia and loads
+    on the body, the body's attitude turning it) rises as the free rod does."""
+    r = run(build("body_rod.dat"), 1.5, 0.05)
+    d, mu, L = 0.5, 100.0, 2.0
+    volume, mass = np.pi * d ** 2 / 4 * L, mu * L
+    a = (RHO * volume - mass) * G / (mass + RHO * volume)
+    for name, start in (("rod1.A", [0.0, -1.0, -10.0]), ("rod1.B", [0.0, 1.0, -10.0])):
+        track = point_track(r, name)
+        assert track[0] == pytest.approx(start, abs=1e-12)
+        assert np.max(np.abs(track[:, 2] - (-10 + 0.5 * a * r.t ** 2))) < 1e-9, name
+        assert np.max(np.abs(track[:, :2] - start[:2])) < 1e-9
 
 
 def test_rod_settles_on_the_bed():
