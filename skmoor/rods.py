@@ -9,8 +9,9 @@ whichever body carries it (:class:`RodLoad`): weight and buoyancy (exact at any 
 the submerged length of the axis below z = 0, its centre of buoyancy halfway along it),
 transverse Morison drag at the NumSegs segment midpoints, drag and added mass on the
 submerged end caps (MoorDyn's CdEnd with the cap area, CaEnd with the volume of a
-hemisphere of the rod's radius, axial), and the transverse added mass Ca rho A of the
-submerged length (a constant matrix of the reference attitude, as a body's added mass).
+hemisphere of the rod's radius, axial), the transverse added mass Ca rho A of the
+submerged length (a constant matrix of the reference attitude, as a body's added mass),
+and MoorDyn's sea-bed springs. The water surface is z = 0 (wave elevation not followed).
 Loads on a moving body point go through its Jacobian, F_q = J(q, r)^T f.
 
 A pinned rod's end A is held by a stiff spring-damper (:class:`PinLoad`: deflection
@@ -29,7 +30,8 @@ import numpy as np
 from .body import RigidBody, attachment_jacobian, attachment_state, rotation_and_slopes
 from .terms import BodyLoad
 
-__all__ = ["RodType", "rod", "rod_body", "mount_rod", "RodLoad", "PinLoad", "SpinLoad"]
+__all__ = ["RodType", "rod", "rod_body", "rod_inertia", "mount_rod", "RodLoad", "PinLoad",
+           "SpinLoad"]
 
 PIN_DEFLECTION = 1e-6  # pin deflection under the rod's weight, per metre of rod
 
