@@ -149,6 +149,16 @@ def test_rod_pinned_to_a_coupled_body_is_a_coupled_pinned_rod(tmp_path):
     assert np.max(np.abs(point_track(pinned, "rod1.A")[-1] - [1.0, 0.0, -4.5])) < 1e-4
 
 
+def test_bad_pin_is_refused_by_name():
+    spar = RodType("spar", diameter=0.5, mass=100.0)
+    for pin, message in (("anchor", "'anchor' is not a coupled point or a point on a coupled"),
+                         (3, "is not one of")):
+        with pytest.raises(ValueError, match=f"body spar pin: .*{message}"):
+            body, ends = skmoor.rods.rod("spar", spar, [0, 0, -6], [0, 0, 4], pin=pin)
+            anchor = skmoor.Point("anchor", "fixed", [50.0, 0.0, -20.0])
+            skmoor.Network([anchor, *ends], [], [body])
+
+
 def test_rod_settles_on_the_bed():
     """MoorDyn's bed under a rod: ((-h - z) kBot - z' cBot) d ds per segment; a rod
     laid on it sinks in by its submerged weight over kBot d L (overdamped: settled in
