@@ -15,8 +15,8 @@ and MoorDyn's sea-bed springs. The water surface is z = 0 (wave elevation not fo
 Loads on a moving body point go through its Jacobian, F_q = J(q, r)^T f.
 
 A pinned rod's end A is held by a stiff spring-damper (:class:`PinLoad`: deflection
-1e-6 L under the rod's weight, its own mode critically damped) to a fixed place or a
-prescribed motion. A free rod has 5 DOF in MoorDyn (no spin about its axis); its sixth,
+1e-6 of its centre of mass's distance from the pin, at least 1e-6 m, under its weight;
+the pin's own mode critically damped) to a fixed place or a prescribed motion. A free rod has 5 DOF in MoorDyn (no spin about its axis); its sixth,
 the spin, which no load of an axisymmetric rod drives, is held by a torsional spring
 (:class:`SpinLoad`) so that the statics stay regular.
 """
@@ -33,7 +33,7 @@ from .terms import BodyLoad
 __all__ = ["RodType", "rod", "rod_body", "rod_inertia", "mount_rod", "RodLoad", "PinLoad",
            "SpinLoad"]
 
-PIN_DEFLECTION = 1e-6  # pin deflection under the rod's weight, per metre of rod
+PIN_DEFLECTION = 1e-6  # pin deflection under the body's weight, per metre of its size
 
 
 @dataclass
@@ -167,10 +167,9 @@ class RodLoad(BodyLoad):
         self.fractions = (np.arange(n_segments) + 0.5) / n_segments  # segment midpoints
         self.ends = np.ascontiguousarray([a, b])
         self.segment = length / n_segments
-        self.mass = rod_type.mass * length
-        mass, com, inertia = rod_inertia(rod_type, a + self.reference_point,
-                                         b + self.reference_point, name)
-        alone = RigidBody(mass, com, inertia, reference_point=self.reference_point, g=g)
+        self.mass, com, inertia = rod_inertia(rod_type, a + self.reference_point,
+                                              b + self.reference_point, name)
+        alone = RigidBody(self.mass, com, inertia, reference_point=self.reference_point, g=g)
         self._linear = (alone.static_force(), alone.hydrostatic_stiffness(generalized=True))
         super().__init__(self.forces, body=body, added_mass=self.added_mass_matrix(),
                          tangent=self._central)
@@ -272,9 +271,9 @@ def _cross(a, b) -> np.ndarray:
 class PinLoad(BodyLoad):
     """A pin holding a body's reference point at a fixed place or on a prescribed motion
     (pinned rods): F = -k (q[:3] - d(t)) - c (qdot[:3] - d'(t)), with k = m g / (1e-6 L)
-    (the pin gives 1e-6 L under the weight m g) and c = 2 sqrt(k m) (its mode critically
-    damped). motion(t) -> (d, d'): the pin's displacement (m) and velocity (m/s) from
-    where it starts, or None (fixed)."""
+    (the pin gives 1e-6 L under the weight m g; L a length of the body, m) and
+    c = 2 sqrt(k m) (its mode critically damped). motion(t) -> (d, d'): the pin's
+    displacement (m) and velocity (m/s) from where it starts, or None (fixed)."""
 
     def __init__(self, mass, length, *, g=9.81, motion=None, body=0):
         self.stiffness = mass * g / (PIN_DEFLECTION * length)  # N/m

@@ -72,7 +72,7 @@ def test_pinned_rod_pendulum_period():
     assert len(half) >= 2
     assert np.mean(2 * half) == pytest.approx(period, rel=3e-4)
     pin = point_track(r, "rod1.A")
-    assert np.max(np.abs(pin - [0.0, 0.0, -5.0])) < 1e-4  # 1e-6 L under the weight
+    assert np.max(np.abs(pin - [0.0, 0.0, -5.0])) < 1e-4  # 1e-6 L/2 under the weight
 
 
 def test_floating_spar_archimedes():
