@@ -7,9 +7,10 @@ of a uniform cylinder, :func:`rod_body`), a rod on a body adds its mass to that 
 (:func:`mount_rod`), and its distributed loads are a :class:`~skmoor.terms.BodyLoad` on
 whichever body carries it (:class:`RodLoad`): weight and buoyancy (exact at any attitude:
 the submerged length of the axis below z = 0, its centre of buoyancy halfway along it),
-transverse Morison drag at the NumSegs segment midpoints, drag and added mass on the
-submerged end caps (MoorDyn's CdEnd with the cap area, CaEnd with the volume of a
-hemisphere of the rod's radius, axial), the transverse added mass Ca rho A of the
+transverse Morison drag and fluid inertia (1 + Ca) rho A a_n at the NumSegs segment
+midpoints, drag, fluid inertia and added mass on the submerged end caps (MoorDyn's
+CdEnd with the cap area, CaEnd with the volume of a hemisphere of the rod's radius,
+axial), the transverse added mass Ca rho A of the
 submerged length (a constant matrix of the reference attitude, as a body's added mass),
 and MoorDyn's sea-bed springs. The water surface is z = 0 (wave elevation not followed).
 Loads on a moving body point go through its Jacobian, F_q = J(q, r)^T f.
@@ -203,27 +204,32 @@ class RodLoad(BodyLoad):
                 lift = ((-depth - X[low, 2]) * kb - (Js[low] @ qdot)[:, 2] * cb) \
                     * lt.diameter * self.segment
                 F += Js[low][:, 2, :].T @ lift
-        if lt.Cd:  # 1/2 rho Cd d ds |w_n| w_n at the wet segment midpoints, w = U - v
-            wet = X[:, 2] < 0
-            if np.any(wet):
-                w = self._water(X[wet], t) - Js[wet] @ qdot
-                normal = w - (w @ axis)[:, None] * axis
-                speed = np.linalg.norm(normal, axis=1)
-                f = 0.5 * rho * lt.Cd * lt.diameter * self.segment * speed[:, None] * normal
-                F += np.einsum("nka,nk->a", Js[wet], f)
-        if lt.CdEnd:  # 1/2 rho CdEnd A |w_a| w_a on each submerged end cap
-            for X_end, J_end in ((A, JA), (B, JB)):
-                if X_end[2] < 0:
-                    w = self._water(X_end[None], t)[0] - J_end @ qdot
-                    w_axial = (w @ axis) * axis
-                    F += J_end.T @ (0.5 * rho * lt.CdEnd * lt.area
-                                    * np.linalg.norm(w_axial) * w_axial)
+        wet = X[:, 2] < 0
+        if np.any(wet):  # at the wet segment midpoints, w = U - v the relative velocity
+            water, fluid = self._water(X[wet], t)
+            w = water - Js[wet] @ qdot
+            normal = w - (w @ axis)[:, None] * axis
+            speed = np.linalg.norm(normal, axis=1)
+            # 1/2 rho Cd d ds |w_n| w_n + rho (1 + Ca) A ds a_n (a: the water's acceleration)
+            f = 0.5 * rho * lt.Cd * lt.diameter * self.segment * speed[:, None] * normal
+            f += rho * (1 + lt.Ca) * lt.area * self.segment * (
+                fluid - (fluid @ axis)[:, None] * axis)
+            F += np.einsum("nka,nk->a", Js[wet], f)
+        cap = rho * lt.CaEnd * (2 / 3) * math.pi * (lt.diameter / 2) ** 3
+        for X_end, J_end in ((A, JA), (B, JB)):
+            if X_end[2] < 0 and (lt.CdEnd or lt.CaEnd):
+                water, fluid = (x[0] for x in self._water(X_end[None], t))
+                w_axial = ((water - J_end @ qdot) @ axis) * axis
+                # 1/2 rho CdEnd A |w_a| w_a + CaEnd rho (2/3) pi r^3 a_a on the end cap
+                F += J_end.T @ (0.5 * rho * lt.CdEnd * lt.area * np.linalg.norm(w_axial)
+                                * w_axial + cap * (fluid @ axis) * axis)
         return F
 
     def _water(self, points, t):
+        """The water's velocity (m/s) and acceleration (m/s2) at points (n, 3)."""
         if self.sea is None or self.sea.still:
-            return np.zeros_like(points)
-        return self.sea.velocity(points, t)
+            return np.zeros_like(points), np.zeros_like(points)
+        return self.sea.kinematics(points, t)
 
     def added_mass_matrix(self) -> np.ndarray:
         """Added mass (6, 6) about the reference point at q = 0 (kg, kg m, kg m2):

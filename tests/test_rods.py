@@ -14,6 +14,7 @@ tolerances sit a few times above it.
                                   body, Body1 on a pinned body
     rod_settles_on_the_bed        weight / (kBot d L)                 1e-10 m
     rod_drag_conventions          1/2 rho Cd d L v^2, 1/2 rho CdEnd A v^2 per end
+    rod_morison_load_in_a_wave    Morison integral of Airy kinematics  < 1e-4
 """
 from pathlib import Path
 import warnings
@@ -202,6 +203,44 @@ def test_rod_drag_conventions():
     dry = RodLoad(rod, np.zeros(3), np.array([L, 0.0, 0.0]), reference_point=[0.0, 0.0, 1.0],
                   rho=RHO, g=G)
     assert dry.forces(q, np.array([0.0, v, v, 0.0, 0.0, 0.0]), 0.0) == pytest.approx(np.zeros(6))
+
+
+def test_rod_morison_load_in_a_wave():
+    """A vertical rod held still 10 - 20 m deep under an Airy wave: the horizontal force
+    and its moment about end A are the integrals of 1/2 rho Cd d |u| u + rho (1 + Ca) A a
+    along it, with u, a from linear wave theory written out here (the dispersion
+    relation solved anew); the bottom cap adds CaEnd rho 2/3 pi r^3 a_z. Fails if the
+    fluid inertia lacks its 1 (Froude-Krylov) or its Ca, or takes the axial part."""
+    from scipy.integrate import quad
+    from scipy.optimize import brentq
+
+    depth, H, T, t = 50.0, 2.0, 9.0, 1.3
+    sea = skmoor.Sea(depth, rho=RHO, g=G, waves=[skmoor.AiryWave(H, T, depth, g=G)])
+    rod = RodType("r", diameter=0.4, mass=80.0, Cd=1.1, Ca=0.9, CaEnd=0.7)
+    load = RodLoad(rod, np.zeros(3), np.array([0.0, 0.0, 10.0]), reference_point=[2.0, 0.0, -20.0],
+                   n_segments=200, rho=RHO, g=G, sea=sea)
+    still = RodLoad(rod, np.zeros(3), np.array([0.0, 0.0, 10.0]), reference_point=[2.0, 0.0, -20.0],
+                    n_segments=200, rho=RHO, g=G)
+    F = load.forces(np.zeros(6), np.zeros(6), t) - still.forces(np.zeros(6), np.zeros(6), t)
+    w = 2 * np.pi / T
+    k = brentq(lambda k: G * k * np.tanh(k * depth) - w ** 2, 1e-6, 10.0)
+    phase = k * 2.0 - w * t
+
+    def u(z):
+        return H / 2 * w * np.cosh(k * (z + depth)) / np.sinh(k * depth) * np.cos(phase)
+
+    def a(z):
+        return H / 2 * w ** 2 * np.cosh(k * (z + depth)) / np.sinh(k * depth) * np.sin(phase)
+
+    def f(z):
+        return 0.5 * RHO * 1.1 * 0.4 * abs(u(z)) * u(z) + RHO * 1.9 * np.pi * 0.04 * a(z)
+
+    assert F[0] == pytest.approx(quad(f, -20.0, -10.0)[0], rel=1e-4)
+    assert F[4] == pytest.approx(quad(lambda z: (z + 20.0) * f(z), -20.0, -10.0)[0], rel=1e-4)
+    a_z = -H / 2 * w ** 2 * np.sinh(k * (-20.0 + depth)) / np.sinh(k * depth) * np.cos(phase)
+    cap = RHO * 0.7 * 2 / 3 * np.pi * 0.2 ** 3
+    top = -H / 2 * w ** 2 * np.sinh(k * (-10.0 + depth)) / np.sinh(k * depth) * np.cos(phase)
+    assert F[2] == pytest.approx(cap * (a_z + top), rel=1e-6)
 
 
 def test_rod_weight_is_exact_at_any_angle():
