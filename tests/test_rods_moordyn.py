@@ -5,7 +5,9 @@ tests/test_moordyn_deck_set.py does; skipped without it) and copied into a tempo
 folder, where MoorDyn writes its log. Changes made to them, the same for both codes:
 
     rod_tests/AddedMass.txt   a line between two fixed points far away (skmoor reads
-    RodPinnedFloating.txt     mooring decks only; it carries nothing to the rods)
+    RodPinnedFloating.txt     mooring decks only; it carries nothing to the rods); a
+                              second run of RodPinnedFloating with Cd 1.2, Ca 1 on 20
+                              segments (MoorDyn's dtM 1e-4 s)
     RodHanging.txt            its two fixed points made Coupled and heaved 2 m at 10 s
                               (the deck as given starts from lines far off their
                               equilibrium: MoorDyn's first step pulls 18 MN)
