@@ -31,7 +31,7 @@ Measured (wall time of the test incl. MoorDyn, on the shared 2-core machine):
 
     test                    compared                          measured          wall
     added_mass_rise         end A z vs MoorDyn, vs analytic   1e-13 m, 1e-13 m  3 s
-    pinned_floating         ends B of both rods (x, y, z)     0.09 - 0.16 %     6 s
+    pinned_floating         ends B of both rods (x, y, z)     0.09 - 0.16 %     6 s (slow)
                             (dt 5 ms; 0.5 % at 10 ms)
                             rod 2's period vs the analytic    4e-4
                             pendulum of 90 deg amplitude
@@ -168,6 +168,7 @@ def test_added_mass_rise(tmp_path):
     assert np.max(np.abs(z[1:] - np.interp(r.t[1:], t_md, ends_md[:, 0, 0, 2]))) < 1e-9
 
 
+@pytest.mark.slow
 def test_pinned_floating(tmp_path):
     """RodPinnedFloating.txt: two buoyant rods pinned at one end, released horizontal,
     swing up through the vertical to the other side and back (no drag: conservative);
@@ -245,10 +246,10 @@ def test_pinned_body_swing(tmp_path):
         return 0.5 * 0.5 * np.pi / 2.0 * np.sin(np.pi * t / 2.0) if t < 2.0 else 0.0
 
     t_md, ends_md, _ = run_moordyn(
-        path, 8.0, coupling=0.001, sample=0.01,
+        path, 6.0, coupling=0.001, sample=0.01,
         x=lambda t: np.r_[pin + [shift(t), 0.0, 0.0], 0.0, 0.0, 0.0],
         v=lambda t: np.r_[speed(t), 0.0, 0.0, 0.0, 0.0, 0.0])
-    r = simulate(path, 8.0, 0.02, start="equilibrium",
+    r = simulate(path, 6.0, 0.02, start="equilibrium",
                  motion=lambda t: np.r_[shift(t), 0.0, 0.0, 0.0, 0.0, 0.0])
     B = track(r, "rod1.B")
     assert worst(r.t, B[:, 0], t_md, ends_md[:, 0, 1, 0]) < 5e-3
