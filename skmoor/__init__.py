@@ -39,7 +39,7 @@ from .run import (equilibrium, mooring_stiffness, run_case, simulate, static_res
                   write_outputs)
 from .seabed import Seabed, seabed_term
 from .statics import ConvergenceError, solve_static
-from . import laws
+from . import laws, rods
 from .laws import Curve, Engineering, Paper, StaticDynamic
 from .terms import BodyLoad, LineForm, PointLoad, Term, TangentCheck, check_tangent
 from .waves import AiryWave, Current, JonswapWave, Sea
@@ -56,5 +56,5 @@ __all__ = [
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
     "from_network", "mooring_stiffness", "Ends", "PointMass", "bem", "Hydrodynamics",
-    "PotentialFlow",
+    "PotentialFlow", "rods",
 ]

@@ -41,8 +41,9 @@ end A) with its :class:`~skmoor.rods.RodLoad` and a spin spring; a Pinned rod th
 end A pinned in place; a CoupledPinned rod, end A on 3 coupled DOFs; a Fixed rod is its
 two end points, fixed; a Body<N> rod adds its mass and its RodLoad to body N (on a
 coupled or fixed body it only carries its line ends); a Body<N>Pinned rod on a fixed
-body is a Pinned rod there. Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` /
-``rodN.B`` on the rod. A CoupledPinned body is a dynamic body (its mass and its rods')
+body is a Pinned rod there, on a coupled body a rod pinned to the body's point
+``rodN.pin``. Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` / ``rodN.B`` on
+the rod. A CoupledPinned body is a dynamic body (its mass and its rods')
 pinned at its reference point on 3 coupled DOFs (MoorDyn's coupled-DOF vector gives it
 6, of which the first 3, its position, are used); a body of no mass of its own carrying
 one rod gets that rod's spin spring.
@@ -53,7 +54,7 @@ line where it ends on a rod; here a line end on a Fixed rod is clamped along the
 axis, on a moving rod pinned to it).
 
 Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), a
-Body<N>Pinned rod on a moving body, mass or volume on a body point, VIV (Cl > 0),
+Body<N>Pinned rod on a free body, mass or volume on a body point, VIV (Cl > 0),
 MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
@@ -68,7 +69,8 @@ from .hydro import body_hydrodynamics
 from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
-from .rods import RodLoad, RodType, SpinLoad, mount_rod, rod_body
+from . import rods
+from .rods import RodLoad, RodType, SpinLoad, mount_rod
 from .sea_files import deck_bathymetry, deck_sea
 from .seabed import Seabed
 
@@ -202,11 +204,18 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
         if not rod.pinned:
             return [Point(f"{name}.A", "body", a, body=carrier.name),
                     Point(f"{name}.B", "body", b, body=carrier.name)], None
-        if carrier.kind != "fixed":
+        if carrier.kind == "dynamic":
             raise _fail(deck, rod.where, f"RODS {rod.id}: a Body{rod.body}Pinned rod on a "
-                        f"{carrier.kind} body is not supported (on a fixed body it is)")
+                        "free body (a pin between two bodies) is not supported (on a fixed "
+                        "or coupled body it is)")
         R0 = carrier.rotation_matrix()
+        pin = Point(f"{name}.pin", "body", a, body=carrier.name)  # where end A is held
         a, b = carrier.position + R0 @ a, carrier.position + R0 @ b
+        if carrier.kind == "coupled":
+            body, ends = rods.rod(name, _rod_type(deck, rod), a, b, pin=pin.name,
+                                  n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
+                                  bed=bed)
+            return [pin, *ends], body
         kind = "pinned"
     else:
         kind = rod.kind
@@ -215,17 +224,10 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
     if kind == "coupled":
         raise _fail(deck, rod.where, f"RODS {rod.id}: a Coupled rod (6 prescribed DOFs) is "
                     "not supported (CoupledPinned, Pinned, Free, Fixed and Body<N> rods are)")
-    rod_type = _rod_type(deck, rod)
-    rigid = rod_body(rod_type, a, b, g=deck.g, name=name)
-    length = float(np.linalg.norm(b - a))
-    terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a,
-                     n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
-                     bed=bed, name=name),
-             SpinLoad(np.zeros(3), b - a, rigid.mass * deck.g * length)]
     pin = {"free": None, "pinned": "fixed", "coupled pinned": "coupled"}[kind]
-    body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
-    return [Point(f"{name}.A", "body", np.zeros(3), body=name),
-            Point(f"{name}.B", "body", b - a, body=name)], body
+    body, ends = rods.rod(name, _rod_type(deck, rod), a, b, pin=pin, n_segments=rod.n_segments,
+                          rho=deck.rho, g=deck.g, sea=sea, bed=bed)
+    return ends, body
 
 
 def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,

@@ -103,9 +103,11 @@ class Body:
     """A body: kind 'dynamic' (``rigid``: its RigidBody, whose reference point is the
     body's position), 'coupled' or 'fixed' (``position``, m, and ``attitude``, rad, of
     its reference point). terms: BodyLoads (drag, ...); load(t, q, qdot) -> 6-vector.
-    pin (dynamic bodies): None (free), 'fixed' (its reference point held where it is)
-    or 'coupled' (held on 3 coupled DOFs of the network's motion); the body turns freely
-    about it (a stiff :class:`~skmoor.rods.PinLoad`)."""
+    pin (dynamic bodies): None (free), 'fixed' (its reference point held where it is),
+    'coupled' (held on 3 coupled DOFs of the network's motion) or the name of a point
+    moved by the motion (a coupled point, or a point on a coupled body: held where that
+    point goes, from where it starts); the body turns freely about it (a stiff
+    :class:`~skmoor.rods.PinLoad`)."""
 
     name: str
     kind: str
@@ -120,8 +122,9 @@ class Body:
     def __post_init__(self):
         if self.kind not in BODY_KINDS:
             raise ValueError(f"body {self.name}: kind {self.kind!r} is not one of {BODY_KINDS}")
-        if self.pin not in PINS:
-            raise ValueError(f"body {self.name} pin: {self.pin!r} is not one of {PINS}")
+        if not (self.pin in PINS or isinstance(self.pin, str)):
+            raise ValueError(f"body {self.name} pin: {self.pin!r} is not one of {PINS} "
+                             "or a point's name")
         if self.pin is not None and self.kind != "dynamic":
             raise ValueError(f"body {self.name} pin: only a dynamic body is pinned")
         self.position = _vector(f"body {self.name} position", self.position)
@@ -186,6 +189,15 @@ class Network:
         for p in self.points:
             if p.kind == "free" and not any(p.name in (ln.a, ln.b) for ln in self.lines):
                 raise ValueError(f"point {p.name}: a free point with no line")
+        for b in self.bodies:
+            if b.pin in PINS:
+                continue
+            p = points.get(b.pin)
+            moved = p is not None and (p.kind == "coupled" or (
+                p.kind == "body" and bodies[p.body].kind == "coupled"))
+            if not moved:
+                raise ValueError(f"body {b.name} pin: {b.pin!r} is not a coupled point or a "
+                                 "point on a coupled body")
 
     def point(self, name) -> Point:
         return next(p for p in self.points if p.name == name)
@@ -493,14 +505,21 @@ def _pin(network: Network, body: Body, k: int):
 
     rigid = body.rigid
     scale = max(float(np.linalg.norm(rigid.center_of_mass - rigid.reference_point)), 1.0)
-    motion = None
+    if body.pin == "fixed":
+        return PinLoad(rigid.mass, scale, g=network.g, body=k)
     if body.pin == "coupled":
         where = _coupled_offsets(network)[("Body", body.name)]
 
-        def motion(t, dt=1e-6):
-            def at(time):
-                return _coupled_vector(network, time)[where]
-            return at(t), (at(t + dt) - at(t - dt)) / (2 * dt)
+        def at(time):
+            return _coupled_vector(network, time)[where]
+    else:  # a point moved by the motion
+        followed = _slot_motion(network, [network.point(body.pin)])
+
+        def at(time):
+            return followed(time)[0]
+
+    def motion(t, dt=1e-6):
+        return at(t), (at(t + dt) - at(t - dt)) / (2 * dt)
 
     return PinLoad(rigid.mass, scale, g=network.g, motion=motion, body=k)
 

@@ -7,15 +7,17 @@ of a uniform cylinder, :func:`rod_body`), a rod on a body adds its mass to that 
 (:func:`mount_rod`), and its distributed loads are a :class:`~skmoor.terms.BodyLoad` on
 whichever body carries it (:class:`RodLoad`): weight and buoyancy (exact at any attitude:
 the submerged length of the axis below z = 0, its centre of buoyancy halfway along it),
-transverse Morison drag at the NumSegs segment midpoints, drag and added mass on the
-submerged end caps (MoorDyn's CdEnd with the cap area, CaEnd with the volume of a
-hemisphere of the rod's radius, axial), and the transverse added mass Ca rho A of the
-submerged length (a constant matrix of the reference attitude, as a body's added mass).
+transverse Morison drag and fluid inertia (1 + Ca) rho A a_n at the NumSegs segment
+midpoints, drag, fluid inertia and added mass on the submerged end caps (MoorDyn's
+CdEnd with the cap area, CaEnd with the volume of a hemisphere of the rod's radius,
+axial), the transverse added mass Ca rho A of the
+submerged length (a constant matrix of the reference attitude, as a body's added mass),
+and MoorDyn's sea-bed springs. The water surface is z = 0 (wave elevation not followed).
 Loads on a moving body point go through its Jacobian, F_q = J(q, r)^T f.
 
 A pinned rod's end A is held by a stiff spring-damper (:class:`PinLoad`: deflection
-1e-6 L under the rod's weight, its own mode critically damped) to a fixed place or a
-prescribed motion. A free rod has 5 DOF in MoorDyn (no spin about its axis); its sixth,
+1e-6 of its centre of mass's distance from the pin, at least 1e-6 m, under its weight;
+the pin's own mode critically damped) to a fixed place or a prescribed motion. A free rod has 5 DOF in MoorDyn (no spin about its axis); its sixth,
 the spin, which no load of an axisymmetric rod drives, is held by a torsional spring
 (:class:`SpinLoad`) so that the statics stay regular.
 """
@@ -26,12 +28,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .body import RigidBody, attachment_jacobian, attachment_state, rotation_matrix
+from .body import RigidBody, attachment_jacobian, attachment_state, rotation_and_slopes
 from .terms import BodyLoad
 
-__all__ = ["RodType", "rod_body", "mount_rod", "RodLoad", "PinLoad", "SpinLoad"]
+__all__ = ["RodType", "rod", "rod_body", "rod_inertia", "mount_rod", "RodLoad", "PinLoad",
+           "SpinLoad"]
 
-PIN_DEFLECTION = 1e-6  # pin deflection under the rod's weight, per metre of rod
+PIN_DEFLECTION = 1e-6  # pin deflection under the body's weight, per metre of its size
 
 
 @dataclass
@@ -86,6 +89,24 @@ def rod_body(rod_type: RodType, a, b, *, g=9.81, name="rod") -> RigidBody:
     end A, no hydrostatics (buoyancy is in its :class:`RodLoad`)."""
     mass, com, inertia = rod_inertia(rod_type, a, b, name)
     return RigidBody(mass, com, inertia, reference_point=np.asarray(a, float), g=g)
+
+
+def rod(name, rod_type: RodType, a, b, *, pin=None, n_segments=1, rho=1025.0, g=9.81,
+        sea=None, bed=None):
+    """(Body, [end A, end B]) of a free (``pin`` None) or pinned rod (``pin`` 'fixed' or
+    'coupled', see :class:`~skmoor.network.Body`) from a to b (global, m): a dynamic
+    body ``name`` at end A with the rod's RodLoad and spin spring, and its end points
+    ``name.A``, ``name.B`` for lines to end on. Keywords as :class:`RodLoad`'s."""
+    from .network import Body, Point
+
+    a, b, length = _axis(a, b, name)
+    rigid = rod_body(rod_type, a, b, g=g, name=name)
+    terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a, n_segments=n_segments,
+                     rho=rho, g=g, sea=sea, bed=bed, name=name),
+             SpinLoad(np.zeros(3), b - a, rigid.mass * g * length)]
+    body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
+    return body, [Point(f"{name}.A", "body", np.zeros(3), body=name),
+                  Point(f"{name}.B", "body", b - a, body=name)]
 
 
 def mount_rod(rigid: RigidBody | None, rod_type: RodType, a, b, *, reference_point,
@@ -147,13 +168,20 @@ class RodLoad(BodyLoad):
         self.fractions = (np.arange(n_segments) + 0.5) / n_segments  # segment midpoints
         self.ends = np.ascontiguousarray([a, b])
         self.segment = length / n_segments
-        self.mass = rod_type.mass * length
-        mass, com, inertia = rod_inertia(rod_type, a + self.reference_point,
-                                         b + self.reference_point, name)
-        alone = RigidBody(mass, com, inertia, reference_point=self.reference_point, g=g)
+        self.mass, com, inertia = rod_inertia(rod_type, a + self.reference_point,
+                                              b + self.reference_point, name)
+        alone = RigidBody(self.mass, com, inertia, reference_point=self.reference_point, g=g)
         self._linear = (alone.static_force(), alone.hydrostatic_stiffness(generalized=True))
         super().__init__(self.forces, body=body, added_mass=self.added_mass_matrix(),
                          tangent=self._central)
+
+    def bind(self, system):
+        """Refuses a body with exact rotations: its System weighs and moves it exactly
+        already, and this load's replacement of the linear weight would count it twice."""
+        if getattr(system.bodies[self.body], "rotations", "small") == "exact":
+            raise ValueError(f"rod {self.name}: its body has rotations='exact'; rods are built "
+                             "for rotations='small' (the body's linear weight is replaced here)")
+        super().bind(system)
 
     def forces(self, q, qdot, t):
         """Generalized load (6,), N and N m: J^T f summed over the rod's loads. Positions
@@ -184,27 +212,32 @@ class RodLoad(BodyLoad):
                 lift = ((-depth - X[low, 2]) * kb - (Js[low] @ qdot)[:, 2] * cb) \
                     * lt.diameter * self.segment
                 F += Js[low][:, 2, :].T @ lift
-        if lt.Cd:  # 1/2 rho Cd d ds |w_n| w_n at the wet segment midpoints, w = U - v
-            wet = X[:, 2] < 0
-            if np.any(wet):
-                w = self._water(X[wet], t) - Js[wet] @ qdot
-                normal = w - (w @ axis)[:, None] * axis
-                speed = np.linalg.norm(normal, axis=1)
-                f = 0.5 * rho * lt.Cd * lt.diameter * self.segment * speed[:, None] * normal
-                F += np.einsum("nka,nk->a", Js[wet], f)
-        if lt.CdEnd:  # 1/2 rho CdEnd A |w_a| w_a on each submerged end cap
-            for X_end, J_end in ((A, JA), (B, JB)):
-                if X_end[2] < 0:
-                    w = self._water(X_end[None], t)[0] - J_end @ qdot
-                    w_axial = (w @ axis) * axis
-                    F += J_end.T @ (0.5 * rho * lt.CdEnd * lt.area
-                                    * np.linalg.norm(w_axial) * w_axial)
+        wet = X[:, 2] < 0
+        if np.any(wet):  # at the wet segment midpoints, w = U - v the relative velocity
+            water, fluid = self._water(X[wet], t)
+            w = water - Js[wet] @ qdot
+            normal = w - (w @ axis)[:, None] * axis
+            speed = np.linalg.norm(normal, axis=1)
+            # 1/2 rho Cd d ds |w_n| w_n + rho (1 + Ca) A ds a_n (a: the water's acceleration)
+            f = 0.5 * rho * lt.Cd * lt.diameter * self.segment * speed[:, None] * normal
+            f += rho * (1 + lt.Ca) * lt.area * self.segment * (
+                fluid - (fluid @ axis)[:, None] * axis)
+            F += np.einsum("nka,nk->a", Js[wet], f)
+        cap = rho * lt.CaEnd * (2 / 3) * math.pi * (lt.diameter / 2) ** 3
+        for X_end, J_end in ((A, JA), (B, JB)):
+            if X_end[2] < 0 and (lt.CdEnd or lt.CaEnd):
+                water, fluid = (x[0] for x in self._water(X_end[None], t))
+                w_axial = ((water - J_end @ qdot) @ axis) * axis
+                # 1/2 rho CdEnd A |w_a| w_a + CaEnd rho (2/3) pi r^3 a_a on the end cap
+                F += J_end.T @ (0.5 * rho * lt.CdEnd * lt.area * np.linalg.norm(w_axial)
+                                * w_axial + cap * (fluid @ axis) * axis)
         return F
 
     def _water(self, points, t):
+        """The water's velocity (m/s) and acceleration (m/s2) at points (n, 3)."""
         if self.sea is None or self.sea.still:
-            return np.zeros_like(points)
-        return self.sea.velocity(points, t)
+            return np.zeros_like(points), np.zeros_like(points)
+        return self.sea.kinematics(points, t)
 
     def added_mass_matrix(self) -> np.ndarray:
         """Added mass (6, 6) about the reference point at q = 0 (kg, kg m, kg m2):
@@ -243,12 +276,18 @@ class RodLoad(BodyLoad):
         return by_q, by_v
 
 
+def _cross(a, b) -> np.ndarray:
+    """a x b of two 3-vectors (numpy's cross costs 20 times more on one pair)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
+
+
 class PinLoad(BodyLoad):
     """A pin holding a body's reference point at a fixed place or on a prescribed motion
     (pinned rods): F = -k (q[:3] - d(t)) - c (qdot[:3] - d'(t)), with k = m g / (1e-6 L)
-    (the pin gives 1e-6 L under the weight m g) and c = 2 sqrt(k m) (its mode critically
-    damped). motion(t) -> (d, d'): the pin's displacement (m) and velocity (m/s) from
-    where it starts, or None (fixed)."""
+    (the pin gives 1e-6 L under the weight m g; L a length of the body, m) and
+    c = 2 sqrt(k m) (its mode critically damped). motion(t) -> (d, d'): the pin's
+    displacement (m) and velocity (m/s) from where it starts, or None (fixed)."""
 
     def __init__(self, mass, length, *, g=9.81, motion=None, body=0):
         self.stiffness = mass * g / (PIN_DEFLECTION * length)  # N/m
@@ -284,23 +323,28 @@ class SpinLoad(BodyLoad):
         self.stiffness = float(stiffness)
         super().__init__(self.forces, body=body, tangent=self._central)
 
-    def spin(self, q) -> float:
-        """psi (rad) of body DOFs q (0 where the rod points opposite to t0)."""
-        R = rotation_matrix(q[3:])
-        t, n = R @ self.t0, R @ self.n0
-        v, c = np.cross(self.t0, t), float(self.t0 @ t)
+    def _spin(self, axis, n) -> float:
+        """psi (rad) of the rod's present axis and cross-axis direction n = R n0 (0
+        where it points opposite to t0)."""
+        v, c = _cross(self.t0, axis), float(self.t0 @ axis)
         if c <= -1 + 1e-12:
             return 0.0
-        S = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-        least = (np.eye(3) + S + S @ S / (1 + c)) @ self.n0
-        return math.atan2(float(t @ np.cross(least, n)), float(least @ n))
+        # least rotation (Rodrigues): n0 + v x n0 + v x (v x n0) / (1 + c)
+        turned = _cross(v, self.n0)
+        least = self.n0 + turned + _cross(v, turned) / (1 + c)
+        return math.atan2(float(axis @ _cross(least, n)), float(least @ n))
+
+    def spin(self, q) -> float:
+        """psi (rad) of body DOFs q (0 where the rod points opposite to t0)."""
+        R = rotation_and_slopes(np.asarray(q, float)[3:])[0]
+        return self._spin(R @ self.t0, R @ self.n0)
 
     def forces(self, q, qdot, t):
         q = np.asarray(q, float)
-        R = rotation_matrix(q[3:])
+        R = rotation_and_slopes(q[3:])[0]
         axis, n = R @ self.t0, R @ self.n0
         fade = 0.5 * (1 + float(self.t0 @ axis))
-        f = -self.stiffness * fade * self.spin(q) * np.cross(axis, n)  # n x f = -k' psi t
+        f = -self.stiffness * fade * self._spin(axis, n) * _cross(axis, n)  # n x f = -k' psi t
         _, J = attachment_state(q, self.points)
         return (J[:3] - J[3:]).T @ f
 

@@ -9,8 +9,12 @@ tolerances sit a few times above it.
     floating_spar_archimedes      Archimedes' draft; heave period     2e-7 m; 6e-5
     rising_rods_added_mass        z(t) = z0 + a t^2 / 2, a from the   1e-13 m
                                   transverse / end-cap added mass
+    rod_on_a_body_rises_...       the same, the rod on a massless body 1e-13 m
+    coupled_pinned_rod_three_ways the rod Body1Pinned on a coupled    1e-13 m
+                                  body, Body1 on a pinned body
     rod_settles_on_the_bed        weight / (kBot d L)                 1e-10 m
     rod_drag_conventions          1/2 rho Cd d L v^2, 1/2 rho CdEnd A v^2 per end
+    rod_morison_load_in_a_wave    Morison integral of Airy kinematics  < 1e-4
 """
 from pathlib import Path
 import warnings
@@ -69,7 +73,7 @@ def test_pinned_rod_pendulum_period():
     assert len(half) >= 2
     assert np.mean(2 * half) == pytest.approx(period, rel=3e-4)
     pin = point_track(r, "rod1.A")
-    assert np.max(np.abs(pin - [0.0, 0.0, -5.0])) < 1e-4  # 1e-6 L under the weight
+    assert np.max(np.abs(pin - [0.0, 0.0, -5.0])) < 1e-4  # 1e-6 L/2 under the weight
 
 
 def test_floating_spar_archimedes():
@@ -107,6 +111,65 @@ def test_rising_rods_added_mass():
         assert np.max(np.abs(z - (z0 + 0.5 * a * r.t ** 2))) < 1e-9, name
 
 
+def test_rod_on_a_body_rises_as_a_free_rod():
+    """A rod on a free body of no mass of its own (mounted: its mass, inertia and loads
+    on the body, the body's attitude turning it) rises as the free rod does."""
+    r = run(build("body_rod.dat"), 1.5, 0.05)
+    d, mu, L = 0.5, 100.0, 2.0
+    volume, mass = np.pi * d ** 2 / 4 * L, mu * L
+    a = (RHO * volume - mass) * G / (mass + RHO * volume)
+    for name, start in (("rod1.A", [0.0, -1.0, -10.0]), ("rod1.B", [0.0, 1.0, -10.0])):
+        track = point_track(r, name)
+        assert track[0] == pytest.approx(start, abs=1e-12)
+        assert np.max(np.abs(track[:, 2] - (-10 + 0.5 * a * r.t ** 2))) < 1e-9, name
+        assert np.max(np.abs(track[:, :2] - start[:2])) < 1e-9
+
+
+def test_coupled_pinned_rod_three_ways(tmp_path):
+    """hung_rod.dat's CoupledPinned rod; the same rod Body1Pinned on a coupled body (end
+    A at the body's point (0, 0, -1), the body turned 30 deg in yaw); and the same rod
+    Body1 on a CoupledPinned body of no mass (the path MoorDyn's pinnedBody.txt checks in
+    test_rods_moordyn.py: MoorDyn's own CoupledPinned rod does not turn at all), all
+    moved 1 m in x and 0.5 m in z: the rods swing alike (drag and added mass on)."""
+    text = (DECKS / "hung_rod.dat").read_text()
+    rod_line = "1  hung  CoupledPinned  0  0  -5  0  0  -13  4  -"
+    bodies = ("---------------------- BODIES ------\n"
+              "ID  Attachment  X0  Y0  Z0  r0  p0  y0  Mass  CG*  I*  Volume  CdA*  Ca*\n"
+              "(#)  (word)  (m)  (m)  (m)  (deg)  (deg)  (deg)  (kg)  (m)  (kg-m^2)  (m^3)  "
+              "(m^2)  (-)\n{}\n---------------------- RODS")
+    variants = {
+        "on_coupled_body.dat": ("1  hung  Body1Pinned  0  0  -1  0  0  -9  4  -",
+                                "1  Coupled  0  0  -4  0  0  30  0  0  0  0  0  0"),
+        "on_pinned_body.dat": ("1  hung  Body1  0  0  0  0  0  -8  4  -",
+                               "1  CoupledPinned  0  0  -5  0  0  0  0  0  0  0  0  0")}
+
+    def shift(t):
+        return (1 - np.cos(np.pi * min(t, 2.0) / 2.0)) / 2 * np.array([1.0, 0.0, 0.5])
+
+    def six(t):  # a coupled or pinned body takes 6 coupled DOFs (MoorDyn's vector)
+        return np.r_[shift(t), 0.0, 0.0, 0.0]
+
+    pinned = run(build("hung_rod.dat", motion=shift), 3.0, 0.05)
+    tip = point_track(pinned, "rod1.B")
+    assert np.ptp(tip[:, 0]) > 0.5  # it swings
+    assert np.max(np.abs(point_track(pinned, "rod1.A")[-1] - [1.0, 0.0, -4.5])) < 1e-4
+    for name, (rod, body) in variants.items():
+        (tmp_path / name).write_text(text.replace(rod_line, rod).replace(
+            "---------------------- RODS", bodies.format(body)))
+        other = run(build(tmp_path / name, motion=six), 3.0, 0.05)
+        assert np.max(np.abs(point_track(other, "rod1.B") - tip)) < 1e-5, name
+
+
+def test_bad_pin_is_refused_by_name():
+    spar = RodType("spar", diameter=0.5, mass=100.0)
+    for pin, message in (("anchor", "'anchor' is not a coupled point or a point on a coupled"),
+                         (3, "is not one of")):
+        with pytest.raises(ValueError, match=f"body spar pin: .*{message}"):
+            body, ends = skmoor.rods.rod("spar", spar, [0, 0, -6], [0, 0, 4], pin=pin)
+            anchor = skmoor.Point("anchor", "fixed", [50.0, 0.0, -20.0])
+            skmoor.Network([anchor, *ends], [], [body])
+
+
 def test_rod_settles_on_the_bed():
     """MoorDyn's bed under a rod: ((-h - z) kBot - z' cBot) d ds per segment; a rod
     laid on it sinks in by its submerged weight over kBot d L (overdamped: settled in
@@ -142,6 +205,44 @@ def test_rod_drag_conventions():
     assert dry.forces(q, np.array([0.0, v, v, 0.0, 0.0, 0.0]), 0.0) == pytest.approx(np.zeros(6))
 
 
+def test_rod_morison_load_in_a_wave():
+    """A vertical rod held still 10 - 20 m deep under an Airy wave: the horizontal force
+    and its moment about end A are the integrals of 1/2 rho Cd d |u| u + rho (1 + Ca) A a
+    along it, with u, a from linear wave theory written out here (the dispersion
+    relation solved anew); the bottom cap adds CaEnd rho 2/3 pi r^3 a_z. Fails if the
+    fluid inertia lacks its 1 (Froude-Krylov) or its Ca, or takes the axial part."""
+    from scipy.integrate import quad
+    from scipy.optimize import brentq
+
+    depth, H, T, t = 50.0, 2.0, 9.0, 1.3
+    sea = skmoor.Sea(depth, rho=RHO, g=G, waves=[skmoor.AiryWave(H, T, depth, g=G)])
+    rod = RodType("r", diameter=0.4, mass=80.0, Cd=1.1, Ca=0.9, CaEnd=0.7)
+    load = RodLoad(rod, np.zeros(3), np.array([0.0, 0.0, 10.0]), reference_point=[2.0, 0.0, -20.0],
+                   n_segments=200, rho=RHO, g=G, sea=sea)
+    still = RodLoad(rod, np.zeros(3), np.array([0.0, 0.0, 10.0]), reference_point=[2.0, 0.0, -20.0],
+                    n_segments=200, rho=RHO, g=G)
+    F = load.forces(np.zeros(6), np.zeros(6), t) - still.forces(np.zeros(6), np.zeros(6), t)
+    w = 2 * np.pi / T
+    k = brentq(lambda k: G * k * np.tanh(k * depth) - w ** 2, 1e-6, 10.0)
+    phase = k * 2.0 - w * t
+
+    def u(z):
+        return H / 2 * w * np.cosh(k * (z + depth)) / np.sinh(k * depth) * np.cos(phase)
+
+    def a(z):
+        return H / 2 * w ** 2 * np.cosh(k * (z + depth)) / np.sinh(k * depth) * np.sin(phase)
+
+    def f(z):
+        return 0.5 * RHO * 1.1 * 0.4 * abs(u(z)) * u(z) + RHO * 1.9 * np.pi * 0.04 * a(z)
+
+    assert F[0] == pytest.approx(quad(f, -20.0, -10.0)[0], rel=1e-4)
+    assert F[4] == pytest.approx(quad(lambda z: (z + 20.0) * f(z), -20.0, -10.0)[0], rel=1e-4)
+    a_z = -H / 2 * w ** 2 * np.sinh(k * (-20.0 + depth)) / np.sinh(k * depth) * np.cos(phase)
+    cap = RHO * 0.7 * 2 / 3 * np.pi * 0.2 ** 3
+    top = -H / 2 * w ** 2 * np.sinh(k * (-10.0 + depth)) / np.sinh(k * depth) * np.cos(phase)
+    assert F[2] == pytest.approx(cap * (a_z + top), rel=1e-6)
+
+
 def test_rod_weight_is_exact_at_any_angle():
     """The System holds a body's weight linearly about q = 0; the rod load corrects it:
     the total moment of a pinned rod's weight turned by 60 deg about y is m g L/2
@@ -156,6 +257,37 @@ def test_rod_weight_is_exact_at_any_angle():
         # residual = dV/d(ry), V = net L/2 (1 - cos(angle)), d(angle) = -d(ry)
         assert R[system.nf + 4] == pytest.approx(-net * L / 2 * np.sin(np.radians(angle)),
                                                  rel=1e-9)
+
+
+@pytest.mark.parametrize("deck", ["rod_on_bed.dat", "pinned_pendulum.dat"])
+def test_rod_tangents_pass_the_taylor_test(deck):
+    """The rod, spin and pin loads' tangents (central differences, or exact for the
+    pin) fall off at second order: a wrong one would stall Newton."""
+    model = build(deck)
+    state = np.array([0.1, -0.05, -0.02, 0.05, -0.1, 0.2])  # wet, on the bed, turned
+    for term in model.system.body_terms:
+        check = skmoor.check_tangent(model, term, u=state)
+        assert check.ok, (type(term).__name__, str(check))
+
+
+def test_spin_is_the_turn_about_the_axis():
+    """SpinLoad's psi: a turn of 0.4 rad about the rod's own axis reads 0.4; a swing of
+    1.2 rad about an axis across the rod reads 0 (its spring must not hold the swing)."""
+    from scipy.spatial.transform import Rotation
+
+    from skmoor.rods import SpinLoad
+
+    axis = np.array([1.0, 0.2, -0.3]) / np.linalg.norm([1.0, 0.2, -0.3])
+    spin = SpinLoad(np.zeros(3), axis, stiffness=10.0)
+
+    def angles(rotvec):  # skmoor's body angles: R = Rz Ry Rx
+        return Rotation.from_rotvec(rotvec).as_euler("ZYX")[::-1]
+
+    assert spin.spin(np.r_[0.0, 0.0, 0.0, angles(0.4 * axis)]) == pytest.approx(0.4)
+    across = np.cross(axis, [0.0, 0.0, 1.0])
+    swing = np.r_[0.0, 0.0, 0.0, angles(1.2 * across / np.linalg.norm(across))]
+    assert spin.spin(swing) == pytest.approx(0.0, abs=1e-12)
+    assert spin.forces(swing, np.zeros(6), 0.0) == pytest.approx(np.zeros(6), abs=1e-9)
 
 
 # ------------------------------------------------------------------ deck reading
