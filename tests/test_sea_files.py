@@ -247,9 +247,18 @@ def test_missing_files_and_unsupported_modes(tmp_path):
     with pytest.raises(ValueError, match="SeafloorFile 'nowhere.txt': no such file"):
         deck_bathymetry(deck)
     bad_grid = GRID.replace("-50 -40 -30", "-50 -30 -40")
-    deck = deck_folder(tmp_path, {"WaveKin": 7, "SeafloorFile": "bed.txt"},
-                       {"water_grid.txt": bad_grid, "bed.txt": "2 2\n0 1\n0 1\n0 0 -5\n"})
+    deck = deck_folder(tmp_path, {"WaveKin": 2}, {"water_grid.txt": bad_grid,
+                                                 "wave_frequencies.txt": "0 0 0\n1 1 0\n"})
+    with pytest.raises(ValueError, match="water_grid.txt line 9: the z coordinates must "
+                                         "increase strictly"):
+        deck_sea(deck)
+    deck = deck_folder(tmp_path, {"SeafloorFile": "bed.txt"},
+                       {"bed.txt": "2 2\n0 1\n0 1\n0 0 -5\n"})
     with pytest.raises(ValueError, match="bed.txt: 3 of the 4 grid points have no height"):
+        deck_bathymetry(deck)
+    deck = deck_folder(tmp_path, {"SeafloorFile": "bed.txt"},
+                       {"bed.txt": "2 2\n0 1\n0\n0 0 -5\n"})
+    with pytest.raises(ValueError, match="bed.txt line 3: 1 values, expected 2"):
         deck_bathymetry(deck)
 
 
