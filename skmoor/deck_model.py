@@ -159,8 +159,8 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     sea: a :class:`skmoor.waves.Sea` (currents, waves) in place of the deck's water;
     default: the deck's own (:func:`skmoor.sea_files.deck_sea`: its WaveKin and Currents
     files, still water without them), which is also what a WaveKin 1 deck's caller
-    builds its waves on (``Sea(..., fields=deck_sea(deck).fields)``). hydro: add drag, fluid inertia and added mass
-    (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact.
+    builds its waves on (``Sea(..., fields=deck_sea(deck).fields)``). hydro: add drag,
+    fluid inertia and added mass (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact.
     settings: the solver's defaults for the deck (Newmark, dtOut as the output interval).
     """
     deck = read_deck(deck) if not isinstance(deck, Deck) else deck

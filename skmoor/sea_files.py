@@ -41,8 +41,15 @@ from pathlib import Path
 import numpy as np
 
 from .seabed import Bathymetry
-from .water_grids import (CurrentGrid, SpectrumWaves, Stretching, WaveGrid,
-                          elevation_spectrum, evenly_spaced, resampled_current)
+from .water_grids import (
+    CurrentGrid,
+    SpectrumWaves,
+    Stretching,
+    WaveGrid,
+    elevation_spectrum,
+    evenly_spaced,
+    resampled_current,
+)
 from .waves import Sea
 
 WAVE_FILES = {2: ("wave_frequencies.txt", "water_grid.txt"),

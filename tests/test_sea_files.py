@@ -121,6 +121,7 @@ def test_wavekin2_frequency_component_on_a_grid(tmp_path):
         points = stretched_points(sea, -60.0, z_grid, t)
         v, acc = sea.kinematics(points, t)
         zeta, u, w, du, dw = airy(a, omega, -60.0, z_grid, t, phi)
+        assert sea.elevation(points[:1, :2], t)[0] == pytest.approx(zeta, abs=1e-9)
         np.testing.assert_allclose(v[:, 0], u, atol=1e-9)
         np.testing.assert_allclose(v[:, 2], w, atol=1e-9)
         np.testing.assert_allclose(acc[:, 0], du, atol=1e-9)
