@@ -150,7 +150,8 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
 
 def released_state(model: Model) -> np.ndarray:
     """The reduced state with the free points and dynamic bodies held where the model
-    gives them and the lines in static equilibrium between them (a release from rest)."""
+    gives them and the lines in static equilibrium between them (a release from rest),
+    in the sea's steady part."""
     system, network = model.system, model.network
     x0 = np.zeros(system.n)
     free = [p for p in network.points if p.kind == "free"]
@@ -164,7 +165,8 @@ def released_state(model: Model) -> np.ndarray:
         u[dofs[a + 1:b]] = (1 - share) * u[dofs[a]] + share * u[dofs[b]]
     x0[system._columns] = u[system.free]  # (a point's column gets its own value back)
     held = np.concatenate([system.point_columns.ravel(), np.arange(system.nf, system.n)])
-    return static_state(system, x0, held=held.astype(int)).x
+    with steady_water(model):
+        return static_state(system, x0, held=held.astype(int)).x
 
 
 def run_setting(name, value, default=None) -> float:
