@@ -845,7 +845,7 @@ def run_skmoor_inline(deck: Path, timeout: float, cwd=None) -> dict:
 
 def survey(mirror=None, only=None, jobs=None, moordyn_timeout=MOORDYN_TIMEOUT,
            skmoor_timeout=SKMOOR_TIMEOUT, sides=("moordyn", "skmoor"), isolate=False,
-           log=None):
+           log=None, keep=None):
     """Run every deck (or those whose path contains ``only``): (outcomes, info).
 
     MoorDyn runs in subprocesses (``jobs`` at a time); skmoor in this process, one deck
@@ -855,6 +855,8 @@ def survey(mirror=None, only=None, jobs=None, moordyn_timeout=MOORDYN_TIMEOUT,
     decks, skipped = find_decks(mirror)
     if only:
         decks = [d for d in decks if only in d.path]
+    if keep:
+        decks = [d for d in decks if keep(d.path)]
     have_moordyn = "moordyn" in sides and _installed("moordyn")
     jobs = jobs or os.cpu_count() or 1
     inline = "skmoor" in sides and not isolate

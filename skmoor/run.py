@@ -111,14 +111,20 @@ def _pretension(system) -> float:
     return max(abs(line.line_type.weight) * line.length for line in system.lines.lines) or 1.0
 
 
+def steady_water(model: Model):
+    """A context in which the model's sea is its steady part (:meth:`skmoor.waves.Sea.steady`):
+    what its static state, the static results and the stiffness about it see."""
+    sea = getattr(model.network, "sea", None)
+    return sea.steady() if sea is not None else contextlib.nullcontext()
+
+
 def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
     """Static solve of the whole network in the sea's steady part (its currents, no waves:
     :meth:`skmoor.waves.Sea.steady`), modes about it and Rayleigh damping (the settings'
     ``damping.ratio`` at the first two natural frequencies, or ``damping.alpha`` /
     ``damping.beta``)."""
     system = model.system
-    sea = getattr(model.network, "sea", None)
-    with sea.steady() if sea is not None else contextlib.nullcontext():
+    with steady_water(model):
         try:
             static = static_state(system)
         except ConvergenceError as err:
@@ -149,7 +155,8 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
 
 def released_state(model: Model) -> np.ndarray:
     """The reduced state with the free points and dynamic bodies held where the model
-    gives them and the lines in static equilibrium between them (a release from rest)."""
+    gives them and the lines in static equilibrium between them (a release from rest),
+    in the sea's steady part."""
     system, network = model.system, model.network
     x0 = np.zeros(system.n)
     free = [p for p in network.points if p.kind == "free"]
@@ -165,7 +172,8 @@ def released_state(model: Model) -> np.ndarray:
     held = np.concatenate([system.point_columns.ravel(), np.arange(system.nf, system.n)])
     if len(np.unique(held)) == system.n:  # nothing left to settle
         return x0
-    return static_state(system, x0, held=held.astype(int)).x
+    with steady_water(model):
+        return static_state(system, x0, held=held.astype(int)).x
 
 
 def run_setting(name, value, default=None) -> float:
@@ -317,11 +325,13 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
 
 
 def static_results(model: Model, eq: Equilibrium | None = None) -> Results:
-    """The static equilibrium as a one-sample :class:`Results` (for export and renders)."""
+    """The static equilibrium as a one-sample :class:`Results` (for export and renders),
+    in the sea's steady part."""
     eq = eq or equilibrium(model)
     recorder = _Recorder(model)
     zero = np.zeros(model.system.n)
-    recorder.record(State(0.0, 0, eq.x, zero, zero))
+    with steady_water(model):
+        recorder.record(State(0.0, 0, eq.x, zero, zero))
     return recorder.results({**_meta(model, eq), "static": True})
 
 
@@ -329,19 +339,21 @@ def mooring_stiffness(model: Model, eq: Equilibrium | None = None, body=None) ->
     """(6, 6) stiffness of the mooring at a dynamic body's reference point about the
     static state (N/m, N/rad, N m/rad; generalized loads J^T f, q = [x, y, z, rx, ry, rz]):
     the reduced tangent condensed to that body's DOFs (every other DOF in equilibrium),
-    less the body's own hydrostatics and weight. body: its name (default: the first)."""
+    less the body's own hydrostatics and weight, in the sea's steady part. body: its name (default: the first)."""
     eq = eq or equilibrium(model)
     system, network = model.system, model.network
     dynamic = [b.name for b in network.bodies if b.kind == "dynamic"]
     coupled = [b.name for b in network.bodies if b.kind == "coupled"]
     name = (dynamic + coupled)[0] if body is None and dynamic + coupled else body
     if name in coupled:
-        return _coupled_stiffness(model, eq, network.body(name))
+        with steady_water(model):
+            return _coupled_stiffness(model, eq, network.body(name))
     if name not in dynamic:
         raise ValueError(f"mooring_stiffness body: {name!r} is not a dynamic or coupled "
                          f"body {dynamic + coupled}")
     k = dynamic.index(name)
-    _, K, _ = system.residual(eq.x, layout="dense")
+    with steady_water(model):
+        _, K, _ = system.residual(eq.x, layout="dense")
     keep = np.arange(system.nf + 6 * k, system.nf + 6 * k + 6)
     rest = np.setdiff1d(np.arange(system.n), keep)
     condensed = (K[np.ix_(keep, keep)]

@@ -41,8 +41,15 @@ from pathlib import Path
 import numpy as np
 
 from .seabed import Bathymetry
-from .water_grids import (CurrentGrid, SpectrumWaves, Stretching, WaveGrid,
-                          elevation_spectrum, evenly_spaced, resampled_current)
+from .water_grids import (
+    CurrentGrid,
+    SpectrumWaves,
+    Stretching,
+    WaveGrid,
+    elevation_spectrum,
+    evenly_spaced,
+    resampled_current,
+)
 from .waves import Sea
 
 WAVE_FILES = {2: ("wave_frequencies.txt", "water_grid.txt"),
@@ -217,21 +224,33 @@ def read_4d_current(path):
     for number, (name, count) in enumerate(zip("xyzt", counts.astype(int)), start=2):
         values = f.numbers(number, exactly=count)
         axes.append(f.increasing(number, values, f"{name} coordinates"))
-    velocity = np.zeros(tuple(counts.astype(int)) + (3,))
-    given = np.zeros(velocity.shape[:-1], bool)
-    for number, values in f.data_rows(7):
+    rows = f.data_rows(7)
+    for number, values in rows:
         if len(values) != 7:
             raise f.error(number, f"{len(values)} values, need x y z t ux uy uz")
-        index = []
-        for axis, value, name in zip(axes, values[:4], "xyzt"):
-            hit = np.flatnonzero(np.isclose(axis, value, rtol=1e-9, atol=1e-9))
-            if hit.size != 1:
-                raise f.error(number, f"{name} = {value:g} is not on the {name} axis")
-            index.append(hit[0])
-        if given[tuple(index)]:
-            raise f.error(number, "this grid point is given twice")
-        given[tuple(index)] = True
-        velocity[tuple(index)] = values[4:]
+    numbers = np.array([number for number, _ in rows], int)
+    table = np.array([values for _, values in rows]).reshape(-1, 7)
+    index = []
+    for axis, column, name in zip(axes, table[:, :4].T, "xyzt"):
+        nearest = np.clip(np.searchsorted(axis, column), 1, axis.size - 1) if axis.size > 1 \
+            else np.zeros(column.size, int)
+        if axis.size > 1:
+            nearest -= np.abs(column - axis[nearest - 1]) < np.abs(column - axis[nearest])
+        off = np.abs(axis[nearest] - column) > 1e-9 * np.maximum(1.0, np.abs(column))
+        if np.any(off):
+            k = int(np.argmax(off))
+            raise f.error(numbers[k], f"{name} = {column[k]:g} is not on the {name} axis")
+        index.append(nearest)
+    flat = np.ravel_multi_index(index, tuple(counts.astype(int)))
+    unique, seen = np.unique(flat, return_counts=True)
+    if np.any(seen > 1):
+        twice = np.flatnonzero(flat == unique[np.argmax(seen > 1)])[1]
+        raise f.error(numbers[twice], "this grid point is given twice")
+    velocity = np.zeros((int(np.prod(counts)), 3))
+    velocity[flat] = table[:, 4:]
+    given = np.zeros(velocity.shape[0], bool)
+    given[flat] = True
+    velocity = velocity.reshape(tuple(counts.astype(int)) + (3,))
     return (*axes, velocity, int(given.size - given.sum()))
 
 

@@ -2,9 +2,11 @@
 regularised Coulomb friction, as scikit-fem forms and as a compiled kernel.
 
 The bed is the plane through (0, 0, -depth) rising at ``slope_deg`` towards
-``slope_heading_deg``, with upward unit normal n. At a point x = X + u of the line
-(X reference position, u displacement, m) the penetration is g = n.(P0 - x) (m, > 0 in
-contact). While g > 0 the bed pushes along n with k g - c (n.udot) Hc(g) per unit
+``slope_heading_deg``, with upward unit normal n, or a :class:`Bathymetry` z_b(x, y),
+whose tangent plane under each node (normal n, point P0 = (x, y, z_b)) stands in for
+the plane there (the compiled kernel only; the tangents neglect the bed's curvature).
+At a point x = X + u of the line (X reference position, u displacement, m) the
+penetration is g = n.(P0 - x) (m, > 0 in contact). While g > 0 the bed pushes along n with k g - c (n.udot) Hc(g) per unit
 length (k in N/m2, c in N s/m2; MoorDyn-C's linear spring-damper, which, as there, may
 pull while the line lifts off quickly), its damping faded in over the first
 ``damping_onset`` m of penetration: Hc(g) = clip(g / onset, 0, 1). MoorDyn's damping

