@@ -144,8 +144,9 @@ def invariant_errors(body, states):
     return energy, momentum / np.linalg.norm(h0)
 
 
-@pytest.mark.parametrize("omega0", [[0.0, 0.05, 1.0], [1.0, 0.05, 0.05]],
-                         ids=["intermediate-axis", "stable-axis"])
+@pytest.mark.parametrize("omega0", [
+    [0.0, 0.05, 1.0], pytest.param([1.0, 0.05, 0.05], marks=pytest.mark.slow)],
+    ids=["intermediate-axis", "stable-axis"])
 def test_free_spin_keeps_momentum_exactly_and_energy_at_second_order(omega0):
     """Near the intermediate axis the body flips; near the largest axis it wobbles. The
     angular momentum (inertial frame) stays to Newton's tolerance (the momentum form of
@@ -166,7 +167,7 @@ def test_symmetric_top_precesses_at_the_analytic_rate():
     """A free symmetric top: its axis circles the angular momentum H at |H| / I_perp."""
     i_perp, i_axis = 2.0, 1.0
     omega0 = np.array([0.1, 0.0, 2.0])
-    _, states = free_spin(np.diag([i_perp, i_perp, i_axis]), omega0, 0.04, 16.0)
+    _, states = free_spin(np.diag([i_perp, i_perp, i_axis]), omega0, 0.04, 10.0)
     H = np.diag([i_perp, i_perp, i_axis]) @ omega0
     h = H / np.linalg.norm(H)
     u = np.cross(h, [0.0, 1.0, 0.0])
