@@ -126,13 +126,14 @@ def test_exact_rotations_input_checks():
 
 # --------------------------------------------------------------------------- free spin
 
-def free_spin(inertia, omega0, dt, duration):
-    """States of a free, weightless rigid body spun at omega0 (rad/s) from q = 0."""
+def free_spin(inertia, omega0, dt, duration, tol=1e-10):
+    """States of a free, weightless rigid body spun at omega0 (rad/s) from q = 0 (Newton's
+    tolerance ``tol``: the momentum is kept to about it per step)."""
     body = RigidBody(1.0, [0.0, 0.0, 0.0], inertia, rotations="exact")
     v0 = np.zeros(6)
     v0[3:] = omega0  # at q = 0, E = I: the angle rates are omega
     system = lone_body_system(body, weightless(body))
-    return body, list(integrate(system, np.zeros(6), v0, dt, duration, tol=1e-10))
+    return body, list(integrate(system, np.zeros(6), v0, dt, duration, tol=tol))
 
 
 def invariant_errors(body, states):
@@ -182,8 +183,9 @@ def test_symmetric_top_precesses_at_the_analytic_rate():
 
 @pytest.mark.slow
 def test_free_spin_invariants_over_100_periods():
-    """100 periods near the intermediate axis at 1000 steps a period: both to 1e-6 (at 800
-    steps a period: energy 1.0e-6, momentum 5e-7)."""
+    """100 periods near the intermediate axis at 1000 steps a period: both to 1e-6
+    (measured: energy 8.9e-7, momentum 9.2e-7; Newton's tolerance, accumulated over the
+    1e5 steps, is most of both)."""
     omega0 = [0.0, 0.05, 1.0]
     period = 2 * np.pi / np.linalg.norm(omega0)
     body, states = free_spin(ASYMMETRIC, omega0, period / 1000, 100 * period)
