@@ -118,6 +118,10 @@ def test_exact_rotations_input_checks():
         RigidBody(1.0e4, [0, 0, 0], np.eye(3), hydrostatics=waterplane, rotations="exact")
     with pytest.raises(ValueError, match="hull"):
         RigidBody(1.0, [0, 0, 0], np.eye(3), hull=np.zeros((4, 3)), rotations="exact")
+    spun = RigidBody(1.0, [0, 0, 0], np.eye(3), rotations="exact")
+    locked = np.array([0.0, 0.0, 0.0, 0.3, np.pi / 2, 0.0])
+    with pytest.raises(ValueError, match="rotations.*gimbal lock"):
+        spun.step_inertia_load(locked, np.zeros(6), locked, np.zeros(6), np.zeros(6), 0.1, 0.5)
     late = RigidBody(1.0e4, [0, 0, 0], np.eye(3), hydrostatics=waterplane)
     late.rotations = "exact"  # on a built model: refused at the first exact load
     with pytest.raises(ValueError, match="rotations.*hull"):
