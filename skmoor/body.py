@@ -578,10 +578,15 @@ class RigidBody:
         return exact.generalized_load(q[3:], force, moment)
 
     def restoring_stiffness(self, q, step: float = 1e-6) -> np.ndarray:
-        """-d(restoring_load)/dq (6, 6) by central differences of ``step`` (m, rad)."""
-        columns = [(self.restoring_load(q - step * e) - self.restoring_load(q + step * e))
-                   / (2 * step) for e in np.eye(6)]
-        return np.column_stack(columns)
+        """-d(restoring_load)/dq (6, 6) by central differences of ``step`` (m, rad) in z
+        and the angles (a horizontal shift moves the buoyancy, the weight and the
+        reference point together: those columns are zero)."""
+        K = np.zeros((6, 6))
+        for k in (2, 3, 4, 5):
+            e = np.zeros(6)
+            e[k] = step
+            K[:, k] = (self.restoring_load(q - e) - self.restoring_load(q + e)) / (2 * step)
+        return K
 
     def inertia_load(self, q, qdot, qddot) -> np.ndarray:
         """Exact inertia + gyroscopic load conjugate to q (N, N m) at pose q, DOF rates

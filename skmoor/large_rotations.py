@@ -180,6 +180,10 @@ def momenta(R, q, qdot, mass, inertia, arm, offset) -> tuple[np.ndarray, np.ndar
 def step_start(R0, q0, v0, load0, mass, inertia, arm):
     """What a step's momentum form needs of its start: P0, L0 (about x_ref0), Pdot0 and
     the moment about x_ref0, from the start's inertia load load0 = [Pdot0, E0^T M0]."""
+    if abs(math.cos(q0[4])) < 1e-6:
+        raise ValueError(f"rotations: the body's ry = {math.degrees(q0[4]):.6g} deg reached "
+                         "+-90 deg, the gimbal lock of the angles R = Rz Ry Rx (its x axis "
+                         "vertical): turn the body frame so that its x axis stays off vertical")
     E0 = rate_matrix(q0[3:])[0]
     p0, l0 = momenta(R0, q0, v0, mass, inertia, arm, np.zeros(3))
     return q0, p0, l0, load0[:3], np.linalg.solve(E0.T, load0[3:])

@@ -118,6 +118,10 @@ def test_exact_rotations_input_checks():
         RigidBody(1.0e4, [0, 0, 0], np.eye(3), hydrostatics=waterplane, rotations="exact")
     with pytest.raises(ValueError, match="hull"):
         RigidBody(1.0, [0, 0, 0], np.eye(3), hull=np.zeros((4, 3)), rotations="exact")
+    spun = RigidBody(1.0, [0, 0, 0], np.eye(3), rotations="exact")
+    locked = np.array([0.0, 0.0, 0.0, 0.3, np.pi / 2, 0.0])
+    with pytest.raises(ValueError, match="rotations.*gimbal lock"):
+        spun.step_inertia_load(locked, np.zeros(6), locked, np.zeros(6), np.zeros(6), 0.1, 0.5)
     late = RigidBody(1.0e4, [0, 0, 0], np.eye(3), hydrostatics=waterplane)
     late.rotations = "exact"  # on a built model: refused at the first exact load
     with pytest.raises(ValueError, match="rotations.*hull"):
@@ -126,13 +130,14 @@ def test_exact_rotations_input_checks():
 
 # --------------------------------------------------------------------------- free spin
 
-def free_spin(inertia, omega0, dt, duration):
-    """States of a free, weightless rigid body spun at omega0 (rad/s) from q = 0."""
+def free_spin(inertia, omega0, dt, duration, tol=1e-10):
+    """States of a free, weightless rigid body spun at omega0 (rad/s) from q = 0 (Newton's
+    tolerance ``tol``: the momentum is kept to about it per step)."""
     body = RigidBody(1.0, [0.0, 0.0, 0.0], inertia, rotations="exact")
     v0 = np.zeros(6)
     v0[3:] = omega0  # at q = 0, E = I: the angle rates are omega
     system = lone_body_system(body, weightless(body))
-    return body, list(integrate(system, np.zeros(6), v0, dt, duration, tol=1e-10))
+    return body, list(integrate(system, np.zeros(6), v0, dt, duration, tol=tol))
 
 
 def invariant_errors(body, states):
@@ -144,8 +149,9 @@ def invariant_errors(body, states):
     return energy, momentum / np.linalg.norm(h0)
 
 
-@pytest.mark.parametrize("omega0", [[0.0, 0.05, 1.0], [1.0, 0.05, 0.05]],
-                         ids=["intermediate-axis", "stable-axis"])
+@pytest.mark.parametrize("omega0", [
+    [0.0, 0.05, 1.0], pytest.param([1.0, 0.05, 0.05], marks=pytest.mark.slow)],
+    ids=["intermediate-axis", "stable-axis"])
 def test_free_spin_keeps_momentum_exactly_and_energy_at_second_order(omega0):
     """Near the intermediate axis the body flips; near the largest axis it wobbles. The
     angular momentum (inertial frame) stays to Newton's tolerance (the momentum form of
@@ -166,7 +172,7 @@ def test_symmetric_top_precesses_at_the_analytic_rate():
     """A free symmetric top: its axis circles the angular momentum H at |H| / I_perp."""
     i_perp, i_axis = 2.0, 1.0
     omega0 = np.array([0.1, 0.0, 2.0])
-    _, states = free_spin(np.diag([i_perp, i_perp, i_axis]), omega0, 0.04, 16.0)
+    _, states = free_spin(np.diag([i_perp, i_perp, i_axis]), omega0, 0.04, 10.0)
     H = np.diag([i_perp, i_perp, i_axis]) @ omega0
     h = H / np.linalg.norm(H)
     u = np.cross(h, [0.0, 1.0, 0.0])
@@ -181,11 +187,12 @@ def test_symmetric_top_precesses_at_the_analytic_rate():
 
 @pytest.mark.slow
 def test_free_spin_invariants_over_100_periods():
-    """100 periods near the intermediate axis at 1000 steps a period: both to 1e-6 (at 800
-    steps a period: energy 1.0e-6, momentum 5e-7)."""
+    """100 periods near the intermediate axis at 1000 steps a period, Newton's tolerance
+    1e-11: both to 1e-6 (measured: energy 7.8e-7, momentum 5.0e-7; at tolerance 1e-10
+    8.9e-7 and 9.2e-7: over the 1e5 steps the tolerance and round-off add up)."""
     omega0 = [0.0, 0.05, 1.0]
     period = 2 * np.pi / np.linalg.norm(omega0)
-    body, states = free_spin(ASYMMETRIC, omega0, period / 1000, 100 * period)
+    body, states = free_spin(ASYMMETRIC, omega0, period / 1000, 100 * period, tol=1e-11)
     energy, momentum = invariant_errors(body, states)
     assert energy < 1e-6
     assert momentum < 1e-6
