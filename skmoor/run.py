@@ -189,14 +189,45 @@ def run_setting(name, value, default=None) -> float:
 
 def resolution_notes(model: Model, eq: Equilibrium, dt: float) -> list:
     """Warnings for a step coarser than a tenth of the forcing period or of the two
-    natural periods the Rayleigh damping is fitted to (the ones the run claims)."""
+    natural periods the Rayleigh damping is fitted to (the ones the run claims), and for
+    a step longer than the sea bed's contact period without enough numerical damping (a
+    0.25 s Newmark step on the VolturnUS-S chains, period 0.17 s, is 16 % off in its peak
+    tension, benchmarks/volturnus.py)."""
     periods = []
     if model.forcing_period:
         periods.append(("the forcing period", model.forcing_period))
     if eq.modes is not None and any(eq.rayleigh):
         periods += [(f"natural period {k + 1}", T) for k, T in enumerate(eq.modes.periods[:2])]
-    return [f"dt = {dt:g} s is coarser than a tenth of {what} ({T:.4g} s): the run does not "
-            f"resolve it; take dt <= {T / 10:.3g} s" for what, T in periods if dt > T / 10]
+    notes = [f"dt = {dt:g} s is coarser than a tenth of {what} ({T:.4g} s): the run does not "
+             f"resolve it; take dt <= {T / 10:.3g} s" for what, T in periods if dt > T / 10]
+    solver = model.solver
+    undamped = solver["scheme"] == "newmark" or solver.get("rho_inf", 0.8) > BED_RHO_INF
+    period = bed_contact_period(model)
+    if undamped and period is not None and dt > period:
+        notes.append(f"dt = {dt:g} s is longer than the sea bed's contact period "
+                     f"({period:.3g} s: a resting node on its bed spring) with little numerical "
+                     f"damping ({solver['scheme']}): nodes near touchdown may chatter; take "
+                     f"generalized-alpha with rho_inf <= {BED_RHO_INF:g} "
+                     "(model.solver.update(scheme='generalized-alpha', rho_inf=0.5)) or a "
+                     f"smaller step")
+    return notes
+
+
+BED_RHO_INF = 0.5  # generalized-alpha spectral radius that damps the bed's chatter
+
+
+def bed_contact_period(model: Model) -> float | None:
+    """Shortest period (s) of a line node resting on the sea bed, 2 pi sqrt(m / k): m the
+    line's mass and transverse added mass per length (kg/m), k the bed's stiffness per
+    length (N/m2); None without a bed."""
+    bed = getattr(model.network, "seabed", None)
+    if bed is None:
+        return None
+    lines = model.lines
+    k, _ = bed.cell_coefficients(lines)
+    mass = np.array([lt.mass + lt.Ca_n * lt.rho_water * lt.area
+                     for lt in (line.line_type for line in lines.lines)])[lines.line_of_cell]
+    return float(np.min(2 * np.pi * np.sqrt(mass / k)))
 
 
 def simulate(model: Model, *, duration=None, dt=None, output_interval=None,

@@ -4,6 +4,7 @@ numbers, the folder checked before the solve, a crash or Ctrl-C keeps the rows c
 import json
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -185,3 +186,25 @@ def test_an_interrupted_command_line_run_skips_the_long_exports(tmp_path, capsys
     assert "interrupted: ParaView files and animations skipped" in capsys.readouterr().out
     assert (out / "timeseries.csv").exists() and (out / "summary.json").exists()
     assert not (out / "motion.pvd").exists() and not (out / "animation.gif").exists()
+
+
+def test_a_step_past_the_bed_contact_period_without_numerical_damping_is_warned(tmp_path):
+    """The VolturnUS-like chains of tests/decks/seabed/chain_semi.dat on MoorDyn's bed: a
+    resting node is a spring kBot d under the chain's mass and transverse added mass,
+    period 2 pi sqrt((685 + 0.82 rho pi d^2 / 4) / (3e6 d)) = 0.173 s (d = 0.333 m). A 0.25
+    s Newmark step there chatters at touchdown (benchmarks/volturnus.py): warned with the
+    period; not with generalized-alpha at rho_inf 0.5, nor at a step below the period."""
+    deck = Path(__file__).parent / "decks" / "seabed" / "chain_semi.dat"
+    path = tmp_path / "chain_semi.dat"
+    path.write_text(deck.read_text().replace("850.0     50", "850.0     10"))
+    model = skmoor.build(path)
+    eq = skmoor.equilibrium(model)
+    d = 0.333
+    period = 2 * np.pi * np.sqrt((685.0 + 0.82 * 1025.0 * np.pi * d**2 / 4) / (3e6 * d))
+    assert skmoor.run.bed_contact_period(model) == pytest.approx(period, rel=1e-3)
+    with pytest.warns(ResolutionWarning, match=rf"sea bed's contact period \({period:.3g} s"):
+        skmoor.simulate(model, eq=eq, duration=0.5, dt=0.25, progress=False)
+    with warnings_as_errors():
+        skmoor.simulate(model, eq=eq, duration=0.3, dt=0.1, progress=False)
+        model.solver.update(scheme="generalized-alpha", rho_inf=0.5)
+        skmoor.simulate(model, eq=eq, duration=0.5, dt=0.25, progress=False)
