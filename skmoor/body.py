@@ -554,11 +554,18 @@ class RigidBody:
         return load
 
     # --- large rotations (rotations='exact'), see skmoor.large_rotations
-    def restoring_load(self, q) -> np.ndarray:
-        """Buoyancy + weight at pose ``q`` as the load conjugate to q (N, N m): the hull
-        clipped at z = 0 (a submerged body without a hull: its volume at its body-fixed
-        centre of buoyancy)."""
+    def rotation(self, q, frame=None) -> np.ndarray:
+        """R(q) = Rz Ry Rx(q[3:]) @ frame (3, 3): the attitude of a body whose angles are
+        counted from ``frame`` (the turned start frame of a re-based body; None: the
+        global frame, the body's frame at q = 0)."""
         R = rotation_and_slopes(q[3:])[0]
+        return R if frame is None else R @ frame
+
+    def restoring_load(self, q, frame=None) -> np.ndarray:
+        """Buoyancy + weight at pose ``q`` (angles from ``frame``, :meth:`rotation`) as the
+        load conjugate to q (N, N m): the hull clipped at z = 0 (a submerged body without
+        a hull: its volume at its body-fixed centre of buoyancy)."""
+        R = self.rotation(q, frame)
         origin = self.reference_point + q[:3]
         weight = np.array([0.0, 0.0, -self.mass * self.g])
         force = weight.copy()
@@ -577,7 +584,7 @@ class RigidBody:
             moment += exact.cross3(arm, buoyancy)
         return exact.generalized_load(q[3:], force, moment)
 
-    def restoring_stiffness(self, q, step: float = 1e-6) -> np.ndarray:
+    def restoring_stiffness(self, q, frame=None, step: float = 1e-6) -> np.ndarray:
         """-d(restoring_load)/dq (6, 6) by central differences of ``step`` (m, rad) in z
         and the angles (a horizontal shift moves the buoyancy, the weight and the
         reference point together: those columns are zero)."""
@@ -585,60 +592,61 @@ class RigidBody:
         for k in (2, 3, 4, 5):
             e = np.zeros(6)
             e[k] = step
-            K[:, k] = (self.restoring_load(q - e) - self.restoring_load(q + e)) / (2 * step)
+            K[:, k] = (self.restoring_load(q - e, frame)
+                       - self.restoring_load(q + e, frame)) / (2 * step)
         return K
 
-    def inertia_load(self, q, qdot, qddot) -> np.ndarray:
+    def inertia_load(self, q, qdot, qddot, frame=None) -> np.ndarray:
         """Exact inertia + gyroscopic load conjugate to q (N, N m) at pose q, DOF rates
         qdot and accelerations qddot (:func:`skmoor.large_rotations.inertia_load`)."""
-        R = rotation_and_slopes(q[3:])[0]
-        return exact.inertia_load(R, q, qdot, qddot, self.mass, self.inertia,
-                                  self.center_of_mass - self.reference_point)
+        return exact.inertia_load(self.rotation(q, frame), q, qdot, qddot, self.mass,
+                                  self.inertia, self.center_of_mass - self.reference_point)
 
-    def inertia_tangents(self, q, qdot, qddot, step: float = 1e-6):
+    def inertia_tangents(self, q, qdot, qddot, frame=None, step: float = 1e-6):
         """Derivatives of :meth:`inertia_load` (6, 6 each): d/dqddot (the exact mass
         matrix), d/dqdot (gyroscopic; exact central differences, the load is quadratic
         in qdot) and d/dq (central differences of ``step`` rad in the angles)."""
-        R = rotation_and_slopes(q[3:])[0]
         arm = self.center_of_mass - self.reference_point
-        mass = exact.exact_mass_matrix(R, q, self.mass, self.inertia, arm)
+        mass = exact.exact_mass_matrix(self.rotation(q, frame), q, self.mass, self.inertia, arm)
         d_rate = np.zeros((6, 6))
         d_pose = np.zeros((6, 6))
         scale = 1.0 + np.max(np.abs(qdot[3:]))
         for k in range(3, 6):
             e = np.zeros(6)
             e[k] = scale
-            d_rate[:, k] = (self.inertia_load(q, qdot + e, qddot)
-                            - self.inertia_load(q, qdot - e, qddot)) / (2 * scale)
+            d_rate[:, k] = (self.inertia_load(q, qdot + e, qddot, frame)
+                            - self.inertia_load(q, qdot - e, qddot, frame)) / (2 * scale)
             e[k] = step
-            d_pose[:, k] = (self.inertia_load(q + e, qdot, qddot)
-                            - self.inertia_load(q - e, qdot, qddot)) / (2 * step)
+            d_pose[:, k] = (self.inertia_load(q + e, qdot, qddot, frame)
+                            - self.inertia_load(q - e, qdot, qddot, frame)) / (2 * step)
         return mass, d_rate, d_pose
 
-    def step_inertia_load(self, q1, qdot1, q0, qdot0, load0, h, gamma) -> np.ndarray:
+    def step_inertia_load(self, q1, qdot1, q0, qdot0, load0, h, gamma, frame=None) -> np.ndarray:
         """Inertia load (N, N m) at the end of a time step of h (s) from (q0, qdot0) with
         inertia load ``load0``, in momentum form
         (:func:`skmoor.large_rotations.momentum_inertia_load`)."""
         return exact.momentum_inertia_load(
-            rotation_and_slopes(q1[3:])[0], q1, qdot1, self._step_start(q0, qdot0, load0),
+            self.rotation(q1, frame), q1, qdot1, self._step_start(q0, qdot0, load0, frame),
             h, gamma, self.mass, self.inertia, self.center_of_mass - self.reference_point)
 
-    def _step_start(self, q0, qdot0, load0):
+    def _step_start(self, q0, qdot0, load0, frame):
         """:func:`skmoor.large_rotations.step_start`, kept for the step's iterations."""
-        key = (q0.tobytes(), qdot0.tobytes(), load0.tobytes())
+        key = (q0.tobytes(), qdot0.tobytes(), load0.tobytes(),
+               None if frame is None else frame.tobytes())
         cached = getattr(self, "_start_cache", (None, None))
         if cached[0] != key:
             cached = (key, exact.step_start(
-                rotation_and_slopes(q0[3:])[0], q0, qdot0, load0, self.mass, self.inertia,
+                self.rotation(q0, frame), q0, qdot0, load0, self.mass, self.inertia,
                 self.center_of_mass - self.reference_point))
             self._start_cache = cached
         return cached[1]
 
-    def step_inertia_tangents(self, q1, qdot1, q0, qdot0, load0, h, gamma, step=1e-6):
+    def step_inertia_tangents(self, q1, qdot1, q0, qdot0, load0, h, gamma, frame=None,
+                              step=1e-6):
         """Derivatives (6, 6 each) of :meth:`step_inertia_load` in qdot1 (exact central
         differences: it is linear in qdot1) and in q1 (central differences of ``step``)."""
         def load(q, qdot):
-            return self.step_inertia_load(q, qdot, q0, qdot0, load0, h, gamma)
+            return self.step_inertia_load(q, qdot, q0, qdot0, load0, h, gamma, frame)
 
         d_rate, d_pose = np.zeros((6, 6)), np.zeros((6, 6))
         for k in range(6):

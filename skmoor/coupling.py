@@ -31,8 +31,10 @@ import scipy.sparse as sp
 from . import body as rigid
 from .banded import LAYOUTS, as_layout
 from .kernels import CableKernel, ElementPattern
-from .large_rotations import generalized_load
+from .large_rotations import generalized_load, rate_matrix, zyx_angles
 from .terms import Term
+
+REBASE_PITCH = math.radians(60.0)  # |ry| past which an 'exact' body's angles are re-based
 
 
 @dataclass
@@ -241,6 +243,9 @@ class System:
                          for k in range(len(self.bodies))]
         self._body_rows = [np.flatnonzero(self._body_of_end == k) for k in range(len(self.bodies))]
         self.r_local = self._r_local[0] if self.bodies else None
+        self._r_local0 = [r.copy() for r in self._r_local]
+        self._frames = [None] * len(self.bodies)  # re-based frames (rebase), None: global
+        self._end_offsets = np.zeros((len(body_ends), 3))
         self._prescribed_slots = np.array([slot for slot, _ in prescribed_ends], int)
         self._prescribed_dofs = (dofs[[node for _, node in prescribed_ends]]
                                  if prescribed_ends else np.zeros((0, 3), int))
@@ -345,6 +350,57 @@ class System:
             else:
                 term.commit(t, self.full_displacement(x, t), self.full_velocity(x, v, t))
 
+    # --- re-based frames of exact bodies (no gimbal lock), see skmoor.large_rotations
+    def rebase(self, x, v):
+        """Re-base the angles of every 'exact' body whose pitch passed ``REBASE_PITCH``:
+        its angles are then counted from its present attitude (R = Rz Ry Rx(q) @ frame,
+        the new q angles 0, their rates the angular velocity). Returns the new (x, v), or
+        None when no body was re-based. A body with terms of its own (rods, pins, drag)
+        is not re-based (they read its angles from the global frame): it stops at the
+        gimbal lock with an error."""
+        turned = None
+        for k, body in enumerate(self.bodies):
+            block = self._body_block(k)
+            q = x[block]
+            if (body.rotations != "exact" or abs(q[4]) < REBASE_PITCH
+                    or any(term.body == k for term in self._terms["bodies"])):
+                continue
+            if turned is None:
+                turned = (x.copy(), v.copy())
+                self._attachment_cache = (None, None, None)
+            x1, v1 = turned
+            E = rate_matrix(q[3:])[0]
+            v1[block.start + 3: block.stop] = E @ v[block][3:]  # omega (global)
+            x1[block.start + 3: block.stop] = 0.0
+            self._frames[k] = body.rotation(q, self._frames[k])
+            rows = self._body_rows[k]
+            if len(rows):  # line ends on the body: R0 r0 - r0 of the turn stays constant
+                turn = self._frames[k]
+                self._r_local[k] = self._r_local0[k] @ turn.T
+                self._end_offsets[rows] = self._r_local[k] - self._r_local0[k]
+        return turned
+
+    def reset_frames(self):
+        """Count every body's angles from the global frame again (as built)."""
+        self._frames = [None] * len(self.bodies)
+        self._r_local = [r.copy() for r in self._r_local0]
+        self._end_offsets = np.zeros((len(self._body_nodes), 3))
+        self._attachment_cache = (None, None, None)
+
+    def body_rotation(self, x, body=0) -> np.ndarray:
+        """The attitude R (3, 3) of body ``body`` in the reduced state x (its angles
+        counted from its re-based frame, :meth:`rebase`)."""
+        return self.bodies[body].rotation(self.q(x, body), self._frames[body])
+
+    def body_pose(self, x) -> np.ndarray:
+        """(nbodies, 6) displacement and angles Rz Ry Rx from the global frame of every
+        body in the reduced state x (m, rad): x's own body DOFs unless re-based."""
+        out = x[self.nf:].reshape(-1, 6).copy()
+        for k, frame in enumerate(self._frames):
+            if frame is not None:
+                out[k, 3:] = zyx_angles(self.body_rotation(x, k))
+        return out
+
     # --- maps between reduced and full cable DOFs
     def q(self, x, body=0):
         """DOFs of body ``body`` in a reduced vector (zeros without bodies), m / rad."""
@@ -390,6 +446,8 @@ class System:
                         disp[rows] = d
                         J[3 * rows[0]: 3 * rows[-1] + 3, 6 * k: 6 * k + 6] = Jk
                 state = (disp, J)
+            if any(frame is not None for frame in self._frames):
+                state = (state[0] + self._end_offsets, state[1])
             self._attachment_cache = (key, *state)
         return self._attachment_cache[1], self._attachment_cache[2]
 
@@ -576,7 +634,7 @@ class System:
             block = self._body_block(k)
             q, qdot = x[block], v[block]
             if body.rotations == "exact":  # at the pose; (1 - load_factor) F0 as K q - lf F0
-                R[block] -= body.restoring_load(q) - (1 - load_factor) * self.F_bodies0[k]
+                R[block] -= body.restoring_load(q, self._frames[k]) - (1 - load_factor) * self.F_bodies0[k]
             else:
                 R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
             R[block] += body.linear_damping @ qdot
@@ -612,7 +670,7 @@ class System:
             rows = self._body_rows[k]
             H = (rigid.attachment_hessian(x[self._body_block(k)], self._r_local[k],
                                           end_forces[rows]) if len(rows) else 0.0)
-            restoring = (body.restoring_stiffness(x[self._body_block(k)])
+            restoring = (body.restoring_stiffness(x[self._body_block(k)], self._frames[k])
                          if body.rotations == "exact" else self.K_bodies[k])
             K_bodies[b, b] = H + restoring + body_K[k]
             D_bodies[b, b] = body.linear_damping + body_Kv[k]
@@ -657,19 +715,19 @@ class System:
                 continue
             block = self._body_block(k)
             q, qdot, qddot = x[block], v[block], a[block]
-            M0 = self._rigid_masses[k]
+            M0, frame = self._rigid_masses[k], self._frames[k]
             if previous is None:
-                G[block] = body.inertia_load(q, qdot, qddot) - M0 @ qddot
+                G[block] = body.inertia_load(q, qdot, qddot, frame) - M0 @ qddot
             else:
                 x0, v0, a0, G0, h, gamma = previous
                 start = (x0[block], v0[block], G0[block] + M0 @ a0[block], h, gamma)
-                G[block] = body.step_inertia_load(q, qdot, *start) - M0 @ qddot
+                G[block] = body.step_inertia_load(q, qdot, *start, frame) - M0 @ qddot
             if tangent:
                 if previous is None:
-                    d_acc, d_rate, d_pose = body.inertia_tangents(q, qdot, qddot)
+                    d_acc, d_rate, d_pose = body.inertia_tangents(q, qdot, qddot, frame)
                 else:
                     d_acc = np.zeros((6, 6))
-                    d_rate, d_pose = body.step_inertia_tangents(q, qdot, *start)
+                    d_rate, d_pose = body.step_inertia_tangents(q, qdot, *start, frame)
                 b = slice(6 * k, 6 * k + 6)
                 for out, value in zip(blocks, (d_acc - M0, d_rate, d_pose)):
                     out[b, b] = value

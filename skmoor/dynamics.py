@@ -10,7 +10,9 @@ A system with a state-dependent inertia (``system.nonlinear_inertia``: rigid bod
 exact rotations) gives it beside the constant M (``system.inertia``): M a becomes M a + G
 at each level, G1 computed from the step's start (x0, v0, a0, G0, h, gamma) so that the
 momenta follow the scheme's own velocity rule, and G's derivatives in a, v and x join the
-Newton matrix.
+Newton matrix. Such a system may re-base its state after a step (``system.rebase(x, v)``
+-> new (x, v) or None: a body's angles counted from its present attitude, away from the
+gimbal lock); the integration then restarts from the new state as from t0.
 
 The integrator is a generator of states, so a caller decides what to record and when
 to stop; a Newton failure raises :class:`DivergenceError` with the time, the step and a
@@ -162,20 +164,25 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
     C = as_layout(C, layout, bandwidth)
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
-    R, _, _ = system.residual(x, v, t, tangent=False)
-    force_old = C @ v + R
     nonlinear = getattr(system, "nonlinear_inertia", False)
+    rebase = getattr(system, "rebase", None) if nonlinear else None
 
-    mass = _IterationMatrix(layout)
-    G = None  # the state-dependent inertia at the last level (None: the system has none)
-    if nonlinear:  # G is affine in a at t0: (M + dG/da) a = -(C v + R + G(x, v, 0))
+    def start(x, v, t):
+        """(a, C v + R, G) at a start (x, v, t): a from the balance, G the state-dependent
+        inertia (None: the system has none)."""
+        R, _, _ = system.residual(x, v, t, tangent=False)
+        force = C @ v + R
+        mass = _IterationMatrix(layout)
+        if not nonlinear:
+            mass.update(M)
+            return mass.solve(-force), force, None
+        # G is affine in a: (M + dG/da) a = -(C v + R + G(x, v, 0))
         G0, d_acc, _, _ = system.inertia(x, v, np.zeros_like(v), tangent=True, layout=layout)
         mass.update(M + d_acc)
-        a = mass.solve(-(force_old + G0))
-        G = system.inertia(x, v, a)[0]
-    else:
-        mass.update(M)
-        a = mass.solve(-force_old)
+        a = mass.solve(-(force + G0))
+        return a, force, system.inertia(x, v, a)[0]
+
+    a, force_old, G = start(x, v, t)
     commit = getattr(system, "commit", None) or (lambda t, x, v: None)
     commit(t, x, v)
     yield State(t, 0, x, v, a)
@@ -272,6 +279,12 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             commit(t1, out[0], out[1])
         x, v, a, force_old, G = out
         t = t1
+        turned = rebase(x, v) if rebase is not None else None
+        if turned is not None:  # a body's angles counted from a new frame: restart there
+            x, v = turned
+            a, force_old, G = start(x, v, t1)
+            matrix = _IterationMatrix(layout)
+            halves.clear()
         yield State(t1, step, x, v, a, it, subdivided)
 
 

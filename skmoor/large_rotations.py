@@ -35,6 +35,7 @@ import numpy as np
 
 __all__ = [
     "rate_matrix",
+    "zyx_angles",
     "inertia_load",
     "momenta",
     "momentum_inertia_load",
@@ -66,6 +67,15 @@ def rate_matrix(angles) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     dE_dry = np.array([[-sy * cz, 0.0, 0.0], [-sy * sz, 0.0, 0.0], [-cy, 0.0, 0.0]])
     dE_drz = np.array([[-cy * sz, -cz, 0.0], [cy * cz, -sz, 0.0], [0.0, 0.0, 0.0]])
     return E, dE_dry, dE_drz
+
+
+def zyx_angles(R) -> np.ndarray:
+    """Angles (rx, ry, rz) (rad) with R = Rz(rz) Ry(ry) Rx(rx), ry in [-pi/2, pi/2]; at
+    ry = +-90 deg (only rx -+ rz is defined there) rz = 0."""
+    ry = math.atan2(-R[2, 0], math.hypot(R[0, 0], R[1, 0]))
+    if math.hypot(R[0, 0], R[1, 0]) < 1e-12:
+        return np.array([math.atan2(-R[1, 2], R[1, 1]), ry, 0.0])
+    return np.array([math.atan2(R[2, 1], R[2, 2]), ry, math.atan2(R[1, 0], R[0, 0])])
 
 
 def generalized_load(angles, force, moment) -> np.ndarray:
@@ -183,7 +193,9 @@ def step_start(R0, q0, v0, load0, mass, inertia, arm):
     if abs(math.cos(q0[4])) < 1e-6:
         raise ValueError(f"rotations: the body's ry = {math.degrees(q0[4]):.6g} deg reached "
                          "+-90 deg, the gimbal lock of the angles R = Rz Ry Rx (its x axis "
-                         "vertical): turn the body frame so that its x axis stays off vertical")
+                         "vertical), and its angles were not re-based (System.rebase: a "
+                         "body with terms of its own is not): turn the body frame so that its "
+                         "x axis stays off vertical")
     E0 = rate_matrix(q0[3:])[0]
     p0, l0 = momenta(R0, q0, v0, mass, inertia, arm, np.zeros(3))
     return q0, p0, l0, load0[:3], np.linalg.solve(E0.T, load0[3:])

@@ -339,6 +339,7 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     done = {} if done is None else done
     done["steps"] = done["subdivided"] = 0
     bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=label[:30])
+    system.reset_frames()  # x0 has its angles from the global frame
     try:
         for state in integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
                                scheme=scheme):
@@ -352,6 +353,7 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
         return str(err), done["steps"]
     finally:
         bar.close()
+        system.reset_frames()  # the model as built for what comes next (statics, modes)
     return None, done["steps"]
 
 
@@ -456,7 +458,7 @@ class _Recorder:
         self._system = system = model.system
         self._n_coupled = network.n_coupled_dofs
         self._body_plan = [
-            ("dynamic", system._body_block(self._dynamic[b.name])) if b.kind == "dynamic"
+            ("dynamic", self._dynamic[b.name]) if b.kind == "dynamic"
             else ("coupled", self._coupled[b.name]) if b.kind == "coupled" else ("fixed", None)
             for b in network.bodies]
         index = {b.name: k for k, b in enumerate(network.bodies)}
@@ -482,9 +484,10 @@ class _Recorder:
 
     def _bodies(self, x, y):
         out = np.zeros((len(self._body_plan), 6))
+        poses = self._system.body_pose(x)  # angles from the global frame (re-based bodies)
         for k, (kind, where) in enumerate(self._body_plan):
             if kind != "fixed":
-                out[k] = (x if kind == "dynamic" else y)[where]
+                out[k] = poses[where] if kind == "dynamic" else y[where]
         return out
 
     def _points(self, x, y, bodies):
