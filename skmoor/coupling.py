@@ -160,11 +160,14 @@ class System:
         self._attachment_cache = (None, None, None)
         self._prescribed_cache = (None, None, None)
         self.K_bodies = [b.hydrostatic_stiffness(generalized=True) for b in bodies]
-        self._rigid_masses = [b.mass_matrix() for b in bodies]  # at q = 0, kg / kg m / kg m2
         self.F_bodies0 = [b.static_force() for b in bodies]
         self.K_body = self.K_bodies[0] if bodies else None
         self.weight = lines.weight_load()
         self.M_lines = lines.mass_matrix(lumped=lumped_mass).tocsr()
+        # lumped line-end masses on the bodies (kg; None: consistent, not point masses)
+        self._end_masses = (self.M_lines.diagonal()[self.body_end_dofs[:, 0]]
+                            if lumped_mass and not lines.hermite else None)
+        self._carrying = {}  # exact bodies with their line-end masses (_carrying_body)
         self._free_pattern = None if self.nb else ElementPattern(lines, position=self._position)
         self._committing = []  # terms with a history (commit(t, u, v))
         for term in terms:
@@ -703,8 +706,8 @@ class System:
         return any(body.rotations == "exact" for body in self.bodies)
 
     def inertia(self, x, v, a, tangent=False, layout="sparse", previous=None):
-        """G = Q_inertia - M0 qddot of the 'exact' bodies (N, N m; M0 their rigid mass at
-        q = 0, which M holds), and with ``tangent`` its derivatives (dG/da, dG/dv, dG/dx)
+        """G = Q_inertia - M0 qddot of the 'exact' bodies with their lumped line-end masses
+        (N, N m; M0 their rigid mass at q = 0, which M holds), and with ``tangent`` its derivatives (dG/da, dG/dv, dG/dx)
         in ``layout``; (G, None, None, None) without. Q_inertia is the Newton-Euler load
         at (x, v, a), or with ``previous`` = (x0, v0, a0, G0, h, gamma) (a time step's
         start) its momentum form over the step (:meth:`RigidBody.step_inertia_load`)."""
@@ -715,7 +718,8 @@ class System:
                 continue
             block = self._body_block(k)
             q, qdot, qddot = x[block], v[block], a[block]
-            M0, frame = self._rigid_masses[k], self._frames[k]
+            body, M0 = self._carrying_body(k)
+            frame = self._frames[k]
             if previous is None:
                 G[block] = body.inertia_load(q, qdot, qddot, frame) - M0 @ qddot
             else:
@@ -741,6 +745,29 @@ class System:
                 embedded.append(full)
             return (G, *embedded)
         return (G, *(self._embed_bodies(A) for A in blocks))
+
+    def _carrying_body(self, k):
+        """(body k with the lumped masses of its line ends as point masses fixed on it, its
+        mass matrix M0 at q = 0): the rigid body whose exact inertia :meth:`inertia`
+        takes; M0 is the body's plus the ends' reduction P0^T M P0, which M holds."""
+        if k not in self._carrying:
+            body, rows = self.bodies[k], self._body_rows[k]
+            if self._end_masses is None or not len(rows) or not self._end_masses[rows].any():
+                carrier = body
+            else:
+                masses = self._end_masses[rows]
+                points = body.reference_point + self._r_local0[k]
+                mass = body.mass + masses.sum()
+                center = (body.mass * body.center_of_mass + masses @ points) / mass
+                inertia = body.inertia.copy()  # about the common centre: parallel axes
+                for m, p in zip(np.r_[body.mass, masses], np.vstack([body.center_of_mass, points])):
+                    d = p - center
+                    inertia += m * (d @ d * np.eye(3) - np.outer(d, d))
+                carrier = rigid.RigidBody(mass, center, inertia,
+                                          reference_point=body.reference_point,
+                                          rotations="exact")
+            self._carrying[k] = (carrier, carrier.mass_matrix())
+        return self._carrying[k]
 
     def _velocity_slope(self, Kv_full, x, v, J):
         """(n, 6 nbodies) P^T Kv_full d(udot)/dq: the body ends' velocity J(q) v changes

@@ -138,9 +138,9 @@ def _six(values, kind):
     return (v * 3 if len(v) == 1 else v) + [0.0, 0.0, 0.0]
 
 
-def _deck_body(deck: Deck, body, sea, bed=None) -> Body:
+def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
     """A deck body as a network Body (free -> dynamic; coupled pinned -> dynamic, pinned
-    on 3 coupled DOFs), with the rods fixed on it."""
+    on 3 coupled DOFs), with the rods fixed on it; ``rotations`` of its RigidBody."""
     name = f"body{body.id}"
     position = np.array(body.r6[:3], float)
     attitude = np.radians(np.array(body.r6[3:], float))
@@ -162,7 +162,8 @@ def _deck_body(deck: Deck, body, sea, bed=None) -> Body:
     rigid = None
     if body.mass > 0:
         rigid = RigidBody(body.mass, com, 0.5 * (rotated + rotated.T), reference_point=position,
-                          hydrostatics=hydro, added_mass=added, rho=deck.rho, g=deck.g)
+                          hydrostatics=hydro, added_mass=added, rho=deck.rho, g=deck.g,
+                          rotations=rotations)
     elif hydro is not None or np.any(added):
         raise _fail(deck, body.where, f"BODIES {body.id}: a body of no mass of its own "
                     "with a Volume is not supported")
@@ -231,7 +232,7 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
 
 
 def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
-                 seabed=True) -> tuple[Network, dict]:
+                 seabed=True, rotations="small") -> tuple[Network, dict]:
     """(Network, settings) of a deck (a :class:`~skmoor.deck.Deck` or a path).
 
     motion: fn(t) -> coupled-DOF displacements (see the module docstring), or None.
@@ -240,21 +241,24 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     files, still water without them), which is also what a WaveKin 1 deck's caller
     builds its waves on (``Sea(..., fields=deck_sea(deck).fields)``). hydro: add drag, fluid inertia and added mass
     (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact
-    (on the lines and the rods).
+    (on the lines and the rods). rotations: the free bodies' 'small' or 'exact'
+    (:class:`~skmoor.body.RigidBody`; bodies that turn far, rods excepted).
     settings: the solver's defaults for the deck (Newmark, dtOut as the output interval).
     """
     deck = read_deck(deck) if not isinstance(deck, Deck) else deck
     _check_options(deck)
-    if not deck.g > 0:
+    if deck.g < 0 or (deck.g == 0 and deck.option("WaveKin", 0.0)):
         raise _fail(deck, deck.option_lines.get("g", "?"), f"option g = {deck.g:g}: "
-                    "gravity must be positive (skmoor's lines and bodies need weight)")
+                    "gravity must be positive, or 0 in still water (waves need gravity)")
     if not deck.rho > 0:
         raise _fail(deck, deck.option_lines.get("rho", "?"), f"option rho = {deck.rho:g}: "
                     "the water density must be positive (a deck in air is not supported)")
     bathymetry = deck_bathymetry(deck)
     sea = deck_sea(deck, bathymetry) if sea is None else sea
     bed = _rod_bed(deck) if seabed else None
-    bodies = [_deck_body(deck, b, sea, bed) for b in deck.bodies]
+    if rotations not in ("small", "exact"):
+        raise ValueError(f"rotations: {rotations!r} is not 'small' or 'exact'")
+    bodies = [_deck_body(deck, b, sea, bed, rotations) for b in deck.bodies]
     points = []
     for rod in deck.rods:
         ends, body = _deck_rod(deck, rod, bodies[:len(deck.bodies)], sea, bed)

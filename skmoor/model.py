@@ -97,10 +97,12 @@ class Model:
         return term
 
 
-def build(source, *, motion=None, sea=None) -> Model:
+def build(source, *, motion=None, sea=None, rotations=None) -> Model:
     """The model of a Case, a Deck or a path to either (``.toml``: a case; else a deck).
     motion: fn(t) -> coupled-DOF displacements (see :mod:`skmoor.network`); sea: a
-    :class:`~skmoor.waves.Sea` for a deck (default: still water of its depth)."""
+    :class:`~skmoor.waves.Sea` for a deck (default: still water of its depth);
+    rotations: 'small' (default) or 'exact' for a deck's free bodies (a case sets it per
+    body, ``rotations`` in ``[body]`` / ``[[bodies]]``)."""
     from .case import Case
     from .deck import Deck, read_deck
 
@@ -112,7 +114,8 @@ def build(source, *, motion=None, sea=None) -> Model:
         source = Case.from_toml(path) if path.suffix == ".toml" else read_deck(path)
     if isinstance(source, Deck):
         from .deck_model import default_time_step, deck_network
-        network, settings = deck_network(source, motion=motion, sea=sea)
+        network, settings = deck_network(source, motion=motion, sea=sea,
+                                         rotations=rotations or "small")
         try:
             model = from_network(network, name=source.source, settings=settings,
                                  source=source, notes=list(source.notes))
@@ -123,6 +126,9 @@ def build(source, *, motion=None, sea=None) -> Model:
         return model
     if not isinstance(source, Case):
         raise ValueError(f"build: expected a Case, a Deck or a path, got {type(source).__name__}")
+    if rotations is not None:
+        raise ValueError("build rotations: a case sets its bodies' rotations in the case "
+                         "file (rotations in [body] or [[bodies]])")
     if "points" in source.data:
         network = explicit_network(source)
         if motion is not None:

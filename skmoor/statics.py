@@ -40,7 +40,10 @@ def newton(residual, x0, *, xtol=1e-9, maxiter=60, shift=None, shift_matrix=None
         A = K + shift * shift_matrix if shift > 0 else K
         with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore", spla.MatrixRankWarning)
-            dx = spla.spsolve(A.tocsc(), -R)
+            try:
+                dx = spla.spsolve(A.tocsc(), -R)
+            except RuntimeError:  # SuperLU: "failed to factorize" an exactly singular A
+                dx = np.full_like(R, np.nan)
         if not np.all(np.isfinite(dx)):
             raise ConvergenceError(f"{where}: singular tangent at iteration {it}; is a line "
                                    "slack and weightless, or a DOF unrestrained? (a static "

@@ -237,7 +237,9 @@ class Sea:
     def __init__(self, depth, rho=1025.0, g=G, current=None, waves=(), fields=()):
         check_positive("Sea depth", depth)
         check_positive("Sea rho", rho)
-        check_positive("Sea g", g)
+        check_finite("Sea g", g)
+        if g < 0:
+            raise ValueError(f"Sea g: must be >= 0 (0: no gravity, no waves), got {g!r}")
         self.depth, self.rho, self.g = float(depth), float(rho), float(g)
         if current is not None and not isinstance(current, Current):
             raise ValueError(f"Sea current: expected a Current or None, "
