@@ -42,6 +42,7 @@ __all__ = [
     "Hydrostatics",
     "box_hydrostatics",
     "hull_hydrostatics",
+    "hull_triangles",
     "RigidBody",
 ]
 
@@ -397,6 +398,14 @@ def hull_hydrostatics(mesh, reference_point=(0.0, 0.0, 0.0),
     )
 
 
+def hull_triangles(mesh, reference_point, offset=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """The closed hull surface moved by ``offset`` as outward triangles (n, 3, 3) relative
+    to ``reference_point`` (m): :attr:`RigidBody.hull`."""
+    hull = _hull_surface(mesh, _finite_array("offset", offset, (3,)))
+    points = np.asarray(hull.points, float)[hull.faces.reshape(-1, 4)[:, 1:]]
+    return points - _finite_array("reference_point", reference_point, (3,))
+
+
 # --------------------------------------------------------------------------- rigid body
 
 _NEEDS_HULL = ("rotations: 'exact' needs the hull geometry of a surface-piercing body "
@@ -514,12 +523,10 @@ class RigidBody:
         """
         ref = _finite_array("reference_point", center_of_mass if reference_point is None
                             else reference_point, (3,))
-        hull = _hull_surface(mesh, _finite_array("offset", offset, (3,)))
-        triangles = np.asarray(hull.points, float)[hull.faces.reshape(-1, 4)[:, 1:]] - ref
         return cls(mass=mass, center_of_mass=center_of_mass, inertia=inertia,
                    reference_point=ref,
                    hydrostatics=hull_hydrostatics(mesh, reference_point=ref, offset=offset),
-                   hull=triangles, **kwargs)
+                   hull=hull_triangles(mesh, ref, offset), **kwargs)
 
     def mass_matrix(self) -> np.ndarray:
         """Rigid-body mass matrix (6, 6) about the reference point (small rotations)."""
@@ -641,18 +648,9 @@ class RigidBody:
             self._start_cache = cached
         return cached[1]
 
-    def step_inertia_tangents(self, q1, qdot1, q0, qdot0, load0, h, gamma, frame=None,
-                              step=1e-6):
-        """Derivatives (6, 6 each) of :meth:`step_inertia_load` in qdot1 (exact central
-        differences: it is linear in qdot1) and in q1 (central differences of ``step``)."""
-        def load(q, qdot):
-            return self.step_inertia_load(q, qdot, q0, qdot0, load0, h, gamma, frame)
-
-        d_rate, d_pose = np.zeros((6, 6)), np.zeros((6, 6))
-        for k in range(6):
-            e = np.zeros(6)
-            e[k] = 1.0
-            d_rate[:, k] = (load(q1, qdot1 + e) - load(q1, qdot1 - e)) / 2
-            e[k] = step
-            d_pose[:, k] = (load(q1 + e, qdot1) - load(q1 - e, qdot1)) / (2 * step)
-        return d_rate, d_pose
+    def step_inertia_tangents(self, q1, qdot1, q0, qdot0, load0, h, gamma, frame=None):
+        """Derivatives (6, 6 each) of :meth:`step_inertia_load` in qdot1 and in q1
+        (:func:`skmoor.large_rotations.momentum_inertia_tangents`)."""
+        return exact.momentum_inertia_tangents(
+            self.rotation(q1, frame), q1, qdot1, self._step_start(q0, qdot0, load0, frame),
+            h, gamma, self.mass, self.inertia, self.center_of_mass - self.reference_point)

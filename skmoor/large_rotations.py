@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 __all__ = [
     "rate_matrix",
@@ -39,6 +40,7 @@ __all__ = [
     "inertia_load",
     "momenta",
     "momentum_inertia_load",
+    "momentum_inertia_tangents",
     "step_start",
     "exact_mass_matrix",
     "submerged_volume",
@@ -53,15 +55,23 @@ def _skew(v) -> np.ndarray:
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
+@njit(cache=True)
 def cross3(a, b) -> np.ndarray:
     """a x b of two 3-vectors (np.cross costs ten times more on one pair)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                      a[0] * b[1] - a[1] * b[0]])
 
 
+@njit(cache=True)
+def _cross_matrix(v) -> np.ndarray:
+    """[v]x: [v]x @ a = v x a (compiled)."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+@njit(cache=True)
 def rate_matrix(angles) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """E (omega = E angle_rates, rad/s) of R = Rz Ry Rx and its slopes dE/dry, dE/drz."""
-    _, ry, rz = angles
+    ry, rz = angles[1], angles[2]
     cy, sy, cz, sz = math.cos(ry), math.sin(ry), math.cos(rz), math.sin(rz)
     E = np.array([[cy * cz, -sz, 0.0], [cy * sz, cz, 0.0], [-sy, 0.0, 1.0]])
     dE_dry = np.array([[-sy * cz, 0.0, 0.0], [-sy * sz, 0.0, 0.0], [-cy, 0.0, 0.0]])
@@ -134,50 +144,65 @@ def box_triangles(size, center) -> np.ndarray:
     return corners[np.array(tri)]
 
 
-def _clip_below_waterline(tri):
-    """The parts with z <= 0 of triangles (n, 3, 3), as triangles of the same orientation."""
-    below = tri[:, :, 2] <= 0.0
-    count = below.sum(axis=1)
-    keep = [tri[count == 3]]
-    for n_below in (1, 2):  # the odd vertex: the one below (1) or the one above (2)
-        sel = tri[count == n_below]
-        if not len(sel):
-            continue
-        odd_is_below = n_below == 1
-        flags = below[count == n_below]
-        odd = np.argmax(flags if odd_is_below else ~flags, axis=1)
-        order = (odd[:, None] + np.arange(3)) % 3  # roll the odd vertex to position 0
-        v = np.take_along_axis(sel, order[:, :, None], axis=1)
-        p0, p1, p2 = v[:, 0], v[:, 1], v[:, 2]
-        cut01 = p0 + (p0[:, 2] / (p0[:, 2] - p1[:, 2]))[:, None] * (p1 - p0)
-        cut02 = p0 + (p0[:, 2] / (p0[:, 2] - p2[:, 2]))[:, None] * (p2 - p0)
-        if odd_is_below:
-            keep.append(np.stack([p0, cut01, cut02], axis=1))
-        else:
-            keep.append(np.stack([cut01, p1, p2], axis=1))
-            keep.append(np.stack([cut01, p2, cut02], axis=1))
-    return np.concatenate(keep)
+@njit(cache=True)
+def _wet_moments(a, b, c, out):
+    """Add int (1, x, y, z/2) z n_z dS over the triangle (a, b, c) (exact for linear
+    integrands: sum over faces of int f g n_z dS = area_z (sum f_i g_i + sum f sum g) / 12)
+    to out (4,)."""
+    area_z = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+    z = (a[2], b[2], c[2])
+    z_sum = z[0] + z[1] + z[2]
+    out[0] += area_z * z_sum / 3.0
+    for k in range(2):
+        f = (a[k], b[k], c[k])
+        out[1 + k] += area_z * (f[0] * z[0] + f[1] * z[1] + f[2] * z[2]
+                                + (f[0] + f[1] + f[2]) * z_sum) / 12.0
+    out[3] += area_z * (z[0] * z[0] + z[1] * z[1] + z[2] * z[2] + z_sum * z_sum) / 24.0
+
+
+@njit(cache=True)
+def _cut(p, q):
+    """The point at z = 0 on the segment p-q (p, q on either side of it)."""
+    return p + (p[2] / (p[2] - q[2])) * (q - p)
+
+
+@njit(cache=True)
+def _wet_integrals(tri):
+    """(V, V x_B, V y_B, V z_B) of the part with z <= 0 of the outward triangles
+    (n, 3, 3): each triangle clipped at z = 0 (as triangles of its orientation)."""
+    out = np.zeros(4)
+    for t in range(tri.shape[0]):
+        below = 0
+        for k in range(3):
+            if tri[t, k, 2] <= 0.0:
+                below += 1
+        if below == 3:
+            _wet_moments(tri[t, 0], tri[t, 1], tri[t, 2], out)
+        elif below in (1, 2):  # roll the odd vertex (alone on its side) to position 0
+            odd = 0
+            for k in range(3):
+                if (tri[t, k, 2] <= 0.0) == (below == 1):
+                    odd = k
+            p0, p1, p2 = tri[t, odd], tri[t, (odd + 1) % 3], tri[t, (odd + 2) % 3]
+            cut01, cut02 = _cut(p0, p1), _cut(p0, p2)
+            if below == 1:
+                _wet_moments(p0, cut01, cut02, out)
+            else:
+                _wet_moments(cut01, p1, p2, out)
+                _wet_moments(cut01, p2, cut02, out)
+    return out
 
 
 def submerged_volume(tri) -> tuple[float, np.ndarray]:
     """Volume (m3) and centroid (3,) of the part below z = 0 of a closed hull given as
     outward triangles (n, 3, 3) in global coordinates (m); (0, zeros) when dry."""
-    wet = _clip_below_waterline(tri)
-    if not len(wet):
+    moments = _wet_integrals(np.ascontiguousarray(tri, dtype=float))
+    if moments[0] <= 0.0:
         return 0.0, np.zeros(3)
-    area_z = 0.5 * np.cross(wet[:, 1] - wet[:, 0], wet[:, 2] - wet[:, 0])[:, 2]  # n_z dS
-    x, y, z = wet[..., 0], wet[..., 1], wet[..., 2]
-
-    def integral(a, b):
-        """Exact sum over faces of int a b n_z dS for a, b linear on each face."""
-        return area_z @ (np.einsum("ij,ij->i", a, b) + a.sum(1) * b.sum(1)) / 12.0
-
-    volume = integral(z, np.ones_like(z))
-    if volume <= 0.0:
-        return 0.0, np.zeros(3)
-    return volume, np.array([integral(x, z), integral(y, z), integral(z, z) / 2.0]) / volume
+    return moments[0], moments[1:] / moments[0]
 
 
+@njit(cache=True)
 def momenta(R, q, qdot, mass, inertia, arm, offset) -> tuple[np.ndarray, np.ndarray]:
     """Linear momentum P = m v_G (N s) and angular momentum L = (x_G - O) x P + R I_G R^T
     omega (N m s) about the fixed point O = x_ref - ``offset``."""
@@ -210,10 +235,62 @@ def momentum_inertia_load(R1, q1, v1, start, h, gamma, mass, inertia, arm) -> np
 
     and M1 = Ldot1 - (x_ref1 - x_ref0) x Pdot1. Without loads P and L stay constant exactly.
     """
-    q0, p0, l0, pdot0, mdot0 = start
+    return _momentum_load(R1, q1, v1, *start, h, gamma, float(mass), inertia, arm)[0]
+
+
+def momentum_inertia_tangents(R1, q1, v1, start, h, gamma, mass, inertia, arm):
+    """Derivatives (6, 6 each) of :func:`momentum_inertia_load` in v1 and in q1 (exact)."""
+    return _momentum_tangents(R1, q1, v1, *start, h, gamma, float(mass), inertia, arm)
+
+
+@njit(cache=True)
+def _momentum_load(R1, q1, v1, q0, p0, l0, pdot0, mdot0, h, gamma, mass, inertia, arm):
+    """(Q1, Pdot1, Ldot1 - s x Pdot1, P1) of :func:`momentum_inertia_load`, s = x_ref1 -
+    x_ref0 (compiled)."""
     shift = q1[:3] - q0[:3]
     p1, l1 = momenta(R1, q1, v1, mass, inertia, arm, shift)
     pdot1 = (p1 - p0 - h * (1 - gamma) * pdot0) / (gamma * h)
-    ldot1 = (l1 - l0 - h * (1 - gamma) * mdot0) / (gamma * h)
-    E1 = rate_matrix(q1[3:])[0]
-    return np.concatenate([pdot1, E1.T @ (ldot1 - cross3(shift, pdot1))])
+    moment = (l1 - l0 - h * (1 - gamma) * mdot0) / (gamma * h) - cross3(shift, pdot1)
+    out = np.empty(6)
+    out[:3] = pdot1
+    out[3:] = rate_matrix(q1[3:])[0].T @ moment
+    return out, pdot1, moment, p1
+
+
+@njit(cache=True)
+def _momentum_tangents(R1, q1, v1, q0, p0, l0, pdot0, mdot0, h, gamma, mass, inertia, arm):
+    """dQ1/dv1 and dQ1/dq1 of :func:`_momentum_load` by the chain rule, with dR/dphi_a =
+    [E_a]x R (E_a the a-th column of E: the angular velocity of a unit rate of phi_a)."""
+    _, pdot1, moment, p1 = _momentum_load(R1, q1, v1, q0, p0, l0, pdot0, mdot0, h, gamma,
+                                          mass, inertia, arm)
+    E, dE_dry, dE_drz = rate_matrix(q1[3:])
+    rates = v1[3:]
+    omega = E @ rates
+    rho = R1 @ arm
+    J = R1 @ inertia @ R1.T  # the central inertia at the pose
+    s = q1[:3] - q0[:3]
+    c = 1.0 / (gamma * h)
+    # d/dv1: P1 = m (v + omega x rho), L1 = (s + rho) x P1 + J omega
+    dp = np.zeros((3, 6))
+    dp[:, :3] = mass * np.eye(3)
+    dp[:, 3:] = -mass * _cross_matrix(rho) @ E
+    dl = _cross_matrix(s + rho) @ dp
+    dl[:, 3:] += J @ E
+    d_rate = np.zeros((6, 6))
+    d_rate[:3] = c * dp
+    d_rate[3:] = E.T @ (c * (dl - _cross_matrix(s) @ dp))
+    # d/dq1: the shift s (L1 = (s + rho) x P1, moment - s x Pdot1) and the angles
+    d_pose = np.zeros((6, 6))
+    d_pose[3:, :3] = E.T @ (_cross_matrix(pdot1) - c * _cross_matrix(p1))
+    slopes = (np.zeros((3, 3)), dE_dry, dE_drz)
+    for a in range(3):
+        Ea = E[:, a]
+        d_omega = slopes[a] @ rates
+        d_rho = cross3(Ea, rho)
+        d_p = mass * (cross3(d_omega, rho) + cross3(omega, d_rho))
+        d_J_omega = cross3(Ea, J @ omega) - J @ cross3(Ea, omega)
+        d_l = cross3(d_rho, p1) + cross3(s + rho, d_p) + d_J_omega + J @ d_omega
+        d_pose[:3, 3 + a] = c * d_p
+        d_pose[3:, 3 + a] = (slopes[a].T @ moment
+                             + E.T @ (c * d_l - cross3(s, c * d_p)))
+    return d_rate, d_pose

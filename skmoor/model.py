@@ -17,7 +17,8 @@ import numpy as np
 from .roots import brent as brentq
 
 from . import environment
-from .body import RigidBody, hull_hydrostatics, uniform_box_inertia
+from .body import RigidBody, hull_hydrostatics, hull_triangles, uniform_box_inertia
+from .large_rotations import box_triangles
 from .catenary import solve_catenary
 from .checks import check_network
 from .line import LineType
@@ -290,15 +291,18 @@ def equilibrium_draft(case) -> float:
 def paper_body(case, draft) -> RigidBody:
     """The case's rigid body floating at ``draft``: the box, or the hull mesh it names."""
     spec, rho, g = case.body, case.water["density"], case.water["gravity"]
+    rotations = spec.get("rotations", "small")
     if spec.get("hull") is None:
         length, width, height = spec["size"]
-        return RigidBody.box(length, width, height, spec["mass"], draft, rho=rho, g=g)
+        return RigidBody.box(length, width, height, spec["mass"], draft, rho=rho, g=g,
+                             rotations=rotations)
     com = _com(case, draft)
     inertia = (np.diag(spec["inertia"]) if "inertia" in spec
                else uniform_box_inertia(spec["mass"], *spec["size"]))
-    return RigidBody(spec["mass"], com, inertia, hydrostatics=_hydrostatics(case, draft, com),
-                     rho=rho, g=g, box_size=np.asarray(spec["size"], float)
-                     if "size" in spec else None)
+    return RigidBody.from_hull(_hull_path(case), spec["mass"], com, inertia, offset=com,
+                               rho=rho, g=g, rotations=rotations,
+                               box_size=np.asarray(spec["size"], float)
+                               if "size" in spec else None)
 
 
 def _paper_layout(case, motion=None) -> Model:
@@ -404,7 +408,7 @@ def _explicit_body(case, spec, rho, g, sea) -> Body:
     com = position + np.asarray(spec.get("center_of_mass", [0.0, 0.0, 0.0]), float)
     inertia = np.asarray(spec["inertia"], float)
     inertia = np.diag(inertia) if inertia.shape == (3,) else inertia
-    box = None
+    box = hull = None
     if "size" in spec:
         from .body import box_hydrostatics
         length, width, height = spec["size"]
@@ -412,6 +416,7 @@ def _explicit_body(case, spec, rho, g, sea) -> Body:
         hydro = box_hydrostatics(length, width, height, draft, reference_point=position,
                                  center_xy=position[:2])
         box = np.asarray(spec["size"], float)
+        hull = box_triangles(box, np.zeros(3))  # centred on the reference point
     elif "hull" in spec:
         path = Path(spec["hull"])
         if not path.is_absolute() and case.directory is not None:
@@ -419,6 +424,7 @@ def _explicit_body(case, spec, rho, g, sea) -> Body:
         if not path.is_file():
             raise ValueError(f"bodies {name}.hull: no such mesh file {path}")
         hydro = hull_hydrostatics(path, reference_point=position, offset=position)
+        hull = hull_triangles(path, position, offset=position)
     elif spec.get("volume", 0):
         from .body import Hydrostatics
         cob = position + np.asarray(spec.get("center_of_buoyancy", [0.0, 0.0, 0.0]), float)
@@ -431,7 +437,8 @@ def _explicit_body(case, spec, rho, g, sea) -> Body:
     damping = None if damping is None else (np.diag(damping) if np.shape(damping) == (6,)
                                             else damping)
     rigid = RigidBody(mass, com, inertia, reference_point=position, hydrostatics=hydro,
-                      added_mass=added, linear_damping=damping, rho=rho, g=g, box_size=box)
+                      added_mass=added, linear_damping=damping, rho=rho, g=g, box_size=box,
+                      rotations=spec.get("rotations", "small"), hull=hull)
     terms = environment.body_terms({"water": case.water, "body": spec}, rigid, sea,
                                    case.directory)
     return Body(name, "dynamic", position, rigid=rigid, terms=terms, rotation="skmoor")

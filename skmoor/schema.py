@@ -308,6 +308,7 @@ OptElements = Annotated[Optional[int], _integer(
     1, MAX_ELEMENTS_PER_LINE, " per line (the model's matrices and recorded time series "
     "would not fit in memory)", none=True)]
 StrainLaw = Annotated[str, _choice("paper", "engineering")]
+Rotations = Annotated[str, _choice("small", "exact")]  # skmoor.body.RigidBody.rotations
 OptFlag = Annotated[Optional[bool], PlainValidator(_optional_flag)]
 
 
@@ -462,6 +463,7 @@ class ParametricBody(_Table):
     drag_coefficients: DragVector = None
     drag_areas: DragVector = None
     potential_flow: PotentialFlowSpec = None
+    rotations: Rotations = "small"
 
     @classmethod
     def _hint(cls, key, data):
@@ -789,6 +791,7 @@ class BodySpec(_Table):
     drag_coefficients: DragVector = None
     drag_areas: DragVector = None
     potential_flow: PotentialFlowSpec = None
+    rotations: Rotations = "small"
 
     @model_validator(mode="after")
     def _complete(self):
@@ -800,9 +803,15 @@ class BodySpec(_Table):
                               "3x3 matrix about its centre of mass, kg m2")):
                 if key not in self.model_fields_set:
                     _fail(f"missing (a dynamic body needs {what})", key)
+            if self.rotations == "exact" and self.size is None and self.hull is None \
+                    and not self.volume:
+                _fail("'exact' needs the body's buoyancy geometry: give size, hull or volume "
+                      "(none: a body without buoyancy, for 'small' only)", "rotations")
             if self.attitude is not None and any(self.attitude):
                 _fail("a dynamic body starts upright: give [0, 0, 0] (and its points in the "
                       "rotated frame)", "attitude")
+        elif "rotations" in self.model_fields_set:
+            _fail(f"only for a dynamic body (this one is {self.kind})", "rotations")
         if "center_of_buoyancy" in self.model_fields_set and "volume" not in self.model_fields_set:
             _fail("only with volume (a fully submerged body)", "center_of_buoyancy")
         return self
