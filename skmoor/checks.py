@@ -49,9 +49,11 @@ def check_network(network) -> list:
     depth = float(network.depth)
     for p in network.points:
         z = where[p.name][2]
-        if z < -depth - BED_TOLERANCE:
+        bed = (-depth if network.seabed is None  # the bed under it: a slope, a bathymetry
+               else float(network.seabed.height(where[p.name][:2])))
+        if z < bed - BED_TOLERANCE:
             raise ValueError(f"point {p.name}: z = {z:.6g} m is below the sea bed "
-                             f"(depth {depth:g} m)")
+                             f"(z = {bed:.6g} m there, depth {depth:g} m)")
         if p.kind == "fixed" and z > 0.0:
             warnings.append(f"point {p.name}: a fixed point (an anchor?) {z:.6g} m above "
                             "the water surface (z = 0)")

@@ -32,12 +32,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from .hydro import body_hydrodynamics
-from .seabed import Seabed
+from .seabed import Bathymetry, Seabed
 from .waves import AiryWave, Current, JonswapWave, Sea
 
 LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t")
 SEABED_KEYS = ("stiffness", "damping", "mu_axial", "mu_lateral", "slope_deg",
                "slope_heading_deg", "friction_velocity", "damping_onset")
+BATHYMETRY_KEYS = ("file", "x", "y", "heights")
 
 
 def _named(section, build):
@@ -82,17 +83,38 @@ def sea(data: dict) -> Sea | None:
                                       current=current, waves=waves))
 
 
-def seabed(data: dict) -> Seabed | None:
-    """The case's :class:`~skmoor.seabed.Seabed` at the water depth (None without [seabed])."""
+def seabed(data: dict, directory=None) -> Seabed | None:
+    """The case's :class:`~skmoor.seabed.Seabed` at the water depth (None without [seabed]),
+    on its bathymetry when it gives one (``file``: a MoorDyn seafloor file, relative to
+    ``directory``; or the grid ``x``, ``y``, ``heights``)."""
     spec = data.get("seabed")
     if spec is None:
         return None
     if not isinstance(spec, dict):
         raise ValueError(f"seabed: expected a table, got {spec!r}")
-    unknown = set(spec) - set(SEABED_KEYS)
+    unknown = set(spec) - set(SEABED_KEYS) - set(BATHYMETRY_KEYS)
     if unknown:
-        raise ValueError(f"seabed: unknown keys {sorted(unknown)}, use {list(SEABED_KEYS)}")
-    return _named("seabed", lambda: Seabed(float(data["water"]["depth"]), **spec))
+        raise ValueError(f"seabed: unknown keys {sorted(unknown)}, use "
+                         f"{list(SEABED_KEYS + BATHYMETRY_KEYS)}")
+    plane = {k: v for k, v in spec.items() if k in SEABED_KEYS}
+    return _named("seabed", lambda: Seabed(float(data["water"]["depth"]),
+                                           bathymetry=_bathymetry(spec, directory), **plane))
+
+
+def _bathymetry(spec: dict, directory) -> Bathymetry | None:
+    """The [seabed] table's bathymetry, or None (a plane bed)."""
+    if "file" in spec:
+        from .sea_files import read_seafloor
+
+        path = Path(spec["file"])
+        if not path.is_absolute() and directory is not None:
+            path = Path(directory) / path
+        if not path.is_file():
+            raise ValueError(f"file: no such seafloor file {path}")
+        return read_seafloor(path)
+    if "heights" in spec:
+        return Bathymetry(spec["x"], spec["y"], spec["heights"], source="bathymetry grid")
+    return None
 
 
 def has_line_hydrodynamics(data: dict) -> bool:

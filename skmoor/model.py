@@ -305,6 +305,16 @@ def paper_body(case, draft) -> RigidBody:
                                if "size" in spec else None)
 
 
+def _flat_seabed(case):
+    """The parametric layout's sea bed: a plane (its anchors and reference catenaries
+    sit on the flat bed at the water depth)."""
+    if any(key in (case.data.get("seabed") or {}) for key in environment.BATHYMETRY_KEYS):
+        raise ValueError("seabed: a bathymetry (file, or x, y, heights) needs the network "
+                         "layout ([[points]] with the anchors where the bed is); the "
+                         "parametric layout's lines end on a plane bed at the water depth")
+    return environment.seabed(case.data)
+
+
 def _paper_layout(case, motion=None) -> Model:
     body_data = case.body
     draft = body_data.get("draft", "equilibrium")
@@ -324,7 +334,7 @@ def _paper_layout(case, motion=None) -> Model:
                                  int(spec.n_elements)))
     network = Network(points, lines, [body], depth=case.water["depth"],
                       rho=case.water["density"], g=case.water["gravity"],
-                      seabed=environment.seabed(case.data), sea=water_sea,
+                      seabed=_flat_seabed(case), sea=water_sea,
                       hydro=environment.has_line_hydrodynamics(case.data),
                       strain_law=case.strain_law, motion=motion)
     warned = _checked(network)
@@ -380,7 +390,7 @@ def explicit_network(case) -> Network:
                          float(ln["length"]), int(ln.get("n_elements", shared.get("n_elements", 20))))
              for ln in data["lines"]]
     return Network(points, lines, bodies, depth=depth, rho=rho, g=g,
-                   seabed=environment.seabed(data), sea=water_sea,
+                   seabed=environment.seabed(data, case.directory), sea=water_sea,
                    hydro=environment.has_line_hydrodynamics(data),
                    strain_law=_network_law(shared))
 

@@ -624,8 +624,32 @@ class SeaSpec(_Table):
         return self
 
 
+def _coordinates(v):
+    """A list of at least one finite number (grid coordinates, m)."""
+    items = _as_list(v)
+    if not items:
+        _fail(f"need a list of coordinates (m), got {_short(v)}")
+    return _check_vector(v, (len(items),), "a list of coordinates (m)")
+
+
+def _height_rows(v):
+    """Rows of finite heights (m): heights[i][j] at (x[i], y[j])."""
+    rows = _as_list(v)
+    if not rows or any(_as_list(r) is None for r in rows):
+        _fail(f"need rows of bed heights (m, z up): heights[i][j] at (x[i], y[j]), "
+              f"got {_short(v)}")
+    for i, row in enumerate(rows):
+        _check_vector(row, (len(_as_list(row)),), "a row of heights (m)", path=(i,))
+    return v
+
+
+_GRID = ("x", "y", "heights")
+
+
 class SeabedSpec(_Table):
-    """Contact with the bed at the water depth (see :class:`skmoor.seabed.Seabed`)."""
+    """Contact with the bed at the water depth (see :class:`skmoor.seabed.Seabed`): a
+    plane (slope_deg towards slope_heading_deg), or a bathymetry (the network layout):
+    ``file`` (a MoorDyn seafloor file) or the grid ``x``, ``y``, ``heights``."""
 
     stiffness: OptPositive = None
     damping: OptNonNegative = None
@@ -635,6 +659,23 @@ class SeabedSpec(_Table):
     slope_heading_deg: Number = None
     friction_velocity: Positive = None
     damping_onset: OptNonNegative = None
+    file: Name = None
+    x: Annotated[list, PlainValidator(_coordinates)] = None
+    y: Annotated[list, PlainValidator(_coordinates)] = None
+    heights: Annotated[list, PlainValidator(_height_rows)] = None
+
+    @model_validator(mode="after")
+    def _bathymetry(self):
+        grid = [k for k in _GRID if k in self.model_fields_set]
+        if grid and "file" in self.model_fields_set:
+            _fail("give a bathymetry file or the grid x, y, heights, not both", grid[0])
+        if grid and len(grid) < 3:
+            missing = next(k for k in _GRID if k not in grid)
+            _fail("missing (a bathymetry grid needs x, y and heights)", missing)
+        if (grid or "file" in self.model_fields_set) and self.slope_deg:
+            _fail("give a slope or a bathymetry (file, or x, y, heights), not both",
+                  "slope_deg")
+        return self
 
 
 def _unique(entries, section) -> dict:
