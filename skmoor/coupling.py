@@ -637,7 +637,8 @@ class System:
             block = self._body_block(k)
             q, qdot = x[block], v[block]
             if body.rotations == "exact":  # at the pose; (1 - load_factor) F0 as K q - lf F0
-                R[block] -= body.restoring_load(q, self._frames[k]) - (1 - load_factor) * self.F_bodies0[k]
+                R[block] -= (body.restoring_load(q, self._frames[k])
+                             - (1 - load_factor) * self.F_bodies0[k])
             else:
                 R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
             R[block] += body.linear_damping @ qdot
@@ -707,8 +708,8 @@ class System:
 
     def inertia(self, x, v, a, tangent=False, layout="sparse", previous=None):
         """G = Q_inertia - M0 qddot of the 'exact' bodies with their lumped line-end masses
-        (N, N m; M0 their rigid mass at q = 0, which M holds), and with ``tangent`` its derivatives (dG/da, dG/dv, dG/dx)
-        in ``layout``; (G, None, None, None) without. Q_inertia is the Newton-Euler load
+        (N, N m; M0 their rigid mass at q = 0, which M holds), and with ``tangent`` its
+        derivatives (dG/da, dG/dv, dG/dx) in ``layout``; (G, None, None, None) without. Q_inertia is the Newton-Euler load
         at (x, v, a), or with ``previous`` = (x0, v0, a0, G0, h, gamma) (a time step's
         start) its momentum form over the step (:meth:`RigidBody.step_inertia_load`)."""
         G = np.zeros(self.n)
@@ -760,7 +761,8 @@ class System:
                 mass = body.mass + masses.sum()
                 center = (body.mass * body.center_of_mass + masses @ points) / mass
                 inertia = body.inertia.copy()  # about the common centre: parallel axes
-                for m, p in zip(np.r_[body.mass, masses], np.vstack([body.center_of_mass, points])):
+                for m, p in zip(np.r_[body.mass, masses],
+                                np.vstack([body.center_of_mass, points])):
                     d = p - center
                     inertia += m * (d @ d * np.eye(3) - np.outer(d, d))
                 carrier = rigid.RigidBody(mass, center, inertia,

@@ -75,11 +75,11 @@ def test_bathymetry_of_a_plane_is_the_sloped_plane_bed(tmp_path):
 
 def test_bathymetry_keys_are_validated():
     for seabed, message in (
-            (dict(file="bed.dat", x=X, y=Y, heights=HEIGHTS), "seabed.x: give a bathymetry "
-             "file or the grid x, y, heights, not both"),
+            (dict(file="bed.dat", x=X, y=Y, heights=HEIGHTS),
+             "seabed.x: give a bathymetry file or the grid x, y, heights, not both"),
             (dict(x=X, y=Y), "seabed.heights: missing"),
-            (dict(x=X, y=Y, heights=HEIGHTS, slope_deg=2.0), "seabed.slope_deg: give a slope "
-             "or a bathymetry"),
+            (dict(x=X, y=Y, heights=HEIGHTS, slope_deg=2.0),
+             "seabed.slope_deg: give a slope or a bathymetry"),
             (dict(x=X, y=Y, heights="deep"), "seabed.heights: need rows of bed heights")):
         with pytest.raises(ValueError, match=message.replace(".", r"\.").replace("(", r"\(")
                            .replace(")", r"\)")):

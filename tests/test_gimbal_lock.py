@@ -2,7 +2,6 @@
 re-based on the way (System.rebase), against the invariants of a free rigid body and the
 closed-form motion of a torque-free symmetric top."""
 import numpy as np
-import pytest
 from scipy.spatial.transform import Rotation
 
 from skmoor.body import RigidBody
@@ -46,7 +45,7 @@ def test_free_spin_about_a_horizontal_axis_through_the_lock():
     period = 2 * np.pi / np.linalg.norm(omega0)
     errors = []
     for steps in (40, 80):
-        t, R, omega = spin(ASYMMETRIC, omega0, period / steps, 2 * period)
+        _, R, omega = spin(ASYMMETRIC, omega0, period / steps, 2 * period)
         spatial = R @ ASYMMETRIC @ R.transpose(0, 2, 1)
         momentum = np.einsum("nij,nj->ni", spatial, omega)
         energy = 0.5 * np.einsum("ni,ni->n", omega, momentum)
