@@ -49,7 +49,7 @@ def cmd_run(args) -> int:
     source = _source(args.case)
     settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
                 if getattr(args, k) is not None}
-    model = build(source, motion=_motion(args, source))
+    model = build(source, motion=_motion(args, source), rotations=args.rotations)
     results = simulate(model, progress=not args.quiet, out=out, **settings)
     info = summary(results)
     _plots(results, out)
@@ -157,6 +157,9 @@ def parser() -> argparse.ArgumentParser:
                      help="deck only: motion of the coupled bodies and points, a table: time "
                      "(s), then their displacements in MoorDyn's coupled-DOF order (6 per "
                      "coupled body: m, m, m, rad, rad, rad; then 3 per coupled point, m)")
+    run.add_argument("--rotations", choices=("small", "exact"),
+                     help="deck only: the free bodies' rotations, 'exact' for bodies that "
+                     "turn far (default: small; a case file sets it per body)")
     run.set_defaults(func=cmd_run)
 
     sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",

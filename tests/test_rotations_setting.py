@@ -10,6 +10,7 @@ import pytest
 
 import skmoor
 from skmoor.case import Case, paper_case
+from skmoor.cli import main, parser
 from skmoor.schema import validate_case
 
 from test_schema import NETWORK_CASE
@@ -70,3 +71,13 @@ def test_deck_bodies_take_rotations_from_build():
         skmoor.build(deck, rotations="large")
     with pytest.raises(ValueError, match="build rotations: a case sets"):
         skmoor.build(paper_case(), rotations="exact")
+
+
+def test_command_line_rotations_for_a_deck(tmp_path, capsys):
+    assert parser().parse_args(["run", "deck.dat", "--rotations", "exact"]).rotations == "exact"
+    with pytest.raises(SystemExit):  # argparse: not one of the choices
+        parser().parse_args(["run", "deck.dat", "--rotations", "large"])
+    case = Path(__file__).parents[1] / "examples" / "paper_case.toml"
+    code = main(["run", str(case), "--out", str(tmp_path / "out"), "--rotations", "exact",
+                 "--quiet"])
+    assert code == 2 and "a case sets its bodies' rotations" in capsys.readouterr().err
