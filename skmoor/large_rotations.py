@@ -49,12 +49,6 @@ __all__ = [
 ]
 
 
-def _skew(v) -> np.ndarray:
-    """Matrix S with S @ a = v x a."""
-    x, y, z = v
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-
-
 @njit(cache=True)
 def cross3(a, b) -> np.ndarray:
     """a x b of two 3-vectors (np.cross costs ten times more on one pair)."""
@@ -63,7 +57,7 @@ def cross3(a, b) -> np.ndarray:
 
 
 @njit(cache=True)
-def _cross_matrix(v) -> np.ndarray:
+def _skew(v) -> np.ndarray:
     """[v]x: [v]x @ a = v x a (compiled)."""
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
@@ -273,15 +267,15 @@ def _momentum_tangents(R1, q1, v1, q0, p0, l0, pdot0, mdot0, h, gamma, mass, ine
     # d/dv1: P1 = m (v + omega x rho), L1 = (s + rho) x P1 + J omega
     dp = np.zeros((3, 6))
     dp[:, :3] = mass * np.eye(3)
-    dp[:, 3:] = -mass * _cross_matrix(rho) @ E
-    dl = _cross_matrix(s + rho) @ dp
+    dp[:, 3:] = -mass * _skew(rho) @ E
+    dl = _skew(s + rho) @ dp
     dl[:, 3:] += J @ E
     d_rate = np.zeros((6, 6))
     d_rate[:3] = c * dp
-    d_rate[3:] = E.T @ (c * (dl - _cross_matrix(s) @ dp))
+    d_rate[3:] = E.T @ (c * (dl - _skew(s) @ dp))
     # d/dq1: the shift s (L1 = (s + rho) x P1, moment - s x Pdot1) and the angles
     d_pose = np.zeros((6, 6))
-    d_pose[3:, :3] = E.T @ (_cross_matrix(pdot1) - c * _cross_matrix(p1))
+    d_pose[3:, :3] = E.T @ (_skew(pdot1) - c * _skew(p1))
     slopes = (np.zeros((3, 3)), dE_dry, dE_drz)
     for a in range(3):
         Ea = E[:, a]
