@@ -591,17 +591,54 @@ class RigidBody:
             moment += exact.cross3(arm, buoyancy)
         return exact.generalized_load(q[3:], force, moment)
 
-    def restoring_stiffness(self, q, frame=None, step: float = 1e-6) -> np.ndarray:
-        """-d(restoring_load)/dq (6, 6) by central differences of ``step`` (m, rad) in z
-        and the angles (a horizontal shift moves the buoyancy, the weight and the
-        reference point together: those columns are zero)."""
-        K = np.zeros((6, 6))
-        for k in (2, 3, 4, 5):
-            e = np.zeros(6)
-            e[k] = step
-            K[:, k] = (self.restoring_load(q - e, frame)
-                       - self.restoring_load(q + e, frame)) / (2 * step)
-        return K
+    def restoring_stiffness(self, q, frame=None) -> np.ndarray:
+        """-d(restoring_load)/dq (6, 6), exact: a rigid motion u(p) = dx + dtheta x (p -
+        x_ref), dtheta = E dphi, changes the displaced volume by -int_WP u_z dA and its
+        first moment about x_ref by dtheta x (V a_B) - int_WP (p - x_ref) u_z dA (the
+        waterplane WP at the pose; a submerged body without a hull: by the rotation
+        only); a horizontal shift moves buoyancy, weight and x_ref together."""
+        R = self.rotation(q, frame)
+        origin = self.reference_point + q[:3]
+        weight = np.array([0.0, 0.0, -self.mass * self.g])
+        arm_G = R @ (self.center_of_mass - self.reference_point)
+        volume, arm_B, plane = 0.0, np.zeros(3), np.zeros(6)  # no buoyancy
+        if self.hydrostatics is not None:
+            if self.hull is not None:
+                volume, centroid, plane = exact.submerged_hull(origin + self.hull @ R.T)
+                arm_B = centroid - origin if volume > 0 else np.zeros(3)
+            elif self.hydrostatics.waterplane_area > 0:
+                raise ValueError(_NEEDS_HULL)
+            else:
+                volume = self.hydrostatics.volume
+                arm_B = R @ (self.hydrostatics.center_of_buoyancy - self.reference_point)
+        rho_g = self.rho * self.g
+        xr, yr, zr = origin
+        area, sx, sy, sxx, syy, sxy = plane
+        ax, ay = sx - area * xr, sy - area * yr  # waterplane moments about x_ref
+        axx = sxx - 2 * xr * sx + area * xr * xr
+        ayy = syy - 2 * yr * sy + area * yr * yr
+        axy = sxy - yr * sx - xr * sy + area * xr * yr
+        moment_y = np.array([axy, ayy, -zr * ay])  # int (p - x_ref) (y - y_ref) dA
+        moment_x = np.array([axx, axy, -zr * ax])  # int (p - x_ref) (x - x_ref) dA
+        lift = np.array([0.0, 0.0, 1.0])
+        E, dE_dry, dE_drz = exact.rate_matrix(q[3:])
+        moment = (exact.cross3(arm_B, rho_g * volume * lift)
+                  + exact.cross3(arm_G, weight))  # about x_ref, global
+        dQ = np.zeros((6, 6))
+        # heave: the waterplane rises through the hull
+        d_first = -np.array([ax, ay, -zr * area])  # d(V a_B)/dz
+        dQ[2, 2] = -rho_g * area
+        dQ[3:, 2] = E.T @ exact.cross3(rho_g * d_first, lift)
+        for a, dE in enumerate((np.zeros((3, 3)), dE_dry, dE_drz)):
+            turn = E[:, a]  # dtheta per unit dphi_a
+            d_volume = -(turn[0] * ay - turn[1] * ax)
+            d_first = (exact.cross3(turn, volume * arm_B)
+                       - (turn[0] * moment_y - turn[1] * moment_x))
+            d_moment = (exact.cross3(rho_g * d_first, lift)
+                        + exact.cross3(exact.cross3(turn, arm_G), weight))
+            dQ[2, 3 + a] = rho_g * d_volume
+            dQ[3:, 3 + a] = dE.T @ moment + E.T @ d_moment
+        return -dQ
 
     def inertia_load(self, q, qdot, qddot, frame=None) -> np.ndarray:
         """Exact inertia + gyroscopic load conjugate to q (N, N m) at pose q, DOF rates

@@ -44,25 +44,23 @@ __all__ = [
     "step_start",
     "exact_mass_matrix",
     "submerged_volume",
+    "submerged_hull",
     "box_triangles",
     "generalized_load",
 ]
 
 
-@njit(cache=True)
 def cross3(a, b) -> np.ndarray:
     """a x b of two 3-vectors (np.cross costs ten times more on one pair)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                      a[0] * b[1] - a[1] * b[0]])
 
 
-@njit(cache=True)
 def _skew(v) -> np.ndarray:
-    """[v]x: [v]x @ a = v x a (compiled)."""
+    """[v]x: [v]x @ a = v x a."""
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
-@njit(cache=True)
 def rate_matrix(angles) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """E (omega = E angle_rates, rad/s) of R = Rz Ry Rx and its slopes dE/dry, dE/drz."""
     ry, rz = angles[1], angles[2]
@@ -139,19 +137,29 @@ def box_triangles(size, center) -> np.ndarray:
 
 
 @njit(cache=True)
+def _product(area_z, f, g):
+    """int f g n_z dS over a flat triangle for f, g linear on it (vertex values f, g):
+    area_z (sum f_i g_i + sum f sum g) / 12, area_z = int n_z dS."""
+    return area_z * (f[0] * g[0] + f[1] * g[1] + f[2] * g[2]
+                     + (f[0] + f[1] + f[2]) * (g[0] + g[1] + g[2])) / 12.0
+
+
+@njit(cache=True)
 def _wet_moments(a, b, c, out):
-    """Add int (1, x, y, z/2) z n_z dS over the triangle (a, b, c) (exact for linear
-    integrands: sum over faces of int f g n_z dS = area_z (sum f_i g_i + sum f sum g) / 12)
-    to out (4,)."""
+    """Add over the triangle (a, b, c) int (1, x, y, z/2) z n_z dS to out[:4] and
+    -int (1, x, y, x x, y y, x y) n_z dS to out[4:] (10,)."""
     area_z = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
-    z = (a[2], b[2], c[2])
-    z_sum = z[0] + z[1] + z[2]
-    out[0] += area_z * z_sum / 3.0
-    for k in range(2):
-        f = (a[k], b[k], c[k])
-        out[1 + k] += area_z * (f[0] * z[0] + f[1] * z[1] + f[2] * z[2]
-                                + (f[0] + f[1] + f[2]) * z_sum) / 12.0
-    out[3] += area_z * (z[0] * z[0] + z[1] * z[1] + z[2] * z[2] + z_sum * z_sum) / 24.0
+    x, y, z, one = (a[0], b[0], c[0]), (a[1], b[1], c[1]), (a[2], b[2], c[2]), (1.0, 1.0, 1.0)
+    out[0] += _product(area_z, z, one)
+    out[1] += _product(area_z, x, z)
+    out[2] += _product(area_z, y, z)
+    out[3] += _product(area_z, z, z) / 2.0
+    out[4] -= area_z
+    out[5] -= _product(area_z, x, one)
+    out[6] -= _product(area_z, y, one)
+    out[7] -= _product(area_z, x, x)
+    out[8] -= _product(area_z, y, y)
+    out[9] -= _product(area_z, x, y)
 
 
 @njit(cache=True)
@@ -163,8 +171,11 @@ def _cut(p, q):
 @njit(cache=True)
 def _wet_integrals(tri):
     """(V, V x_B, V y_B, V z_B) of the part with z <= 0 of the outward triangles
-    (n, 3, 3): each triangle clipped at z = 0 (as triangles of its orientation)."""
-    out = np.zeros(4)
+    (n, 3, 3), each triangle clipped at z = 0 (as triangles of its orientation), then the
+    waterplane's (A, int x, int y, int x x, int y y, int x y) dA: on the closed surface
+    (wetted faces and waterplane cap) int f(x, y) n_z dS = 0, so the cap's integrals are
+    minus the wetted faces'."""
+    out = np.zeros(10)
     for t in range(tri.shape[0]):
         below = 0
         for k in range(3):
@@ -190,13 +201,18 @@ def _wet_integrals(tri):
 def submerged_volume(tri) -> tuple[float, np.ndarray]:
     """Volume (m3) and centroid (3,) of the part below z = 0 of a closed hull given as
     outward triangles (n, 3, 3) in global coordinates (m); (0, zeros) when dry."""
+    return submerged_hull(tri)[:2]
+
+
+def submerged_hull(tri) -> tuple[float, np.ndarray, np.ndarray]:
+    """:func:`submerged_volume` and the waterplane's area and moments (A, int x dA,
+    int y dA, int x^2 dA, int y^2 dA, int x y dA) (m2, m3, m4) at z = 0."""
     moments = _wet_integrals(np.ascontiguousarray(tri, dtype=float))
     if moments[0] <= 0.0:
-        return 0.0, np.zeros(3)
-    return moments[0], moments[1:] / moments[0]
+        return 0.0, np.zeros(3), np.zeros(6)
+    return moments[0], moments[1:4] / moments[0], moments[4:]
 
 
-@njit(cache=True)
 def momenta(R, q, qdot, mass, inertia, arm, offset) -> tuple[np.ndarray, np.ndarray]:
     """Linear momentum P = m v_G (N s) and angular momentum L = (x_G - O) x P + R I_G R^T
     omega (N m s) about the fixed point O = x_ref - ``offset``."""
@@ -237,10 +253,9 @@ def momentum_inertia_tangents(R1, q1, v1, start, h, gamma, mass, inertia, arm):
     return _momentum_tangents(R1, q1, v1, *start, h, gamma, float(mass), inertia, arm)
 
 
-@njit(cache=True)
 def _momentum_load(R1, q1, v1, q0, p0, l0, pdot0, mdot0, h, gamma, mass, inertia, arm):
     """(Q1, Pdot1, Ldot1 - s x Pdot1, P1) of :func:`momentum_inertia_load`, s = x_ref1 -
-    x_ref0 (compiled)."""
+    x_ref0."""
     shift = q1[:3] - q0[:3]
     p1, l1 = momenta(R1, q1, v1, mass, inertia, arm, shift)
     pdot1 = (p1 - p0 - h * (1 - gamma) * pdot0) / (gamma * h)
@@ -251,7 +266,6 @@ def _momentum_load(R1, q1, v1, q0, p0, l0, pdot0, mdot0, h, gamma, mass, inertia
     return out, pdot1, moment, p1
 
 
-@njit(cache=True)
 def _momentum_tangents(R1, q1, v1, q0, p0, l0, pdot0, mdot0, h, gamma, mass, inertia, arm):
     """dQ1/dv1 and dQ1/dq1 of :func:`_momentum_load` by the chain rule, with dR/dphi_a =
     [E_a]x R (E_a the a-th column of E: the angular velocity of a unit rate of phi_a)."""

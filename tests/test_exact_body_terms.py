@@ -1,10 +1,10 @@
-"""The exact body's step terms against independent numbers: the momentum-form tangents
-against central differences of the load (also in a re-based frame), and the body that
-carries its line ends' lumped masses against the kinetic energy of the body plus those
-point masses moving with it."""
+"""The exact body's terms against independent numbers: the momentum-form tangents and
+the hydrostatic stiffness at a pose against central differences of their loads (also in
+a re-based frame), and the body that carries its line ends' lumped masses against the
+kinetic energy of the body plus those point masses moving with it."""
 import numpy as np
 
-from skmoor.body import RigidBody, rotation_matrix
+from skmoor.body import Hydrostatics, RigidBody, rotation_matrix
 from skmoor.large_rotations import rate_matrix
 
 from test_gimbal_lock import tethered_body
@@ -32,6 +32,31 @@ def test_momentum_form_tangents_are_the_load_derivatives():
                                    / (2 * step) for e in np.eye(6)])
         assert np.abs(d_rate - fd_rate).max() < 1e-8 * np.abs(fd_rate).max()
         assert np.abs(d_pose - fd_pose).max() < 1e-8 * np.abs(fd_pose).max()
+
+
+def central_differences(load, q, step=1e-6):
+    """-dload/dq (6, 6) by central differences."""
+    return np.column_stack([(load(q - step * e) - load(q + step * e)) / (2 * step)
+                            for e in np.eye(6)])
+
+
+def test_hydrostatic_stiffness_at_a_pose_is_the_restoring_load_derivative():
+    """The waterplane at the pose (clipped hull) and the turning arms: a wrong sign of a
+    waterplane moment or a missing dE/dphi term show as O(1) differences."""
+    box = RigidBody.box(26.0, 10.0, 5.0, 1.2e5, 0.45, rotations="exact",
+                        reference_point=[1.0, -0.5, 0.3])
+    submerged = RigidBody(1e3, [0.0, 0.1, -5.2], np.diag([3.0, 2.0, 1.0]),
+                          reference_point=[0.0, 0.0, -5.0], rotations="exact",
+                          hydrostatics=Hydrostatics.submerged(2.0, [0.2, 0.0, -4.9],
+                                                              [0.0, 0.0, -5.0]))
+    poses = (np.zeros(6), np.array([0.3, -0.2, -0.4, 0.35, -0.1, 0.8]),
+             np.array([0.1, 0.2, 0.3, 1.2, 0.5, -2.0]))
+    for body in (box, submerged):
+        for frame in (None, rotation_matrix([0.3, 0.9, -0.4])):
+            for q in poses:
+                K = central_differences(lambda q: body.restoring_load(q, frame), q)
+                assert np.abs(body.restoring_stiffness(q, frame) - K).max() \
+                    < 1e-8 * np.abs(K).max()
 
 
 def test_carried_line_end_masses_give_the_kinetic_energy_of_the_ends():
