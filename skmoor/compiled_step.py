@@ -27,6 +27,7 @@ from numba import njit
 
 from . import bordered
 from .body import rotation_and_slopes
+from .dynamics import CONTRACTION, LINE_SEARCH
 from .hydro import LineHydroKernel, _morison
 from .kernels import CableKernel, ElementPattern, _cable
 from .seabed import SeabedKernel, _seabed
@@ -142,7 +143,7 @@ class CompiledStep:
         self.work = (np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs), np.zeros((nel, 6, 6)),
                      np.zeros((nel, 6, 6)), np.zeros((len(system._body_flat), 6)),
                      np.zeros((len(system._body_flat), 6)), np.zeros(n), np.zeros(n),
-                     np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+                     np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self._still = np.zeros((len(lines.points), 3))
 
@@ -164,8 +165,8 @@ class CompiledStep:
 
     def steps(self, x, v, a, force_old, times, h):
         """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R):
-        a list of ((x1, v1, a1, C v1 + R1, None), iterations), shorter than ``times``
-        when modified Newton does not converge at the step after its last."""
+        (a list of ((x1, v1, a1, C v1 + R1, None), iterations), None), or with fewer
+        steps than ``times`` and why Newton failed at the step after the last."""
         system, count = self.system, len(times)
         nbodies, m = len(system.bodies), len(self.prescribed_dofs)
         pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
@@ -181,42 +182,45 @@ class CompiledStep:
         out = np.empty((4, count, len(x)))
         iterations = np.zeros(count, np.int64)
         cable, hydro, has_hydro, bed, has_bed = self._terms()
-        done = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, self.topology,
-                    cable, hydro, has_hydro, bed, has_bed, self._still, self.points,
-                    self.bodies, loads, self.prescribed_dofs, pres_u, pres_v, self.M, self.C,
-                    self.products, self.damped, self.width, self.factors, self.state,
-                    self.work, out, iterations)
+        model = (self.topology, cable, hydro, has_hydro, bed, has_bed, self._still,
+                 self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
+                 self.damped, self.width)
+        done, code = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, model,
+                          loads, pres_u, pres_v, self.factors, self.state, self.work, out,
+                          iterations)
+        failure = None if code == 1 else (
+            f"Newton did not converge in {self.maxiter} iterations" if code == 0
+            else "the Newton step is not finite")
         return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]))
-                for i in range(done)]
+                for i in range(done)], failure
 
 
 @njit(cache=True)
-def _run(x, v, a, force, h, scheme, tol, maxiter, topology, cable, hydro, has_hydro, bed,
-         has_bed, still, points, bodies, loads, prescribed_dofs, pres_u, pres_v, M, C, products,
-         damped, width, factors, state, work, out, iterations):
+def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, factors,
+         state, work, out, iterations):
     """Steps of h from (x, v, a, force = C v + R) with the inputs of step i in loads[i],
     pres_u[i], pres_v[i]: (x1, v1, a1, force1) of step i into out[:, i], its Newton
-    iterations into iterations[i]; returns the steps done (fewer on a failure)."""
+    iterations into iterations[i]. Returns (the steps done, the failed step's code: 0
+    Newton did not converge, -1 a correction not finite, 1 none failed)."""
     am, af, beta, gamma = scheme
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
+    mass = model[10][0]
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
-        it = _advance(x, v, a, force, h, scheme, tol, maxiter, topology, cable, hydro,
-                      has_hydro, bed, has_bed, still, points, bodies, loads[i],
-                      prescribed_dofs, pres_u[i], pres_v[i], M, C, products, damped, width,
-                      factors, state, work, x1)
+        it = _advance(x, v, a, force, h, scheme, tol, maxiter, model,
+                      (loads[i], pres_u[i], pres_v[i]), factors, state, work, x1)
         if it <= 0:
-            return i
+            return i, it
         iterations[i] = it
         for j in range(x.size):  # the scheme's update, as dynamics.integrate's
             a1[j] = (x1[j] - (x[j] + h * v[j] + h * h * (0.5 - beta) * a[j])) / (beta * h * h)
             v1[j] = v[j] + h * (1 - gamma) * a[j] + gamma * h * a1[j]
-        _product(products[0], a, Ma0)
-        _product(products[0], a1, Ma1)
+        _product(mass, a, Ma0)
+        _product(mass, a1, Ma1)
         for j in range(x.size):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
         x, v, a, force = x1, v1, a1, force1
-    return out.shape[1]
+    return out.shape[1], 1
 
 
 @njit(cache=True)
@@ -458,63 +462,145 @@ def _assemble(x, v, topology, points, bodies, work, cx, cv, af, M, C, damped, wi
 
 
 @njit(cache=True)
-def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, topology, cable, hydro,
-             has_hydro, bed, has_bed, still, points, bodies, loads, prescribed_dofs, pres_u,
-             pres_v, M, C, products, damped, width, factors, state, work, x1):
-    """Modified Newton on the step's alpha-level balance (``dynamics.integrate``), x1 the
-    solution: the iterations used, 0 when it does not converge in maxiter, -1 when a
-    correction is not finite."""
+def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, factors,
+             state, work, B):
+    """-(the alpha-level balance at x1 = y) into B (``dynamics.integrate``'s balance), and
+    with ``tangent`` its Newton matrix into ``factors``, factorized: False when singular."""
     am, af, beta, gamma = scheme
-    cx = (1 - am) / (beta * h * h)
-    cv = gamma / (beta * h)
+    (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
+     products, M, C, damped, width) = model
+    loads, pres_u, pres_v = inputs
+    R, a1, v1, Ma, Cv = work[7], work[9], work[10], work[11], work[12]
+    for i in range(y.size):
+        a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
+        v1[i] = v_pred[i] + gamma * h * a1[i]
+    _residual(y, v1, topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies,
+              loads, prescribed_dofs, pres_u, pres_v, tangent, work, R)
+    _product(products[0], a1, Ma)
+    if damped:
+        _product(products[1], v1, Cv)
+    for i in range(y.size):
+        B[i] = -((1 - am) * Ma[i] + (1 - af) * (R[i] + (Cv[i] if damped else 0.0))
+                 + inertia_old[i])
+    if not tangent:
+        return True
+    _assemble(y, v1, topology, points, bodies, work, (1 - am) / (beta * h * h),
+              gamma / (beta * h), af, M, C, damped, width, factors)
+    ab, E, F, D, piv_band, piv_schur = factors
+    state[2] += 1.0
+    if not bordered.factor(ab, width, E, F, D, piv_band, piv_schur):
+        state[0] = 0.0
+        return False
+    state[0] = 1.0
+    return True
+
+
+@njit(cache=True)
+def _solve(B, factors, width):
+    """B <- A^-1 B with the factorized Newton matrix: the largest entry, inf when one is
+    not finite."""
+    ab, E, F, D, piv_band, piv_schur = factors
+    bordered.solve(ab, width, E, F, D, piv_band, piv_schur, B)
+    size = 0.0
+    for i in range(B.size):
+        if not math.isfinite(B[i]):
+            return np.inf
+        size = max(size, abs(B[i]))
+    return size
+
+
+@njit(cache=True)
+def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, factors, state,
+             work, x1):
+    """One step of ``dynamics.integrate`` (its ``advance``), x1 the solution: modified
+    Newton from constant acceleration, and when that fails full Newton with the
+    backtracking line search from constant velocity. Returns the iterations used, 0 when
+    Newton does not converge in maxiter, -1 when a correction is not finite."""
+    am, af, beta, gamma = scheme
+    width = model[14]
     n = x0.size
     x_pred = x0 + h * v0 + h * h * (0.5 - beta) * a0
     v_pred = v0 + h * (1 - gamma) * a0
-    R, B, a1, v1, Ma, Cv = work[7], work[8], work[9], work[10], work[11], work[12]
-    _product(products[0], a0, Ma)
+    B, Ma = work[8], work[11]
+    _product(model[10][0], a0, Ma)
     inertia_old = am * Ma + af * force_old
-    ab, E, F, D, piv_band, piv_schur = factors
     if state[1] != h:  # a factorization of another step's matrix: make a new one
         state[0] = 0.0
         state[1] = h
-    y = x0 + h * v0 + 0.5 * h * h * a0  # constant acceleration
+    # modified Newton: the factors kept until a correction shrinks slower than CONTRACTION
+    y = x0 + h * v0 + 0.5 * h * h * a0
     tangent = state[0] == 0.0
-    previous = np.inf
-    scale = np.inf
+    previous = scale = np.inf
+    used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
     for it in range(1, maxiter + 1):
+        if not _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent,
+                        factors, state, work, B):
+            used = it
+            break
+        size = _solve(B, factors, width)
+        if not math.isfinite(size):
+            used = it
+            break
         for i in range(n):
-            a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
-            v1[i] = v_pred[i] + gamma * h * a1[i]
-        _residual(y, v1, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
-                  bodies, loads, prescribed_dofs, pres_u, pres_v, tangent, work, R)
-        _product(products[0], a1, Ma)
-        if damped:
-            _product(products[1], v1, Cv)
-        for i in range(n):
-            B[i] = -((1 - am) * Ma[i] + (1 - af) * (R[i] + (Cv[i] if damped else 0.0))
-                     + inertia_old[i])
-        if tangent:
-            _assemble(y, v1, topology, points, bodies, work, cx, cv, af, M, C, damped,
-                      width, factors)
-            if not bordered.factor(ab, width, E, F, D, piv_band, piv_schur):
-                state[0] = 0.0
-                return -1
-            state[0] = 1.0
-            state[2] += 1.0
-        bordered.solve(ab, width, E, F, D, piv_band, piv_schur, B)
-        size = 0.0
-        for i in range(n):
-            if not math.isfinite(B[i]):
-                return -1
-            size = max(size, abs(B[i]))
             y[i] += B[i]
-        if it == 1:
-            scale = 0.0
-            for i in range(n):
-                scale = max(scale, abs(y[i] - x0[i]))
+        if it == 1:  # the step's change, to scale the tolerance
+            scale = _distance(y, x0)
         if size <= tol * scale + 1e-12:
             x1[:] = y
             return it
-        tangent = size > 0.2 * previous  # dynamics.CONTRACTION
+        tangent = size > CONTRACTION * previous
         previous = size
+    # full Newton with the line search (dynamics._newton with full=True)
+    y = x0 + h * v0
+    trial = work[13]
+    ok = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True, factors,
+                  state, work, B)
+    norm = _norm(B)
+    for it in range(1, maxiter + 1):
+        if not ok:
+            return -1
+        dx = B.copy()
+        size = _solve(dx, factors, width)
+        if not math.isfinite(size):
+            return -1
+        for i in range(n):
+            trial[i] = y[i] + dx[i]
+        if it == 1:
+            scale = _distance(trial, x0)
+        if size <= tol * scale + 1e-12:
+            x1[:] = trial
+            return used + it
+        length = 1.0
+        for halving in range(LINE_SEARCH + 1):
+            ok = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, model, inputs,
+                          halving == 0, factors, state, work, B)
+            norm_try = _norm(B)
+            if (norm_try <= (1 - 1e-4 * length) * norm or not math.isfinite(norm_try)
+                    or halving == LINE_SEARCH):
+                break
+            length *= 0.5
+            for i in range(n):
+                trial[i] = y[i] + length * dx[i]
+        y[:] = trial
+        if length != 1.0 and math.isfinite(norm_try):  # the tangent where the search stopped
+            ok = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True,
+                          factors, state, work, B)
+        norm = norm_try
     return 0
+
+
+@njit(cache=True)
+def _distance(a, b):
+    """max |a - b|."""
+    out = 0.0
+    for i in range(a.size):
+        out = max(out, abs(a[i] - b[i]))
+    return out
+
+
+@njit(cache=True)
+def _norm(b):
+    s = 0.0
+    for i in range(b.size):
+        s += b[i] * b[i]
+    return math.sqrt(s)

@@ -258,19 +258,20 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         return level_state, total
 
     matrix = _IterationMatrix(layout)
-    ahead, in_python = [], False  # steps done by the compiled step, not yet yielded
+    ahead, failed = [], None  # steps the compiled step made, not yet yielded; its failure
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
     subdivided = 0
     for step in range(1, n_steps + 1):
         t1 = t0 + step * dt
-        if fast is not None and not ahead and not in_python:  # the next steps compiled
+        if fast is not None and not ahead and failed is None:  # the next steps compiled
             times = t0 + dt * np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
-            ahead = fast.steps(x, v, a, force_old, times, dt)[::-1]
-            in_python = len(ahead) < len(times)  # the step after them goes to Python
+            ahead, failed = fast.steps(x, v, a, force_old, times, dt)
+            ahead.reverse()
         if ahead:
             out, it = ahead.pop()
+        elif failed is not None:  # the compiled step failed as advance would: split it
+            out, it, failed = None, failed, None
         else:
-            in_python = False
             out, it = advance(x, v, a, force_old, G, t1, dt, matrix)
         if out is None:
             why = it

@@ -84,20 +84,31 @@ def test_chain_on_the_bed_with_drag_steps_as_the_python_newton():
                            terms=[seabed_term(lines, bed), line_hydrodynamics(lines)])
     x0 = skmoor.solve_static(system).x
     assert_same_runs(system, x0, np.zeros(system.n), 0.05, 100,
-                     scheme=Scheme.generalized_alpha(0.5), same_iterations=False)
+                     scheme=Scheme.generalized_alpha(0.5))
 
 
-def test_failed_compiled_steps_go_on_in_python():
-    """With too few iterations for modified Newton the compiled step gives up on some
-    steps; the Python step (full Newton, line search, halves) takes them over and the
-    run reaches its end, within Newton's tolerance of the pure Python run."""
+@pytest.mark.parametrize("maxiter", [3, 2])
+def test_steps_modified_newton_gives_up_on_go_as_in_python(maxiter):
+    """With few iterations allowed, modified Newton gives up on some steps: the compiled
+    step then runs full Newton with the line search as the Python step does (maxiter 3),
+    and a step that fails that too is split in halves in Python (maxiter 2): the run
+    reaches its end, step by step as the pure Python run."""
     model = skmoor.build(skmoor.paper_case())
     eq = skmoor.equilibrium(model)
     system, n = model.system, model.system.n
-    fast, _ = run(system, eq.x, np.zeros(n), 0.1, 40, eq.C, True, maxiter=3)
-    slow, _ = run(system, eq.x, np.zeros(n), 0.1, 40, eq.C, False, maxiter=3)
-    assert len(fast) == len(slow) == 41
-    assert np.abs(fast - slow).max() < 1e-6 * np.abs(slow - slow[0]).max()
+    states = []
+    for compiled in (True, False):
+        xs, subdivided = [], 0
+        for state in integrate(system, eq.x, np.zeros(n), 0.1, 4.0, C=eq.C, tol=1e-8,
+                               scheme=Scheme.generalized_alpha(0.8), maxiter=maxiter,
+                               compiled=compiled):
+            xs.append(state.x.copy())
+            subdivided = state.subdivided
+        states.append((np.array(xs), subdivided))
+    (fast, split_fast), (slow, split_slow) = states
+    assert len(fast) == len(slow) == 41 and split_fast == split_slow
+    assert (split_slow > 0) == (maxiter == 2)
+    assert np.abs(fast - slow).max() < 1e-9 * np.abs(slow - slow[0]).max()
 
 
 def test_what_the_compiled_step_leaves_to_python_is_named():
