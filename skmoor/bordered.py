@@ -14,6 +14,7 @@ takes the parts as plain arrays: ``ab`` (3 w + 1, nf) in LAPACK's band storage
 ``D``; the factors overwrite them in place.
 """
 import numpy as np
+import scipy.sparse as sp
 from numba import njit
 
 
@@ -204,14 +205,19 @@ def matvec(ab, w, E, F, D, x, out):
 
 
 def split(A, nf, w):
-    """(ab, E, F, D) of a dense or sparse (n, n) matrix with nf banded rows; raises when
-    the line part has entries outside the band of half-width w."""
-    A = A.toarray() if hasattr(A, "toarray") else np.asarray(A, float)
-    B = A[:nf, :nf]
-    rows, cols = np.nonzero(B)
-    if len(rows) and np.max(np.abs(rows - cols)) > w:
+    """(ab, E, F, D) of a dense or sparse (n, n) matrix with nf banded rows (nothing of size
+    n^2 is formed); raises when the line part has entries outside the band of half-width w."""
+    A = sp.coo_matrix(A)
+    n = A.shape[0]
+    rows, cols, data = A.row, A.col, A.data
+    line_rows, line_cols = rows < nf, cols < nf
+    band = line_rows & line_cols & (data != 0)
+    if np.any(np.abs(rows[band] - cols[band]) > w):
         raise ValueError(f"bordered.split: the line part is wider than the band w = {w}")
     ab = band_storage(w, nf)
-    ab[2 * w + rows - cols, cols] = B[rows, cols]
-    return (ab, np.ascontiguousarray(A[:nf, nf:]), np.ascontiguousarray(A[nf:, :nf]),
-            np.ascontiguousarray(A[nf:, nf:]))
+    np.add.at(ab, (2 * w + rows[band] - cols[band], cols[band]), data[band])
+    E, F, D = np.zeros((nf, n - nf)), np.zeros((n - nf, nf)), np.zeros((n - nf, n - nf))
+    for part, keep, r, c in ((E, line_rows & ~line_cols, 0, nf), (F, ~line_rows & line_cols, nf, 0),
+                             (D, ~line_rows & ~line_cols, nf, nf)):
+        np.add.at(part, (rows[keep] - r, cols[keep] - c), data[keep])
+    return ab, E, F, D

@@ -80,7 +80,7 @@ def build(system, C, scheme, tol, maxiter):
     width = max(width, 1)
     try:
         M = bordered.split(system.M, system.nf, width)
-        Cs = bordered.split(C if C is not None else np.zeros((system.n, system.n)),
+        Cs = bordered.split(C if C is not None else sp.csr_matrix(system.M.shape),
                             system.nf, width)
     except ValueError:
         return _refuse("mass or damping coupling line DOFs beyond the lines' band")
