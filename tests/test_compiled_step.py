@@ -66,9 +66,11 @@ def test_damped_lines_on_rotating_bodies_step_as_the_python_newton():
     assert_same_runs(system, eq.x, v0, 0.02, 80)
 
 
-def test_chain_on_the_bed_with_drag_steps_as_the_python_newton():
-    """A heaved chain (prescribed fairlead) on MoorDyn's sea bed with drag and added mass:
-    a System without bodies (a pure band)."""
+@pytest.mark.parametrize("friction", [0.0, 0.6])
+def test_chain_on_the_bed_with_drag_steps_as_the_python_newton(friction):
+    """A heaved chain (prescribed fairlead) on MoorDyn's sea bed with drag and added mass,
+    without and with bed friction (different axial and lateral coefficients): a System
+    without bodies (a pure band)."""
     from skmoor.catenary import solve_catenary
     from skmoor.hydro import line_hydrodynamics
     from skmoor.seabed import Seabed, seabed_term
@@ -78,7 +80,8 @@ def test_chain_on_the_bed_with_drag_steps_as_the_python_newton():
     cat = solve_catenary([-80.0, 0.0, 30.0], [0, 0, -1], chain.weight, chain.EA,
                          sag_ratio=None, length=100.0)
     lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 12)], law="engineering")
-    bed = Seabed.from_moordyn(30.0, chain.diameter)
+    bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter,
+                 mu_axial=friction, mu_lateral=1.5 * friction)
     system = skmoor.System(lines, fairleads="prescribed",
                            motion=lambda t: np.array([[0.0, 0.0, 2.0 * np.sin(0.6 * t)]]),
                            terms=[seabed_term(lines, bed), line_hydrodynamics(lines)])
