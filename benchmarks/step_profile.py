@@ -22,7 +22,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import skmoor  # noqa: E402
+import skmoor
 
 GROUPS = {  # (file stem, function) prefixes -> group; the first match wins
     "compiled Newton step": [("compiled_step", "_run")],

@@ -45,7 +45,6 @@ NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.ze
 def _refuse(why):
     global last_refusal
     last_refusal = why
-    return None
 
 
 def build(system, C, scheme, tol, maxiter):
@@ -260,7 +259,7 @@ def _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, poin
     """R(x, v) reduced (N, N m) into R; with ``tangent`` the element blocks d/du, d/dv in
     work[3], work[4] and the body ends' J, d(J qdot)/dq in work[5], work[6]; the full
     cable residual in work[2] (``coupling.System.residual``, one body per 6 DOFs)."""
-    position, end_row, end_body, end_dofs, r_local, edofs, nf = topology
+    position, end_row, end_body, end_dofs, r_local, _, nf = topology
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     u[:] = 0.0
     ud[:] = 0.0
@@ -426,7 +425,7 @@ def _assemble(x, v, topology, points, bodies, work, cx, cv, af, M, C, damped, wi
                         for i in range(6):
                             D[ka + i, kb + j] += J[pa, i] * value
     # the bodies: sum f . d2p/dq2 of their line ends, hydrostatics, linear damping
-    K_body, F0, D_body = bodies
+    K_body, _, D_body = bodies
     for k in range(K_body.shape[0]):
         for i in range(6):
             for j in range(6):
@@ -445,7 +444,7 @@ def _assemble(x, v, topology, points, bodies, work, cx, cv, af, M, C, damped, wi
                     for l in range(3):
                         s += d2[a, b, c, l] * f[c] * r_local[p, l]
                 D[6 * k + 3 + a, 6 * k + 3 + b] += wK * s
-    columns, lift, drag = points
+    columns, _, drag = points
     for p in range(columns.shape[0]):
         if drag[p] > 0.0:
             speed = 0.0

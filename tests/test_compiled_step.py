@@ -12,12 +12,11 @@ scheme update would show as a difference orders of magnitude above that.
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from test_network import network_two_bodies
 
 import skmoor
 from skmoor import bordered, compiled_step
 from skmoor.dynamics import Scheme, integrate
-
-from test_network import network_two_bodies
 
 TOL = 1e-10  # Newton's tolerance in both runs: its stopping decisions then agree too
 
