@@ -2,7 +2,8 @@
 grouped into the compiled element kernels, the linear algebra (factorizations and solves),
 the Python glue of the residual and of Newton, and the recording of the outputs.
 
-Two systems: the paper's case (4 lines x 11 elements and the box: 126 unknowns, dense LU)
+Each with the Python step and with the compiled Newton step (``skmoor.compiled_step``,
+the default where it covers the system). Two systems: the paper's case (4 lines x 11 elements and the box: 126 unknowns, dense LU)
 and the VolturnUS-S chain mooring of benchmarks/volturnus.py (3 x 50 segments, prescribed
 fairleads, banded LU) at the paper's default step (50 ms) and at the step 1 % accuracy
 needs in benchmarks/volturnus.py (0.25 s). cProfile adds its own cost per Python call, so the Python shares are
@@ -21,9 +22,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import skmoor  # noqa: E402
+import skmoor
 
 GROUPS = {  # (file stem, function) prefixes -> group; the first match wins
+    "compiled Newton step": [("compiled_step", "_run")],
     "compiled kernels": [("kernels", "_cable"), ("hydro", "_morison"), ("seabed", "_seabed"),
                          ("kernels", "_scatter"), ("banded", "_matvec"),
                          ("body", "_rotation"), ("body", "attachment_state")],
@@ -47,8 +49,10 @@ def group_of(filename, function):
     return "numpy, scipy and the rest"
 
 
-def profile(model, eq, dt, duration):
-    """{group: internal seconds}, steps, total seconds of simulate under cProfile."""
+def profile(model, eq, dt, duration, compiled):
+    """{group: internal seconds}, steps, total seconds of simulate under cProfile, with
+    the compiled Newton step or without (the Python step)."""
+    model.solver["compiled"] = compiled
     skmoor.simulate(model, duration=min(duration, 10 * dt), dt=dt, progress=False, eq=eq)
     prof = cProfile.Profile()
     prof.enable()
@@ -72,14 +76,17 @@ def main(argv=None):
     parser.add_argument("--duration", type=float, default=60.0)
     args = parser.parse_args(argv)
     paper = skmoor.build(skmoor.paper_case())
-    report("paper case (its default run: dt 50 ms, Rayleigh damping)",
-           *profile(paper, skmoor.equilibrium(paper), 0.05, args.duration))
+    eq = skmoor.equilibrium(paper)
+    for compiled, how in ((False, "Python step"), (True, "compiled step")):
+        report(f"paper case (its default run: dt 50 ms, Rayleigh damping), {how}",
+               *profile(paper, eq, 0.05, args.duration, compiled))
     import volturnus
 
     with tempfile.TemporaryDirectory() as workdir:
         model, eq = volturnus.skmoor_model(50, workdir)
-        report("VolturnUS-S, 3 x 50 segments (dt 0.25 s)",
-               *profile(model, eq, 0.25, args.duration))
+        for compiled, how in ((False, "Python step"), (True, "compiled step")):
+            report(f"VolturnUS-S, 3 x 50 segments (dt 0.25 s), {how}",
+                   *profile(model, eq, 0.25, args.duration, compiled))
 
 
 if __name__ == "__main__":

@@ -812,6 +812,12 @@ class System:
         A ends, N (quasi-static: internal force minus loads at the end node)."""
         v = np.zeros(self.n) if v is None else v
         u = self.full_displacement(x, t)
-        ud = self.full_velocity(x, v, t) if self._needs_velocity else None
-        R_full, _, _ = self.line_residual(u, ud, t, tangent=False)
+        return self.end_forces(u, self.full_velocity(x, v, t) if self._needs_velocity
+                               else None, t)
+
+    def end_forces(self, u, ud, t=0.0):
+        """:meth:`reactions` from the full cable displacement u (m) and velocity ud (m/s,
+        None: at rest) at time t (s)."""
+        R_full, _, _ = self.line_residual(u, ud if self._needs_velocity else None, t,
+                                          tangent=False)
         return -R_full[self.fairlead_dofs], -R_full[self.anchor_dofs]

@@ -95,6 +95,7 @@ def rayleigh_coefficients(zeta: float, omega1: float, omega2: float):
 
 DENSE_BELOW = 200  # unknowns: below this, dense LAPACK beats sparse overhead (measured)
 CONTRACTION = 0.2  # modified Newton refreshes the tangent when |dx| shrinks slower than this
+COMPILED_BATCH = 32  # steps per call of the compiled step (its call costs ~30 us)
 SUBDIVIDE = 6  # levels of halving a step whose Newton fails (down to dt / 64)
 
 
@@ -136,7 +137,7 @@ class _IterationMatrix:
 
 
 def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-5,
-              maxiter=20, subdivide=SUBDIVIDE):
+              maxiter=20, subdivide=SUBDIVIDE, compiled=True):
     """Yield a :class:`State` per step from (x0, v0) at t0 until t_end.
 
     system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., layout=...)
@@ -149,7 +150,9 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     A step that still fails is split in two halves, each half split again when it fails,
     up to ``subdivide`` levels (0: none); the run then goes on at dt, on the full step's
     own matrix. States come at the full steps only; ``State.subdivided`` counts the steps
-    that were split so far. A system with ``commit(t, x, v)`` has it called with the
+    that were split so far. compiled: run each step's modified Newton as one compiled
+    function where :mod:`skmoor.compiled_step` covers the system (the same iteration; a
+    step it does not converge goes on in Python as above). A system with ``commit(t, x, v)`` has it called with the
     initial state and after every accepted step, the halves of a split step included
     (terms with a memory of the past, :mod:`skmoor.radiation`, keep their history so).
     """
@@ -162,6 +165,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     M = as_layout(system.M, layout, bandwidth)
     C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
     damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
+    fast = _compiled_step(system, C, scheme, tol, maxiter) if compiled else None
     C = as_layout(C, layout, bandwidth)
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
     nonlinear = getattr(system, "nonlinear_inertia", False)
@@ -261,11 +265,21 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         return level_state, total
 
     matrix = _IterationMatrix(layout)
+    ahead, failed = [], None  # steps the compiled step made, not yet yielded; its failure
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
     subdivided = 0
     for step in range(1, n_steps + 1):
         t1 = t0 + step * dt
-        out, it = advance(x, v, a, force_old, G, t1, dt, matrix)
+        if fast is not None and not ahead and failed is None:  # the next steps compiled
+            times = t0 + dt * np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
+            ahead, failed = fast.steps(x, v, a, force_old, times, dt)
+            ahead.reverse()
+        if ahead:
+            out, it = ahead.pop()
+        elif failed is not None:  # the compiled step failed as advance would: split it
+            out, it, failed = None, failed, None
+        else:
+            out, it = advance(x, v, a, force_old, G, t1, dt, matrix)
         if out is None:
             why = it
             if subdivide > 0:
@@ -286,6 +300,18 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             matrix = _IterationMatrix(layout)
             halves.clear()
         yield State(t1, step, x, v, a, it, subdivided)
+
+
+def _compiled_step(system, C, scheme, tol, maxiter):
+    """The compiled Newton step of a :class:`~skmoor.coupling.System` it covers, or None
+    (another kind of system, or one with physics the compiled step leaves to Python)."""
+    from .coupling import System
+
+    if type(system) is not System:
+        return None
+    from .compiled_step import build
+
+    return build(system, C, scheme, tol, maxiter)
 
 
 LINE_SEARCH = 6  # halvings of a full-Newton correction that does not lower the residual

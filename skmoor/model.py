@@ -355,6 +355,7 @@ def body_load(case, load=None):
     def applied(t, q, qdot):
         return amplitude * np.sin(omega * t) * direction
 
+    applied.time_only = True  # q, qdot unused (the compiled step evaluates it once a step)
     return applied
 
 

@@ -276,7 +276,8 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
         outcome["stopped"], outcome["steps"] = record_run(
             model.system, x0, dt=dt, duration=duration, every=every,
             record=recorder.record if writer is None else writer.record, C=eq.C,
-            scheme=scheme, progress=progress, label=model.name, done=outcome)
+            scheme=scheme, progress=progress, label=model.name, done=outcome,
+            compiled=solver.get("compiled", True))
     except BaseException as error:  # a crash: keep what was computed, then re-raise
         if writer is not None and recorder.rows["t"]:
             outcome["stopped"] = f"crashed: {type(error).__name__}: {error}"
@@ -328,13 +329,13 @@ def _catenary_tension(cat, line, end):
 
 
 def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
-               progress=True, label="", done=None) -> tuple:
+               progress=True, label="", done=None, compiled=True) -> tuple:
     """Integrate ``system`` from rest at x0 for ``duration`` s with step dt, calling
     ``record(state)`` every ``every`` steps, under a progress bar. Returns (why it stopped
     early or None, the steps done): Ctrl-C or a diverging step keep what was recorded.
     ``done``: a dict whose "steps" follows the steps done (read it after a crash) and
-    "subdivided" the steps split in halves on a failed Newton
-    (:func:`~skmoor.dynamics.integrate`)."""
+    "subdivided" the steps split in halves on a failed Newton; compiled: the compiled
+    Newton step where it covers the system (:func:`~skmoor.dynamics.integrate`)."""
     n_steps = int(np.ceil(duration / dt - 1e-9))
     done = {} if done is None else done
     done["steps"] = done["subdivided"] = 0
@@ -342,7 +343,7 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     system.reset_frames()  # x0 has its angles from the global frame
     try:
         for state in integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
-                               scheme=scheme):
+                               scheme=scheme, compiled=compiled):
             done["steps"], done["subdivided"] = state.step, state.subdivided
             if state.step % every == 0:
                 record(state)
@@ -509,7 +510,7 @@ class _Recorder:
         system, lines, network = self._system, self.model.lines, self.model.network
         u = system.full_displacement(state.x, state.t)
         ud = system.full_velocity(state.x, state.v, state.t)
-        fair, anchor = system.reactions(state.x, state.v, state.t)
+        fair, anchor = system.end_forces(u, ud, state.t)
         y = (np.zeros(self._n_coupled) if network.motion is None
              else np.asarray(network.motion(state.t), float).ravel())
         bodies = self._bodies(state.x, y)

@@ -1,0 +1,153 @@
+"""The compiled Newton step (skmoor.compiled_step) against the Python step it stands for.
+
+Independent numbers: the Python iteration of ``dynamics.integrate`` on
+``coupling.System.residual`` (whose tangents are held to central differences and whose
+runs are held to analytic solutions and MoorDyn elsewhere in the suite) and LAPACK's
+solves (the bordered band LU). The compiled step repeats the same modified Newton, so on
+systems it covers the two runs must agree to round-off, step by step: a dropped term of
+the residual (a body's hydrostatics, a free point's drag, the lines' velocity slope at a
+rotating body), a wrong factor in the Newton matrix (it changes the iterates) or a wrong
+scheme update would show as a difference orders of magnitude above that.
+"""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from test_network import network_two_bodies
+
+import skmoor
+from skmoor import bordered, compiled_step
+from skmoor.dynamics import Scheme, integrate
+
+TOL = 1e-10  # Newton's tolerance in both runs: its stopping decisions then agree too
+
+
+def run(system, x0, v0, dt, steps, C=None, compiled=True, scheme=None, **kw):
+    """(states (steps, n), iterations) of integrate from (x0, v0)."""
+    scheme = scheme or Scheme.generalized_alpha(0.8)
+    xs, its = [], []
+    for state in integrate(system, x0, v0, dt, steps * dt, C=C, scheme=scheme, tol=TOL,
+                           compiled=compiled, **kw):
+        xs.append(state.x.copy())
+        its.append(state.iterations)
+    return np.array(xs), np.array(its)
+
+
+def assert_same_runs(system, x0, v0, dt, steps, C=None, scheme=None, rel=1e-9,
+                     same_iterations=True):
+    assert compiled_step.build(system, None if C is None else sp.csr_matrix(C),
+                               scheme or Scheme.newmark(), TOL, 20) is not None, \
+        compiled_step.last_refusal
+    fast, it_fast = run(system, x0, v0, dt, steps, C, True, scheme)
+    slow, it_slow = run(system, x0, v0, dt, steps, C, False, scheme)
+    motion = np.abs(slow - slow[0]).max()
+    assert motion > 1e-3  # the run does move
+    assert np.abs(fast - slow).max() < rel * motion
+    if same_iterations:  # (a step the compiled Newton gives up on is counted anew)
+        assert np.array_equal(it_fast, it_slow)
+
+
+def test_paper_case_steps_as_the_python_newton():
+    """The paper's box on its four lines with its Rayleigh damping and sine load."""
+    model = skmoor.build(skmoor.paper_case())
+    eq = skmoor.equilibrium(model)
+    assert_same_runs(model.system, eq.x, np.zeros(model.system.n), 0.05, 60, C=eq.C)
+
+
+def test_damped_lines_on_rotating_bodies_step_as_the_python_newton():
+    """Two buoys on a shared rope, a free clump with mass, volume and drag, a prescribed
+    point, lines with internal damping (BA): the bodies start turning, so the velocity
+    slope of their line ends and the Hessian of the attachment enter the Newton matrix."""
+    model = skmoor.from_network(network_two_bodies())
+    system = model.system
+    eq = skmoor.equilibrium(model)
+    v0 = np.zeros(system.n)
+    v0[system.nf:] = [0.2, -0.1, 0.05, 0.02, -0.03, 0.04, -0.1, 0.2, 0.0, -0.02, 0.01, 0.05]
+    assert_same_runs(system, eq.x, v0, 0.02, 80)
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.6])
+def test_chain_on_the_bed_with_drag_steps_as_the_python_newton(friction):
+    """A heaved chain (prescribed fairlead) on MoorDyn's sea bed with drag and added mass,
+    without and with bed friction (different axial and lateral coefficients): a System
+    without bodies (a pure band)."""
+    from skmoor.catenary import solve_catenary
+    from skmoor.hydro import line_hydrodynamics
+    from skmoor.seabed import Seabed, seabed_term
+
+    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, BA=7.5e4, Cd_n=2.4,
+                            Ca_n=1.0)
+    cat = solve_catenary([-80.0, 0.0, 30.0], [0, 0, -1], chain.weight, chain.EA,
+                         sag_ratio=None, length=100.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 12)], law="engineering")
+    bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter,
+                 mu_axial=friction, mu_lateral=1.5 * friction)
+    system = skmoor.System(lines, fairleads="prescribed",
+                           motion=lambda t: np.array([[0.0, 0.0, 2.0 * np.sin(0.6 * t)]]),
+                           terms=[seabed_term(lines, bed), line_hydrodynamics(lines)])
+    x0 = skmoor.solve_static(system).x
+    assert_same_runs(system, x0, np.zeros(system.n), 0.05, 100,
+                     scheme=Scheme.generalized_alpha(0.5))
+
+
+@pytest.mark.parametrize("maxiter", [3, 2])
+def test_steps_modified_newton_gives_up_on_go_as_in_python(maxiter):
+    """With few iterations allowed, modified Newton gives up on some steps: the compiled
+    step then runs full Newton with the line search as the Python step does (maxiter 3),
+    and a step that fails that too is split in halves in Python (maxiter 2): the run
+    reaches its end, step by step as the pure Python run."""
+    model = skmoor.build(skmoor.paper_case())
+    eq = skmoor.equilibrium(model)
+    system, n = model.system, model.system.n
+    states = []
+    for compiled in (True, False):
+        xs, subdivided = [], 0
+        for state in integrate(system, eq.x, np.zeros(n), 0.1, 4.0, C=eq.C, tol=1e-8,
+                               scheme=Scheme.generalized_alpha(0.8), maxiter=maxiter,
+                               compiled=compiled):
+            xs.append(state.x.copy())
+            subdivided = state.subdivided
+        states.append((np.array(xs), subdivided))
+    (fast, split_fast), (slow, split_slow) = states
+    assert len(fast) == len(slow) == 41 and split_fast == split_slow
+    assert (split_slow > 0) == (maxiter == 2)
+    assert np.abs(fast - slow).max() < 1e-9 * np.abs(slow - slow[0]).max()
+
+
+def test_what_the_compiled_step_leaves_to_python_is_named():
+    """Physics it does not cover makes build() return None with the reason."""
+    model = skmoor.build(skmoor.paper_case())
+    system = model.system
+    given = system.body_loads[0]
+    system.body_loads[0] = lambda t, q, qdot: -1e3 * qdot  # depends on the state
+    assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is None
+    assert "state" in compiled_step.last_refusal
+    system.body_loads[0] = given
+    assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is not None
+
+
+def test_bordered_band_solves_as_lapack():
+    """The bordered band LU (partial pivoting in the band, Schur complement on the border)
+    solves a random bordered system as numpy's LAPACK solve does."""
+    rng = np.random.default_rng(3)
+    nf, nb, w = 40, 6, 4
+    A = np.zeros((nf + nb, nf + nb))
+    for i in range(nf):
+        for j in range(max(0, i - w), min(nf, i + w + 1)):
+            A[i, j] = rng.standard_normal()  # pivoting needed: no diagonal dominance
+    A[:nf, nf:] = rng.standard_normal((nf, nb)) * (rng.random((nf, nb)) < 0.3)
+    A[nf:, :nf] = rng.standard_normal((nb, nf)) * (rng.random((nb, nf)) < 0.3)
+    A[nf:, nf:] = rng.standard_normal((nb, nb))
+    ab, E, F, D = bordered.split(A, nf, w)
+    out = np.empty(nf + nb)
+    x = rng.standard_normal(nf + nb)
+    bordered.matvec(ab, w, E, F, D, x, out)
+    assert np.allclose(out, A @ x, rtol=0, atol=1e-12 * np.abs(A @ x).max())
+    piv_band, piv_schur = np.zeros(nf, np.int64), np.zeros(nb, np.int64)
+    assert bordered.factor(ab, w, E, F, D, piv_band, piv_schur)
+    b = rng.standard_normal(nf + nb)
+    y = b.copy()
+    bordered.solve(ab, w, E, F, D, piv_band, piv_schur, y)
+    expected = np.linalg.solve(A, b)
+    assert np.abs(y - expected).max() < 1e-10 * np.abs(expected).max()
+    with pytest.raises(ValueError, match="wider than the band"):
+        bordered.split(A + np.eye(nf + nb, k=w + 1), nf, w)
