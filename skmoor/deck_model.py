@@ -19,7 +19,8 @@ CaAx -> Ca_t; the submerged weight is (Mass/m - rho pi d^2/4) g; the internal da
 BA (N s, or -zeta: BA = zeta (L / NumSegs) sqrt(EA Mass/m) as MoorDyn sets it) damps the
 axial strain rate (``LineType.BA``). Drag and added mass come from
 :func:`skmoor.hydro.line_hydrodynamics` (MoorDyn's conventions, still water unless a
-``Sea`` is given). The bottom is MoorDyn's (as :meth:`skmoor.seabed.Seabed.from_moordyn`:
+``Sea`` is given); a line's part above the free surface has no buoyancy and no drag
+(:mod:`skmoor.surface`, as MoorDyn's wetted length). The bottom is MoorDyn's (as :meth:`skmoor.seabed.Seabed.from_moordyn`:
 stiffness kBot d, damping cBot d per unit length), its damping faded in over the first
 tenth of the static penetration w / (kBot d), 13 mm for the chain decks (the bed's
 default ``damping_onset``; MoorDyn's jump there leaves the implicit step without a
@@ -282,7 +283,7 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     try:
         network = Network(points, lines, bodies, depth=deck.depth, rho=deck.rho, g=deck.g,
                           sea=sea, hydro=hydro, strain_law="engineering",
-                          motion=_network_motion(deck, motion))
+                          motion=_network_motion(deck, motion), surface=True)
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
     if seabed:

@@ -1,0 +1,107 @@
+"""Lines through the free surface: no buoyancy and no drag on the dry part of a line.
+
+skmoor's line forms take a line as submerged: its weight per length is the submerged
+weight (m - rho A) g (:class:`~skmoor.line.LineType`) and the Morison drag acts all along
+it (:mod:`skmoor.hydro`). MoorDyn v2 gives each node the buoyancy and drag of its wetted
+length only (source/Line.cpp, ``Line::getStateDeriv`` and ``calcSubSeg``). This term
+takes back, on the part of a line above the free surface z = eta(x, y, t), the buoyancy
+rho g A and the drag, with the dry fraction of a section linear in the height of its
+centre over one diameter d:
+
+    dry(z) = clip(1/2 + (z - eta) / d, 0, 1)
+
+(MoorDyn: the wetted share of each segment from its end heights). The added mass stays
+on the dry part (a constant matrix in skmoor, :func:`skmoor.hydro.added_mass_matrix`),
+and so does the fluid inertia of waves (their kinematics are held at z = 0 above the
+mean surface, :mod:`skmoor.waves`). The surface elevation eta is the sea's
+(:meth:`skmoor.waves.Sea.elevation`) at the displaced nodes, interpolated along the
+elements.
+"""
+from __future__ import annotations
+
+import numpy as np
+from skfem import BilinearForm, LinearForm
+
+from . import ops
+from .hydro import coefficients, morison_drag, morison_drag_rate, morison_drag_stiffness, nodal_water
+from .terms import LineForm, _raw
+
+_drag = _raw(morison_drag)
+_drag_stiffness = _raw(morison_drag_stiffness)
+_drag_rate = _raw(morison_drag_rate)
+
+
+def _dry(w):
+    """(dry fraction, its d/dz in 1/m) at the quadrature points: dry = clip(1/2 + (z -
+    eta) / d, 0, 1), z the height of the displaced line, eta the surface's."""
+    height = ops.value(w.X)[2] + ops.value(w.u)[2] - ops.value(w.eta)[2]
+    ratio = height / w.diameter
+    inside = (ratio > -0.5) & (ratio < 0.5)
+    return ops.clip(0.5 + ratio, 0.0, 1.0), inside / w.diameter
+
+
+@LinearForm
+def dry_part(v, w):
+    # int dry(z) [rho g A e_z . du - drag(du)] ds: the buoyancy and the drag taken back
+    dry, _ = _dry(w)
+    return dry * (w.buoyancy * ops.value(v)[2] - _drag(v, w))
+
+
+@BilinearForm
+def dry_part_stiffness(du, v, w):
+    # d/du: int [dry'(z) du_z (rho g A v_z - drag(v)) - dry d(drag(v))/du] ds
+    dry, slope = _dry(w)
+    return (slope * ops.value(du)[2] * (w.buoyancy * ops.value(v)[2] - _drag(v, w))
+            - dry * _drag_stiffness(du, v, w))
+
+
+@BilinearForm
+def dry_part_damping(dv, v, w):
+    # d/d(udot): -int dry d(drag(v))/d(udot) ds
+    dry, _ = _dry(w)
+    return -dry * _drag_rate(dv, v, w)
+
+
+class SurfaceTerm(LineForm):
+    """The dry part of the lines (see the module docstring) as a line term; skipped while
+    every node lies deeper than half a diameter plus a quarter element below the
+    surface (the term is zero there). sea: a :class:`skmoor.waves.Sea` or None (still
+    water, eta = 0); drag: take back the drag too (False where the lines have no
+    Morison terms); the buoyancy rho g A from each line's LineType (rho_water, g, area)."""
+
+    def __init__(self, lines, sea=None, *, drag=True, path="auto"):
+        c = coefficients(lines)
+
+        def per_cell(name):  # (nel, 1)
+            return np.array([getattr(ln.line_type, name) for ln in lines.lines])[
+                lines.line_of_cell][:, None]
+
+        per_reference = lines.fields["m"] / per_cell("mass")  # 1 / stretch
+        shape = lines.fields["m"].shape
+        buoyancy = per_cell("rho_water") * per_cell("g") * per_cell("area") * per_reference
+        fields = dict(X=lines.reference_dofs.copy(), drag_n=c["drag_n"] * drag, drag_t=c["drag_t"] * drag,
+                      buoyancy=buoyancy,
+                      diameter=np.broadcast_to(per_cell("diameter"), shape).copy())
+        hand = path in ("auto", "assembly")
+        super().__init__(dry_part, stiffness=dry_part_stiffness if hand else None,
+                         damping=dry_part_damping if hand else None, fields=fields,
+                         path=path, lines=lines, name="dry_part")
+        self.sea = sea
+        self._reach = 0.5 * per_cell("diameter").max() + 0.25 * lines.element_lengths.max()
+
+    def _heights(self, u, t):
+        """(positions (nnodes, 3), height above the surface (nnodes,)) of the nodes."""
+        x = self.lines.points + u[self.lines.nodal_dofs]
+        eta = 0.0 if self.sea is None else self.sea.elevation(x, t)
+        return x, x[:, 2] - eta
+
+    def add_to(self, u, v, t, R, K=None, C=None):
+        _, height = self._heights(u, t)
+        if height.max() > -self._reach:
+            super().add_to(u, v, t, R, K, C)
+
+    def fields_at(self, t, u):
+        x, height = self._heights(u, t)
+        eta = np.zeros(self.lines.ndofs)
+        eta[self.lines.nodal_dofs[:, 2]] = x[:, 2] - height
+        return dict(self.fields, eta=eta, uw=nodal_water(self.lines, self.sea, u, t))
