@@ -58,8 +58,6 @@ KNOWN_DIFFERENCES = {
     "tensions (its currents do not load the lines there: docs/api/waves.md); skmoor's static "
     "state carries the drag of the deck's 4D current, up to 5 m/s",
     "tests/Mooring/wavekin_2/wavekin_3_curr5.txt": "as wavekin_2_curr5.txt",
-    "tests/Mooring/wave_surface/wave_surface.txt": "lines 4 and 5 lie above the still water "
-    "line: MoorDyn weighs them in air, skmoor's lines are always submerged",
 }
 
 
