@@ -64,10 +64,11 @@ def dry_part_damping(dv, v, w):
 
 class SurfaceTerm(LineForm):
     """The dry part of the lines (see the module docstring) as a line term; skipped while
-    every node lies deeper than half a diameter plus a quarter element below the
-    surface (the term is zero there). sea: a :class:`skmoor.waves.Sea` or None (still
-    water, eta = 0); drag: take back the drag too (False where the lines have no
-    Morison terms); the buoyancy rho g A from each line's LineType (rho_water, g, area)."""
+    every Gauss point lies more than half a diameter below the surface (the term is
+    exactly zero there: a mooring's fairlead on the surface costs nothing). sea: a
+    :class:`skmoor.waves.Sea` or None (still water, eta = 0); drag: take back the drag
+    too (False where the lines have no Morison terms); the buoyancy rho g A from each
+    line's LineType (rho_water, g, area)."""
 
     def __init__(self, lines, sea=None, *, drag=True, path="auto"):
         c = coefficients(lines)
@@ -79,29 +80,53 @@ class SurfaceTerm(LineForm):
         per_reference = lines.fields["m"] / per_cell("mass")  # 1 / stretch
         shape = lines.fields["m"].shape
         buoyancy = per_cell("rho_water") * per_cell("g") * per_cell("area") * per_reference
-        fields = dict(X=lines.reference_dofs.copy(), drag_n=c["drag_n"] * drag, drag_t=c["drag_t"] * drag,
-                      buoyancy=buoyancy,
+        fields = dict(X=lines.reference_dofs.copy(), drag_n=c["drag_n"] * drag,
+                      drag_t=c["drag_t"] * drag, buoyancy=buoyancy,
                       diameter=np.broadcast_to(per_cell("diameter"), shape).copy())
         hand = path in ("auto", "assembly")
         super().__init__(dry_part, stiffness=dry_part_stiffness if hand else None,
                          damping=dry_part_damping if hand else None, fields=fields,
                          path=path, lines=lines, name="dry_part")
         self.sea = sea
-        self._reach = 0.5 * per_cell("diameter").max() + 0.25 * lines.element_lengths.max()
+        self._flat = sea is None or not (sea.waves or sea.fields)  # eta = 0
+        xi = lines.basis.X[0]
+        self._phi = np.stack([1.0 - xi, xi])  # P1 shape functions at the Gauss points
+        self._half = 0.5 * per_cell("diameter")  # (nel, 1), m
+        self._z = lines.points[:, 2].copy()
+        self._z_dofs = lines.nodal_dofs[:, 2].copy()
+        steps = np.diff(self._z_dofs)
+        self._z_view = (slice(self._z_dofs[0], self._z_dofs[-1] + 1, steps[0])
+                        if len(steps) and np.all(steps == steps[0]) else self._z_dofs)
+        self._deepest_reach = -float(self._half.max())
 
-    def _heights(self, u, t):
-        """(positions (nnodes, 3), height above the surface (nnodes,)) of the nodes."""
-        x = self.lines.points + u[self.lines.nodal_dofs]
-        eta = 0.0 if self.sea is None else self.sea.elevation(x, t)
-        return x, x[:, 2] - eta
+    def _eta(self, u, t):
+        """(ndofs,) the surface elevation at the displaced nodes on their z DOFs, m."""
+        eta = np.zeros(self.lines.ndofs)
+        if not self._flat:
+            x = self.lines.points + u[self.lines.nodal_dofs]
+            eta[self._z_dofs] = self.sea.elevation(x, t)
+        return eta
+
+    def _wet(self, u, t) -> bool:
+        """True while every Gauss point is more than half a diameter under the surface
+        (the heights the form sees)."""
+        lines = self.lines
+        if lines.hermite:
+            eta = self._eta(u, t)
+            height = lines.basis.interpolate(self.fields["X"] + u - eta).value[2]
+        else:
+            nodes = self._z + u[self._z_view]
+            if not self._flat:
+                nodes = nodes - self._eta(u, t)[self._z_dofs]
+            if nodes.max() <= self._deepest_reach:  # the Gauss points lie between the nodes
+                return True
+            a, b = nodes[lines.mesh.t]  # (nel,) each
+            height = a[:, None] * self._phi[0] + b[:, None] * self._phi[1]
+        return bool(np.all(height <= -self._half))
 
     def add_to(self, u, v, t, R, K=None, C=None):
-        _, height = self._heights(u, t)
-        if height.max() > -self._reach:
+        if not self._wet(u, t):
             super().add_to(u, v, t, R, K, C)
 
     def fields_at(self, t, u):
-        x, height = self._heights(u, t)
-        eta = np.zeros(self.lines.ndofs)
-        eta[self.lines.nodal_dofs[:, 2]] = x[:, 2] - height
-        return dict(self.fields, eta=eta, uw=nodal_water(self.lines, self.sea, u, t))
+        return dict(self.fields, eta=self._eta(u, t), uw=nodal_water(self.lines, self.sea, u, t))

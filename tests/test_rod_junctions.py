@@ -75,5 +75,5 @@ def test_bad_zero_length_rods_name_the_deck_line(tmp_path, old, new, message):
     text = (DECKS / "zero_length_junction.dat").read_text()
     assert old in text
     (tmp_path / "bad.dat").write_text(text.replace(old, new))
-    with pytest.raises(ValueError, match=r"bad\.dat line 15: RODS .*" + re.escape(message)):
+    with pytest.raises(ValueError, match=r"bad\.dat line 16: RODS .*" + re.escape(message)):
         read_deck(tmp_path / "bad.dat")
