@@ -78,7 +78,7 @@ def test_surface_term_tangents(element):
     model = skmoor.from_network(hanging(True, element, n=8))
     lines = model.lines
     term = next(t for t in model.system.terms if isinstance(t, SurfaceTerm))
-    z = lines.basis.interpolate(lines.reference_dofs).value[2]  # heights of the Gauss points
+    z = np.asarray(lines.basis.interpolate(lines.reference_dofs))[2]  # heights of the Gauss points
     nearest = z.ravel()[np.argmin(np.abs(z.ravel()))]
     u = np.zeros(lines.ndofs)
     u[lines.nodal_dofs[:, 2]] = 0.25 * ROPE.diameter - nearest  # that point in the ramp
@@ -87,3 +87,25 @@ def test_surface_term_tangents(element):
     check = check_tangent(model, term, u=u, v=v, seed=3)
     assert check.ok, str(check)
     assert check.slope_u is not None and check.slope_v is not None
+
+
+@pytest.mark.parametrize("element", ["p1", "hermite"])
+def test_buoyancy_sums_are_the_forms(element):
+    """The term sums its buoyancy part in NumPy on the elements near the surface: the
+    same residual and stiffness as scikit-fem's assembly of the forms dry_buoyancy and
+    dry_buoyancy_stiffness on every element, to round-off."""
+    from skfem import asm
+
+    from skmoor.surface import dry_buoyancy, dry_buoyancy_stiffness
+
+    model = skmoor.from_network(hanging(True, element, n=8))
+    lines = model.lines
+    term = next(t for t in model.system.terms if isinstance(t, SurfaceTerm))
+    u = 0.05 * np.random.default_rng(4).standard_normal(lines.ndofs)
+    R, K, _ = term.evaluate(u, np.zeros_like(u))
+    _, w = term._w(u, np.zeros_like(u), 0.0)
+    R_form = asm(dry_buoyancy, lines.basis, **w)
+    K_form = asm(dry_buoyancy_stiffness, lines.basis, **w)
+    assert np.abs(R_form).max() > 100.0  # the part above water is there
+    np.testing.assert_allclose(R, R_form, rtol=0, atol=1e-9 * np.abs(R_form).max())
+    assert abs(K - K_form).max() <= 1e-9 * abs(K_form).max()
