@@ -166,7 +166,8 @@ class DeckRod:
     """A RODS entry. kind: 'fixed', 'pinned' (end A fixed in place, free to turn),
     'body' (on body ``body``; ``pinned``: by end A only), 'coupled', 'coupled pinned' or
     'free'. a, b: end positions (m; on a body, in its frame relative to its reference
-    point); n_segments: NumSegs."""
+    point); n_segments: NumSegs (0: a zero-length rod, MoorDyn's 6-DOF connection node;
+    Free rods only, a == b)."""
 
     id: int
     type: str
@@ -584,14 +585,16 @@ def _rod(e, deck):
     columns = ("Xa", "Ya", "Za", "Xb", "Yb", "Zb")
     ends = [e.number_at(i, c) for i, c in zip(range(3, 9), columns)]
     segments = e.integer_at(9, "NumSegs")
-    if segments == 0:
-        raise e.error("NumSegs: 0 makes a zero-length rod (MoorDyn's 6-DOF connection "
-                      "node), which is not supported")
     if segments < 0:
-        raise e.error(f"NumSegs: must be >= 1, got {segments}")
-    if ends[:3] == ends[3:]:
-        raise e.error("Xa..Zb: ends A and B at the same place (a zero-length rod is not "
-                      "supported)")
+        raise e.error(f"NumSegs: must be >= 0, got {segments}")
+    if segments == 0 and kind != "free":
+        raise e.error(f"NumSegs: 0 makes a zero-length rod (MoorDyn's 6-DOF connection "
+                      f"node), supported as a Free rod only (this one is {e.words[2]})")
+    if segments == 0 and ends[:3] != ends[3:]:
+        raise e.error("NumSegs: 0 (a zero-length rod) needs ends A and B at the same place")
+    if segments > 0 and ends[:3] == ends[3:]:
+        raise e.error("Xa..Zb: ends A and B at the same place need NumSegs = 0 (a "
+                      "zero-length rod)")
     deck.rods.append(DeckRod(id=number, type=e.words[1], kind=kind, a=tuple(ends[:3]),
                              b=tuple(ends[3:]), n_segments=segments,
                              body=body if kind == "body" else None, pinned=pinned,

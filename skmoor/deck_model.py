@@ -19,7 +19,8 @@ CaAx -> Ca_t; the submerged weight is (Mass/m - rho pi d^2/4) g; the internal da
 BA (N s, or -zeta: BA = zeta (L / NumSegs) sqrt(EA Mass/m) as MoorDyn sets it) damps the
 axial strain rate (``LineType.BA``). Drag and added mass come from
 :func:`skmoor.hydro.line_hydrodynamics` (MoorDyn's conventions, still water unless a
-``Sea`` is given). The bottom is MoorDyn's (as :meth:`skmoor.seabed.Seabed.from_moordyn`:
+``Sea`` is given); a line's part above the free surface has no buoyancy and no drag
+(:mod:`skmoor.surface`, as MoorDyn's wetted length). The bottom is MoorDyn's (as :meth:`skmoor.seabed.Seabed.from_moordyn`:
 stiffness kBot d, damping cBot d per unit length), its damping faded in over the first
 tenth of the static penetration w / (kBot d), 13 mm for the chain decks (the bed's
 default ``damping_onset``; MoorDyn's jump there leaves the implicit step without a
@@ -52,6 +53,10 @@ A line type with EI > 0 is a bending line (:mod:`skmoor.bending`: the deck's lin
 all go on the Hermite element, the cables with EI = 0), its ends pinned (MoorDyn clamps a
 line where it ends on a rod; here a line end on a Fixed rod is clamped along the rod's
 axis, on a moving rod pinned to it).
+
+A zero-length Free rod (NumSegs 0, MoorDyn's 6-DOF connection node) is a massless free
+point ``rodN`` joining the lines on its two ends; they are pinned there (MoorDyn clamps
+them to the node, which turns: the bending moment is carried across it).
 
 Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), a
 Body<N>Pinned rod on a free body, mass or volume on a body point, VIV (Cl > 0),
@@ -179,10 +184,24 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
         terms.append(RodLoad(rod_type, a, b, reference_point=position,
                              n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
                              bed=bed, name=f"rod{rod.id}"))
-    if body.mass <= 0 and len(rods) == 1:  # a massless body on one rod: the rod's spin
+    if len(rods) == 1 and _spins_freely(deck, body, cg, rods[0]):  # the rod's spin
         terms.append(SpinLoad(a, b, rigid.mass * deck.g * np.linalg.norm(b - a)))
     return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms,
                 pin="coupled" if body.kind == "pinned" else None)
+
+
+def _spins_freely(deck: Deck, body, cg, rod) -> bool:
+    """True when nothing holds a body on one rod about the rod's axis in statics: no
+    mass of its own, or its centre of mass and all its points on the axis (body frame)."""
+    if body.mass <= 0:
+        return True
+    a, b = np.array(rod.a, float), np.array(rod.b, float)
+    axis = (b - a) / np.linalg.norm(b - a)
+    points = [cg] + [np.array(p.position, float) for p in deck.points
+                     if p.kind == "body" and p.body == body.id]
+    pinned = [r for r in deck.rods if r.kind == "body" and r.body == body.id and r.pinned]
+    return not pinned and all(np.linalg.norm(np.cross(x - a, axis)) < 1e-9 * max(1.0, np.linalg.norm(b - a))
+                              for x in points)
 
 
 def _rod_bed(deck: Deck):
@@ -200,6 +219,8 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
     for a free or pinned rod, its own dynamic body."""
     name = f"rod{rod.id}"
     a, b = np.array(rod.a, float), np.array(rod.b, float)
+    if rod.n_segments == 0:  # a zero-length Free rod: a massless junction of its lines
+        return [Point(name, "free", a)], None
     if rod.kind == "body":
         carrier = bodies[rod.body - 1]
         if not rod.pinned:
@@ -281,12 +302,13 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
         line_type = line_type_of(deck, line)
         clamps = ({} if not line_type.EI > 0 else
                   {"clamp_a": _rod_clamp(deck, line.a, "a"), "clamp_b": _rod_clamp(deck, line.b, "b")})
-        lines.append(MooringLine(f"line{line.id}", line_type, _end_name(line.a),
-                                 _end_name(line.b), line.length, int(line.n_segments), **clamps))
+        lines.append(MooringLine(f"line{line.id}", line_type, _end_name(deck, line.a),
+                                 _end_name(deck, line.b), line.length, int(line.n_segments),
+                                 **clamps))
     try:
         network = Network(points, lines, bodies, depth=deck.depth, rho=deck.rho, g=deck.g,
                           sea=sea, hydro=hydro, strain_law="engineering",
-                          motion=_network_motion(deck, motion))
+                          motion=_network_motion(deck, motion), surface=True)
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
     if seabed:
@@ -335,9 +357,13 @@ def _rod_clamp(deck: Deck, end, side):
     return outward if side == "a" else -outward  # the line's tangent runs a -> b
 
 
-def _end_name(end) -> str:
-    """The network point of a deck line end: a point number, or a rod end 'R<N>A'."""
-    return f"point{end}" if isinstance(end, int) else f"rod{end[1:-1]}.{end[-1]}"
+def _end_name(deck: Deck, end) -> str:
+    """The network point of a deck line end: a point number, or a rod end 'R<N>A' (both
+    ends of a zero-length rod are its one point ``rodN``)."""
+    if isinstance(end, int):
+        return f"point{end}"
+    rod = next(r for r in deck.rods if r.id == int(end[1:-1]))
+    return f"rod{rod.id}" if rod.n_segments == 0 else f"rod{rod.id}.{end[-1]}"
 
 
 def _seabed(deck: Deck, network: Network, bathymetry=None):

@@ -19,7 +19,8 @@ reference stretch, as LineSet does for ``m`` and ``w`` (the factor is read off a
 m / LineType.mass). Differences from MoorDyn: the loads are integrated with Gauss points
 over each element (MoorDyn lumps them at the nodes with the nodal tangent); the added mass
 is a constant matrix on the reference tangent X' (MoorDyn uses the current tangent);
-the line is taken as fully submerged (no partial submergence near the surface).
+the line is taken as fully submerged here (:mod:`skmoor.surface` takes the buoyancy and
+the drag of a line's dry part back; MoorDyn's decks have it).
 
 The water velocity and acceleration are evaluated at the displaced nodes X + u at time t
 (as MoorDyn does) and interpolated linearly along each element; their spatial gradient is

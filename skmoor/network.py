@@ -33,6 +33,7 @@ from .body import RigidBody
 from .catenary import solve_catenary
 from .coupling import Ends, PointMass, System
 from .hydro import line_terms
+from .surface import SurfaceTerm
 from .laws import Engineering
 from .line import Line, LineSet, LineType
 from .seabed import seabed_term
@@ -154,6 +155,9 @@ class Network:
     :class:`~skmoor.terms.LineForm` path: 'auto' (scikit-fem's assembly with the exact
     tangents: no compile, slow per call) or 'compiled' (numba kernels generated once,
     ~30 s each, cached on disk: for time integration). P1 lines have compiled kernels.
+    surface: the lines' parts above the free surface lose their buoyancy and drag
+    (:mod:`skmoor.surface`, on ``form_path``; MoorDyn's decks have it); off by default:
+    the lines are taken as submerged.
     """
 
     points: list
@@ -168,6 +172,7 @@ class Network:
     strain_law: object = "engineering"
     motion: object = None
     form_path: str = "auto"
+    surface: bool = False
     notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
 
     def __post_init__(self):
@@ -485,6 +490,9 @@ def build_system(network: Network, positions: dict | None = None):
     if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
         terms += line_terms(lineset, network.sea, path=network.form_path)
+    if network.surface:
+        terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,
+                                 path=network.form_path))
     for k, body in enumerate(dynamic):
         for term in body.terms:
             term = copy.copy(term)
