@@ -33,6 +33,8 @@ from .kernels import CableKernel, ElementPattern, _cable
 from .seabed import SeabedKernel, _seabed
 
 last_refusal = ""  # why the last build() returned None
+TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
+SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
 
 # stand-ins for an absent term (the compiled loop gets the same argument types)
 NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 1)),
@@ -55,10 +57,14 @@ def build(system, C, scheme, tol, maxiter):
     lines = system.lines
     if lines.hermite or not isinstance(system.kernel, CableKernel):
         return _refuse("bending (Hermite) lines")
-    hydro = bed = None
+    from .surface import SurfaceTerm
+
+    hydro = bed = surface = None
     for term in system.line_terms:
         if isinstance(term, LineHydroKernel) and not term.moving_water and hydro is None:
             hydro = term
+        elif isinstance(term, SurfaceTerm) and term._flat and surface is None:
+            surface = term  # zero while the lines stay deep (checked at every residual)
         elif (isinstance(term, SeabedKernel) and term.bathymetry is None
               and term._positions is None and bed is None):
             bed = term
@@ -85,8 +91,8 @@ def build(system, C, scheme, tol, maxiter):
         return _refuse("mass or damping coupling line DOFs beyond the lines' band")
     damped = C is not None and C.count_nonzero() > 0
     C_matrix = C if C is not None else sp.csr_matrix(system.M.shape)
-    return CompiledStep(system, hydro, bed, M, Cs, C_matrix, damped, width, scheme, tol,
-                        maxiter)
+    return CompiledStep(system, hydro, bed, surface, M, Cs, C_matrix, damped, width, scheme,
+                        tol, maxiter)
 
 
 def _contiguous(arrays):
@@ -108,8 +114,10 @@ class CompiledStep:
     """The arrays of a System the compiled step reads, and its Newton matrix's factors
     (kept across steps: modified Newton)."""
 
-    def __init__(self, system, hydro, bed, M, C, C_matrix, damped, width, scheme, tol,
-                 maxiter):
+    handed_back = TO_PYTHON  # the failure of a step that is the Python step's to take
+
+    def __init__(self, system, hydro, bed, surface, M, C, C_matrix, damped, width, scheme,
+                 tol, maxiter):
         self.system, self.hydro, self.bed = system, hydro, bed
         self.M, self.C, self.damped, self.width = M, C, damped, width
         self.products = (_csr(system.M), _csr(C_matrix))
@@ -125,7 +133,13 @@ class CompiledStep:
                          np.asarray(system._body_of_end, np.int64),
                          np.asarray(system.body_end_dofs, np.int64).reshape(-1, 3),
                          np.ascontiguousarray(r_local, float),
-                         np.ascontiguousarray(lines.element_dofs, np.int64), system.nf)
+                         np.ascontiguousarray(lines.element_dofs, np.int64), system.nf,
+                         # the nodes' z DOFs, reference heights (m) and the depth (m) a
+                         # SurfaceTerm needs them below (none: no term)
+                         np.zeros(0, np.int64) if surface is None
+                         else np.asarray(surface._z_dofs, np.int64),
+                         np.zeros(0) if surface is None else np.asarray(surface._z, float),
+                         0.0 if surface is None else float(surface._deepest_reach))
         self.prescribed_dofs = np.asarray(system._prescribed_flat, np.int64)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
         drag = np.array([0.5 * p.rho * p.CdA for p in system.point_masses])
@@ -187,9 +201,9 @@ class CompiledStep:
         done, code = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, model,
                           loads, pres_u, pres_v, self.factors, self.state, self.work, out,
                           iterations)
-        failure = None if code == 1 else (
-            f"Newton did not converge in {self.maxiter} iterations" if code == 0
-            else "the Newton step is not finite")
+        failure = (None if code == 1 else TO_PYTHON if code == -2 else
+                   f"Newton did not converge in {self.maxiter} iterations" if code == 0
+                   else "the Newton step is not finite")
         return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]))
                 for i in range(done)], failure
 
@@ -200,7 +214,8 @@ def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, 
     """Steps of h from (x, v, a, force = C v + R) with the inputs of step i in loads[i],
     pres_u[i], pres_v[i]: (x1, v1, a1, force1) of step i into out[:, i], its Newton
     iterations into iterations[i]. Returns (the steps done, the failed step's code: 0
-    Newton did not converge, -1 a correction not finite, 1 none failed)."""
+    Newton did not converge, -1 a correction not finite, -2 a line at the surface, 1
+    none failed)."""
     am, af, beta, gamma = scheme
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
     mass = model[10][0]
@@ -258,8 +273,10 @@ def _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, poin
               loads, prescribed_dofs, pres_u, pres_v, tangent, work, R):
     """R(x, v) reduced (N, N m) into R; with ``tangent`` the element blocks d/du, d/dv in
     work[3], work[4] and the body ends' J, d(J qdot)/dq in work[5], work[6]; the full
-    cable residual in work[2] (``coupling.System.residual``, one body per 6 DOFs)."""
-    position, end_row, end_body, end_dofs, r_local, _, nf = topology
+    cable residual in work[2] (``coupling.System.residual``, one body per 6 DOFs). False
+    (nothing computed) when a node of a line with a SurfaceTerm comes within half a
+    diameter of the surface: the step is then Python's."""
+    position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     u[:] = 0.0
     ud[:] = 0.0
@@ -294,6 +311,10 @@ def _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, poin
     for m in range(prescribed_dofs.size):
         u[prescribed_dofs[m]] = pres_u[m]
         ud[prescribed_dofs[m]] = pres_v[m]
+    surface_dofs, surface_z, surface_reach = topology[7], topology[8], topology[9]
+    for i in range(surface_dofs.size):  # SurfaceTerm is zero while the lines stay this deep
+        if surface_z[i] + u[surface_dofs[i]] > surface_reach:
+            return False
     Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity = cable
     for g in range(full.size):
         full[g] = constant[g] - gravity[g]
@@ -356,6 +377,7 @@ def _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, poin
                             s += v[base + 3 + a] * d2[a, b, c, l] * r_local[p, l]
                     S[3 * p + c, 3 + b] = s
                     S[3 * p + c, b] = 0.0
+    return True
 
 
 @njit(cache=True)
@@ -382,7 +404,7 @@ def _assemble(x, v, topology, points, bodies, work, cx, cv, af, M, C, damped, wi
               factors):
     """The Newton matrix cx M + (1 - af)(cv (C + Kv) + K) into the factor arrays, from
     the blocks and Jacobians :func:`_residual` left in ``work``."""
-    position, end_row, end_body, end_dofs, r_local, edofs, nf = topology
+    position, end_row, end_body, end_dofs, r_local, edofs, nf = topology[:7]
     full, Ke, Ce, J, S = work[2], work[3], work[4], work[5], work[6]
     ab, E, F, D = factors[0], factors[1], factors[2], factors[3]
     abM, EM, FM, DM = M
@@ -464,7 +486,8 @@ def _assemble(x, v, topology, points, bodies, work, cx, cv, af, M, C, damped, wi
 def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, factors,
              state, work, B):
     """-(the alpha-level balance at x1 = y) into B (``dynamics.integrate``'s balance), and
-    with ``tangent`` its Newton matrix into ``factors``, factorized: False when singular."""
+    with ``tangent`` its Newton matrix into ``factors``, factorized. Returns SOLVED,
+    SINGULAR (the matrix) or SURFACE (a line reached the free surface: Python's step)."""
     am, af, beta, gamma = scheme
     (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
      products, M, C, damped, width) = model
@@ -473,8 +496,9 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
     for i in range(y.size):
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
         v1[i] = v_pred[i] + gamma * h * a1[i]
-    _residual(y, v1, topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies,
-              loads, prescribed_dofs, pres_u, pres_v, tangent, work, R)
+    if not _residual(y, v1, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
+                     bodies, loads, prescribed_dofs, pres_u, pres_v, tangent, work, R):
+        return SURFACE
     _product(products[0], a1, Ma)
     if damped:
         _product(products[1], v1, Cv)
@@ -482,16 +506,16 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
         B[i] = -((1 - am) * Ma[i] + (1 - af) * (R[i] + (Cv[i] if damped else 0.0))
                  + inertia_old[i])
     if not tangent:
-        return True
+        return SOLVED
     _assemble(y, v1, topology, points, bodies, work, (1 - am) / (beta * h * h),
               gamma / (beta * h), af, M, C, damped, width, factors)
     ab, E, F, D, piv_band, piv_schur = factors
     state[2] += 1.0
     if not bordered.factor(ab, width, E, F, D, piv_band, piv_schur):
         state[0] = 0.0
-        return False
+        return SINGULAR
     state[0] = 1.0
-    return True
+    return SOLVED
 
 
 @njit(cache=True)
@@ -532,8 +556,11 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, fact
     previous = scale = np.inf
     used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
     for it in range(1, maxiter + 1):
-        if not _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent,
-                        factors, state, work, B):
+        code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent,
+                        factors, state, work, B)
+        if code == SURFACE:
+            return -2
+        if code == SINGULAR:
             used = it
             break
         size = _solve(B, factors, width)
@@ -552,11 +579,13 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, fact
     # full Newton with the line search (dynamics._newton with full=True)
     y = x0 + h * v0
     trial = work[13]
-    ok = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True, factors,
-                  state, work, B)
+    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True, factors,
+                    state, work, B)
     norm = _norm(B)
     for it in range(1, maxiter + 1):
-        if not ok:
+        if code == SURFACE:
+            return -2
+        if code == SINGULAR:
             return -1
         dx = B.copy()
         size = _solve(dx, factors, width)
@@ -571,8 +600,10 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, fact
             return used + it
         length = 1.0
         for halving in range(LINE_SEARCH + 1):
-            ok = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, model, inputs,
-                          halving == 0, factors, state, work, B)
+            code = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, model, inputs,
+                            halving == 0, factors, state, work, B)
+            if code == SURFACE:
+                return -2
             norm_try = _norm(B)
             if (norm_try <= (1 - 1e-4 * length) * norm or not math.isfinite(norm_try)
                     or halving == LINE_SEARCH):
@@ -582,8 +613,8 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, fact
                 trial[i] = y[i] + length * dx[i]
         y[:] = trial
         if length != 1.0 and math.isfinite(norm_try):  # the tangent where the search stopped
-            ok = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True,
-                          factors, state, work, B)
+            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True,
+                            factors, state, work, B)
         norm = norm_try
     return 0
 

@@ -276,9 +276,10 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             ahead.reverse()
         if ahead:
             out, it = ahead.pop()
-        elif failed is not None:  # the compiled step failed as advance would: split it
+        elif failed is not None and failed != fast.handed_back:  # failed as advance would
             out, it, failed = None, failed, None
         else:
+            failed = None
             out, it = advance(x, v, a, force_old, G, t1, dt, matrix)
         if out is None:
             why = it
