@@ -82,13 +82,15 @@ def dry_part(v, w):
 
 
 class SurfaceTerm(LineForm):
-    """The dry part of the lines (see the module docstring) as a line term, assembled on
+    """The dry part of the lines (see the module docstring) as a line term, evaluated on
     the elements with a Gauss point less than half a diameter under the surface only
     (the term is exactly zero on the others: a mooring's fairlead on the surface costs a
-    check of the nodes' heights). sea: a
-    :class:`skmoor.waves.Sea` or None (still water, eta = 0); drag: take back the drag
-    too (False where the lines have no Morison terms); the buoyancy rho g A from each
-    line's LineType (rho_water, g, area)."""
+    check of the nodes' heights). On path 'auto' the buoyancy part is summed in NumPy
+    and the drag part assembled by scikit-fem, both on those elements; on 'compiled' or
+    'fd' the LineForm of ``dry_part`` runs on all. sea: a :class:`skmoor.waves.Sea` or
+    None (still water, eta = 0); drag: take back the drag too (False where the lines
+    have no Morison terms); the buoyancy rho g A from each line's LineType (rho_water,
+    g, area)."""
 
     def __init__(self, lines, sea=None, *, drag=True, path="auto"):
         c = coefficients(lines)
@@ -103,7 +105,7 @@ class SurfaceTerm(LineForm):
         fields = dict(X=lines.reference_dofs.copy(), drag_n=c["drag_n"] * drag,
                       drag_t=c["drag_t"] * drag, buoyancy=buoyancy,
                       diameter=np.broadcast_to(per_cell("diameter"), shape).copy())
-        hand = path in ("auto", "assembly")
+        hand = path in ("auto", "assembly")  # then add_to does the work (LineForm's check)
         super().__init__(dry_part, stiffness=dry_buoyancy_stiffness if hand else None,
                          fields=fields, path=path, lines=lines, name="dry_part")
         self.drag = bool(drag) and bool(np.any(c["drag_n"]) or np.any(c["drag_t"]))
