@@ -2,8 +2,9 @@
 the check modules it gathers)."""
 from __future__ import annotations
 
-import importlib.metadata
 from dataclasses import dataclass
+
+from _cases import version
 
 IRVINE = "elastic catenary (Irvine, Cable Structures, 1981)"
 IRVINE_MODES = ("sagged-cable theory (Irvine & Caughey 1974, Proc. R. Soc. A 341; "
@@ -11,13 +12,6 @@ IRVINE_MODES = ("sagged-cable theory (Irvine & Caughey 1974, Proc. R. Soc. A 341
 STRING = "taut string: omega_n = n pi / L sqrt(T / m)"
 FE_ORDER = "P1 finite elements: error ~ h^2"
 TIME_ORDER = "generalized-alpha / Newmark: error ~ dt^2 (Chung & Hulbert 1993)"
-
-
-def version(package):
-    try:
-        return importlib.metadata.version(package)
-    except importlib.metadata.PackageNotFoundError:
-        return "not installed"
 
 
 MOORPY = f"MoorPy {version('moorpy')}, run side by side"

@@ -17,11 +17,7 @@ status 1 if a check fails.
 from __future__ import annotations
 
 import argparse
-import datetime
 import itertools
-import os
-import platform
-import subprocess
 import sys
 import tempfile
 import time
@@ -30,9 +26,10 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
+import _cases
 from _cases import ROOT, inside, quiet
 from _validation import (FE_ORDER, IRVINE, IRVINE_MODES, MOORDYN, MOORPY, ORCAFLEX, PAPER,
-                         STRING, TIME_ORDER, NotRun, Row, version)
+                         STRING, TIME_ORDER, NotRun, Row)
 from validate_sea import (check_bed_damping, check_box_in_regular_waves,
                           check_capytaine_long_waves, check_radiation_memory,
                           check_retardation_kernel, check_volturnus_static,
@@ -558,28 +555,7 @@ def run_checks(quick=False):
 
 def environment():
     """Date, versions, machine, commit: the lines at the top of the report."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as info:
-            cpu = next(line.split(":", 1)[1].strip() for line in info if "model name" in line)
-    except (OSError, StopIteration):
-        pass
-    try:
-        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                                capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--", "skmoor"],
-                               capture_output=True, text=True, check=True).stdout.strip()
-        commit += " (skmoor/ has uncommitted changes)" if dirty else ""
-    except (OSError, subprocess.CalledProcessError):
-        commit = "unknown"
-    packages = ["skmoor", "numpy", "scipy", "scikit-fem", "moorpy", "moordyn"]
-    return {
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        "commit": commit,
-        "versions": ", ".join([f"Python {platform.python_version()}"]
-                              + [f"{p} {version(p)}" for p in packages]),
-        "machine": f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}",
-    }
+    return _cases.environment(["skmoor", "numpy", "scipy", "scikit-fem", "moorpy", "moordyn"])
 
 
 def _tolerance(row):
