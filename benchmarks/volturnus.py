@@ -90,7 +90,7 @@ def mirror_path() -> Path:
 def iea_deck():
     """The IEA deck as skmoor reads it (a skmoor.deck.Deck)."""
     text = subprocess.run(["git", "-C", str(mirror_path()), "show", f"HEAD:{DECK_PATH}"],
-                          capture_output=True, text=True)
+                          capture_output=True, text=True, check=False)
     if text.returncode:
         raise SystemExit(f"volturnus: cannot read {DECK_PATH} from the mirror "
                          f"{mirror_path()} (set SKMOOR_IEA_MIRROR): {text.stderr.strip()}")

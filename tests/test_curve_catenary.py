@@ -67,7 +67,7 @@ def reference():
 def test_the_reference_line_uses_the_curve(reference):
     """The shot line dips below its anchor (the tension is least, H, where V = 0) and
     strains across a knot of the curve (two of its pieces in use)."""
-    H, VA, TA, TB = reference
+    H, VA, _TA, TB = reference
     assert VA < 0
     assert STRAIN[1] < strain_of(H) < STRAIN[2] < strain_of(TB) < STRAIN[3]
 
@@ -75,7 +75,7 @@ def test_the_reference_line_uses_the_curve(reference):
 def test_closed_form_catenary_with_the_curve(reference):
     """skmoor's closed-form catenary with the curve law: H, V_A, end tensions to 1e-9 and
     the profile (positions at 11 arclengths) to 1e-7 m."""
-    H, VA, TA, TB = reference
+    H, VA, _TA, TB = reference
     cat = skmoor.solve_catenary(ANCHOR, FAIRLEAD, W, 2e7, length=L,
                                 law=laws.Curve(STRAIN, TENSION))
     assert cat.H == pytest.approx(H, rel=1e-9)
