@@ -5,10 +5,10 @@ where it comes from (an analytic formula with its citation, MoorPy, MoorDyn, Orc
 published, the paper), skmoor's value, the error, the tolerance, pass or fail. The
 set-ups are the test suite's own (imported from tests/), so the report and the tests
 measure the same thing; the numbers in the report come from this run only. The checks
-of lines, statics and dynamics are here; those of bending lines, rods and rigid bodies
-in validate_structures.py, those of bodies in waves, sea input and VolturnUS-S in
-validate_sea.py. A check whose input is not on the machine (MoorDyn's or the IEA
-repository's mirror) is listed as not run.
+of lines, statics and dynamics are here; those of the tension laws in validate_laws.py,
+of bending lines, rods and rigid bodies in validate_structures.py, of bodies in waves,
+sea input and VolturnUS-S in validate_sea.py. A check whose input is not on the machine
+(MoorDyn's or the IEA repository's mirror) is listed as not run.
 
 Run: ``python benchmarks/validate.py [--quick] [--out docs/validation.md]``
 (--quick leaves out the slow checks: about 12 s instead of about 60 s on 2 cores). Exit
@@ -30,6 +30,7 @@ import _cases
 from _cases import ROOT, inside, quiet
 from _validation import (FE_ORDER, IRVINE, IRVINE_MODES, MOORDYN, MOORPY, ORCAFLEX, PAPER,
                          STRING, TIME_ORDER, NotRun, Row)
+from validate_laws import check_curve_catenary, check_viscoelastic_polyester
 from validate_sea import (check_bed_damping, check_box_in_regular_waves,
                           check_capytaine_long_waves, check_radiation_memory,
                           check_retardation_kernel, check_volturnus_static,
@@ -497,6 +498,8 @@ CHECKS = [
     ("Statics", check_fe_convergence_order, True),
     ("Statics", check_fe_is_its_discrete_chain, True),
     ("Statics", check_paper_draft, True),
+    ("Line laws", check_curve_catenary, False),
+    ("Line laws", check_viscoelastic_polyester, False),
     ("Sea bed", check_seabed_touchdown, True),
     ("Sea bed", check_orcaflex_chain, True),
     ("Sea bed", check_seabed_friction, True),

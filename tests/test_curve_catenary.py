@@ -49,8 +49,7 @@ def shoot(H, VA, s_eval=None):
     return sol.y
 
 
-@pytest.fixture(scope="module")
-def reference():
+def shot_line():
     """(H, V_A, T_A, T_B) of the shot line, N."""
     span, rise = FAIRLEAD[0] - ANCHOR[0], FAIRLEAD[2] - ANCHOR[2]
 
@@ -62,6 +61,12 @@ def reference():
     assert np.max(np.abs(miss([H / 1e5, VA / 1e5]))) < 1e-7
     VB = VA + W * L
     return H, VA, np.hypot(H, VA), np.hypot(H, VB)
+
+
+@pytest.fixture(scope="module")
+def reference():
+    """The shot line, once for the module."""
+    return shot_line()
 
 
 def test_the_reference_line_uses_the_curve(reference):
