@@ -32,6 +32,7 @@ from _validation import (FE_ORDER, IRVINE, IRVINE_MODES, MOORDYN, MOORPY, ORCAFL
                          STRING, TIME_ORDER, NotRun, Row)
 from validate_laws import check_curve_catenary, check_viscoelastic_polyester
 from validate_sea import (check_bed_damping, check_box_in_regular_waves,
+                          check_paper_case_against_moordyn,
                           check_capytaine_long_waves, check_radiation_memory,
                           check_retardation_kernel, check_volturnus_static,
                           check_wavekin3_record, check_wavekin7_against_moordyn)
@@ -516,6 +517,7 @@ CHECKS = [
     ("Dynamics", check_chain_dynamics, True),
     ("Dynamics", check_energy_conservation, False),
     ("Dynamics", check_time_order, True),
+    ("Dynamics", check_paper_case_against_moordyn, False),
     ("Hydrodynamics", check_airy_dispersion, True),
     ("Hydrodynamics", check_string_in_current, True),
     ("Hydrodynamics", check_added_mass_frequency, True),

@@ -1,8 +1,8 @@
 """Checks of benchmarks/validate.py on bodies in waves, MoorDyn's sea input, the bed's
-damping and the VolturnUS-S mooring: each returns rows (benchmarks/_validation.Row); the
-set-ups are the test suite's (imported from tests/test_radiation.py, test_bem.py,
-test_sea_files.py, test_sea_moordyn.py, test_bed_damping_moordyn.py) and
-benchmarks/volturnus.py's."""
+damping, the paper's coupled case against MoorDyn and the VolturnUS-S mooring: each
+returns rows (benchmarks/_validation.Row); the set-ups are the test suite's (imported
+from tests/test_radiation.py, test_bem.py, test_sea_files.py, test_sea_moordyn.py,
+test_bed_damping_moordyn.py, test_paper_case_moordyn.py) and benchmarks/volturnus.py's."""
 from __future__ import annotations
 
 import tempfile
@@ -194,4 +194,33 @@ def check_volturnus_static():
         rows.append(Row("VolturnUS-S, 50 segments: static fairlead tension (the farthest of 3)",
                         published, f"{code}, as published for the IEA-15-240-RWT mooring",
                         float(farthest), tolerance, unit="N"))
+    return rows
+
+
+def check_paper_case_against_moordyn():
+    """The paper's box on its four lines (11 segments, F_x = 1e5 sin(1.6 t) N, 20 s; the
+    'moordyn-damping' scenario of benchmarks/paper_case.py): MoorDyn's lines with the body
+    integrated beside them (tests/test_paper_case_moordyn.py). Differences over MoorDyn's
+    range: the two discretizations of the line (they halve at 40 segments)."""
+    import paper_case
+    from test_paper_case_moordyn import DT_SKMOOR, DURATION, SAMPLE, difference, run_moordyn
+
+    import skmoor
+    from skmoor.results import BODY_DOFS
+
+    with tempfile.TemporaryDirectory() as tmp, inside(tmp), quiet():
+        scenario = paper_case.Scenario("moordyn-damping")
+        results = skmoor.simulate(scenario.model, duration=DURATION, dt=DT_SKMOOR,
+                                  output_interval=SAMPLE, progress=False, eq=scenario.eq)
+        t_md, T_md, q_md = run_moordyn(scenario, tmp)
+    label = "paper case, 11 segments, 20 s:"
+    rows = [Row(f"{label} fairlead tensions, largest difference / MoorDyn's range", 0.0,
+                MOORDYN, difference(results.t, results.fairlead_tension, t_md, T_md), 5e-2,
+                "abs")]
+    for dof, tolerance in (("surge", 0.04), ("heave", 0.08), ("pitch", 0.05)):
+        i = BODY_DOFS.index(dof)
+        rows.append(Row(f"{label} {dof}, largest difference / MoorDyn's range", 0.0,
+                        MOORDYN + " (lines) + the body by velocity Verlet",
+                        difference(results.t, results.bodies[:, 0, i], t_md, q_md[:, i]),
+                        tolerance, "abs"))
     return rows
