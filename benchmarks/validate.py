@@ -30,7 +30,8 @@ import _cases
 from _cases import ROOT, inside, quiet
 from _validation import (FE_ORDER, IRVINE, IRVINE_MODES, MOORDYN, MOORPY, ORCAFLEX, PAPER,
                          STRING, TIME_ORDER, NotRun, Row)
-from validate_laws import check_curve_catenary, check_viscoelastic_polyester
+from validate_laws import (check_curve_catenary, check_slack_and_snap,
+                          check_viscoelastic_polyester)
 from validate_sea import (check_bed_damping, check_box_in_regular_waves,
                           check_paper_case_against_moordyn,
                           check_capytaine_long_waves, check_radiation_memory,
@@ -501,6 +502,7 @@ CHECKS = [
     ("Statics", check_paper_draft, True),
     ("Line laws", check_curve_catenary, False),
     ("Line laws", check_viscoelastic_polyester, False),
+    ("Line laws", check_slack_and_snap, False),
     ("Sea bed", check_seabed_touchdown, True),
     ("Sea bed", check_orcaflex_chain, True),
     ("Sea bed", check_seabed_friction, True),
