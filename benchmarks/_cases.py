@@ -10,7 +10,11 @@ cBot 1e4 Pa s/m.
 from __future__ import annotations
 
 import contextlib
+import datetime
+import importlib.metadata
 import os
+import platform
+import subprocess
 import sys
 from pathlib import Path
 
@@ -133,3 +137,42 @@ def inside(directory):
         yield
     finally:
         os.chdir(previous)
+
+
+def version(package):
+    """The installed version of ``package``, or 'not installed'."""
+    try:
+        return importlib.metadata.version(package)
+    except importlib.metadata.PackageNotFoundError:
+        return "not installed"
+
+
+def environment(packages, load=False):
+    """The facts at the top of a benchmark's report: date, commit (and whether skmoor/ has
+    uncommitted changes), the versions of Python and ``packages``, the machine (with its
+    load average at the start when ``load``)."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as info:
+            cpu = next(line.split(":", 1)[1].strip() for line in info if "model name" in line)
+    except (OSError, StopIteration):
+        pass
+    try:
+        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                                capture_output=True, text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--", "skmoor"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+        commit += " (skmoor/ has uncommitted changes)" if dirty else ""
+    except (OSError, subprocess.CalledProcessError):
+        commit = "unknown"
+    machine = f"{cpu}, {os.cpu_count()} cores"
+    machine += (f", load average {os.getloadavg()[0]:.1f} at the start (other jobs share it; "
+                "ratios, not times, carry over)" if load
+                else f", {platform.system()} {platform.release()}")
+    return {
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "commit": commit,
+        "versions": ", ".join([f"Python {platform.python_version()}"]
+                              + [f"{p} {version(p)}" for p in packages]),
+        "machine": machine,
+    }

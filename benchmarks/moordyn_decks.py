@@ -673,7 +673,8 @@ def run_side(side: str, deck: Path, timeout: float, cwd=None, prerequisites=()) 
         SKMOOR_BLAS_THREADS="1", OMP_NUM_THREADS="1")
     started = time.perf_counter()
     try:
-        proc = subprocess.run(command, cwd=cwd, capture_output=True, timeout=timeout, env=env)
+        proc = subprocess.run(command, cwd=cwd, capture_output=True, timeout=timeout, env=env,
+                              check=False)
     except subprocess.TimeoutExpired:
         return dict(status="timeout", type="Timeout",
                     message=f"no result within {timeout:g} s", wall=timeout,
@@ -725,7 +726,7 @@ def _moordyn_errors(output) -> str:
         text = line.strip()
         if not text:
             continue
-        if text.startswith("ERR ") or text.startswith("Error"):
+        if text.startswith(("ERR ", "Error")):
             said.append(re.sub(r"^ERR \S+ \w+\(\): ", "", text))
             keep = 2
         elif keep:
@@ -960,7 +961,7 @@ def refusal_problem(deck_path: str, message: str):
     """None when a refusal names the deck file, a deck line ('<file> line N') and what
     is missing (words after it); else what it lacks."""
     name = PurePosixPath(deck_path).name
-    m = re.search(rf"{re.escape(name)} line (\d+)\b[:,]?\s*(.*)", message, re.S)
+    m = re.search(rf"{re.escape(name)} line (\d+)\b[:,]?\s*(.*)", message, re.DOTALL)
     if m is None:
         if name not in message:
             return f"does not name the deck ({name})"

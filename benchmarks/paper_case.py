@@ -197,36 +197,44 @@ ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
     return path
 
 
+def coupled_moordyn(md, body, duration, coupling):
+    """Initialise the created MoorDyn system md at the body's static rest and step it with
+    the body integrated here by velocity Verlet at the coupling step (s): yields (t,
+    fairlead forces (4, 3) N, body displacement q) at the end of every step."""
+    q, qdot = body.q0.copy(), np.zeros(6)
+    position, velocity, _ = body.fairleads(q, qdot)
+    if moordyn.Init(md, position.ravel().tolist(), velocity.ravel().tolist()) != 0:
+        raise RuntimeError("MoorDyn: Init failed")
+    acc = np.zeros(6)  # static rest, and the load is zero at t = 0
+    for k in range(int(round(duration / coupling))):
+        t = k * coupling
+        # MoorDyn takes the coupled points' state at the start of the step and
+        # extrapolates it with the velocity over the step
+        position, velocity, _ = body.fairleads(q, qdot)
+        out = moordyn.Step(md, position.ravel().tolist(), velocity.ravel().tolist(),
+                           t, coupling)
+        forces = np.reshape(out, (-1, 3))
+        half = qdot + 0.5 * coupling * acc
+        q = q + coupling * half
+        _, _, J = body.fairleads(q, half)
+        acc = body.acceleration(q, half, t + coupling, forces, J)
+        qdot = half + 0.5 * coupling * acc
+        yield t + coupling, forces, q
+
+
 def run_moordyn(model, body, lengths, dtM, duration, coupling, workdir="."):
     """(sample times, fairlead tensions (n, 4) N, wall time s) of MoorDyn at step dtM."""
     deck = moordyn_deck(Path(workdir) / "paper.txt", model, body, lengths, dtM)
     started = time.perf_counter()
     md = moordyn.Create(str(deck))
     try:
-        q, qdot = body.q0.copy(), np.zeros(6)
-        position, velocity, _ = body.fairleads(q, qdot)
-        if moordyn.Init(md, position.ravel().tolist(), velocity.ravel().tolist()) != 0:
-            raise RuntimeError("MoorDyn: Init failed")
         every = int(round(SAMPLE / coupling))
         times, tensions = [], []
-        acc = np.zeros(6)  # static rest, and the load is zero at t = 0
-        for k in range(int(round(duration / coupling))):
-            t = k * coupling
-            # MoorDyn takes the coupled points' state at the start of the step and
-            # extrapolates it with the velocity over the step
-            position, velocity, _ = body.fairleads(q, qdot)
-            out = moordyn.Step(md, position.ravel().tolist(), velocity.ravel().tolist(),
-                               t, coupling)
-            forces = np.reshape(out, (-1, 3))
+        for k, (t, forces, _) in enumerate(coupled_moordyn(md, body, duration, coupling)):
             if not np.all(np.isfinite(forces)) or np.abs(forces).max() > 1e12:
                 return None, None, time.perf_counter() - started
-            half = qdot + 0.5 * coupling * acc
-            q = q + coupling * half
-            _, _, J = body.fairleads(q, half)
-            acc = body.acceleration(q, half, t + coupling, forces, J)
-            qdot = half + 0.5 * coupling * acc
             if (k + 1) % every == 0:
-                times.append(t + coupling)
+                times.append(t)
                 tensions.append(np.linalg.norm(forces, axis=1))
     finally:
         moordyn.Close(md)

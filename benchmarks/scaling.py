@@ -51,6 +51,7 @@ import numpy as np  # noqa: E402
 
 from _cases import (CBOT, CHAIN, DEPTH, KBOT, ROOT, chain_catenary, chain_type,  # noqa: E402
                     heave, inside, line_deck, quiet)
+import steps  # noqa: E402
 from skmoor.coupling import System  # noqa: E402
 from skmoor.dynamics import DivergenceError, Scheme, integrate  # noqa: E402
 from skmoor.hydro import line_hydrodynamics  # noqa: E402
@@ -222,24 +223,10 @@ def find_step(code, n, workdir):
     """Halve the step from START until the run is within TOLERANCE of the reference (the
     run at 2^REFERENCE s, or at the next larger step if that run fails). Returns
     dict(dt, error, wall (best of 3), ref, ref_dt, tried)."""
-    for k_ref in range(REFERENCE[code], START[code]):  # the next larger step if one fails
-        ref_dt = 2.0**k_ref
-        _, ref = run(code, n, ref_dt, workdir)
-        if ref is not None:
-            break
-    else:
-        raise RuntimeError(f"{code}: no reference run completed")
-    tried = []
-    for k in range(START[code], k_ref, -1):
-        dt = 2.0**k
-        wall, tension = run(code, n, dt, workdir)
-        error = history_error(code, dt, tension, ref_dt, ref)
-        tried.append((dt, error))
-        if error <= TOLERANCE:
-            walls = [wall] + [run(code, n, dt, workdir)[0] for _ in range(2)]
-            return dict(dt=dt, error=error, wall=min(walls), ref=ref, ref_dt=ref_dt,
-                        tried=tried)
-    return dict(dt=np.nan, error=np.nan, wall=np.nan, ref=ref, ref_dt=ref_dt, tried=tried)
+    return steps.find_step(lambda dt: run(code, n, dt, workdir),
+                           lambda dt, tension, ref_dt, ref: history_error(code, dt, tension,
+                                                                          ref_dt, ref),
+                           START[code], REFERENCE[code], TOLERANCE, label=code)
 
 
 def reference_difference(results, a, b):

@@ -44,14 +44,11 @@ for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_name, "1")
 
 import argparse  # noqa: E402
-import datetime  # noqa: E402
-import importlib.metadata  # noqa: E402
-import platform  # noqa: E402
-import subprocess  # noqa: E402
 import time  # noqa: E402
 import timeit  # noqa: E402
 from pathlib import Path  # noqa: E402
 
+import _cases  # noqa: E402
 import numpy as np  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
 from skfem import BilinearForm, LinearForm  # noqa: E402
@@ -272,34 +269,7 @@ def paper_case_comparison(duration=DURATION, repeat=3):
 
 def environment():
     """Date, commit, versions, machine."""
-    try:
-        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                                capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--", "skmoor"],
-                               capture_output=True, text=True, check=True).stdout.strip()
-        commit += " (skmoor/ has uncommitted changes)" if dirty else ""
-    except (OSError, subprocess.CalledProcessError):
-        commit = "unknown"
-    cpu = platform.machine()
-    try:
-        with open("/proc/cpuinfo") as info:
-            cpu = next(line.split(":", 1)[1].strip() for line in info if "model name" in line)
-    except (OSError, StopIteration):
-        pass
-
-    def version(name):
-        try:
-            return importlib.metadata.version(name)
-        except importlib.metadata.PackageNotFoundError:
-            return "absent"
-
-    packages = ("numpy", "scikit-fem", "numba", "jax")
-    return {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-            "commit": commit,
-            "versions": ", ".join([f"Python {platform.python_version()}"]
-                                  + [f"{p} {version(p)}" for p in packages]),
-            "machine": f"{cpu}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} "
-                       "at the start (other jobs share it; ratios, not times, carry over)"}
+    return _cases.environment(("numpy", "scikit-fem", "numba", "jax"), load=True)
 
 
 def format_terms(rows) -> str:

@@ -4,75 +4,44 @@ Each check is a small function returning rows: what is compared, the reference v
 where it comes from (an analytic formula with its citation, MoorPy, MoorDyn, OrcaFlex as
 published, the paper), skmoor's value, the error, the tolerance, pass or fail. The
 set-ups are the test suite's own (imported from tests/), so the report and the tests
-measure the same thing; the numbers in the report come from this run only.
+measure the same thing; the numbers in the report come from this run only. The checks
+of lines, statics and dynamics are here; those of the tension laws in validate_laws.py,
+of bending lines, rods and rigid bodies in validate_structures.py, of bodies in waves,
+sea input and VolturnUS-S in validate_sea.py. A check whose input is not on the machine
+(MoorDyn's or the IEA repository's mirror) is listed as not run.
 
 Run: ``python benchmarks/validate.py [--quick] [--out docs/validation.md]``
-(--quick leaves out the slow checks: about 12 s instead of about 30 s on 2 cores). Exit
+(--quick leaves out the slow checks: about 12 s instead of about 60 s on 2 cores). Exit
 status 1 if a check fails.
 """
 from __future__ import annotations
 
 import argparse
-import datetime
-import importlib.metadata
 import itertools
-import os
-import platform
-import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
 
+import _cases
 from _cases import ROOT, inside, quiet
-
-# ------------------------------------------------------------------ sources
-
-IRVINE = "elastic catenary (Irvine, Cable Structures, 1981)"
-IRVINE_MODES = ("sagged-cable theory (Irvine & Caughey 1974, Proc. R. Soc. A 341; "
-                "Irvine 1981, ch. 3)")
-STRING = "taut string: omega_n = n pi / L sqrt(T / m)"
-FE_ORDER = "P1 finite elements: error ~ h^2"
-TIME_ORDER = "generalized-alpha / Newmark: error ~ dt^2 (Chung & Hulbert 1993)"
-def _version(package):
-    try:
-        return importlib.metadata.version(package)
-    except importlib.metadata.PackageNotFoundError:
-        return "not installed"
-
-
-MOORPY = f"MoorPy {_version('moorpy')}, run side by side"
-MOORDYN = f"MoorDyn {_version('moordyn')}, run side by side"
-ORCAFLEX = "OrcaFlex, as published in MoorDyn's validation"
-PAPER = "Wang, Er & Iu (the paper): h_s = 0.896 m"
-
-
-@dataclass
-class Row:
-    """One check. error: |value / reference - 1| ('rel') or |value - reference| ('abs')."""
-
-    check: str
-    reference: float
-    source: str
-    value: float
-    tolerance: float
-    kind: str = "rel"
-    unit: str = ""
-
-    @property
-    def error(self):
-        if self.kind == "rel":
-            return abs(self.value / self.reference - 1)
-        return abs(self.value - self.reference)
-
-    @property
-    def status(self):
-        return "pass" if self.error <= self.tolerance else "FAIL"
-
+from _validation import (FE_ORDER, IRVINE, IRVINE_MODES, MOORDYN, MOORPY, ORCAFLEX, PAPER,
+                         STRING, TIME_ORDER, NotRun, Row)
+from validate_laws import (check_curve_catenary, check_slack_and_snap,
+                          check_viscoelastic_polyester)
+from validate_sea import (check_bed_damping, check_box_in_regular_waves,
+                          check_paper_case_against_moordyn,
+                          check_capytaine_long_waves, check_radiation_memory,
+                          check_retardation_kernel, check_volturnus_static,
+                          check_wavekin3_record, check_wavekin7_against_moordyn)
+from validate_structures import (check_beams_euler_bernoulli, check_floating_spar_rod,
+                                 check_free_spin, check_large_roll, check_lowe_langley_jumper,
+                                 check_moordyn_beam_decks, check_pinned_rod_pendulum,
+                                 check_rising_rods, check_squat_spar_periods,
+                                 check_symmetric_top)
 
 def _number(value, unit=""):
     text = f"{value:.6g}"
@@ -531,9 +500,13 @@ CHECKS = [
     ("Statics", check_fe_convergence_order, True),
     ("Statics", check_fe_is_its_discrete_chain, True),
     ("Statics", check_paper_draft, True),
+    ("Line laws", check_curve_catenary, False),
+    ("Line laws", check_viscoelastic_polyester, False),
+    ("Line laws", check_slack_and_snap, False),
     ("Sea bed", check_seabed_touchdown, True),
     ("Sea bed", check_orcaflex_chain, True),
     ("Sea bed", check_seabed_friction, True),
+    ("Sea bed", check_bed_damping, False),
     ("Natural frequencies", check_taut_string, True),
     ("Natural frequencies", check_sagging_cable, True),
     ("MoorPy", check_moorpy_end_forces, True),
@@ -546,48 +519,50 @@ CHECKS = [
     ("Dynamics", check_chain_dynamics, True),
     ("Dynamics", check_energy_conservation, False),
     ("Dynamics", check_time_order, True),
+    ("Dynamics", check_paper_case_against_moordyn, False),
     ("Hydrodynamics", check_airy_dispersion, True),
     ("Hydrodynamics", check_string_in_current, True),
     ("Hydrodynamics", check_added_mass_frequency, True),
+    ("Bending", check_beams_euler_bernoulli, True),
+    ("Bending", check_moordyn_beam_decks, True),
+    ("Bending", check_lowe_langley_jumper, True),
+    ("Rods", check_rising_rods, True),
+    ("Rods", check_pinned_rod_pendulum, False),
+    ("Rods", check_floating_spar_rod, False),
+    ("Rigid bodies", check_squat_spar_periods, False),
+    ("Rigid bodies", check_free_spin, False),
+    ("Rigid bodies", check_symmetric_top, False),
+    ("Rigid bodies", check_large_roll, False),
+    ("Bodies in waves", check_retardation_kernel, True),
+    ("Bodies in waves", check_radiation_memory, False),
+    ("Bodies in waves", check_box_in_regular_waves, False),
+    ("Bodies in waves", check_capytaine_long_waves, False),
+    ("MoorDyn's sea input", check_wavekin3_record, True),
+    ("MoorDyn's sea input", check_wavekin7_against_moordyn, False),
+    ("VolturnUS-S", check_volturnus_static, True),
 ]
 
 
 def run_checks(quick=False):
-    """[(section, Row)] of every check (the quick ones with ``quick``), and the time."""
-    rows = []
+    """[(section, Row)] of every check (the quick ones with ``quick``), the checks not run
+    here [(check's name, reason)], and the time."""
+    rows, not_run = [], []
     started = time.perf_counter()
     for section, check, fast in CHECKS:
         if quick and not fast:
             continue
-        result = check()
+        try:
+            result = check()
+        except NotRun as reason:
+            not_run.append((check.__name__, str(reason)))
+            continue
         rows += [(section, row) for row in (result if isinstance(result, list) else [result])]
-    return rows, time.perf_counter() - started
+    return rows, not_run, time.perf_counter() - started
 
 
 def environment():
     """Date, versions, machine, commit: the lines at the top of the report."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as info:
-            cpu = next(line.split(":", 1)[1].strip() for line in info if "model name" in line)
-    except (OSError, StopIteration):
-        pass
-    try:
-        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                                capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--", "skmoor"],
-                               capture_output=True, text=True, check=True).stdout.strip()
-        commit += " (skmoor/ has uncommitted changes)" if dirty else ""
-    except (OSError, subprocess.CalledProcessError):
-        commit = "unknown"
-    packages = ["skmoor", "numpy", "scipy", "scikit-fem", "moorpy", "moordyn"]
-    return {
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        "commit": commit,
-        "versions": ", ".join([f"Python {platform.python_version()}"]
-                              + [f"{p} {_version(p)}" for p in packages]),
-        "machine": f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}",
-    }
+    return _cases.environment(["skmoor", "numpy", "scipy", "scikit-fem", "moorpy", "moordyn"])
 
 
 def _tolerance(row):
@@ -596,8 +571,9 @@ def _tolerance(row):
     return f"{row.tolerance:.2%}" if row.tolerance >= 1e-4 else f"{row.tolerance:.0e}"
 
 
-def markdown(rows, seconds, env, quick):
-    """The report: a header with the run's facts, then a table per section."""
+def markdown(rows, seconds, env, quick, not_run=()):
+    """The report: a header with the run's facts, then a table per section, then the
+    checks not run here [(name, reason)]."""
     counts = {s: sum(row.status == s for _, row in rows) for s in ("pass", "FAIL")}
     out = ["# Validation", "",
            "Generated by `python benchmarks/validate.py" + (" --quick" if quick else "")
@@ -618,6 +594,9 @@ def markdown(rows, seconds, env, quick):
                        f"{_number(row.value, row.unit)} | {_error(row)} | {_tolerance(row)} "
                        f"| {row.status} |")
         out.append("")
+    if not_run:
+        out += ["## Not run here", ""] + [f"- `{name}`: {reason}" for name, reason in not_run]
+        out.append("")
     return "\n".join(out)
 
 
@@ -626,8 +605,8 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="leave out the slow checks")
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "validation.md")
     args = parser.parse_args(argv)
-    rows, seconds = run_checks(args.quick)
-    report = markdown(rows, seconds, environment(), args.quick)
+    rows, not_run, seconds = run_checks(args.quick)
+    report = markdown(rows, seconds, environment(), args.quick, not_run)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(report)
     print(report)

@@ -58,6 +58,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import steps  # noqa: E402
 from _cases import quiet  # noqa: E402
 
 import skmoor  # noqa: E402
@@ -89,7 +90,7 @@ def mirror_path() -> Path:
 def iea_deck():
     """The IEA deck as skmoor reads it (a skmoor.deck.Deck)."""
     text = subprocess.run(["git", "-C", str(mirror_path()), "show", f"HEAD:{DECK_PATH}"],
-                          capture_output=True, text=True)
+                          capture_output=True, text=True, check=False)
     if text.returncode:
         raise SystemExit(f"volturnus: cannot read {DECK_PATH} from the mirror "
                          f"{mirror_path()} (set SKMOOR_IEA_MIRROR): {text.stderr.strip()}")
@@ -276,24 +277,13 @@ def error(tensions, ref):
 def find_step(code, n, workdir):
     """The largest step 2^k (k from START down) within TOLERANCE of the reference."""
     first = MOORDYN_REFERENCE.get(n, REFERENCE[code]) if code == "moordyn" else REFERENCE[code]
-    for k_ref in range(first, START[code]):
-        ref_dt = 2.0**k_ref
-        _, ref = run(code, n, ref_dt, workdir)
-        if ref is not None:
-            break
-    else:
-        raise RuntimeError(f"{code}: no reference run completed")
-    tried = []
-    for k in range(START[code], k_ref, -1):
-        dt = 2.0**k
-        wall, tensions = run(code, n, dt, workdir)
-        err = error(tensions, ref)
-        tried.append((dt, err))
+
+    def report(dt, wall, err):
         print(f"    {code} n={n} dt={dt:g}: wall {wall:.2f} s, error {err:.4f}", flush=True)
-        if err <= TOLERANCE:
-            walls = [wall] + [run(code, n, dt, workdir)[0] for _ in range(REPEATS - 1)]
-            return dict(dt=dt, error=err, wall=min(walls), ref=ref, ref_dt=ref_dt, tried=tried)
-    return dict(dt=np.nan, error=np.nan, wall=np.nan, ref=ref, ref_dt=ref_dt, tried=tried)
+
+    return steps.find_step(lambda dt: run(code, n, dt, workdir),
+                           lambda dt, tensions, ref_dt, ref: error(tensions, ref),
+                           START[code], first, TOLERANCE, REPEATS, label=code, report=report)
 
 
 def main(argv=None):

@@ -122,7 +122,7 @@ class Case:
             specs.append(LineSpec(**d))
         return specs
 
-    def replace(self, path: str, value) -> "Case":
+    def replace(self, path: str, value) -> Case:
         """A copy with the value at dotted ``path`` changed (e.g. ``"mooring.sag_ratio"``)."""
         data = copy.deepcopy(self.data)
         keys = path.split(".")
@@ -143,7 +143,7 @@ class Case:
         return node
 
     @classmethod
-    def from_toml(cls, path) -> "Case":
+    def from_toml(cls, path) -> Case:
         path = Path(path)
         if not path.exists():
             raise FileNotFoundError(f"case file {path} does not exist")

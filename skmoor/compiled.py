@@ -350,7 +350,7 @@ class _Evaluator:
                 out = np.take(out, range(-low, out.shape[axis]), axis=axis)
                 low = 0
             if high < 0:
-                out = np.take(out, range(0, out.shape[axis] + high), axis=axis)
+                out = np.take(out, range(out.shape[axis] + high), axis=axis)
                 high = 0
             shape = list(out.shape)
             shape[axis] = low
@@ -423,7 +423,7 @@ def scalar_function(jaxpr, consts, n_inputs, name):
     body = [f"    z{k} = z[{k}]" for k in range(n_inputs)]
     body += [f"    {n} = {e}" for n, e in code.used(list(flat))]
     body += [f"    out[{k}] = {_text(v)}" for k, v in enumerate(flat)]
-    return "\n".join([f"@njit(cache=True, error_model='numpy')", f"def {name}(z, out):"]
+    return "\n".join(["@njit(cache=True, error_model='numpy')", f"def {name}(z, out):"]
                      + body), flat.size
 
 

@@ -156,7 +156,7 @@ class Line:
         return cls(name, line_type, catenary.stretched_arclength(s0), catenary.position(s0),
                    tangent, tension, stretch)
 
-    def reversed(self) -> "Line":
+    def reversed(self) -> Line:
         """The same reference state numbered from the other end (tangent flipped)."""
         total = self.s[-1] + self.s[0]
         tangent, tension, stretch = self.tangent, self.tension, self.stretch

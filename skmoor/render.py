@@ -341,7 +341,7 @@ def _nice_range(lo, hi):
         lo, hi = lo - 1, hi + 1
     raw = (hi - lo) / 6
     mag = 10.0 ** np.floor(np.log10(raw))
-    step = mag * min((m for m in (1, 2, 2.5, 5, 10) if m * mag >= raw))
+    step = mag * min(m for m in (1, 2, 2.5, 5, 10) if m * mag >= raw)
     lo, hi = step * np.floor(lo / step + 1e-9), step * np.ceil(hi / step - 1e-9)
     return lo, hi, int(round((hi - lo) / step)) + 1
 

@@ -121,7 +121,7 @@ class Results:
         window = series[self.t >= start - 1e-12]
         return 0.5 * float(window.max() - window.min())
 
-    def truncated(self, n: int) -> "Results":
+    def truncated(self, n: int) -> Results:
         """The first ``n`` samples (used to save what a stopped run computed)."""
         kw = {f.name: getattr(self, f.name) for f in fields(self)}
         for name in _TIME_ARRAYS:
@@ -139,7 +139,7 @@ class Results:
         return path
 
     @classmethod
-    def load(cls, path) -> "Results":
+    def load(cls, path) -> Results:
         """Read a file written by :meth:`save`."""
         with np.load(Path(path), allow_pickle=False) as data:
             kw = {f.name: data[f.name] for f in fields(cls)

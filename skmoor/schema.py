@@ -26,7 +26,7 @@ from __future__ import annotations
 import difflib
 import math
 import numbers
-from typing import Annotated, Any, ClassVar, Optional
+from typing import Annotated, Any, ClassVar
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, PlainValidator, ValidationError, model_validator
@@ -288,15 +288,15 @@ def _f_range(v):
 
 
 Number = Annotated[float, _number()]
-OptNumber = Annotated[Optional[float], _number(none=True)]
+OptNumber = Annotated[float | None, _number(none=True)]
 Positive = Annotated[float, _number(lo=0, lo_open=True)]
-OptPositive = Annotated[Optional[float], _number(lo=0, lo_open=True, none=True)]
+OptPositive = Annotated[float | None, _number(lo=0, lo_open=True, none=True)]
 NonNegative = Annotated[float, _number(lo=0)]
-OptNonNegative = Annotated[Optional[float], _number(lo=0, none=True)]
+OptNonNegative = Annotated[float | None, _number(lo=0, none=True)]
 Fraction = Annotated[float, _number(lo=0, hi=1)]
 Name = Annotated[str, _string()]
 Vector3 = Annotated[list, _vector()]
-OptVector3 = Annotated[Optional[list], _vector(none=True)]
+OptVector3 = Annotated[list | None, _vector(none=True)]
 PositiveVector3 = Annotated[list, _vector(what="three positive numbers", lo=0, lo_open=True)]
 DragVector = Annotated[list, _vector((3, 6), "3 or 6 numbers >= 0", lo=0)]
 Matrix6 = Annotated[list, _diagonal_or_matrix(6, "about the reference point")]
@@ -304,12 +304,12 @@ Inertia = Annotated[list, PlainValidator(_inertia)]
 Elements = Annotated[int, _integer(
     1, MAX_ELEMENTS_PER_LINE, " per line (the model's matrices and recorded time series "
     "would not fit in memory)")]
-OptElements = Annotated[Optional[int], _integer(
+OptElements = Annotated[int | None, _integer(
     1, MAX_ELEMENTS_PER_LINE, " per line (the model's matrices and recorded time series "
     "would not fit in memory)", none=True)]
 StrainLaw = Annotated[str, _choice("paper", "engineering")]
 Rotations = Annotated[str, _choice("small", "exact")]  # skmoor.body.RigidBody.rotations
-OptFlag = Annotated[Optional[bool], PlainValidator(_optional_flag)]
+OptFlag = Annotated[bool | None, PlainValidator(_optional_flag)]
 
 
 # ----------------------------------------------------------------------- tables
@@ -442,7 +442,7 @@ class PotentialFlowSpec(_Table):
         if "mesh" in given and "frequencies" not in self.model_fields_set:
             _fail("missing (need [first, last, step] in rad/s for the BEM solve)", "frequencies")
         if "frequencies" in self.model_fields_set:
-            first, last, step = self.frequencies
+            first, last, _step = self.frequencies
             if last < first:
                 _fail(f"last {last} is below first {first} rad/s", "frequencies")
         return self
@@ -500,10 +500,10 @@ _LINE_KEYS = ("type", "n_elements", "chord_angle_deg", "sag_ratio", "length", "h
 class ParametricMooring(_Table):
     """Keys shared by all [[lines]] of the parametric layout, and the strain law."""
 
-    type: Annotated[Optional[str], _string(none=True)] = None
+    type: Annotated[str | None, _string(none=True)] = None
     n_elements: OptElements = None
-    chord_angle_deg: Annotated[Optional[float], _number(0, 90, lo_open=True, none=True)] = None
-    sag_ratio: Annotated[Optional[float], _number(0, 0.5, True, True, none=True)] = None
+    chord_angle_deg: Annotated[float | None, _number(0, 90, lo_open=True, none=True)] = None
+    sag_ratio: Annotated[float | None, _number(0, 0.5, True, True, none=True)] = None
     strain_law: StrainLaw = None
     tension_only: OptFlag = None
     length: OptPositive = None
@@ -516,10 +516,10 @@ class ParametricLine(_Table):
 
     name: Name
     fairlead: Vector3
-    type: Annotated[Optional[str], _string(none=True)] = None
+    type: Annotated[str | None, _string(none=True)] = None
     n_elements: OptElements = None
-    chord_angle_deg: Annotated[Optional[float], _number(0, 90, lo_open=True, none=True)] = None
-    sag_ratio: Annotated[Optional[float], _number(0, 0.5, True, True, none=True)] = None
+    chord_angle_deg: Annotated[float | None, _number(0, 90, lo_open=True, none=True)] = None
+    sag_ratio: Annotated[float | None, _number(0, 0.5, True, True, none=True)] = None
     length: OptPositive = None
     heading_deg: OptNumber = None
     anchor: OptVector3 = None

@@ -326,7 +326,7 @@ def friction_damping(du, v, w):
     #                            + mu_l ((Q du).v / rho - (v_l.du)(v_l.v) / rho^3)] ds
     g, H, rp, ud = _state(w)
     n = w.bed_n
-    a, _, va, vl, ra, rho = _slip(rp, ud, n, w.v0)
+    a, _, _va, vl, ra, rho = _slip(rp, ud, n, w.v0)
     Qdu_v = dot(du, v) - dot(n, du) * dot(n, v) - dot(a, du) * dot(a, v)
     axial = w.mu_a * w.v0**2 / ra**3 * dot(a, du) * dot(a, v)
     lateral = w.mu_l * (Qdu_v / rho - dot(vl, du) * dot(vl, v) / rho**3)

@@ -48,7 +48,7 @@ def newton(residual, x0, *, xtol=1e-9, maxiter=60, shift=None, shift_matrix=None
             raise ConvergenceError(f"{where}: singular tangent at iteration {it}; is a line "
                                    "slack and weightless, or a DOF unrestrained? (a static "
                                    "solve from a slack line takes pretension=...)")
-        step, (x_try, R_try, K_try) = line_search(residual, x, R, dx)
+        _step, (x_try, R_try, K_try) = line_search(residual, x, R, dx)
         converged = shift == 0 and np.max(np.abs(dx)) < xtol
         x, R, K = x_try, R_try, K_try
         shift = shift * 0.1 if shift * 0.1 >= floor else 0.0

@@ -119,7 +119,7 @@ class Study:
 
     @classmethod
     def from_spec(cls, spec: str, base_case: Case | None = None, name: str | None = None,
-                  label: str | None = None) -> "Study":
+                  label: str | None = None) -> Study:
         """A study from ``"path=v1,v2,v3"`` or ``"path=start:stop:n"`` (n values evenly
         spaced, ends included). Values may be numbers, fractions (``1/60``), true/false
         or words."""

@@ -75,7 +75,7 @@ class Term:
                                 layout, rate=True)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _jax_field():
     """scikit-fem's JaxDiscreteField with the operators a form may use on a field
     (-u, 1 + u, abs(u), comparisons), which it lacks."""

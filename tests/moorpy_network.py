@@ -256,7 +256,7 @@ def arm_stiffness(path, body_id):
 
 # ---------------------------------------------------------------------------- reference
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def moorpy_reference(path):
     """MoorPy's static solution of the MoorDyn deck at path, keyed by MoorDyn IDs:
 

@@ -3,13 +3,10 @@ contact along the local normal against the analytic equilibrium on an inclined p
 the same kernel numbers as the plane bed of the same slope."""
 import numpy as np
 import pytest
-from test_seabed import parabola_on_plane
+from test_seabed import line_along_slope
 
-from skmoor.catenary import solve_catenary
-from skmoor.coupling import System
 from skmoor.line import Line, LineSet, LineType
 from skmoor.seabed import Bathymetry, Seabed, seabed_term
-from skmoor.statics import solve_static
 
 CHAIN = LineType(EA=6e8, mass=150.0, diameter=0.15)  # w = 1294 N/m
 DEPTH = 100.0
@@ -75,24 +72,10 @@ def test_line_across_a_bathymetry_slope_is_an_in_plane_catenary():
     catenary whose H the FE solve matches to 0.2 %. A vertical-only contact (MoorDyn's)
     would carry all of w and leave H at the line's elastic pretension; a normal of the
     wrong sign would push the line into the bed."""
-    slope, span, length, nel = 20.0, 100.0, 106.0, 40
-    alpha = np.radians(slope)
-    bathymetry, _ = tilted(slope)
-    bed = Seabed(DEPTH, bathymetry=bathymetry)
-    k, _ = bed.coefficients(LineSet([Line.from_polyline([[0, 0, 0], [1, 0, 0]], CHAIN)]))
-    rest = CHAIN.weight * np.cos(alpha) / k
+    alpha = np.radians(20.0)
+    bed = Seabed(DEPTH, bathymetry=tilted(20.0)[0])
     normal = np.array([0.0, -np.sin(alpha), np.cos(alpha)])
-    a = np.array([0.0, 0.0, -DEPTH]) - rest * normal
-    b = a + [span, 0.0, 0.0]
-    downslope = -np.array([0.0, np.cos(alpha), np.sin(alpha)])
-    line = Line.from_polyline(parabola_on_plane(a, b, downslope, length, nel), CHAIN)
-    lines = LineSet([line], law="engineering")
-    system = System(lines, fairleads="fixed", terms=[seabed_term(lines, bed)])
-    x = solve_static(system, pretension=CHAIN.weight * length).x
-    position = lines.points + system.full_displacement(x)[lines.nodal_dofs]
+    position, rest, (fairlead, anchor), planar, _, _ = line_along_slope(bed, normal)
     assert bed.penetration(position[1:-1]) == pytest.approx(rest, rel=1e-6)
-    planar = solve_catenary(np.zeros(3), [span, 0.0, 0.0], CHAIN.weight * np.sin(alpha),
-                            CHAIN.EA, length=length)
-    fairlead, anchor = system.reactions(x)
     assert -fairlead[0][0] == pytest.approx(planar.H, rel=2e-3)
     assert anchor[0][0] == pytest.approx(planar.H, rel=2e-3)

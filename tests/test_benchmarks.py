@@ -30,7 +30,10 @@ def report(quick):
     for section, check, fast in validate.CHECKS:
         if quick and not fast:
             continue
-        result = check()
+        try:
+            result = check()
+        except validate.NotRun:  # its input (a mirror) is not on this machine
+            continue
         result = result if isinstance(result, list) else [result]
         per_check[check] = result
         rows += [(section, row) for row in result]
@@ -81,7 +84,7 @@ def test_heave_velocity_and_acceleration_are_derivatives():
     differences of the motion, all three start from zero, full amplitude after the ramp."""
     h = 1e-5
     for t in (0.3, 4.0, 9.9, 10.1, 13.7):
-        z, v, a = _cases.heave(t)
+        _z, v, a = _cases.heave(t)
         assert v == pytest.approx((_cases.heave(t + h)[0] - _cases.heave(t - h)[0]) / (2 * h),
                                   rel=1e-6, abs=1e-9)
         assert a == pytest.approx((_cases.heave(t + h)[1] - _cases.heave(t - h)[1]) / (2 * h),

@@ -88,7 +88,7 @@ def workdir(tmp_path, monkeypatch):
 
 def test_chain_50m_heave_2m(workdir):
     """Default suite: 50 m of water, 2 m heave, 30 s (one settled period)."""
-    results, t_md, T_md, error, span = side_by_side("50", 2.0, 30.0, 0.05, workdir)
+    results, _t_md, T_md, error, span = side_by_side("50", 2.0, 30.0, 0.05, workdir)
     assert results.fairlead_tension[0, 0] == pytest.approx(T_md[0], rel=5e-3)  # statics
     assert span > 1e5  # a real swing (about 200 kN), not noise
     assert error < 0.05, f"max |skmoor - MoorDyn| = {error:.2%} of the {span / 1e3:.0f} kN range"
@@ -100,6 +100,6 @@ def test_chain_50m_heave_2m(workdir):
     ("600", 5.0, 0.05)])
 def test_chain_heave(depth, amplitude, dt, workdir):
     """The other cases, 60 s each (four settled periods)."""
-    results, t_md, T_md, error, span = side_by_side(depth, amplitude, 60.0, dt, workdir)
+    results, _t_md, T_md, error, span = side_by_side(depth, amplitude, 60.0, dt, workdir)
     assert results.fairlead_tension[0, 0] == pytest.approx(T_md[0], rel=5e-3)
     assert error < 0.05, f"max |skmoor - MoorDyn| = {error:.2%} of the {span / 1e3:.0f} kN range"

@@ -1,6 +1,7 @@
 """Physically impossible input refused and suspicious input warned about, with the
 numbers, before anything is solved (skmoor.checks), for networks, cases and decks."""
 import re
+from pathlib import Path
 
 import pytest
 
@@ -55,7 +56,7 @@ def test_a_current_with_nothing_to_act_on_is_warned():
 
 def test_a_deck_line_too_short_is_refused_at_its_deck_line(tmp_path):
     """(A line to a free point is not checked: the build settles the point first.)"""
-    text = open("examples/decks/chain_50m.dat").read().replace(
+    text = Path("examples/decks/chain_50m.dat").read_text().replace(
         "1   chain     1        2        410.0", "1   chain     1        2        300.0")
     path = tmp_path / "short.dat"
     path.write_text(text)
@@ -67,7 +68,7 @@ def test_a_case_with_an_anchor_above_the_water_warns(tmp_path):
     """The case's network tables are checked (the build would go on to its statics)."""
     from skmoor.model import explicit_network
 
-    text = open("examples/network_buoy.toml").read().replace(
+    text = Path("examples/network_buoy.toml").read_text().replace(
         "position = [560.0, 0.0, -160.0]", "position = [60.0, 0.0, 20.0]")
     path = tmp_path / "case.toml"
     path.write_text(text)
@@ -101,7 +102,7 @@ def test_a_long_line_on_a_body_needs_no_n_squared_memory():
     x, v = np.zeros(system.n), np.zeros(system.n)
     v[system.nf:] = [0.1, 0.0, 0.05, 0.0, 0.01, 0.0]  # a moving body: the slope columns too
     tracemalloc.start()
-    _, K, Kv = system.residual(x, v, 0.0, layout="sparse")
+    _, K, _Kv = system.residual(x, v, 0.0, layout="sparse")
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert system.n > 17_000 and K.shape == (system.n, system.n)

@@ -49,8 +49,7 @@ def shoot(H, VA, s_eval=None):
     return sol.y
 
 
-@pytest.fixture(scope="module")
-def reference():
+def shot_line():
     """(H, V_A, T_A, T_B) of the shot line, N."""
     span, rise = FAIRLEAD[0] - ANCHOR[0], FAIRLEAD[2] - ANCHOR[2]
 
@@ -64,10 +63,16 @@ def reference():
     return H, VA, np.hypot(H, VA), np.hypot(H, VB)
 
 
+@pytest.fixture(scope="module")
+def reference():
+    """The shot line, once for the module."""
+    return shot_line()
+
+
 def test_the_reference_line_uses_the_curve(reference):
     """The shot line dips below its anchor (the tension is least, H, where V = 0) and
     strains across a knot of the curve (two of its pieces in use)."""
-    H, VA, TA, TB = reference
+    H, VA, _TA, TB = reference
     assert VA < 0
     assert STRAIN[1] < strain_of(H) < STRAIN[2] < strain_of(TB) < STRAIN[3]
 
@@ -75,7 +80,7 @@ def test_the_reference_line_uses_the_curve(reference):
 def test_closed_form_catenary_with_the_curve(reference):
     """skmoor's closed-form catenary with the curve law: H, V_A, end tensions to 1e-9 and
     the profile (positions at 11 arclengths) to 1e-7 m."""
-    H, VA, TA, TB = reference
+    H, VA, _TA, TB = reference
     cat = skmoor.solve_catenary(ANCHOR, FAIRLEAD, W, 2e7, length=L,
                                 law=laws.Curve(STRAIN, TENSION))
     assert cat.H == pytest.approx(H, rel=1e-9)
@@ -128,6 +133,31 @@ def test_fe_statics_with_the_curve_from_a_stress_free_line(reference):
     assert errors[1] < 0.5 * errors[0]
 
 
+def poly_deck(EA, mass=60.0, options=""):
+    """A one-line MoorDyn deck's text: 1000 m of line type 'poly' (EA column ``EA``, mass
+    kg/m) in 40 segments from an anchor 400 m deep to a fairlead 850 m away at the
+    surface; ``options``: the OPTIONS section's rows (none: no section). The line type's
+    row is line 5."""
+    text = f"""--- MoorDyn input file ---
+---------------------- LINE TYPES -----------------------------------
+TypeName   Diam    Mass/m    EA          BA/-zeta  EI   Cd   Ca   CdAx  CaAx
+(name)     (m)     (kg/m)    (N)         (N-s/-)   (-)  (-)  (-)  (-)   (-)
+poly       0.1     {mass!r}  {EA}        -0.8      0.0  1.2  1.0  0.0   0.0
+---------------------- POINTS ---------------------------------------
+ID  Attachment  X      Y    Z       Mass  Volume  CdA  Ca
+(#) (-)         (m)    (m)  (m)     (kg)  (m^3)   (m2) (-)
+1   Fixed       0.0    0.0  -400.0  0     0       0    0
+2   Coupled     850.0  0.0  0.0     0     0       0    0
+---------------------- LINES ----------------------------------------
+ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  Outputs
+(#) (name)    (#)      (#)      (m)       (-)      (-)
+1   poly      1        2        1000.0    40       -
+"""
+    if options:
+        text += "---------------------- OPTIONS --------------------------------------\n" + options
+    return text + "---------------------- END ------------------------------------------\n"
+
+
 def test_deck_with_a_curve_file(reference, tmp_path):
     """A MoorDyn deck whose EA column names a curve file (relative to the deck's folder,
     three header lines): its static end tensions against the reference within 0.05 %."""
@@ -138,26 +168,7 @@ def test_deck_with_a_curve_file(reference, tmp_path):
         f"polyester working curve\nStrain Tension\n(-) (N)\n{rows}\n")
     mass = W / 9.80665 + 1025.0 * np.pi * 0.1**2 / 4
     deck = tmp_path / "curve.dat"
-    deck.write_text(f"""--- MoorDyn input file ---
-a line with a tension-strain curve
----------------------- LINE TYPES -----------------------------------
-TypeName   Diam    Mass/m    EA                BA/-zeta  EI   Cd   Ca   CdAx  CaAx
-(name)     (m)     (kg/m)    (N)               (N-s/-)   (-)  (-)  (-)  (-)   (-)
-poly       0.1     {mass!r}  curves/poly.txt   -0.8      0.0  1.2  1.0  0.0   0.0
----------------------- POINTS ---------------------------------------
-ID  Attachment  X      Y    Z       Mass  Volume  CdA  Ca
-(#) (-)         (m)    (m)  (m)     (kg)  (m^3)   (m2) (-)
-1   Fixed       0.0    0.0  -400.0  0     0       0    0
-2   Coupled     850.0  0.0  0.0     0     0       0    0
----------------------- LINES ----------------------------------------
-ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  Outputs
-(#) (name)    (#)      (#)      (m)       (-)      (-)
-1   poly      1        2        1000.0    40       -
----------------------- OPTIONS --------------------------------------
-500.0   WtrDpth
-0       kBot
----------------------- END ------------------------------------------
-""")
+    deck.write_text(poly_deck("curves/poly.txt", mass, "500.0   WtrDpth\n0       kBot\n"))
     parsed = skmoor.read_deck(deck)
     lt = parsed.line_types["poly"]
     assert lt.EA_file == "curves/poly.txt"
@@ -172,31 +183,15 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  Outputs
 def test_deck_curve_file_errors(tmp_path):
     """A missing curve file or a bad curve is refused with the deck line and the reason."""
     deck = tmp_path / "bad.dat"
-    text = """--- MoorDyn input file ---
----------------------- LINE TYPES -----------------------------------
-TypeName   Diam    Mass/m    EA          BA/-zeta  EI   Cd   Ca   CdAx  CaAx
-(name)     (m)     (kg/m)    (N)         (N-s/-)   (-)  (-)  (-)  (-)   (-)
-poly       0.1     60.0      {EA}        -0.8      0.0  1.2  1.0  0.0   0.0
----------------------- POINTS ---------------------------------------
-ID  Attachment  X      Y    Z       Mass  Volume  CdA  Ca
-(#) (-)         (m)    (m)  (m)     (kg)  (m^3)   (m2) (-)
-1   Fixed       0.0    0.0  -400.0  0     0       0    0
-2   Coupled     850.0  0.0  0.0     0     0       0    0
----------------------- LINES ----------------------------------------
-ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  Outputs
-(#) (name)    (#)      (#)      (m)       (-)      (-)
-1   poly      1        2        1000.0    40       -
----------------------- END ------------------------------------------
-"""
-    deck.write_text(text.format(EA="nowhere.txt"))
+    deck.write_text(poly_deck("nowhere.txt"))
     with pytest.raises(ValueError, match=r"^bad.dat line 5: LINE TYPES EA: 'nowhere.txt' is "
                                          r"neither a number nor a curve file"):
         skmoor.read_deck(deck)
     (tmp_path / "flat.txt").write_text("h\nh\nh\n0.01 100\n0.02 100\n")
-    deck.write_text(text.format(EA="flat.txt"))
+    deck.write_text(poly_deck("flat.txt"))
     with pytest.raises(ValueError, match=r"^bad.dat line 5: LINE TYPES EA .*flat.txt.*tension "
                                          r"must increase point by point"):
         skmoor.read_deck(deck)
-    deck.write_text(text.format(EA="1e8|1e8"))
+    deck.write_text(poly_deck("1e8|1e8"))
     with pytest.raises(ValueError, match=r"^bad.dat line 5: LINE TYPES EA: EA_d = EA_s"):
         skmoor.read_deck(deck)

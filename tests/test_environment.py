@@ -1,5 +1,7 @@
 """The case file's environment sections ([sea], [seabed], line and body coefficients):
 validation, and the loads they switch on against hand numbers."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 from peers import condensed_line_stiffness
@@ -30,7 +32,7 @@ def test_sections_switch_the_terms_on(tmp_path):
     body drag term; the paper's case has none."""
     assert skmoor.build(skmoor.paper_case()).system.terms == ()
     text = (tmp_path / "base.toml")
-    text.write_text(open("examples/paper_case.toml").read() + """
+    text.write_text(Path("examples/paper_case.toml").read_text() + """
 [sea]
 current_speed = 0.5
 [seabed]

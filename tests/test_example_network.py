@@ -210,7 +210,7 @@ def test_run_and_files(ex):
     reader = pv.PVDReader(ex.pvd)
     np.testing.assert_allclose(reader.time_values, ex.results.t)
     reader.set_active_time_point(len(reader.time_values) - 1)
-    lines, box, points = reader.read()
+    _lines, box, points = reader.read()
     assert box.n_points == 8 and points.n_points == len(POINTS) == 12
     np.testing.assert_allclose(points.points, ex.results.point_positions(-1), atol=1e-9)
     mass = dict(zip(ex.results.point_names, points.point_data["mass"]))

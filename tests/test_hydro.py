@@ -99,7 +99,7 @@ def test_tangents_are_derivatives(lines, fast):
     sea = UniformSea([0.4, -0.3, 0.2], [0.5, 0.2, -0.7])
     terms = [line_hydrodynamics(lines, sea)] if fast else form_terms(lines, sea)
     u, ud = state(lines, 1)
-    R, K, Kv = total(terms, lines, u, ud, 2.0)
+    _R, K, Kv = total(terms, lines, u, ud, 2.0)
     rng = np.random.default_rng(5)
     for _ in range(3):
         d = rng.standard_normal(lines.ndofs)
@@ -216,7 +216,7 @@ def test_body_drag_in_a_current_is_held_by_the_mooring(paper_model):
     sea = Sea(100.0, current=Current(U))
     term = body_hydrodynamics(drag_coefficients=[cd, cd, cd], drag_areas=[area, 30.0, 40.0],
                               sea=sea, reference_point=body.reference_point)
-    F, K, Kv = body_load(term, np.zeros(6), np.zeros(6))
+    F, _K, _Kv = body_load(term, np.zeros(6), np.zeros(6))
     drag = 0.5 * RHO * cd * area * U**2
     np.testing.assert_allclose(F, [drag, 0, 0, 0, 0, 0], atol=1e-12)
     plain = System(system.lines, body, terms=[term])
@@ -235,7 +235,7 @@ def test_body_drag_rate_and_added_mass(paper_model):
                               sea=sea, reference_point=system.body.reference_point)
     q = np.array([1.0, 0.5, -0.2, 0.01, 0.02, -0.01])
     qdot = np.array([0.3, -0.2, 0.1, 0.05, -0.03, 0.02])
-    F, K, Kv = body_load(term, q, qdot)
+    F, _K, Kv = body_load(term, q, qdot)
     vr = sea.velocity(system.body.reference_point + q[:3]) - qdot[:3]
     np.testing.assert_allclose(F[:3], 0.5 * RHO * np.array([30.0, 32.0, 60.0]) * vr
                                * np.linalg.norm(vr), rtol=1e-12)

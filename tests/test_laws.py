@@ -322,7 +322,7 @@ def test_laws_trace_under_jax_and_their_slopes_are_the_derivatives():
     here = Path(__file__).resolve().parent
     path = os.pathsep.join([str(here.parent), str(here), os.environ.get("PYTHONPATH", "")])
     out = subprocess.run([sys.executable, "-c", JAX_CHECK], capture_output=True, text=True,
-                         cwd=here, env={**os.environ, "PYTHONPATH": path})
+                         cwd=here, env={**os.environ, "PYTHONPATH": path}, check=False)
     assert out.returncode == 0, out.stderr[-2000:]
     assert float(out.stdout.split()[-1]) <= 1e-9
 

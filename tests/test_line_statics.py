@@ -1,6 +1,6 @@
 """Static FE solve of a line from its unstretched, stress-free shape, against Irvine's elastic
 catenary (skmoor.catenary) and the exact equilibrium of the discrete chain of links."""
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -45,7 +45,7 @@ def parabola_chain(L, n):
     return points(sag)
 
 
-@lru_cache(maxsize=None)
+@cache
 def fe_solve(case, n, law="engineering"):
     """(stress-free Line, fairlead force, anchor force) of the static FE solve, N."""
     line = Line.from_polyline(parabola_chain(catenary(case).L, n), STEEL)

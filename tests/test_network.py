@@ -76,7 +76,7 @@ def test_network_tangents_are_the_residual_derivatives(layout):
     v[system.nf + 3: system.nf + 6] = [0.05, -0.03, 0.04]  # rotating bodies: J(q) v moves
     v[system.nf + 9:] = [-0.02, 0.06, 0.03]
     t = 0.7
-    R, K, Kv = system.residual(x, v, t, layout=layout)
+    _R, K, Kv = system.residual(x, v, t, layout=layout)
     dense = (lambda A: A) if layout == "dense" else (lambda A: A.toarray())
     K_fd = central_differences(lambda y: system.residual(y, v, t, tangent=False)[0], x)
     Kv_fd = central_differences(lambda w: system.residual(x, w, t, tangent=False)[0], v)

@@ -47,7 +47,7 @@ def ref_of(name):
     return moorpy_reference(deck_path(name))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def skmoor_static(name):
     """(model, eq, st) of skmoor's static equilibrium of the deck, built once per deck."""
     import skmoor

@@ -63,8 +63,8 @@ SAMPLE = 0.1  # s
 
 def run_moordyn(scenario, workdir):
     """(t, fairlead tensions (nt, 4) N, body displacement (nt, 6) m / rad) of MoorDyn's
-    lines with the body integrated here (benchmarks/paper_case.run_moordyn's loop, which
-    returns the tensions only)."""
+    lines with the body integrated here (benchmarks/paper_case.coupled_moordyn, as the
+    benchmark runs it)."""
     model = scenario.model
     body = paper_case.CoupledBody(scenario)
     lengths = [cat.L for cat in model.catenaries]
@@ -73,24 +73,11 @@ def run_moordyn(scenario, workdir):
     md = moordyn.Create(str(deck))
     times, tensions, motion = [], [], []
     try:
-        q, qdot = body.q0.copy(), np.zeros(6)
-        position, velocity, _ = body.fairleads(q, qdot)
-        assert moordyn.Init(md, position.ravel().tolist(), velocity.ravel().tolist()) == 0
         every = int(round(SAMPLE / COUPLING))
-        acc = np.zeros(6)  # static rest, and the load is zero at t = 0
-        for k in range(int(round(DURATION / COUPLING))):
-            t = k * COUPLING
-            position, velocity, _ = body.fairleads(q, qdot)
-            out = moordyn.Step(md, position.ravel().tolist(), velocity.ravel().tolist(),
-                               t, COUPLING)
-            forces = np.reshape(out, (-1, 3))
-            half = qdot + 0.5 * COUPLING * acc
-            q = q + COUPLING * half
-            _, _, J = body.fairleads(q, half)
-            acc = body.acceleration(q, half, t + COUPLING, forces, J)
-            qdot = half + 0.5 * COUPLING * acc
+        steps = paper_case.coupled_moordyn(md, body, DURATION, COUPLING)
+        for k, (t, forces, q) in enumerate(steps):
             if (k + 1) % every == 0:
-                times.append(t + COUPLING)
+                times.append(t)
                 tensions.append(np.linalg.norm(forces, axis=1))
                 motion.append(q.copy())
     finally:

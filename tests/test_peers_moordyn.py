@@ -77,11 +77,17 @@ def run_skmoor(cat, lt, n):
     return np.array(t), np.array(tension)
 
 
+def line_deck(path, cat, lt, n, length):
+    """MoorDyn's deck of the line (catenary cat's ends, line type lt, unstretched length
+    m, n segments, BA = BETA EA, MoorDyn's step for n segments, 100 m of water)."""
+    return moordyn_deck(path, anchor=cat.anchor, fairlead=cat.fairlead, line_type=lt,
+                        length=length, n_segments=n, BA=BETA * lt.EA, dt=DT_MOORDYN[n],
+                        depth=100.0, rho=lt.rho_water, g=lt.g)
+
+
 def run_moordyn(cat, lt, n, length, workdir):
     """MoorDyn's static state (fairlead force, N) and the driven run's history."""
-    deck = moordyn_deck(workdir / "line.txt", anchor=cat.anchor, fairlead=cat.fairlead,
-                        line_type=lt, length=length, n_segments=n, BA=BETA * lt.EA,
-                        dt=DT_MOORDYN[n], depth=100.0, rho=lt.rho_water, g=lt.g)
+    deck = line_deck(workdir / "line.txt", cat, lt, n, length)
     md = moordyn.Create(str(deck))
     try:
         assert moordyn.Init(md, list(cat.fairlead), [0.0, 0.0, 0.0]) == 0
@@ -153,9 +159,7 @@ def test_same_static_state(run40):
 def moordyn_static_force(cat, lt, n, length, workdir):
     """|force| (N) of MoorDyn's line, settled by its initial-condition solve, on the
     fairlead, for an unstretched length ``length`` on n segments."""
-    deck = moordyn_deck(workdir / "static.txt", anchor=cat.anchor, fairlead=cat.fairlead,
-                        line_type=lt, length=length, n_segments=n, BA=BETA * lt.EA,
-                        dt=DT_MOORDYN[n], depth=100.0, rho=lt.rho_water, g=lt.g)
+    deck = line_deck(workdir / "static.txt", cat, lt, n, length)
     md = moordyn.Create(str(deck))
     try:
         assert moordyn.Init(md, list(cat.fairlead), [0.0, 0.0, 0.0]) == 0

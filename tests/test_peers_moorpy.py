@@ -79,7 +79,7 @@ def test_fairlead_and_anchor_forces(paper):
 def test_draft_balances_moorpy_forces(paper):
     """The draft from Eq. 1 balances weight, buoyancy and MoorPy's line pulls."""
     model, x = paper
-    ms, body = moorpy_system(model, q=model.system.q(x))
+    _ms, body = moorpy_system(model, q=model.system.q(x))
     rho, g = model.case.water["density"], model.case.water["gravity"]
     length, width, _ = model.case.body["size"]
     volume = length * width * model.draft

@@ -88,7 +88,7 @@ def refused(data):
 def _readme_case():
     """The README's environment snippet merged into the paper's case."""
     text = (ROOT / "README.md").read_text()
-    block = next(b for b in re.findall(r"```toml\n(.*?)```", text, re.S) if "[sea]" in b)
+    block = next(b for b in re.findall(r"```toml\n(.*?)```", text, re.DOTALL) if "[sea]" in b)
     data = copy.deepcopy(PAPER_CASE)
     for section, values in tomllib.loads(block).items():
         if section == "line_types":
@@ -102,7 +102,7 @@ def _readme_case():
 def _readme_network():
     """The README's explicit-tables example."""
     text = (ROOT / "README.md").read_text()
-    return tomllib.loads(next(b for b in re.findall(r"```toml\n(.*?)```", text, re.S)
+    return tomllib.loads(next(b for b in re.findall(r"```toml\n(.*?)```", text, re.DOTALL)
                               if "[[points]]" in b))
 
 

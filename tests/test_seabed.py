@@ -219,33 +219,39 @@ def parabola_on_plane(a, b, down, length, n):
     return points(sag)
 
 
-def test_line_across_a_slope_is_an_in_plane_catenary():
-    """A line laid along a contour of a frictionless 20 deg slope, both ends held on the
-    bed, from a stress-free parabola: the bed carries w cos(slope) per length normal to
-    it, the downslope part w sin(slope) makes an in-plane catenary, whose H and sag
-    (skmoor.catenary with weight w sin(slope)) the FE solve matches to 0.2 %."""
-    slope, span, length, nel = 20.0, 100.0, 106.0, 40
+def line_along_slope(bed, normal, slope=20.0, span=100.0, length=106.0, nel=40):
+    """A line laid along a contour of ``bed``'s slope (deg; ``normal`` its unit normal),
+    both ends held on the bed at the rest penetration, solved statically from a
+    stress-free parabola. Returns the static node positions, the rest penetration w
+    cos(slope) / k (m), the (fairlead, anchor) reactions, the in-plane catenary of weight
+    w sin(slope), the end a and the downslope unit vector."""
     alpha = np.radians(slope)
-    bed = Seabed(DEPTH, slope_deg=slope, slope_heading_deg=90.0)  # rises towards +y
     k, _ = bed.coefficients(LineSet([Line.from_polyline([[0, 0, 0], [1, 0, 0]], CHAIN)]))
     rest = CHAIN.weight * np.cos(alpha) / k  # m: the penetration that carries w cos(slope)
-    a = np.array([0.0, 0.0, -DEPTH]) - rest * bed.normal
+    a = np.array([0.0, 0.0, -DEPTH]) - rest * np.asarray(normal)
     b = a + [span, 0.0, 0.0]
     downslope = -np.array([0.0, np.cos(alpha), np.sin(alpha)])
     line = Line.from_polyline(parabola_on_plane(a, b, downslope, length, nel), CHAIN)
     lines = LineSet([line], law="engineering")
     system = System(lines, fairleads="fixed", terms=[seabed_term(lines, bed)])
     x = solve_static(system, pretension=CHAIN.weight * length).x
-    u = system.full_displacement(x)
-    position = lines.points + u[lines.nodal_dofs]
-    interior = slice(1, -1)
-    assert bed.penetration(position[interior]) == pytest.approx(rest, rel=1e-6)
+    position = lines.points + system.full_displacement(x)[lines.nodal_dofs]
     planar = solve_catenary(np.zeros(3), [span, 0.0, 0.0], CHAIN.weight * np.sin(alpha),
                             CHAIN.EA, length=length)
-    fairlead, anchor = system.reactions(x)
+    return position, rest, system.reactions(x), planar, a, downslope
+
+
+def test_line_across_a_slope_is_an_in_plane_catenary():
+    """A line laid along a contour of a frictionless 20 deg slope, both ends held on the
+    bed, from a stress-free parabola: the bed carries w cos(slope) per length normal to
+    it, the downslope part w sin(slope) makes an in-plane catenary, whose H and sag
+    (skmoor.catenary with weight w sin(slope)) the FE solve matches to 0.2 %."""
+    bed = Seabed(DEPTH, slope_deg=20.0, slope_heading_deg=90.0)  # rises towards +y
+    position, rest, (fairlead, anchor), planar, a, downslope = line_along_slope(bed, bed.normal)
+    assert bed.penetration(position[1:-1]) == pytest.approx(rest, rel=1e-6)
     assert -fairlead[0][0] == pytest.approx(planar.H, rel=2e-3)
     assert anchor[0][0] == pytest.approx(planar.H, rel=2e-3)
-    sag = (position[nel // 2] - a) @ downslope
+    sag = (position[len(position) // 2] - a) @ downslope
     assert sag == pytest.approx(planar.sag(), rel=2e-3)
 
 

@@ -80,11 +80,11 @@ def measures(t, T):
     return T.max(), np.trapezoid(T, t) / span, abs(harmonic)
 
 
-@pytest.fixture(scope="module")
-def runs(tmp_path_factory):
+def slack_snap_runs(folder):
+    """Both codes on the deck written into ``folder``: skmoor's times, fairlead tension and
+    element elastic tensions (N), MoorDyn's times and fairlead tension."""
     case = skmoor.paper_case()
     cat, lt = skmoor.build(case).catenaries[0], line_type(case, "steel")
-    folder = tmp_path_factory.mktemp("snap")
     deck = folder / "line.dat"
     deck.write_text(deck_text(cat, lt, 1e-4 * lt.EA))
     displacement, velocity = motion(cat.direction)
@@ -117,6 +117,11 @@ def runs(tmp_path_factory):
         moordyn.Close(md)
     return dict(t_sk=results.t, T_sk=results.fairlead_tension[:, 0], elastic=elastic,
                 t_md=np.array(t_md), T_md=np.array(T_md))
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    return slack_snap_runs(tmp_path_factory.mktemp("snap"))
 
 
 def test_the_line_goes_slack_and_snaps(runs):

@@ -11,9 +11,9 @@ def test_static_state_exports_with_catenary_tensions(tmp_path):
     results = skmoor.static_results(model)
     xdmf, pvd = export(results, tmp_path)
     with meshio.xdmf.TimeSeriesReader(xdmf) as reader:
-        points, cells = reader.read_points_cells()
+        points, _cells = reader.read_points_cells()
         assert reader.num_steps == 1
-        _, point_data, cell_data = reader.read_data(0)
+        _, _point_data, cell_data = reader.read_data(0)
     np.testing.assert_allclose(points, model.lines.points)
     # fairlead reactions of the FE state equal the analytic catenary's end tensions
     expected = [c.T_fairlead for c in model.catenaries]

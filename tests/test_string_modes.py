@@ -42,7 +42,7 @@ def sagging():
     span = 200.0
     cable = solve_catenary([0.0, 0.0, 0.0], [span, 0.0, 0.0], rope.weight, rope.EA,
                            sag_ratio=1 / 50)
-    system, modes, shapes = modes_about_reference(Line.from_catenary(cable, rope, 40), 6)
+    _system, modes, shapes = modes_about_reference(Line.from_catenary(cable, rope, 40), 6)
     return rope, span, cable, modes, shapes
 
 

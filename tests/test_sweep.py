@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import skmoor.sweep as sweep
+from skmoor import sweep
 from skmoor import paper_case
 from skmoor.sweep import (COLUMNS, Study, grid_study, paper_studies, parse_spec, read_studies,
                           run_sweep, studies_from_args)

@@ -9,7 +9,7 @@ import skmoor
 from skmoor import compiled, hydro, ops, terms
 from skmoor.catenary import solve_catenary
 from skmoor.line import Line, LineSet, LineType
-from skmoor.seabed import Seabed, form_term
+from skmoor.seabed import form_term
 from skmoor.terms import BodyLoad, LineForm, PointLoad, check_tangent
 
 pytest.importorskip("jax")

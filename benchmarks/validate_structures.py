@@ -1,0 +1,251 @@
+"""Checks of benchmarks/validate.py on bending lines, rods and rigid bodies: each returns
+rows (benchmarks/_validation.Row); the set-ups are the test suite's (imported from
+tests/test_bending.py, test_bending_decks.py, test_rods.py, test_large_rotations.py)."""
+from __future__ import annotations
+
+import tempfile
+import warnings
+from pathlib import Path
+
+import numpy as np
+from scipy.special import ellipk
+
+from _validation import NotRun, Row
+
+EULER_BERNOULLI = "Euler-Bernoulli beam"
+LOWE_LANGLEY = "Lowe & Langley (2006), static end force (MoorDyn's jumper deck)"
+NEWTON_EULER = "free rigid body (Euler's equations): invariants"
+
+
+def _moordyn_mirror():
+    """Stop the check when the MoorDyn mirror (its decks) is not on this machine."""
+    import test_bending_decks
+
+    if test_bending_decks.MIRROR is None:
+        raise NotRun(test_bending_decks.NO_MIRROR)
+
+
+# ------------------------------------------------------------------ bending
+
+def check_beams_euler_bernoulli():
+    """Hermite beams (L = 10 m, EI = 1e8 N m2, w = 100 N/m, P = 500 N; tests/test_bending.py):
+    cantilever tip and simply supported mid-span deflections (8 / 16 elements), pinned-pinned
+    and tensioned beam-string first frequencies (16 elements)."""
+    from test_bending import (EI, L, NodeLoad, P, W, beam_modes, beam_type, cantilever,
+                              straight)
+
+    from skmoor.coupling import System
+    from skmoor.line import LineSet
+    from skmoor.statics import solve_static
+
+    lines, u = cantilever(8, tip=P)
+    tip = -u[lines.nodal_dofs[-1]][2]
+    beam = LineSet([straight(16, beam_type())])
+    system = System(beam, fairleads="fixed", terms=[NodeLoad(8, [0, 0, -P])])
+    middle = -system.full_displacement(solve_static(system).x)[beam.nodal_dofs[8]][2]
+    m, modes = beam_modes(16)
+    tension = np.pi**2 * EI / L**2  # tension and bending alike
+    _, taut = beam_modes(16, tension=tension)
+    pinned = (np.pi / L) ** 2 * np.sqrt(EI / m)
+    return [Row("cantilever, 8 el.: tip deflection, weight and tip load",
+                W * L**4 / (8 * EI) + P * L**3 / (3 * EI),
+                EULER_BERNOULLI + ": w L^4 / 8 EI + P L^3 / 3 EI", float(tip), 1e-5, unit="m"),
+            Row("simply supported, 16 el.: mid-span deflection, weight and mid load",
+                5 * W * L**4 / (384 * EI) + P * L**3 / (48 * EI),
+                EULER_BERNOULLI + ": 5 w L^4 / 384 EI + P L^3 / 48 EI", float(middle), 1e-4,
+                unit="m"),
+            Row("pinned-pinned beam, 16 el.: omega_1", pinned,
+                EULER_BERNOULLI + ": (pi / L)^2 sqrt(EI / m)", float(modes.omega[0]), 1e-4,
+                unit="rad/s"),
+            Row("beam-string, T = pi^2 EI / L^2, 16 el.: omega_1",
+                pinned * np.sqrt(1 + tension * L**2 / (np.pi**2 * EI)),
+                EULER_BERNOULLI + " with tension: omega_1 sqrt(1 + T L^2 / (pi^2 EI))",
+                float(taut.omega[0]), 1e-4, unit="rad/s")]
+
+
+def check_moordyn_beam_decks():
+    """MoorDyn's beam decks (tests/Mooring/BeamSimplySupported.txt, BeamCantilevered.txt:
+    EI = 1e7 N m2, L = 10 m, skmoor's submerged weight w): largest moment and tip sag."""
+    from test_bending_decks import deck_file, static_state
+
+    from skmoor.deck import read_deck
+
+    _moordyn_mirror()
+    EI, L = 1e7, 10.0
+    with tempfile.TemporaryDirectory() as tmp, warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the decks' beams are 10 m above the water
+        model, _, u = static_state(read_deck(deck_file(Path(tmp), "tests/Mooring/BeamSimplySupported.txt")))
+        w = model.lines.lines[0].line_type.weight
+        moment = model.lines.bending_moment(u).max()
+        model, _, u = static_state(read_deck(deck_file(Path(tmp), "tests/Mooring/BeamCantilevered.txt")))
+        lines = model.lines
+        w_tip = lines.lines[0].line_type.weight
+        sag = 10.0 - (lines.points + u[lines.nodal_dofs])[-1, 2]
+    return [Row("MoorDyn's BeamSimplySupported deck: largest bending moment", w * L**2 / 8,
+                EULER_BERNOULLI + ": w L^2 / 8", float(moment), 5e-3, unit="N m"),
+            Row("MoorDyn's BeamCantilevered deck: tip sag", w_tip * L**4 / (8 * EI),
+                EULER_BERNOULLI + ": w L^4 / 8 EI", float(sag), 5e-3, unit="m")]
+
+
+def check_lowe_langley_jumper():
+    """The flexible jumper (170 m, EI = 120.8 kN m2, 68 segments) of MoorDyn's
+    lowe_and_langley_2006 deck, static: its end forces against the paper's."""
+    from test_bending_decks import JUMPER, deck_file, static_state
+
+    from skmoor.deck import read_deck
+
+    _moordyn_mirror()
+    with tempfile.TemporaryDirectory() as tmp:
+        deck = read_deck(deck_file(Path(tmp), JUMPER + "line.txt"))
+        del deck.options["WaveKin"]  # waves through MoorDyn's API: no part of the statics
+        model, x, _ = static_state(deck)
+    top, bottom = (f[0] / 1e3 for f in model.system.reactions(x))  # kN, on the line's ends
+    label = "Lowe & Langley jumper, static:"
+    return [Row(f"{label} top force, horizontal", 11.40, LOWE_LANGLEY, float(-top[0]), 0.02,
+                "abs", "kN"),
+            Row(f"{label} top force, vertical", 45.71, LOWE_LANGLEY, float(-top[2]), 0.02, "abs",
+                "kN"),
+            Row(f"{label} bottom force, vertical", 24.04, LOWE_LANGLEY, float(-bottom[2]), 0.02,
+                "abs", "kN")]
+
+
+# ------------------------------------------------------------------ rods
+
+def check_pinned_rod_pendulum():
+    """tests/decks/rods/pinned_pendulum.dat: a 10 m rod (d = 0.2 m, 250 kg/m) pinned at
+    its end, swinging 5 deg in water: period over 7.5 s at dt = 0.025 s."""
+    from test_rods import G, RHO, build, crossings, point_track, run
+
+    r = run(build("pinned_pendulum.dat"), 7.5, 0.025)
+    L, d, mu = 10.0, 0.2, 250.0
+    mass, buoyant = mu * L, RHO * np.pi * d**2 / 4 * L
+    w0 = np.sqrt((mass - buoyant) * G * L / 2 / (mass * (L**2 / 3 + (d / 2) ** 2 / 4)))
+    period = 4 * ellipk(np.sin(np.radians(5) / 2) ** 2) / w0
+    half = np.diff(crossings(r.t, point_track(r, "rod1.B")[:, 0]))
+    return Row("pinned rod, 5 deg swing: period", period,
+               "compound pendulum: 4 K(sin(a/2)) / w0, w0^2 = (m - rho V) g L/2 / I_pin",
+               float(np.mean(2 * half)), 3e-4, unit="s")
+
+
+def check_floating_spar_rod():
+    """tests/decks/rods/floating_spar.dat: a free vertical rod (d = 0.5 m, 100 kg/m, 10 m)
+    released below its draft: mean draft and heave period over 10 s at dt = 0.02 s."""
+    from test_rods import G, RHO, build, crossings, point_track, run
+
+    r = run(build("floating_spar.dat"), 10.0, 0.02)
+    z = point_track(r, "rod1.A")[:, 2]
+    d, mu, L = 0.5, 100.0, 10.0
+    area = np.pi * d**2 / 4
+    draft = mu * L / (RHO * area)
+    period = 2 * np.pi * np.sqrt((mu * L + RHO * 2 / 3 * np.pi * (d / 2) ** 3) / (RHO * G * area))
+    up = crossings(r.t, z + draft)[::2]
+    return [Row("floating rod: mean draft", draft, "Archimedes: m L / (rho A)",
+                float(-(z.max() + z.min()) / 2), 1e-5, "abs", "m"),
+            Row("floating rod: heave period", period,
+                "2 pi sqrt((m L + CaEnd rho 2/3 pi r^3) / (rho g A))",
+                float(np.mean(np.diff(up))), 3e-4, unit="s")]
+
+
+def check_rising_rods():
+    """tests/decks/rods/rising_rods.dat: two buoyant rods rising from rest, 1.5 s:
+    largest departure from z0 + a t^2 / 2, a = (rho V - m) g / (m + m_a)."""
+    from test_rods import G, RHO, build, point_track, run
+
+    r = run(build("rising_rods.dat"), 1.5, 0.05)
+    d, mu, L = 0.5, 100.0, 2.0
+    volume, mass = np.pi * d**2 / 4 * L, mu * L
+    rows = []
+    for name, label, added in (("rod1.A", "horizontal (m_a = Ca rho V)", RHO * volume),
+                               ("rod2.B", "vertical (m_a: two end caps)",
+                                2 * RHO * 2 / 3 * np.pi * (d / 2) ** 3)):
+        a = (RHO * volume - mass) * G / (mass + added)
+        z = point_track(r, name)[:, 2]
+        rows.append(Row(f"rising rod, {label}: largest |z - z(t)|", 0.0,
+                        "uniform acceleration (rho V - m) g / (m + m_a)",
+                        float(np.max(np.abs(z - (-10.0 + 0.5 * a * r.t**2)))), 1e-9, "abs", "m"))
+    return rows
+
+
+# ------------------------------------------------------------------ rigid bodies
+
+def check_squat_spar_periods():
+    """CableDyn's V-SPW squat spar (d = 10 m, draft 20 m, GM 0.41 m), exact rotations,
+    released 1 deg in pitch or 1 m in heave, 2.2 periods at 60 steps a period."""
+    from test_large_rotations import (lone_body_system, spar_periods, squat_spar,
+                                      zero_up_periods)
+
+    from skmoor.dynamics import integrate
+
+    body, *numbers = squat_spar("exact")
+    periods = spar_periods(*numbers)
+    rows = []
+    for dof, name, release in ((4, "pitch", np.radians(1.0)), (2, "heave", 1.0)):
+        period = periods[dof == 4]
+        q0 = np.zeros(6)
+        q0[dof] = release
+        states = list(integrate(lone_body_system(body), q0, np.zeros(6), period / 60,
+                                2.2 * period))
+        measured = zero_up_periods(np.array([s.t for s in states]),
+                                   np.array([s.x[dof] for s in states]))
+        rows.append(Row(f"squat spar, exact rotations: {name} period", float(period),
+                        "linear hydrostatics and strip added mass (CableDyn V-SPW: 20.535 s "
+                        "pitch)", float(measured), 5e-3, unit="s"))
+    return rows
+
+
+def check_free_spin():
+    """A free asymmetric body (I = diag(3, 1, 1.2) kg m2) spun near its intermediate axis
+    for two periods at 80 and 160 steps a period: angular momentum and the energy's order."""
+    from test_large_rotations import ASYMMETRIC, free_spin, invariant_errors
+
+    omega0 = [0.0, 0.05, 1.0]
+    period = 2 * np.pi / np.linalg.norm(omega0)
+    errors = [invariant_errors(*free_spin(ASYMMETRIC, omega0, period / steps, 2 * period))
+              for steps in (80, 160)]
+    (e1, h1), (e2, h2) = errors
+    return [Row("free spin, intermediate axis, 160 steps a period: angular momentum error",
+                0.0, NEWTON_EULER + " (momentum conserved)", float(max(h1, h2)), 1e-7, "abs"),
+            Row("free spin, intermediate axis: observed order of the energy error", 2.0,
+                NEWTON_EULER + " (energy), dt^2 of the step", float(np.log2(e1 / e2)), 0.35,
+                "abs")]
+
+
+def check_symmetric_top():
+    """A free symmetric top (I_perp = 2, I_axis = 1 kg m2, omega0 = (0.1, 0, 2) rad/s),
+    10 s at 0.04 s: the rate its axis circles the angular momentum H."""
+    from test_large_rotations import free_spin
+
+    from skmoor.body import rotation_matrix
+
+    inertia, omega0 = np.diag([2.0, 2.0, 1.0]), np.array([0.1, 0.0, 2.0])
+    _, states = free_spin(inertia, omega0, 0.04, 10.0)
+    h = inertia @ omega0 / np.linalg.norm(inertia @ omega0)
+    u = np.cross(h, [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    w = np.cross(h, u)
+    axis = np.array([rotation_matrix(s.x[3:]) @ [0.0, 0.0, 1.0] for s in states])
+    rate = np.polyfit([s.t for s in states], np.unwrap(np.arctan2(axis @ w, axis @ u)), 1)[0]
+    return Row("free symmetric top: precession rate", float(np.linalg.norm(inertia @ omega0) / 2.0),
+               "free symmetric top: |H| / I_perp", float(rate), 1e-3, unit="rad/s")
+
+
+def check_large_roll():
+    """A box (20 x 10 x 8 m, draft 3 m, small GM) released at 30 deg roll, exact
+    rotations, 12 s at 0.05 s, against scipy's solve_ivp of its clipped 2D section."""
+    from test_large_rotations import (DRAFT, HEIGHT, LENGTH, RHO, WIDTH, G, lone_body_system,
+                                      roll_reference)
+
+    from skmoor.body import RigidBody
+    from skmoor.dynamics import integrate
+
+    roll0 = np.radians(30.0)
+    mass, reference = roll_reference(roll0, 12.0)
+    body = RigidBody.box(LENGTH, WIDTH, HEIGHT, mass, DRAFT, rho=RHO, g=G, rotations="exact")
+    q0 = np.zeros(6)
+    q0[3] = roll0
+    states = list(integrate(lone_body_system(body), q0, np.zeros(6), 0.05, 12.0))
+    t = np.array([s.t for s in states])
+    roll = np.array([s.x[3] for s in states])
+    return Row("box released at 30 deg roll, 12 s: largest roll difference / 30 deg", 0.0,
+               "solve_ivp of heave and roll with the waterline-clipped section",
+               float(np.abs(roll - reference.sol(t)[1]).max() / roll0), 1e-2, "abs")
