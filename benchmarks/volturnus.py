@@ -29,7 +29,10 @@ reference agrees with the rho_inf 0.8 one within 0.4 % in std and peak).
 Accuracy (the issue's criterion): the standard deviation and the peak of each fairlead's
 tension over the run within 1 % of the same code's converged reference (its run at a
 small step: REFERENCE). A code's step is found by halving from START until the criterion
-holds; the timed run at that step is the best of REPEATS. The three references are also
+holds; the timed run at that step is the best of REPEATS rounds run after every code's
+search, each round running every code once (so that a varying load on the machine falls
+on all codes alike; ``--steps`` re-times at steps an earlier search found). The three
+references are also
 compared with each other (std and peak), which says whether the codes compute the same
 physics.
 
@@ -283,7 +286,7 @@ def find_step(code, n, workdir):
 
     return steps.find_step(lambda dt: run(code, n, dt, workdir),
                            lambda dt, tensions, ref_dt, ref: error(tensions, ref),
-                           START[code], first, TOLERANCE, REPEATS, label=code, report=report)
+                           START[code], first, TOLERANCE, 1, label=code, report=report)
 
 
 def main(argv=None):
@@ -292,17 +295,40 @@ def main(argv=None):
     parser.add_argument("--segments", type=int, nargs="+", default=list(SEGMENTS))
     parser.add_argument("--codes", nargs="+", default=list(CODES), choices=CODES)
     parser.add_argument("--duration", type=float, default=DURATION)
+    parser.add_argument("--steps", nargs="+", default=(), metavar="CODE=DT",
+                        help="time each code at these steps (s) without the search (steps "
+                             "an earlier search found; one segment count; the references "
+                             "column then compares the runs at these steps)")
     args = parser.parse_args(argv)
     DURATION = args.duration
+    given = {code: float(dt) for code, dt in (item.split("=") for item in args.steps)}
+    if given and (len(args.segments) != 1 or set(given) != set(args.codes)):
+        raise SystemExit("--steps: give one step per code of --codes, for one --segments")
     rows = []
     with tempfile.TemporaryDirectory() as workdir:
         for n in args.segments:
             results = {}
             for code in args.codes:
                 print(f"{code}, {n} segments per line", flush=True)
-                results[code] = find_step(code, n, workdir)
+                results[code] = (dict(dt=given[code], ref=run(code, n, given[code], workdir)[1])
+                                 if given else find_step(code, n, workdir))
+            interleaved_walls(results, n, workdir)
             rows.append((n, results))
             report(rows, args.codes)
+
+
+def interleaved_walls(results, n, workdir):
+    """Each code's wall time at its step, the best of REPEATS rounds that run every code
+    once in turn (a load that comes and goes on the machine then falls on all of them)."""
+    walls = {code: [] for code in results}
+    for _ in range(REPEATS):
+        for code, res in results.items():
+            if np.isfinite(res["dt"]):
+                walls[code].append(run(code, n, res["dt"], workdir)[0])
+    for code, res in results.items():
+        res["wall"] = min(walls[code]) if walls[code] else np.nan
+        print(f"    {code} n={n} dt={res['dt']:g}: timed {res['wall']:.2f} s (best of "
+              f"{REPEATS}, interleaved)", flush=True)
 
 
 def report(rows, codes):
