@@ -200,8 +200,8 @@ def test_viscoelastic_polyester_against_moordyn(tmp_path, monkeypatch, EA_column
 
 def test_moordyn_visco_deck_is_read(tmp_path):
     """visco.txt gives the water density twice (rho 1025, then WtrDnsty 0): refused at its
-    second line; without that line, its viscoelastic line type reads, and the deck is
-    refused for its zero gravity."""
+    second line; without that line, its viscoelastic line type reads, and the deck (g = 0,
+    accepted in still water) is refused for its line stretched to twice its length."""
     deck = mirror_file("visco.txt", tmp_path)
     with pytest.raises(ValueError, match=r"^visco.txt line \d+: OPTIONS WtrDnsty: given twice"):
         skmoor.read_deck(deck)
@@ -215,5 +215,6 @@ def test_moordyn_visco_deck_is_read(tmp_path):
     law = line_type_of(parsed, parsed.lines[0]).law
     assert isinstance(law, laws.StaticDynamic)
     assert law.dynamic_EA(1e6) == pytest.approx(1.586e8 + 0.4e6)
-    with pytest.raises(ValueError, match=r"^visco.txt line \d+: option g = 0"):
+    with pytest.raises(ValueError, match=r"^visco.txt line \d+: LINES 1: its ends are 2 m "
+                       r"apart, 100 % more than its length 1 m"):
         skmoor.build(deck)
