@@ -10,7 +10,8 @@ is one numba function, so that a step costs what its arithmetic costs.
 It covers P1 lines with any built-in strain law, MoorDyn-style or skmoor's Morison terms in
 still water, a plane sea bed, fixed, prescribed and free points (buoyancy, drag in still
 water) and small-rotation rigid bodies whose applied load depends on time only
-(``load.time_only``). :func:`build` returns None, with the reason in
+(``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
+loads in one call). :func:`build` returns None, with the reason in
 :data:`last_refusal`, for anything else (bending lines, user forms, waves or currents, a
 bathymetry, terms on points or bodies, radiation memory, exact rotations), and the step
 then runs in Python. When modified Newton does not converge the step falls back to the
@@ -184,14 +185,20 @@ class CompiledStep:
         nbodies, m = len(system.bodies), len(self.prescribed_dofs)
         pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
         loads = np.zeros((count, nbodies, 6))
-        for i, t1 in enumerate(times):  # the time-only inputs of each step
-            if system._has_prescribed:
+        if system._has_prescribed:  # the time-only inputs of each step
+            for i, t1 in enumerate(times):
                 disp, vel = system._prescribed(t1)
                 pres_u[i], pres_v[i] = disp.ravel(), vel.ravel()
-            for k, load in enumerate(system.body_loads):
-                if load is not None:
-                    block = system._body_block(k)
-                    loads[i, k] = load(t1, x[block], v[block])
+        for k, load in enumerate(system.body_loads):
+            if load is None:
+                continue
+            at_times = getattr(load, "at_times", None)  # all the times in one call
+            if at_times is not None:
+                loads[:, k] = at_times(times)
+                continue
+            block = system._body_block(k)
+            for i, t1 in enumerate(times):
+                loads[i, k] = load(t1, x[block], v[block])
         out = np.empty((4, count, len(x)))
         iterations = np.zeros(count, np.int64)
         cable, hydro, has_hydro, bed, has_bed = self._terms()

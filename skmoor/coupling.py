@@ -467,6 +467,12 @@ class System:
             self._prescribed_cache = ((t, dt), at(t), (at(t + dt) - at(t - dt)) / (2 * dt))
         return self._prescribed_cache[1:]
 
+    def full_state(self, x, v, t=0.0):
+        """(ndofs,) cable displacement (m) and velocity (m/s) of the reduced state (x, v)
+        at time t, the bodies' kinematics computed once."""
+        ends, J = self._attachment(x) if self.nb else (None, None)
+        return self._displacement(x, ends, t), self._velocity(x, v, t, J)
+
     def full_velocity(self, x, v, t=0.0, dt=1e-6):
         """(ndofs,) cable velocity, m/s."""
         return self._velocity(x, v, t, self._jacobian(x), dt)

@@ -356,6 +356,8 @@ def body_load(case, load=None):
         return amplitude * np.sin(omega * t) * direction
 
     applied.time_only = True  # q, qdot unused (the compiled step evaluates it once a step)
+    applied.at_times = lambda times: (amplitude * np.sin(omega * np.asarray(times))[:, None]
+                                      * direction)  # (m, 6) at m times
     return applied
 
 

@@ -457,6 +457,8 @@ class _Recorder:
         self._point_reference = np.array([model.positions[p.name] for p in network.points]
                                          ).reshape(-1, 3)
         self._system = system = model.system
+        nodes = model.lines.nodal_dofs  # node-major P1 DOFs: a node's x, y, z in a row
+        self._node_major = np.array_equal(nodes.ravel(), np.arange(nodes.size))
         self._n_coupled = network.n_coupled_dofs
         self._body_plan = [
             ("dynamic", self._dynamic[b.name]) if b.kind == "dynamic"
@@ -508,19 +510,19 @@ class _Recorder:
 
     def record(self, state):
         system, lines, network = self._system, self.model.lines, self.model.network
-        u = system.full_displacement(state.x, state.t)
-        ud = system.full_velocity(state.x, state.v, state.t)
+        u, ud = system.full_state(state.x, state.v, state.t)
         fair, anchor = system.end_forces(u, ud, state.t)
         y = (np.zeros(self._n_coupled) if network.motion is None
              else np.asarray(network.motion(state.t), float).ravel())
         bodies = self._bodies(state.x, y)
-        nodes = lines.nodal_dofs
         tension, strain = lines.element_tension_and_strain(u, ud)  # T + BA x strain rate
+        nodal = (lambda w: w.reshape(-1, 3)) if self._node_major else (
+            lambda w: w[lines.nodal_dofs])
         for key, value in (("t", state.t), ("bodies", bodies),
                            ("points", self._points(state.x, y, bodies)),
-                           ("u", u[nodes]), ("v", ud[nodes]), ("tension", tension),
-                           ("strain", strain), ("fair", np.linalg.norm(fair, axis=1)),
-                           ("anchor", np.linalg.norm(anchor, axis=1))):
+                           ("u", nodal(u)), ("v", nodal(ud)), ("tension", tension),
+                           ("strain", strain), ("fair", np.sqrt((fair * fair).sum(axis=1))),
+                           ("anchor", np.sqrt((anchor * anchor).sum(axis=1)))):
             self.rows[key].append(value)
         if lines.hermite:  # bending lines: curvature and moment at the element mid-points
             curvature = lines.curvature(u)
