@@ -8,8 +8,10 @@ coupling), the Newton matrix, its factorization (:mod:`skmoor.bordered`) and the
 is one numba function, so that a step costs what its arithmetic costs.
 
 It covers P1 lines with any built-in strain law, MoorDyn-style or skmoor's Morison terms in
-still water, a plane sea bed, fixed, prescribed and free points (buoyancy, drag in still
-water) and small-rotation rigid bodies whose applied load depends on time only
+still water, a plane sea bed, the dry part of the lines in still water (``SurfaceTerm``:
+zero while every node stays half a diameter deep; a step that brings one up is handed to
+the Python step), fixed, prescribed and free points (buoyancy, drag in still water) and
+small-rotation rigid bodies whose applied load depends on time only
 (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
 loads in one call). :func:`build` returns None, with the reason in
 :data:`last_refusal`, for anything else (bending lines, user forms, waves or currents, a
