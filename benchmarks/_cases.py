@@ -64,6 +64,17 @@ def heave(t):
             HEAVE * (-w**2 * s * r + 2 * w * c * r1 + s * r2))
 
 
+def heave_at(times):
+    """:func:`heave`'s z and velocity at an array of times (m, m/s), vectorized."""
+    t = np.asarray(times, float)
+    w, p = 2 * np.pi / PERIOD, np.pi / RAMP
+    s, c = np.sin(w * t), np.cos(w * t)
+    ramping = t < RAMP
+    r = np.where(ramping, (1 - np.cos(p * t)) / 2, 1.0)
+    r1 = np.where(ramping, p / 2 * np.sin(p * t), 0.0)
+    return HEAVE * s * r, HEAVE * (w * c * r + s * r1)
+
+
 def line_deck(path, *, code, catenary, line_type, n_segments, dt, duration, depth,
               kBot=KBOT, cBot=CBOT, rho_inf=0.9):
     """Write a one-line deck (MoorDyn v2 format) for ``code`` 'moordyn' or 'cabledyn':

@@ -144,6 +144,8 @@ class CompiledStep:
                          np.zeros(0) if surface is None else np.asarray(surface._z, float),
                          0.0 if surface is None else float(surface._deepest_reach))
         self.prescribed_dofs = np.asarray(system._prescribed_flat, np.int64)
+        self.report_dofs = np.concatenate([np.ravel(system.fairlead_dofs),
+                                           np.ravel(system.anchor_dofs)]).astype(np.int64)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
         drag = np.array([0.5 * p.rho * p.CdA for p in system.point_masses])
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
@@ -179,18 +181,19 @@ class CompiledStep:
         return (_contiguous(cable), _contiguous(hydro), self.hydro is not None,
                 _contiguous(bed), self.bed is not None)
 
-    def steps(self, x, v, a, force_old, times, h):
+    def steps(self, x, v, a, force_old, times, h, report=None):
         """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R):
-        (a list of ((x1, v1, a1, C v1 + R1, None), iterations), None), or with fewer
-        steps than ``times`` and why Newton failed at the step after the last."""
+        (a list of ((x1, v1, a1, C v1 + R1, None), iterations, report), None), or with
+        fewer steps than ``times`` and why Newton failed at the step after the last.
+        report: a bool per step; at those steps the report is ((u, ud), (fairlead forces,
+        anchor forces)) as ``System.full_state`` and ``System.end_forces`` give them (m,
+        m/s; (nlines, 3) N each), computed here; None at the others."""
         system, count = self.system, len(times)
         nbodies, m = len(system.bodies), len(self.prescribed_dofs)
         pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
         loads = np.zeros((count, nbodies, 6))
         if system._has_prescribed:  # the time-only inputs of each step
-            for i, t1 in enumerate(times):
-                disp, vel = system._prescribed(t1)
-                pres_u[i], pres_v[i] = disp.ravel(), vel.ravel()
+            pres_u, pres_v = (np.ascontiguousarray(p, float) for p in system.prescribed_at(times))
         for k, load in enumerate(system.body_loads):
             if load is None:
                 continue
@@ -203,28 +206,35 @@ class CompiledStep:
                 loads[i, k] = load(t1, x[block], v[block])
         out = np.empty((4, count, len(x)))
         iterations = np.zeros(count, np.int64)
+        report = np.zeros(count, np.int64) if report is None else np.array(report, np.int64)
+        lines_out = np.empty((2, count, system.lines.ndofs))
+        ends_out = np.empty((count, 2, len(system.fairlead_dofs), 3))
         cable, hydro, has_hydro, bed, has_bed = self._terms()
         model = (self.topology, cable, hydro, has_hydro, bed, has_bed, self._still,
                  self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
                  self.damped, self.width)
         done, code = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, model,
                           loads, pres_u, pres_v, self.factors, self.state, self.work, out,
-                          iterations)
+                          iterations, report, self.report_dofs, lines_out,
+                          ends_out.reshape(count, -1))
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
-        return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]))
-                for i in range(done)], failure
+        return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
+                 ((lines_out[0, i], lines_out[1, i]), (ends_out[i, 0], ends_out[i, 1]))
+                 if report[i] > 0 else None) for i in range(done)], failure
 
 
 @njit(cache=True)
 def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, factors,
-         state, work, out, iterations):
+         state, work, out, iterations, report, report_dofs, lines_out, ends_out):
     """Steps of h from (x, v, a, force = C v + R) with the inputs of step i in loads[i],
     pres_u[i], pres_v[i]: (x1, v1, a1, force1) of step i into out[:, i], its Newton
-    iterations into iterations[i]. Returns (the steps done, the failed step's code: 0
-    Newton did not converge, -1 a correction not finite, -2 a line at the surface, 1
-    none failed)."""
+    iterations into iterations[i]; where report[i], the lines' full displacement and
+    velocity into lines_out[:, i] and the end forces (minus the full residual at
+    report_dofs) into ends_out[i] (report[i] set to 0 when a line is at the surface: the
+    caller computes them). Returns (the steps done, the failed step's code: 0 Newton did
+    not converge, -1 a correction not finite, -2 a line at the surface, 1 none failed)."""
     am, af, beta, gamma = scheme
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
     mass = model[10][0]
@@ -242,8 +252,27 @@ def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, 
         _product(mass, a1, Ma1)
         for j in range(x.size):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
+        if report[i] > 0:
+            report[i] = _report(x1, v1, model, loads[i], pres_u[i], pres_v[i], work,
+                                report_dofs, lines_out[0, i], lines_out[1, i], ends_out[i])
         x, v, a, force = x1, v1, a1, force1
     return out.shape[1], 1
+
+
+@njit(cache=True)
+def _report(x, v, model, loads, pres_u, pres_v, work, report_dofs, u, ud, ends):
+    """The full line state (u, ud) at (x, v) and the end forces -R_full[report_dofs]
+    (N): 1, or 0 when a line is at the surface (nothing computed)."""
+    (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
+     _, _, _, _, _) = model
+    if not _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
+                     bodies, loads, prescribed_dofs, pres_u, pres_v, False, work, work[7]):
+        return 0
+    u[:] = work[0]
+    ud[:] = work[1]
+    for k in range(report_dofs.size):
+        ends[k] = -work[2][report_dofs[k]]
+    return 1
 
 
 @njit(cache=True)

@@ -118,7 +118,8 @@ class System:
     ``fairleads`` = 'body' (on ``body``), 'fixed' or 'prescribed' (by ``motion``).
     bodies: dynamic :class:`~skmoor.body.RigidBody` objects (``body`` alone: one).
     points: a :class:`PointMass` per free point. motion(t) -> (nslots, 3) displacements of
-    the prescribed ends, m. body_load(t, q, qdot) -> 6-vector (N, N m) on body 0, or a list
+    the prescribed ends, m; with a ``motion.velocity(t)`` (m/s, same shape) the ends'
+    velocities are that, else central differences of motion. body_load(t, q, qdot) -> 6-vector (N, N m) on body 0, or a list
     with one (or None) per body. terms: :class:`~skmoor.terms.Term` objects on the lines,
     the free points or the bodies (add more with :meth:`add_term`). sea: the water whose
     current drags the free points (None: still).
@@ -459,13 +460,32 @@ class System:
         return self.full_displacement(x, t)[self.fairlead_dofs]
 
     def _prescribed(self, t, dt=1e-6):
-        """Displacements (m) and velocities (central differences over dt, m/s) of the
-        prescribed ends at time t, (n, 3) each; the last time's are kept (Newton revisits it)."""
+        """Displacements (m) and velocities (``motion.velocity``, or central differences
+        over dt, m/s) of the prescribed ends at time t, (n, 3) each; the last time's are
+        kept (Newton revisits it)."""
         if self._prescribed_cache[0] != (t, dt):
-            def at(time):
-                return np.asarray(self.motion(time), float).reshape(-1, 3)[self._prescribed_slots]
-            self._prescribed_cache = ((t, dt), at(t), (at(t + dt) - at(t - dt)) / (2 * dt))
+            slots = self._prescribed_slots
+
+            def at(f, time):
+                return np.asarray(f(time), float).reshape(-1, 3)[slots]
+            velocity = getattr(self.motion, "velocity", None)
+            rate = (at(velocity, t) if velocity is not None else
+                    (at(self.motion, t + dt) - at(self.motion, t - dt)) / (2 * dt))
+            self._prescribed_cache = ((t, dt), at(self.motion, t), rate)
         return self._prescribed_cache[1:]
+
+    def prescribed_at(self, times):
+        """Displacements (m) and velocities (m/s) of the prescribed ends at each of the m
+        ``times``, (m, 3 n) each: one call of ``motion.at_times`` when the motion has it
+        (a :class:`~skmoor.motion.Motion`), else :meth:`_prescribed` time by time."""
+        at_times = getattr(self.motion, "at_times", None)
+        if at_times is None:
+            pairs = [self._prescribed(t) for t in times]
+            return (np.array([d.ravel() for d, _ in pairs]).reshape(len(times), -1),
+                    np.array([r.ravel() for _, r in pairs]).reshape(len(times), -1))
+        disp, rate = at_times(times)
+        slots, m = self._prescribed_slots, len(times)
+        return disp[:, slots].reshape(m, -1), rate[:, slots].reshape(m, -1)
 
     def full_state(self, x, v, t=0.0):
         """(ndofs,) cable displacement (m) and velocity (m/s) of the reduced state (x, v)

@@ -75,7 +75,9 @@ class Scheme:
 @dataclass
 class State:
     """One time level: t (s), step number, x (m / rad), v, a, Newton iterations used,
-    steps subdivided so far."""
+    steps subdivided so far; at the steps :func:`integrate` reports (``report_every``),
+    the lines' full state (u m, ud m/s: ``System.full_state``) and end forces (fairlead,
+    anchor: (nlines, 3) N each, ``System.end_forces``), else None."""
 
     t: float
     step: int
@@ -84,6 +86,8 @@ class State:
     a: np.ndarray
     iterations: int = 0
     subdivided: int = 0  # steps split so far (a failed Newton retried in halves)
+    full_state: tuple | None = None
+    reactions: tuple | None = None
 
 
 def rayleigh_coefficients(zeta: float, omega1: float, omega2: float):
@@ -137,7 +141,7 @@ class _IterationMatrix:
 
 
 def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-5,
-              maxiter=20, subdivide=SUBDIVIDE, compiled=True):
+              maxiter=20, subdivide=SUBDIVIDE, compiled=True, report_every=0):
     """Yield a :class:`State` per step from (x0, v0) at t0 until t_end.
 
     system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., layout=...)
@@ -155,6 +159,10 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     step it does not converge goes on in Python as above). A system with ``commit(t, x, v)`` has it called with the
     initial state and after every accepted step, the halves of a split step included
     (terms with a memory of the past, :mod:`skmoor.radiation`, keep their history so).
+    report_every: every that many steps (and at the start) the State carries the lines'
+    full state and end forces (a :class:`~skmoor.coupling.System`; 0: never), computed
+    in the compiled step where it runs: what a recorder of tensions needs, without a
+    residual in Python per output.
     """
     if not dt > 0:
         raise ValueError(f"integrate dt: must be positive, got {dt}")
@@ -189,7 +197,14 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     a, force_old, G = start(x, v, t)
     commit = getattr(system, "commit", None) or (lambda t, x, v: None)
     commit(t, x, v)
-    yield State(t, 0, x, v, a)
+    reports = report_every > 0 and hasattr(system, "end_forces")
+
+    def report(x, v, t):
+        """(full state, end forces) of the lines at (x, v, t), computed here."""
+        u, ud = system.full_state(x, v, t)
+        return (u, ud), system.end_forces(u, ud, t)
+
+    yield State(t, 0, x, v, a, 0, 0, *(report(x, v, t) if reports else (None, None)))
 
     def advance(x, v, a, force_old, G_old, t1, h, matrix):
         """One step of h from (x, v, a) to t1: ((x1, v1, a1, C v1 + R1, G1), iterations),
@@ -271,11 +286,13 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     for step in range(1, n_steps + 1):
         t1 = t0 + step * dt
         if fast is not None and not ahead and failed is None:  # the next steps compiled
-            times = t0 + dt * np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
-            ahead, failed = fast.steps(x, v, a, force_old, times, dt)
+            numbers = np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
+            ahead, failed = fast.steps(x, v, a, force_old, t0 + dt * numbers, dt,
+                                       report=numbers % report_every == 0 if reports else None)
             ahead.reverse()
+        reported = None
         if ahead:
-            out, it = ahead.pop()
+            out, it, reported = ahead.pop()
         elif failed is not None and failed != fast.handed_back:  # failed as advance would
             out, it, failed = None, failed, None
         else:
@@ -300,7 +317,9 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             a, force_old, G = start(x, v, t1)
             matrix = _IterationMatrix(layout)
             halves.clear()
-        yield State(t1, step, x, v, a, it, subdivided)
+        if reports and step % report_every == 0 and reported is None:
+            reported = report(x, v, t1)
+        yield State(t1, step, x, v, a, it, subdivided, *(reported or (None, None)))
 
 
 def _compiled_step(system, C, scheme, tol, maxiter):

@@ -245,44 +245,57 @@ class LineHydroKernel(Term):
 def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acceleration,
              has_waves, R, Ke, Ce):
     """Adds morison_drag (+ fluid_inertia with waves) into R and their derivatives
-    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce."""
+    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce.
+    An element's nodal values are read once into scalars (the Gauss-point loop runs in
+    registers: twice as fast as with 3-vectors)."""
     tangent = Ke.shape[0] > 0
-    rp, tau, v, vn = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    acc, an, y = np.empty(3), np.empty(3), np.empty(3)
+    tau, vn, an, y = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force (tangent)
+    ax = ay = az = bx = by = bz = 0.0  # the water's acceleration at the nodes (waves)
     for e in range(h.size):
+        i0, i1, i2 = edofs[e, 0], edofs[e, 1], edofs[e, 2]
+        j0, j1, j2 = edofs[e, 3], edofs[e, 4], edofs[e, 5]
+        na, nb = enodes[e, 0], enodes[e, 1]
+        he = h[e]
+        sx, sy, sz = (u[j0] - u[i0]) / he, (u[j1] - u[i1]) / he, (u[j2] - u[i2]) / he
+        # v = u_w - udot at the two nodes
+        wx, wy, wz = water[na, 0] - ud[i0], water[na, 1] - ud[i1], water[na, 2] - ud[i2]
+        qx, qy, qz = water[nb, 0] - ud[j0], water[nb, 1] - ud[j1], water[nb, 2] - ud[j2]
+        if has_waves:
+            ax, ay, az = acceleration[na, 0], acceleration[na, 1], acceleration[na, 2]
+            bx, by, bz = acceleration[nb, 0], acceleration[nb, 1], acceleration[nb, 2]
         for q in range(phi.shape[1]):
-            length = 0.0
-            for c in range(3):
-                rp[c] = Xp[e, q, c] + (u[edofs[e, 3 + c]] - u[edofs[e, c]]) / h[e]
-                length += rp[c] ** 2
-            length = np.sqrt(length)
-            a = 0.0  # v = u_w - udot along tau
-            aa = 0.0  # water acceleration along tau
-            for c in range(3):
-                tau[c] = rp[c] / length
-                v[c] = 0.0
-                acc[c] = 0.0
-                for node in range(2):
-                    v[c] += phi[node, q] * (water[enodes[e, node], c] - ud[edofs[e, 3 * node + c]])
-                    acc[c] += phi[node, q] * acceleration[enodes[e, node], c]
-                a += v[c] * tau[c]
-                aa += acc[c] * tau[c]
-            speed = 0.0
-            for c in range(3):
-                vn[c] = v[c] - a * tau[c]
-                an[c] = acc[c] - aa * tau[c]
-                speed += vn[c] ** 2
-            speed = np.sqrt(speed)
+            pa, pb = phi[0, q], phi[1, q]
+            rx, ry, rz = Xp[e, q, 0] + sx, Xp[e, q, 1] + sy, Xp[e, q, 2] + sz
+            length = np.sqrt(rx * rx + ry * ry + rz * rz)
+            tx, ty, tz = rx / length, ry / length, rz / length
+            vx, vy, vz = pa * wx + pb * qx, pa * wy + pb * qy, pa * wz + pb * qz
+            a = vx * tx + vy * ty + vz * tz  # along tau
+            nx, ny, nz = vx - a * tx, vy - a * ty, vz - a * tz
+            speed = np.sqrt(nx * nx + ny * ny + nz * nz)
             # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
             cn, ct = kn[e, q] * speed, kt[e, q] * abs(a) * a
-            for c in range(3):
-                force = cn * vn[c] + ct * tau[c]
-                if has_waves:
-                    force += mn[e, q] * an[c] + (mn[e, q] + dm[e, q]) * aa * tau[c]
-                for node in range(2):
-                    R[edofs[e, 3 * node + c]] -= wphi[e, node, q] * force
+            fx, fy, fz = cn * nx + ct * tx, cn * ny + ct * ty, cn * nz + ct * tz
+            aa = 0.0  # the water's acceleration along tau
+            if has_waves:
+                cx, cy, cz = pa * ax + pb * bx, pa * ay + pb * by, pa * az + pb * bz
+                aa = cx * tx + cy * ty + cz * tz
+                an[0], an[1], an[2] = cx - aa * tx, cy - aa * ty, cz - aa * tz
+                m, mt = mn[e, q], (mn[e, q] + dm[e, q]) * aa
+                fx += m * an[0] + mt * tx
+                fy += m * an[1] + mt * ty
+                fz += m * an[2] + mt * tz
+            wa, wb = wphi[e, 0, q], wphi[e, 1, q]
+            R[i0] -= wa * fx
+            R[i1] -= wa * fy
+            R[i2] -= wa * fz
+            R[j0] -= wb * fx
+            R[j1] -= wb * fy
+            R[j2] -= wb * fz
             if not tangent:
                 continue
+            tau[0], tau[1], tau[2] = tx, ty, tz
+            vn[0], vn[1], vn[2] = nx, ny, nz
             # d/dudot: alpha I + beta tau tau^T + gamma v_n v_n^T, alpha = drag_n |v_n|
             beta = 2.0 * kt[e, q] * abs(a) - cn
             gamma = kn[e, q] / speed if speed > 0 else kn[e, q]
@@ -290,20 +303,21 @@ def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acce
             c1 = (kt[e, q] * abs(a) - cn) * a + (dm[e, q] * aa if has_waves else 0.0)
             for c in range(3):
                 y[c] = beta * vn[c] - c1 * tau[c] + (dm[e, q] * an[c] if has_waves else 0.0)
+            for p in range(3):
+                for s in range(3):
+                    B[p, s] = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]
+                    G[p, s] = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
+                B[p, p] += cn
+                G[p, p] += c1
             for i in range(2):
                 for j in range(2):
                     rate_weight = wphi[e, i, q] * phi[j, q]
                     # K_e[i, j] = -w phi_i dphi_j/ds dF/du', dphi_j/ds = -+1/h
-                    slope_weight = (wphi[e, i, q] / (length * h[e])) * (1.0 if j == 0 else -1.0)
+                    slope_weight = (wphi[e, i, q] / (length * he)) * (1.0 if j == 0 else -1.0)
                     for p in range(3):
                         for s in range(3):
-                            B = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]
-                            G = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
-                            if p == s:
-                                B += cn
-                                G += c1
-                            Ce[e, 3 * i + p, 3 * j + s] += rate_weight * B
-                            Ke[e, 3 * i + p, 3 * j + s] += slope_weight * G
+                            Ce[e, 3 * i + p, 3 * j + s] += rate_weight * B[p, s]
+                            Ke[e, 3 * i + p, 3 * j + s] += slope_weight * G[p, s]
 
 
 def _check_sea(lines, sea):

@@ -343,7 +343,7 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     system.reset_frames()  # x0 has its angles from the global frame
     try:
         for state in integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
-                               scheme=scheme, compiled=compiled):
+                               scheme=scheme, compiled=compiled, report_every=every):
             done["steps"], done["subdivided"] = state.step, state.subdivided
             if state.step % every == 0:
                 record(state)
@@ -510,8 +510,11 @@ class _Recorder:
 
     def record(self, state):
         system, lines, network = self._system, self.model.lines, self.model.network
-        u, ud = system.full_state(state.x, state.v, state.t)
-        fair, anchor = system.end_forces(u, ud, state.t)
+        if state.full_state is not None:  # computed where the step was made
+            (u, ud), (fair, anchor) = state.full_state, state.reactions
+        else:
+            u, ud = system.full_state(state.x, state.v, state.t)
+            fair, anchor = system.end_forces(u, ud, state.t)
         y = (np.zeros(self._n_coupled) if network.motion is None
              else np.asarray(network.motion(state.t), float).ravel())
         bodies = self._bodies(state.x, y)

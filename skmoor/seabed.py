@@ -456,27 +456,29 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
     the two ends of each element (weights h / 2), the bed's upward unit normal and n.P
     (P a point of the bed) at each end in normals (2, nel, 3) and offsets (2, nel)."""
     tangent = Ke.shape[0] > 0
-    x, vel, rp = np.zeros(3), np.zeros(3), np.zeros(3)
+    vel, rp = np.zeros(3), np.zeros(3)
     a, vl, F = np.zeros(3), np.zeros(3), np.zeros(3)
     for e in range(h.size):
         W = 0.5 * h[e]
         for end in range(2):
-            n = normals[end, e]
-            g, vn = offsets[end, e], 0.0
+            g = offsets[end, e]
             for i in range(3):
-                x[i] = X[end, e, i] + u[ends[end, e, i]]
+                g -= normals[end, e, i] * (X[end, e, i] + u[ends[end, e, i]])
+            if g <= 0.0:  # off the bed: no force, no derivative
+                continue
+            n = normals[end, e]
+            vn = 0.0
+            for i in range(3):
                 vel[i] = ud[ends[end, e, i]]
-                g -= n[i] * x[i]
                 vn += n[i] * vel[i]
-            H = 1.0 if g > 0 else 0.0
             if onset == 0:  # the damping's share Hc(g) and dHc/dg (_fade)
-                Hc, dHc = H, 0.0
+                Hc, dHc = 1.0, 0.0
             else:
-                Hc = min(max(g / onset, 0.0), 1.0)
-                dHc = 1.0 / onset if g > 0 and g < onset else 0.0
-            push = -(k[e] * g * H - c[e] * vn * Hc)
-            N = k[e] * g * H
-            if friction and H > 0:  # _slip and _friction_direction
+                Hc = min(g / onset, 1.0)
+                dHc = 1.0 / onset if g < onset else 0.0
+            push = -(k[e] * g - c[e] * vn * Hc)
+            N = k[e] * g
+            if friction:  # _slip and _friction_direction
                 for i in range(3):
                     rp[i] = (X[1, e, i] + u[ends[1, e, i]] - X[0, e, i] - u[ends[0, e, i]]) / h[e]
                 n_rp = n[0] * rp[0] + n[1] * rp[1] + n[2] * rp[2]
@@ -508,10 +510,10 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
                 for q in range(3):
                     # through the penetration: the spring, the damping's fade-in, the
                     # friction's normal force; the damping's rate
-                    Ke[e, o + p, o + q] += W * ((k[e] * H - c[e] * vn * dHc) * n[p] * n[q]
-                                                - k[e] * H * F[p] * n[q])
+                    Ke[e, o + p, o + q] += W * ((k[e] - c[e] * vn * dHc) * n[p] * n[q]
+                                                - k[e] * F[p] * n[q])
                     Ce[e, o + p, o + q] += W * c[e] * Hc * n[p] * n[q]
-            if not (friction and H > 0):
+            if not friction:
                 continue
             # d/du through a, per unit change of the chord (du_1 - du_0) / h, and d/dudot
             scale = W * N * inv / h[e]

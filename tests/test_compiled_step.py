@@ -143,6 +143,54 @@ def test_what_the_compiled_step_leaves_to_python_is_named():
     assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is not None
 
 
+def _chain_on_the_bed(motion):
+    """A 12-element chain on a sea bed with drag and added mass, its fairlead moved by
+    ``motion``, and its static state."""
+    from skmoor.catenary import solve_catenary
+    from skmoor.hydro import line_hydrodynamics
+    from skmoor.seabed import Seabed, seabed_term
+
+    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, BA=7.5e4, Cd_n=2.4,
+                            Ca_n=1.0)
+    cat = solve_catenary([-80.0, 0.0, -30.0], [0.0, 0.0, -1.0], chain.weight, chain.EA,
+                         length=100.0, seabed_z=-30.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 12)], law="engineering")
+    bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter)
+    system = skmoor.System(lines, fairleads="prescribed", motion=motion,
+                           terms=[seabed_term(lines, bed), line_hydrodynamics(lines)])
+    return system, skmoor.solve_static(system).x
+
+
+@pytest.mark.parametrize("which", ["bodies", "chain"])
+@pytest.mark.parametrize("compiled", [True, False])
+def test_reported_end_forces_and_line_state_are_the_systems(which, compiled):
+    """States integrate reports (report_every) carry the lines' full state and end forces
+    as System.full_state and System.reactions compute them at that state, from the
+    compiled step and from the Python one: a report taken at the step's alpha level, a
+    sign, the anchor and fairlead swapped or a velocity left out (the drag, the lines' BA)
+    would differ by far more than round-off. Other steps carry none."""
+    if which == "bodies":
+        model = skmoor.from_network(network_two_bodies())
+        system, x0 = model.system, skmoor.equilibrium(model).x
+    else:
+        system, x0 = _chain_on_the_bed(lambda t: np.array([[0.0, 0.0, 2.0 * np.sin(0.6 * t)]]))
+    v0 = np.zeros(system.n)
+    v0[system.nf:] = 0.1  # the bodies start moving
+    reported = 0
+    for state in integrate(system, x0, v0, 0.05, 1.5, scheme=Scheme.generalized_alpha(0.8),
+                           tol=TOL, compiled=compiled, report_every=3):
+        if state.step % 3:
+            assert state.reactions is None and state.full_state is None
+            continue
+        reported += 1
+        u, ud = system.full_state(state.x, state.v, state.t)
+        fair, anchor = system.reactions(state.x, state.v, state.t)
+        for got, expected in zip((*state.full_state, *state.reactions), (u, ud, fair, anchor)):
+            assert np.abs(got - expected).max() <= 1e-9 * np.abs(expected).max()
+        assert np.abs(ud).max() > 1e-3  # the lines do move
+    assert reported == 11  # steps 0, 3, ..., 30
+
+
 def test_bordered_band_solves_as_lapack():
     """The bordered band LU (partial pivoting in the band, Schur complement on the border)
     solves a random bordered system as numpy's LAPACK solve does."""
