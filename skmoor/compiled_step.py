@@ -164,6 +164,7 @@ class CompiledStep:
                      np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self._still = np.zeros((len(lines.points), 3))
+        self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
 
     def _terms(self):
         """The kernels' current arrays (a strain law may be refreshed between steps)."""
@@ -178,8 +179,16 @@ class CompiledStep:
             b = self.bed
             bed = (b.X, b.ends, b.h, b.n, b.offset, b.k, b.c, b.onset, b.mu_a, b.mu_l, b.v0,
                    b.friction)
-        return (_contiguous(cable), _contiguous(hydro), self.hydro is not None,
-                _contiguous(bed), self.bed is not None)
+        key = tuple(id(a) for part in (cable, hydro, bed) for a in part)
+        if self._terms_cache[0] != key:
+            arrays = (_contiguous(cable), _contiguous(hydro), _contiguous(bed))
+            # kept while the kernels hold these very arrays, unless a conversion copied one
+            # (a change in place would not show in the copy)
+            same = all(a is b for given, used in zip((cable, hydro, bed), arrays)
+                       for a, b in zip(given, used) if isinstance(a, np.ndarray))
+            self._terms_cache = (key if same else None, arrays)
+        cable, hydro, bed = self._terms_cache[1]
+        return cable, hydro, self.hydro is not None, bed, self.bed is not None
 
     def steps(self, x, v, a, force_old, times, h, report=None):
         """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R):

@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from . import body as rigid
 from .dynamics import DivergenceError, Scheme, State, integrate, rayleigh_coefficients
@@ -339,6 +338,8 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     n_steps = int(np.ceil(duration / dt - 1e-9))
     done = {} if done is None else done
     done["steps"] = done["subdivided"] = 0
+    from tqdm.auto import tqdm  # (imported here: it pulls in asyncio, ~40 ms)
+
     bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=label[:30])
     system.reset_frames()  # x0 has its angles from the global frame
     try:

@@ -52,7 +52,6 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from .case import PAPER_CASE, Case, paper_case
 from .model import build
@@ -367,6 +366,8 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
             reused += 1
         else:
             pending.append((i, task, key, file))
+
+    from tqdm.auto import tqdm  # (imported here: it pulls in asyncio, ~40 ms)
 
     bar = tqdm(total=len(points), initial=len(points) - len(pending), unit="point",
                desc="sweep", disable=not progress)
