@@ -241,25 +241,34 @@ def _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped
     rate_slopes = np.empty(3)
     k = np.empty((3, 3))
     for e in range(h.size):
-        eps = 0.0
+        # the element's slopes in scalars (registers), 3-vectors only for the tangent
+        i0, i1, i2, j0, j1, j2 = (dofs_i[e, 0], dofs_i[e, 1], dofs_i[e, 2],
+                                  dofs_j[e, 0], dofs_j[e, 1], dofs_j[e, 2])
+        he = h[e]
+        ux, uy, uz = (u[j0] - u[i0]) / he, (u[j1] - u[i1]) / he, (u[j2] - u[i2]) / he
+        rx, ry, rz = Xp[e, 0] + ux, Xp[e, 1] + uy, Xp[e, 2] + uz
+        eps = (Xp[e, 0] + 0.5 * ux) * ux + (Xp[e, 1] + 0.5 * uy) * uy + (Xp[e, 2] + 0.5 * uz) * uz
         rate = 0.0
-        for c in range(3):
-            up = (u[dofs_j[e, c]] - u[dofs_i[e, c]]) / h[e]
-            rp[c] = Xp[e, c] + up
-            eps += (Xp[e, c] + 0.5 * up) * up
-            rate_slopes[c] = (ud[dofs_j[e, c]] - ud[dofs_i[e, c]]) / h[e]
-            rate += rp[c] * rate_slopes[c]
+        if damped:
+            vx, vy, vz = (ud[j0] - ud[i0]) / he, (ud[j1] - ud[i1]) / he, (ud[j2] - ud[i2]) / he
+            rate = rx * vx + ry * vy + rz * vz
         if hinged:
             S, dS = _stress(eps, T[e], law, knots, coef, e)
         else:
             S, dS = _stress_plain(eps, T[e], law, e)
         axial = T[e] + S + (BA[e] * rate if damped else 0.0)
-        flux = sign * weight[e] / h[e] * axial
-        for c in range(3):
-            R[dofs_j[e, c]] += flux * rp[c]
-            R[dofs_i[e, c]] -= flux * rp[c]
+        flux = sign * weight[e] / he * axial
+        R[j0] += flux * rx
+        R[j1] += flux * ry
+        R[j2] += flux * rz
+        R[i0] -= flux * rx
+        R[i1] -= flux * ry
+        R[i2] -= flux * rz
         if not tangent:
             continue
+        rp[0], rp[1], rp[2] = rx, ry, rz
+        for c in range(3):
+            rate_slopes[c] = (ud[dofs_j[e, c]] - ud[dofs_i[e, c]]) / he
         # d/du' (Eq. 17): S' r' r'^T + (T + S) I, plus the damping's BA (r' rate'^T + rate I)
         w2 = weight[e] / h[e] ** 2
         b = BA[e] if damped else 0.0
