@@ -300,13 +300,13 @@ def run_deck(name, root, refine=1, duration=20.0, start=5.0):
 def test_sea_deck_tension_in_time_matches_moordyn(tmp_path, monkeypatch, name):
     """End tension over 20 s, both codes from still water: the offset within 1 % of the
     mean (the lumped and FE static states differ by 0.6 % at 20 segments, 0.15 % at 41),
-    the water's change of the tension within 25 % of MoorDyn's (measured 3-18 %, see
-    DECKS). A current or wave of the wrong sign, twice too strong or missing, or a
-    Currents 5 grid not held at its first sample after 15 s (the deck's jump back) is
-    far outside."""
+    the water's change of the tension within 20 % of MoorDyn's (measured 3-18 %, see
+    DECKS). On WaveKin2-Currents5, skmoor's current doubled gives (offset, change) =
+    (250 %, 1800 %), line 6 of the 4D file read as a point (63 %, 480 %), the grid not
+    held at its first sample after 15 s (the deck's jump back) (0.1 %, 25 %)."""
     monkeypatch.chdir(tmp_path)
     offset, change = run_deck(name, tmp_path)
-    assert offset < 1e-2 and change < 0.25, (offset, change)
+    assert offset < 1e-2 and change < 0.2, (offset, change)
 
 
 @pytest.mark.slow
