@@ -26,8 +26,9 @@ source/Seafloor.cpp); the files have MoorDyn's fixed names in the deck's folder:
   that grid; otherwise it is interpolated on its own grid, unstretched.
 - MoorDyn-C's initial-condition (IC) solve sees none of this water: its log reads "Water
   kinematics for IC gen: No Waves or Currents" and its IC state is the same to the last
-  bit with and without a deck's Currents (MoorDyn 2.7.2). :func:`still_water` is that
-  water, for a static state to set beside MoorDyn's.
+  bit with and without a deck's Currents (the ``moordyn`` 2.7.2 package; the v2.7.1
+  source reads as if the IC had them). :func:`still_water` is that water, for a static
+  state to set beside MoorDyn's.
 - ``SeafloorFile PATH`` (the deck's folder, else the working folder, as MoorDyn opens
   it): line 1 nx ny, line 2 the x's, line 3 the y's, then x y z a line, z the bed's
   height (m, negative): a :class:`~skmoor.seabed.Bathymetry`; the waves then take the
