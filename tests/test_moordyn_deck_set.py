@@ -58,6 +58,7 @@ SLOW_DECKS = ("tests/Mooring/3D_seafloor/hanging_lines.txt",
               "tests/Mooring/wavekin_wave_1.txt", "bench/Mooring/wavekin_2/wavekin_2.txt",
               "bench/Mooring/wavekin_7/wavekin_7.txt")
 
+
 def slow_deck(path):
     return any(path.startswith(prefix) for prefix in SLOW_DECKS)
 
