@@ -621,8 +621,12 @@ def skmoor_worker(deck: Path) -> dict:
     started = time.perf_counter()
     try:
         import skmoor
+        from skmoor.sea_files import deck_bathymetry, still_water
 
-        model = skmoor.build(deck)
+        parsed, sea = skmoor.read_deck(deck), None  # None: the deck's own water
+        if parsed.option("Currents", 0):  # still water, as MoorDyn's IC solve has it
+            sea = still_water(parsed, deck_bathymetry(parsed))
+        model = skmoor.build(deck, sea=sea)
         eq = skmoor.equilibrium(model)
         st = skmoor.static_results(model, eq)
         names = list(st.line_names)
@@ -1080,7 +1084,9 @@ def markdown(outcomes, info) -> str:
         f"{FORCED_TMAX_IC:g} s. MoorDyn's IC solve stops at its own criterion (threshIC) "
         "or at TmaxIC; its state counts as static when the remaining residual it logs "
         f"(mean acceleration per state) is at most {SETTLED:g} m/s2. "
-        "skmoor: its static equilibrium with the coupled objects at the same positions. "
+        "skmoor: its static equilibrium with the coupled objects at the same positions, "
+        "in still water for a deck with Currents (MoorDyn 2.7.2's IC solve runs without "
+        "them: `skmoor.sea_files.still_water`). "
         "Tension at end B (the deck's AttachB) per line, kN, `line: skmoor / MoorDyn`; "
         "MoorDyn's value is the end node's net force `|GetLineNodeForce(line, N)|`, the "
         "line's pull on its end point (last segment's tension plus the end node's "

@@ -24,6 +24,11 @@ source/Seafloor.cpp); the files have MoorDyn's fixed names in the deck's folder:
 - With a wave grid and ``UnifyCurrentGrid`` 1 (MoorDyn's default) the current is sampled
   at the wave grid's nodes and times and stretched with the waves, as MoorDyn adds it to
   that grid; otherwise it is interpolated on its own grid, unstretched.
+- MoorDyn-C's initial-condition (IC) solve sees none of this water: its log reads "Water
+  kinematics for IC gen: No Waves or Currents" and its IC state is the same to the last
+  bit with and without a deck's Currents (the ``moordyn`` 2.7.2 package; the v2.7.1
+  source reads as if the IC had them). :func:`still_water` is that water, for a static
+  state to set beside MoorDyn's.
 - ``SeafloorFile PATH`` (the deck's folder, else the working folder, as MoorDyn opens
   it): line 1 nx ny, line 2 the x's, line 3 the y's, then x y z a line, z the bed's
   height (m, negative): a :class:`~skmoor.seabed.Bathymetry`; the waves then take the
@@ -367,3 +372,11 @@ def deck_sea(deck, bathymetry=None) -> Sea:
         raise ValueError(f"{deck.where(name)}: option {name} = {deck.options[name]}: "
                          f"{err}") from None
     return Sea(stretching.depth, rho=deck.rho, g=deck.g, fields=fields)
+
+
+def still_water(deck, bathymetry=None) -> Sea:
+    """The deck's water at rest, as MoorDyn's IC solve has it (no waves, no currents): a
+    :class:`~skmoor.waves.Sea` of the deck's depth (the bathymetry's mean depth with
+    one, as :func:`deck_sea`), rho and g. ``skmoor.build(deck, sea=still_water(deck))``
+    then ``skmoor.equilibrium`` is the state MoorDyn starts its time steps from."""
+    return Sea(Stretching(deck.depth, bathymetry).depth, rho=deck.rho, g=deck.g)

@@ -13,8 +13,9 @@ it the tests are skipped. One test per deck:
 - test_static_tension_matches_moordyn (slow: MoorDyn's initial-condition solves take
   2-4 min for the set): for a deck that runs in both, and whose state MoorDyn's IC solve
   leaves settled (see moordyn_decks.SETTLED), the static tension at each line's end B is
-  within 2 % of MoorDyn's (same segment counts: ~0.5 % expected), but on the decks of
-  KNOWN_DIFFERENCES (expected failures, with the reason).
+  within 2 % of MoorDyn's (same segment counts: ~0.5 % expected); decks with Currents
+  in still water on both sides (MoorDyn's IC solve has no currents:
+  skmoor.sea_files.still_water).
 - test_census_counts_match_moordyn (slow): the survey's own reading of each deck counts
   the lines, points, bodies and rods MoorDyn counts.
 """
@@ -57,14 +58,6 @@ SLOW_DECKS = ("tests/Mooring/3D_seafloor/hanging_lines.txt",
               "tests/Mooring/wavekin_wave_1.txt", "bench/Mooring/wavekin_2/wavekin_2.txt",
               "bench/Mooring/wavekin_7/wavekin_7.txt")
 
-# decks whose static tensions differ from MoorDyn's for a known reason
-KNOWN_DIFFERENCES = {
-    "tests/Mooring/wavekin_2/wavekin_2_curr5.txt": "MoorDyn's IC solve returns still-water "
-    "tensions (its currents do not load the lines there: docs/api/waves.md); skmoor's static "
-    "state carries the drag of the deck's 4D current, up to 5 m/s",
-    "tests/Mooring/wavekin_2/wavekin_3_curr5.txt": "as wavekin_2_curr5.txt",
-}
-
 
 def slow_deck(path):
     return any(path.startswith(prefix) for prefix in SLOW_DECKS)
@@ -72,9 +65,7 @@ def slow_deck(path):
 
 RUN_PARAMS = [pytest.param(deck, marks=pytest.mark.slow) if slow_deck(deck) else deck
               for deck in DECKS] or PARAMS
-STATIC_PARAMS = [pytest.param(deck, marks=pytest.mark.xfail(reason=KNOWN_DIFFERENCES[deck],
-                                                            strict=True))
-                 if deck in KNOWN_DIFFERENCES else deck for deck in DECKS] or PARAMS
+STATIC_PARAMS = DECKS or PARAMS
 
 
 @pytest.fixture(scope="module")
