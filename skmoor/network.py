@@ -347,10 +347,7 @@ def _sagging(a, b, length, n, weight, seabed_z):
         return np.linalg.norm(np.diff(shape(d), axis=0), axis=1).sum() - length
 
     low, high = 0.0, length
-    if excess(high) < 0 and abs(chord[2]) <= 0.9:  # the bed stops it: bow it sideways
-        side = np.cross(chord, [0.0, 0.0, 1.0])
-        direction = side / np.linalg.norm(side)
-    if excess(high) < 0:
+    if excess(high) < 0:  # the bed stops it: lay the rest in plan, bent sideways
         raise ValueError(f"a line of {length:.6g} m between {a} and {b} cannot be laid out "
                          "as a first guess: give its ends further apart")
     for _ in range(200):
