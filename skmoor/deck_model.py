@@ -276,9 +276,9 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     if deck.g < 0 or (deck.g == 0 and deck.option("WaveKin", 0.0)):
         raise _fail(deck, deck.option_lines.get("g", "?"), f"option g = {deck.g:g}: "
                     "gravity must be positive, or 0 in still water (waves need gravity)")
-    if not deck.rho > 0:
+    if not deck.rho >= 0:
         raise _fail(deck, deck.option_lines.get("rho", "?"), f"option rho = {deck.rho:g}: "
-                    "the water density must be positive (a deck in air is not supported)")
+                    "the water density must be positive, or 0 (in air)")
     bathymetry = deck_bathymetry(deck)
     sea = deck_sea(deck, bathymetry) if sea is None else sea
     bed = _rod_bed(deck) if seabed else None
