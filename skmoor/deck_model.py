@@ -175,7 +175,7 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
                     "with a Volume is not supported")
     terms = []
     cda = _six(body.CdA, "CdA")
-    if any(cda):
+    if any(cda) and deck.rho > 0:  # in air (rho = 0) nothing drags
         terms.append(body_hydrodynamics(drag_coefficients=np.ones(6), drag_areas=cda, sea=sea,
                                         reference_point=position, rho=deck.rho))
     for rod in rods:  # the rod's ends in the body frame -> global offsets at the start
