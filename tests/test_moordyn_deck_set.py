@@ -63,6 +63,10 @@ KNOWN_DIFFERENCES = {
     "tensions (its currents do not load the lines there: docs/api/waves.md); skmoor's static "
     "state carries the drag of the deck's 4D current, up to 5 m/s",
     "tests/Mooring/wavekin_2/wavekin_3_curr5.txt": "as wavekin_2_curr5.txt",
+    "tests/Mooring/body_tests/pinnedBody.txt": "its one line, a dummy of one segment, "
+    "hangs between two fixed points 5 m apart vertically at exactly its length, in air: "
+    "skmoor's exact catenary hangs it from the top (end A 1716 N = its weight, end B 0); "
+    "MoorDyn's one segment lumps half the weight on each end node (858 N at both)",
 }
 
 
