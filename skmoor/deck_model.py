@@ -76,7 +76,7 @@ from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
 from . import rods
-from .rods import RodLoad, RodType, SpinLoad, mount_rod
+from .rods import RodLoad, RodType, SpinLoad, mount_rod, spring_weight
 from .sea_files import deck_bathymetry, deck_sea
 from .seabed import Seabed
 
@@ -186,7 +186,7 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
                              n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
                              bed=bed, name=f"rod{rod.id}"))
     if len(rods) == 1 and _spins_freely(deck, body, cg, rods[0]):  # the rod's spin
-        terms.append(SpinLoad(a, b, rigid.mass * deck.g * np.linalg.norm(b - a)))
+        terms.append(SpinLoad(a, b, spring_weight(rigid.mass, deck.g) * np.linalg.norm(b - a)))
     return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms,
                 pin="coupled" if body.kind == "pinned" else None)
 

@@ -8,8 +8,8 @@ x the pinned body's reference point (q_p[:3]),
 
     f = -k (x - p) - c (x' - p')    on the pinned body at x, -f on the carrier at p,
 
-k = m g / (1e-6 L) (the pin gives 1e-6 L under the pinned body's weight m g; L a length
-of it) and c = 2 sqrt(k mu), mu = m m_c / (m + m_c) the pair's reduced mass (the pin's
+k = m g / (1e-6 L) (the pin gives 1e-6 L under the pinned body's weight m g, standard
+gravity when g = 0; L a length of it) and c = 2 sqrt(k mu), mu = m m_c / (m + m_c) the pair's reduced mass (the pin's
 own mode critically damped). The term acts on both bodies' 12 DOFs, with its exact
 tangent: the generalized force is G^T f with G = [-J_c | I 0], so
 d(-G^T f)/dq = G^T (k G + c S) - H_c(k gap + c rate), S = d(rate)/dq, H_c the carrier
@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from .body import attachment_hessian, attachment_state, attachment_velocity_slope
-from .rods import PIN_DEFLECTION
+from .rods import PIN_DEFLECTION, spring_weight
 from .terms import Term
 
 __all__ = ["BodyPin"]
@@ -41,7 +41,7 @@ class BodyPin(Term):
 
     def __init__(self, point, *, mass, carrier_mass, length, g=9.81, bodies=(0, 1)):
         self.point = np.asarray(point, float).reshape(1, 3)
-        self.stiffness = mass * g / (PIN_DEFLECTION * length)  # N/m
+        self.stiffness = spring_weight(mass, g) / (PIN_DEFLECTION * length)  # N/m
         reduced = mass * carrier_mass / (mass + carrier_mass)
         self.damping = 2 * math.sqrt(self.stiffness * reduced)  # N s/m
         self.bodies = tuple(bodies)
