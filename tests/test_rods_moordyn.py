@@ -44,6 +44,9 @@ Measured (wall time of the test incl. MoorDyn, on the shared 2-core machine):
     bodies_and_rods_pinned_ the pinned can's angle; its ends' 1.7 %; 0.25 %,    1 s
     rod                     heights (end A: the pin, body     0.2 %
                             heave)
+    bodies_and_rods_pinned_ (no MoorDyn: its IC does not      upright to 1e-6   9 s (slow)
+    can_stands_upright      settle) the static pinned can
+                            upright
 
 pinnedBody is coupled every 1 ms: MoorDyn moves a coupled object at constant velocity
 within each Step() call, which at 5 ms raises the differences to 0.25 % and 0.55 %.
@@ -288,3 +291,29 @@ def test_bodies_and_rods_pinned_rod(tmp_path):
     assert worst(r.t, angle, t_md, angle_md) < 0.03  # 1.7 %: see the docs (rods.md)
     assert worst(r.t, B[:, 2], t_md, ends_md[:, 0, 1, 2]) < 5e-3
     assert worst(r.t, A[:, 2], t_md, ends_md[:, 0, 0, 2]) < 5e-3  # the pin: body heave
+
+
+@pytest.mark.slow
+def test_bodies_and_rods_pinned_can_stands_upright(tmp_path):
+    """BodiesAndRods.dat without its lazy cable (LINES 4-6, which skmoor cannot lay out:
+    see docs/rods.md): the static state of the free body on its three nylon lines, with
+    the pinned can (13 deg off the vertical as given) turned upright, as the moment of
+    its buoyancy and weight about the pin, both vertical, demands. Needs the body's spin
+    spring (all its lines meet on its can's axis: nothing else holds its yaw)."""
+    text = MIRROR.read("tests/Mooring/BodiesAndRods.dat").decode()
+    keep = [line for line in text.splitlines()
+            if not re.match(r"\s*(4|5|6)\s+(cable|buoyancy)\s", line)
+            and not re.match(r"\s*(7|8|9|10)\s+(Fixed|Free|Body1)\s", line)]
+    path = tmp_path / "BodiesAndRods.dat"
+    path.write_text("\n".join(keep) + "\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = skmoor.build(path)
+        eq = skmoor.equilibrium(model)
+    system = model.system
+    q_body, q_can = (eq.x[system.nf + 6 * k: system.nf + 6 * k + 6] for k in (0, 1))
+    R = skmoor.body.rotation_matrix(q_can[3:])
+    axis = R @ np.array([3.0, 0.0, 13.0]) / np.hypot(3.0, 13.0)
+    assert abs(axis[0]) < 1e-6 and axis[2] > 0  # upright (it started 13 deg off)
+    assert abs(q_body[5]) < 1e-9  # the yaw stays
+    assert q_body[2] < -5.0  # the cans float the body: it sinks from z = 0 to its draft
