@@ -452,7 +452,7 @@ class RigidBody:
 
     def __post_init__(self):
         self.mass = _positive("mass", self.mass)
-        self.rho = _positive("rho", self.rho)
+        self.rho = _positive("rho", self.rho) if self.rho != 0 else 0.0  # 0: in air
         self.g = _positive("g", self.g) if self.g != 0 else 0.0  # 0: no gravity
         self.center_of_mass = _finite_array("center_of_mass", self.center_of_mass, (3,))
         self.reference_point = (self.center_of_mass.copy() if self.reference_point is None

@@ -148,7 +148,7 @@ class System:
             raise ValueError("System motion: prescribed line ends need motion(t) -> (n, 3)")
         self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
                            else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
-        self._terms = {"lines": [], "points": [], "bodies": []}
+        self._terms = {"lines": [], "points": [], "bodies": [], "body pairs": []}
         if lines.hermite:
             from .bending import HermiteKernel
             self.kernel = HermiteKernel(lines)
@@ -277,8 +277,10 @@ class System:
 
     @property
     def terms(self) -> tuple:
-        """Every term of the system (lines, points, bodies); add with :meth:`add_term`."""
-        return tuple(self._terms["lines"] + self._terms["points"] + self._terms["bodies"])
+        """Every term of the system (lines, points, bodies, body pairs); add with
+        :meth:`add_term`."""
+        return tuple(self._terms["lines"] + self._terms["points"] + self._terms["bodies"]
+                     + self._terms["body pairs"])
 
     @property
     def line_terms(self) -> tuple:
@@ -290,7 +292,8 @@ class System:
 
     @property
     def body_terms(self) -> tuple:
-        return tuple(self._terms["bodies"])
+        """The terms on one body and on pairs of bodies (joints)."""
+        return tuple(self._terms["bodies"] + self._terms["body pairs"])
 
     def add_term(self, term):
         """Add a :class:`~skmoor.terms.Term` (lines, a free point or a body) with its mass."""
@@ -304,7 +307,17 @@ class System:
         kind = term.acts_on
         if kind not in self._terms:
             raise ValueError(f"System term {term!r}: acts_on {kind!r} is not 'lines', "
-                             "'points' or 'bodies'")
+                             "'points', 'bodies' or 'body pairs'")
+        if kind == "body pairs":
+            pair = tuple(getattr(term, "bodies", ()))
+            if not (len(pair) == 2 and pair[0] != pair[1] and all(
+                    isinstance(k, (int, np.integer)) and 0 <= k < len(self.bodies) for k in pair)):
+                raise ValueError(f"System term {type(term).__name__}: bodies {pair!r} is not "
+                                 f"two different dynamic bodies ({len(self.bodies)} in the system)")
+            exact = [k for k in pair if self.bodies[k].rotations == "exact"]
+            if exact:
+                raise ValueError(f"System term {type(term).__name__}: dynamic body {exact[0]} "
+                                 "has rotations='exact'; joints are built for rotations='small'")
         count = {"points": len(self.point_masses), "bodies": len(self.bodies)}.get(kind)
         if count is not None:
             index = term.point if kind == "points" else term.body
@@ -367,7 +380,8 @@ class System:
             block = self._body_block(k)
             q = x[block]
             if (body.rotations != "exact" or abs(q[4]) < REBASE_PITCH
-                    or any(term.body == k for term in self._terms["bodies"])):
+                    or any(term.body == k for term in self._terms["bodies"])
+                    or any(k in term.bodies for term in self._terms["body pairs"])):
                 continue
             if turned is None:
                 turned = (x.copy(), v.copy())
@@ -681,6 +695,7 @@ class System:
             R[block] += Rk
             body_K.append(Kk)
             body_Kv.append(Ck)
+        pair_K, pair_Kv = self._body_pairs(x, v, t, R, tangent)
         if not tangent:
             return R, None, None
         dense = layout == "dense"
@@ -704,6 +719,9 @@ class System:
                          if body.rotations == "exact" else self.K_bodies[k])
             K_bodies[b, b] = H + restoring + body_K[k]
             D_bodies[b, b] = body.linear_damping + body_Kv[k]
+        if pair_K is not None:
+            K_bodies += pair_K
+            D_bodies += pair_Kv
         slope = (self._velocity_slope(Kv_full, x, v, J)
                  if Kv_full is not None and np.any(v[self.nf:]) else None)
         damped = np.any(D_bodies)
@@ -725,6 +743,26 @@ class System:
                 D = self._embed_bodies(D_bodies)
                 Kv = D if Kv is None else Kv + D
         return (R, *self._add_point_blocks(K, Kv, point_K, point_C, layout))
+
+    def _body_pairs(self, x, v, t, R, tangent):
+        """Adds the terms on pairs of bodies (joints) into R; returns their derivative
+        blocks d/dx, d/dv on the bodies' DOFs (6 nbodies, 6 nbodies), or None (none
+        of them, or no ``tangent``)."""
+        terms = self._terms["body pairs"]
+        if not terms:
+            return None, None
+        K = np.zeros((self.nb, self.nb)) if tangent else None
+        C = np.zeros((self.nb, self.nb)) if tangent else None
+        for term in terms:
+            rows = np.r_[[np.arange(6 * k, 6 * k + 6) for k in term.bodies]].ravel()
+            Rp = np.zeros(12)
+            Kp, Cp = (np.zeros((12, 12)), np.zeros((12, 12))) if tangent else (None, None)
+            term.add_to(x[self.nf + rows], v[self.nf + rows], t, Rp, Kp, Cp)
+            R[self.nf + rows] += Rp
+            if tangent:
+                K[np.ix_(rows, rows)] += Kp
+                C[np.ix_(rows, rows)] += Cp
+        return K, C
 
     @property
     def nonlinear_inertia(self) -> bool:

@@ -42,8 +42,9 @@ end A) with its :class:`~skmoor.rods.RodLoad` and a spin spring; a Pinned rod th
 end A pinned in place; a CoupledPinned rod, end A on 3 coupled DOFs; a Fixed rod is its
 two end points, fixed; a Body<N> rod adds its mass and its RodLoad to body N (on a
 coupled or fixed body it only carries its line ends); a Body<N>Pinned rod on a fixed
-body is a Pinned rod there, on a coupled body a rod pinned to the body's point
-``rodN.pin``. Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` / ``rodN.B`` on
+body is a Pinned rod there, on a coupled or free body a rod pinned to the body's point
+``rodN.pin`` (on a free body, a joint of the two bodies: :class:`~skmoor.joints.BodyPin`).
+Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` / ``rodN.B`` on
 the rod. A CoupledPinned body is a dynamic body (its mass and its rods')
 pinned at its reference point on 3 coupled DOFs (MoorDyn's coupled-DOF vector gives it
 6, of which the first 3, its position, are used); a body of no mass of its own carrying
@@ -58,8 +59,8 @@ A zero-length Free rod (NumSegs 0, MoorDyn's 6-DOF connection node) is a massles
 point ``rodN`` joining the lines on its two ends; they are pinned there (MoorDyn clamps
 them to the node, which turns: the bending moment is carried across it).
 
-Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), a
-Body<N>Pinned rod on a free body, mass or volume on a body point, VIV (Cl > 0),
+Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), mass or
+volume on a body point, VIV (Cl > 0),
 MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
@@ -75,7 +76,7 @@ from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
 from . import rods
-from .rods import RodLoad, RodType, SpinLoad, mount_rod
+from .rods import RodLoad, RodType, SpinLoad, mount_rod, spring_weight
 from .sea_files import deck_bathymetry, deck_sea
 from .seabed import Seabed
 
@@ -174,7 +175,7 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
                     "with a Volume is not supported")
     terms = []
     cda = _six(body.CdA, "CdA")
-    if any(cda):
+    if any(cda) and deck.rho > 0:  # in air (rho = 0) nothing drags
         terms.append(body_hydrodynamics(drag_coefficients=np.ones(6), drag_areas=cda, sea=sea,
                                         reference_point=position, rho=deck.rho))
     for rod in rods:  # the rod's ends in the body frame -> global offsets at the start
@@ -185,23 +186,31 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
                              n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
                              bed=bed, name=f"rod{rod.id}"))
     if len(rods) == 1 and _spins_freely(deck, body, cg, rods[0]):  # the rod's spin
-        terms.append(SpinLoad(a, b, rigid.mass * deck.g * np.linalg.norm(b - a)))
+        terms.append(SpinLoad(a, b, spring_weight(rigid.mass, deck.g) * np.linalg.norm(b - a)))
     return Body(name, "dynamic", position, attitude, rigid=rigid, terms=terms,
                 pin="coupled" if body.kind == "pinned" else None)
 
 
 def _spins_freely(deck: Deck, body, cg, rod) -> bool:
     """True when nothing holds a body on one rod about the rod's axis in statics: no
-    mass of its own, or its centre of mass and all its points on the axis (body frame)."""
+    mass of its own, or its centre of mass, all its points and its pinned rods' pins on
+    the axis (body frame); a pinned rod that carries no line may pin off a vertical axis
+    (it pulls there with its weight and buoyancy alone, vertical)."""
     if body.mass <= 0:
         return True
     a, b = np.array(rod.a, float), np.array(rod.b, float)
     axis = (b - a) / np.linalg.norm(b - a)
     points = [cg] + [np.array(p.position, float) for p in deck.points
                      if p.kind == "body" and p.body == body.id]
-    pinned = [r for r in deck.rods if r.kind == "body" and r.body == body.id and r.pinned]
-    return not pinned and all(np.linalg.norm(np.cross(x - a, axis)) < 1e-9 * max(1.0, np.linalg.norm(b - a))
-                              for x in points)
+    vertical = abs(abs(axis[2]) - 1) < 1e-9 and np.allclose(body.r6[3:5], 0.0)
+    for r in deck.rods:
+        if r.kind == "body" and r.body == body.id and r.pinned:
+            carries = any(end in (f"R{r.id}A", f"R{r.id}B")
+                          for line in deck.lines for end in (line.a, line.b))
+            if carries or not vertical:
+                points.append(np.array(r.a, float))
+    return all(np.linalg.norm(np.cross(x - a, axis)) < 1e-9 * max(1.0, np.linalg.norm(b - a))
+               for x in points)
 
 
 def _rod_bed(deck: Deck):
@@ -226,14 +235,10 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
         if not rod.pinned:
             return [Point(f"{name}.A", "body", a, body=carrier.name),
                     Point(f"{name}.B", "body", b, body=carrier.name)], None
-        if carrier.kind == "dynamic":
-            raise _fail(deck, rod.where, f"RODS {rod.id}: a Body{rod.body}Pinned rod on a "
-                        "free body (a pin between two bodies) is not supported (on a fixed "
-                        "or coupled body it is)")
         R0 = carrier.rotation_matrix()
         pin = Point(f"{name}.pin", "body", a, body=carrier.name)  # where end A is held
         a, b = carrier.position + R0 @ a, carrier.position + R0 @ b
-        if carrier.kind == "coupled":
+        if carrier.kind in ("coupled", "dynamic"):  # on a free body: a joint of the two
             body, ends = rods.rod(name, _rod_type(deck, rod), a, b, pin=pin.name,
                                   n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
                                   bed=bed)
@@ -271,9 +276,9 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     if deck.g < 0 or (deck.g == 0 and deck.option("WaveKin", 0.0)):
         raise _fail(deck, deck.option_lines.get("g", "?"), f"option g = {deck.g:g}: "
                     "gravity must be positive, or 0 in still water (waves need gravity)")
-    if not deck.rho > 0:
+    if not deck.rho >= 0:
         raise _fail(deck, deck.option_lines.get("rho", "?"), f"option rho = {deck.rho:g}: "
-                    "the water density must be positive (a deck in air is not supported)")
+                    "the water density must be positive, or 0 (in air)")
     bathymetry = deck_bathymetry(deck)
     sea = deck_sea(deck, bathymetry) if sea is None else sea
     bed = _rod_bed(deck) if seabed else None

@@ -107,8 +107,9 @@ class Body:
     pin (dynamic bodies): None (free), 'fixed' (its reference point held where it is),
     'coupled' (held on 3 coupled DOFs of the network's motion) or the name of a point
     moved by the motion (a coupled point, or a point on a coupled body: held where that
-    point goes, from where it starts); the body turns freely about it (a stiff
-    :class:`~skmoor.rods.PinLoad`)."""
+    point goes, from where it starts) or of a point on another dynamic body (where the
+    body's reference point starts; a joint of the two, :class:`~skmoor.joints.BodyPin`);
+    the body turns freely about it (a stiff :class:`~skmoor.rods.PinLoad`)."""
 
     name: str
     kind: str
@@ -198,11 +199,18 @@ class Network:
             if b.pin in PINS:
                 continue
             p = points.get(b.pin)
-            moved = p is not None and (p.kind == "coupled" or (
-                p.kind == "body" and bodies[p.body].kind == "coupled"))
-            if not moved:
+            held = p is not None and (p.kind == "coupled" or (
+                p.kind == "body" and bodies[p.body].kind in ("coupled", "dynamic")))
+            if not held:
                 raise ValueError(f"body {b.name} pin: {b.pin!r} is not a coupled point or a "
-                                 "point on a coupled body")
+                                 "point on a coupled or dynamic body")
+            if p.kind == "body" and p.body == b.name:
+                raise ValueError(f"body {b.name} pin: {b.pin!r} is on the body itself")
+            if p.kind == "body" and bodies[p.body].kind == "dynamic":
+                gap = np.linalg.norm(self.global_position(p) - b.position)
+                if gap > 1e-6 * max(1.0, np.linalg.norm(b.position)):
+                    raise ValueError(f"body {b.name} pin: point {b.pin!r} is {gap:.3g} m "
+                                     "from the body's reference point (they must meet)")
 
     def point(self, name) -> Point:
         return next(p for p in self.points if p.name == name)
@@ -499,20 +507,28 @@ def build_system(network: Network, positions: dict | None = None):
             term.body = k
             terms.append(term)
         if body.pin is not None:
-            terms.append(_pin(network, body, k))
+            terms.append(_pin(network, body, k, body_index))
     system = System(lineset, ends=ends, bodies=[b.rigid for b in dynamic], points=masses,
                     motion=motion, body_load=[b.load for b in dynamic], terms=terms,
                     sea=network.sea)
     return system, lineset, catenaries, positions
 
 
-def _pin(network: Network, body: Body, k: int):
-    """The PinLoad of a pinned dynamic body (number k among the dynamic bodies): stiff
-    on the length scale of its centre of mass from the pin (at least 1 m)."""
+def _pin(network: Network, body: Body, k: int, body_index: dict):
+    """The PinLoad of a pinned dynamic body (number k among the dynamic bodies; body_index:
+    {name: number}), or its BodyPin when the pin is on another dynamic body: stiff on the
+    length scale of its centre of mass from the pin (at least 1 m)."""
+    from .joints import BodyPin
     from .rods import PinLoad
 
     rigid = body.rigid
     scale = max(float(np.linalg.norm(rigid.center_of_mass - rigid.reference_point)), 1.0)
+    point = network.point(body.pin) if body.pin not in PINS else None
+    if point is not None and point.kind == "body" and network.body(point.body).kind == "dynamic":
+        carrier = network.body(point.body)
+        return BodyPin(carrier.rotation_matrix() @ point.position, mass=rigid.mass,
+                       carrier_mass=carrier.rigid.mass, length=scale, g=network.g,
+                       bodies=(body_index[carrier.name], k))
     if body.pin == "fixed":
         return PinLoad(rigid.mass, scale, g=network.g, body=k)
     if body.pin == "coupled":

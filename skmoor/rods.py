@@ -32,9 +32,16 @@ from .body import RigidBody, attachment_jacobian, attachment_state, rotation_and
 from .terms import BodyLoad
 
 __all__ = ["RodType", "rod", "rod_body", "rod_inertia", "mount_rod", "RodLoad", "PinLoad",
-           "SpinLoad"]
+           "SpinLoad", "spring_weight"]
 
 PIN_DEFLECTION = 1e-6  # pin deflection under the body's weight, per metre of its size
+SPRING_GRAVITY = 9.80665  # m/s2: the weight that sizes the pin and spin springs when g = 0
+
+
+def spring_weight(mass, g) -> float:
+    """The weight (N) that sizes a pin or spin spring: m g, or m times standard gravity
+    in a weightless model (g = 0), where the springs must still hold."""
+    return mass * (g if g > 0 else SPRING_GRAVITY)
 
 
 @dataclass
@@ -103,7 +110,7 @@ def rod(name, rod_type: RodType, a, b, *, pin=None, n_segments=1, rho=1025.0, g=
     rigid = rod_body(rod_type, a, b, g=g, name=name)
     terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a, n_segments=n_segments,
                      rho=rho, g=g, sea=sea, bed=bed, name=name),
-             SpinLoad(np.zeros(3), b - a, rigid.mass * g * length)]
+             SpinLoad(np.zeros(3), b - a, spring_weight(rigid.mass, g) * length)]
     body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
     return body, [Point(f"{name}.A", "body", np.zeros(3), body=name),
                   Point(f"{name}.B", "body", b - a, body=name)]
@@ -285,12 +292,13 @@ def _cross(a, b) -> np.ndarray:
 class PinLoad(BodyLoad):
     """A pin holding a body's reference point at a fixed place or on a prescribed motion
     (pinned rods): F = -k (q[:3] - d(t)) - c (qdot[:3] - d'(t)), with k = m g / (1e-6 L)
-    (the pin gives 1e-6 L under the weight m g; L a length of the body, m) and
+    (the pin gives 1e-6 L under the weight m g, standard gravity when g = 0; L a length
+    of the body, m) and
     c = 2 sqrt(k m) (its mode critically damped). motion(t) -> (d, d'): the pin's
     displacement (m) and velocity (m/s) from where it starts, or None (fixed)."""
 
     def __init__(self, mass, length, *, g=9.81, motion=None, body=0):
-        self.stiffness = mass * g / (PIN_DEFLECTION * length)  # N/m
+        self.stiffness = spring_weight(mass, g) / (PIN_DEFLECTION * length)  # N/m
         self.damping = 2 * math.sqrt(self.stiffness * mass)  # N s/m
         self.motion = motion
         k, c = self.stiffness, self.damping

@@ -10,7 +10,10 @@ N or N m), and its derivatives with respect to the displacements and to the velo
   DOFs [node i x, y, z, node j x, y, z] (on a bending LineSet, Hermite: (nel, 12, 12),
   DOFs ``LineSet.element_dofs``);
 - on a free point (``"points"``, index ``term.point``): u, v, R (3,), K, C (3, 3);
-- on a dynamic body (``"bodies"``, index ``term.body``): q, qdot, R (6,), K, C (6, 6).
+- on a dynamic body (``"bodies"``, index ``term.body``): q, qdot, R (6,), K, C (6, 6);
+- on two dynamic bodies (``"body pairs"``, indices ``term.bodies``, a joint such as
+  :class:`~skmoor.joints.BodyPin`): both bodies' DOFs one after the other, q, qdot,
+  R (12,), K, C (12, 12); no mass.
 
 K and C are None when only the residual is wanted. ``term.mass_matrix()`` is a constant
 mass on the same DOFs (kg; sparse (ndofs, ndofs) on lines), or None. A term with a
@@ -765,7 +768,7 @@ def check_tangent(model, term, u=None, v=None, t=0.0, seed=0, steps=None) -> Tan
     if term.acts_on == "lines":
         n, scale = system.lines.ndofs, float(np.mean(system.lines.element_lengths))
     else:
-        n, scale = (3 if term.acts_on == "points" else 6), 1.0
+        n, scale = {"points": 3, "bodies": 6, "body pairs": 12}[term.acts_on], 1.0
     u = 1e-3 * scale * rng.standard_normal(n) if u is None else np.asarray(u, float)
     v = 0.5 * rng.standard_normal(n) if v is None else np.asarray(v, float)
     du, dv = rng.standard_normal(n) * 1e-2 * scale, rng.standard_normal(n) * 0.1

@@ -229,14 +229,17 @@ class JonswapWave(_Components):
 
 
 class Sea:
-    """The water: depth (m), density rho (kg/m3), gravity g (m/s2), an optional
+    """The water: depth (m), density rho (kg/m3; 0: in air, no buoyancy, drag or added
+    mass), gravity g (m/s2), an optional
     :class:`Current`, any number of waves (:class:`AiryWave`, :class:`JonswapWave`) and
     of tabulated fields (:mod:`skmoor.water_grids`: MoorDyn's wave and current files),
     superposed linearly."""
 
     def __init__(self, depth, rho=1025.0, g=G, current=None, waves=(), fields=()):
         check_positive("Sea depth", depth)
-        check_positive("Sea rho", rho)
+        check_finite("Sea rho", rho)
+        if rho < 0:
+            raise ValueError(f"Sea rho: must be >= 0 (0: no water: in air), got {rho!r}")
         check_finite("Sea g", g)
         if g < 0:
             raise ValueError(f"Sea g: must be >= 0 (0: no gravity, no waves), got {g!r}")

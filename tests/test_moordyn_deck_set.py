@@ -15,7 +15,8 @@ it the tests are skipped. One test per deck:
   leaves settled (see moordyn_decks.SETTLED), the static tension at each line's end B is
   within 2 % of MoorDyn's (same segment counts: ~0.5 % expected); decks with Currents
   in still water on both sides (MoorDyn's IC solve has no currents:
-  skmoor.sea_files.still_water).
+  skmoor.sea_files.still_water); the decks of KNOWN_DIFFERENCES are expected failures,
+  with the reason.
 - test_census_counts_match_moordyn (slow): the survey's own reading of each deck counts
   the lines, points, bodies and rods MoorDyn counts.
 """
@@ -58,6 +59,14 @@ SLOW_DECKS = ("tests/Mooring/3D_seafloor/hanging_lines.txt",
               "tests/Mooring/wavekin_wave_1.txt", "bench/Mooring/wavekin_2/wavekin_2.txt",
               "bench/Mooring/wavekin_7/wavekin_7.txt")
 
+# decks whose static tensions differ from MoorDyn's for a known reason
+KNOWN_DIFFERENCES = {
+    "tests/Mooring/body_tests/pinnedBody.txt": "its one line, a dummy of one segment, "
+    "hangs between two fixed points 5 m apart vertically at exactly its length, in air: "
+    "skmoor's exact catenary hangs it from the top (end A 1716 N = its weight, end B 0); "
+    "MoorDyn's one segment lumps half the weight on each end node (858 N at both)",
+}
+
 
 def slow_deck(path):
     return any(path.startswith(prefix) for prefix in SLOW_DECKS)
@@ -65,7 +74,9 @@ def slow_deck(path):
 
 RUN_PARAMS = [pytest.param(deck, marks=pytest.mark.slow) if slow_deck(deck) else deck
               for deck in DECKS] or PARAMS
-STATIC_PARAMS = DECKS or PARAMS
+STATIC_PARAMS = [pytest.param(deck, marks=pytest.mark.xfail(reason=KNOWN_DIFFERENCES[deck],
+                                                            strict=True))
+                 if deck in KNOWN_DIFFERENCES else deck for deck in DECKS] or PARAMS
 
 
 @pytest.fixture(scope="module")

@@ -161,6 +161,23 @@ def test_coupled_pinned_rod_three_ways(tmp_path):
         assert np.max(np.abs(point_track(other, "rod1.B") - tip)) < 1e-5, name
 
 
+def test_weightless_pin_holds(tmp_path):
+    """hung_rod.dat with g = 0 (nothing weighs): the pin is sized by the rod's weight
+    at standard gravity, so end A still follows the coupled point 1 m away (a spring
+    sized by m g alone would be zero: the rod left where it was)."""
+    text = (DECKS / "hung_rod.dat").read_text()
+    assert "9.80665  g" in text
+    path = tmp_path / "weightless.dat"
+    path.write_text(text.replace("9.80665  g", "0  g"))
+
+    def shift(t):
+        return (1 - np.cos(np.pi * min(t, 2.0) / 2.0)) / 2 * np.array([1.0, 0.0, 0.5])
+
+    r = run(build(path, motion=shift), 3.0, 0.05)
+    assert np.max(np.abs(point_track(r, "rod1.A")[-1] - [1.0, 0.0, -4.5])) < 1e-4
+    assert np.ptp(point_track(r, "rod1.B")[:, 0]) > 0.5  # dragged along, in still water
+
+
 def test_bad_pin_is_refused_by_name():
     spar = RodType("spar", diameter=0.5, mass=100.0)
     for pin, message in (("anchor", "'anchor' is not a coupled point or a point on a coupled"),

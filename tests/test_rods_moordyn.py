@@ -11,9 +11,11 @@ folder, where MoorDyn writes its log. Changes made to them, the same for both co
     RodHanging.txt            its two fixed points made Coupled and heaved 2 m at 10 s
                               (the deck as given starts from lines far off their
                               equilibrium: MoorDyn's first step pulls 18 MN)
-    body_tests/pinnedBody.txt water density 1e-6 kg/m3 for its 0 (skmoor's Sea needs
-                              rho > 0: air for both), the pinned body moved 0.5 m in x
-                              over 2 s, then held: the rod swings as a pendulum
+    body_tests/pinnedBody.txt (in air: water density 0) the pinned body moved 0.5 m in
+                              x over 2 s, then held: the rod swings as a pendulum
+    BodiesAndRods.dat         its lines replaced by one between two fixed points, the
+                              body lowered to 20 m, no drag or added mass on the cans
+                              (see the test)
 
 Starting state: MoorDyn with TmaxIC = 0 starts from the deck's positions at rest, as
 skmoor's ``start='given'`` does. RodHanging starts from equilibrium: MoorDyn's dynamic
@@ -39,6 +41,12 @@ Measured (wall time of the test incl. MoorDyn, on the shared 2-core machine):
     drag                    segments (dt 10 ms)
     rod_hanging_heaved      end A z; end tensions (2 lines)   0.3 %; 0.15 %    19 s (slow)
     pinned_body_swing       end B x, z                        0.06 %, 0.18 %    5 s
+    bodies_and_rods_pinned_ the pinned can's angle; its ends' 1.7 %; 0.25 %,    1 s
+    rod                     heights (end A: the pin, body     0.2 %
+                            heave)
+    bodies_and_rods_pinned_ (no MoorDyn: its IC does not      upright to 1e-6   9 s (slow)
+    can_stands_upright      settle) the static pinned can
+                            upright
 
 pinnedBody is coupled every 1 ms: MoorDyn moves a coupled object at constant velocity
 within each Step() call, which at 5 ms raises the differences to 0.25 % and 0.55 %.
@@ -235,8 +243,7 @@ def test_pinned_body_swing(tmp_path):
     """body_tests/pinnedBody.txt: a rod (Body1) hanging 10 m below a CoupledPinned
     body of no mass, which is moved 0.5 m in x and held: the rod swings as a
     compound pendulum about the body's pin."""
-    path = deck(tmp_path, "tests/Mooring/body_tests/pinnedBody.txt", replace=[
-        ("0.0     WtrDnsty", "1e-6    WtrDnsty")])
+    path = deck(tmp_path, "tests/Mooring/body_tests/pinnedBody.txt")
     pin = np.array([0.0, 0.0, -5.0])
 
     def shift(t):
@@ -254,3 +261,59 @@ def test_pinned_body_swing(tmp_path):
     B = track(r, "rod1.B")
     assert worst(r.t, B[:, 0], t_md, ends_md[:, 0, 1, 0]) < 5e-3
     assert worst(r.t, B[:, 2], t_md, ends_md[:, 0, 1, 2]) < 1e-2
+
+
+def test_bodies_and_rods_pinned_rod(tmp_path):
+    """BodiesAndRods.dat's free body with its two cans, one fixed on it (Body1), one
+    pinned to it (Body1Pinned: a pin between two bodies), lowered to 20 m (both cans
+    under water), its lines replaced by one between two fixed points, no drag or added
+    mass on the cans: released at rest, the pair rises and the pinned can swings up
+    from 13 deg. Compared: the pinned can's angle, its ends' heights (end A: the pin on
+    the body)."""
+    text = MIRROR.read("tests/Mooring/BodiesAndRods.dat").decode()
+    start = re.search(r"(?m)^-+ POINTS", text).start()
+    options = re.search(r"(?m)^-+ SOLVER OPTIONS", text).start()
+    text = text[:start] + DUMMY_LINE.format(type="cable") + text[options:]
+    for old, new in (("Can           10       1.0e3     0.6    1.0     1.2      1.0",
+                      "Can           10       1.0e3     0.0    0.0     0.0      0.0"),
+                     ("1       free      0     0      0 ", "1       free      0     0    -20 "),
+                     ("100.0    TmaxIC", "0.0      TmaxIC"),
+                     ("FairTen1 FairTen2 FairTen3", ""), ("Point2px Point2py Point2pz", "")):
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path / "BodiesAndRods.dat"
+    path.write_text(text)
+    t_md, ends_md, _ = run_moordyn(path, 0.9, coupling=0.005, sample=0.01, rods=(2,))
+    r = simulate(path, 0.9, 0.01)
+    A, B = track(r, "rod2.A"), track(r, "rod2.B")
+    angle = np.arctan2(B[:, 0] - A[:, 0], B[:, 2] - A[:, 2])
+    angle_md = np.arctan2(*(ends_md[:, 0, 1] - ends_md[:, 0, 0])[:, [0, 2]].T)
+    assert worst(r.t, angle, t_md, angle_md) < 0.03  # 1.7 %: see the docs (rods.md)
+    assert worst(r.t, B[:, 2], t_md, ends_md[:, 0, 1, 2]) < 5e-3
+    assert worst(r.t, A[:, 2], t_md, ends_md[:, 0, 0, 2]) < 5e-3  # the pin: body heave
+
+
+@pytest.mark.slow
+def test_bodies_and_rods_pinned_can_stands_upright(tmp_path):
+    """BodiesAndRods.dat without its lazy cable (LINES 4-6, which skmoor cannot lay out:
+    see docs/rods.md): the static state of the free body on its three nylon lines, with
+    the pinned can (13 deg off the vertical as given) turned upright, as the moment of
+    its buoyancy and weight about the pin, both vertical, demands. Needs the body's spin
+    spring (all its lines meet on its can's axis: nothing else holds its yaw)."""
+    text = MIRROR.read("tests/Mooring/BodiesAndRods.dat").decode()
+    keep = [line for line in text.splitlines()
+            if not re.match(r"\s*(4|5|6)\s+(cable|buoyancy)\s", line)
+            and not re.match(r"\s*(7|8|9|10)\s+(Fixed|Free|Body1)\s", line)]
+    path = tmp_path / "BodiesAndRods.dat"
+    path.write_text("\n".join(keep) + "\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = skmoor.build(path)
+        eq = skmoor.equilibrium(model)
+    system = model.system
+    q_body, q_can = (eq.x[system.nf + 6 * k: system.nf + 6 * k + 6] for k in (0, 1))
+    R = skmoor.body.rotation_matrix(q_can[3:])
+    axis = R @ np.array([3.0, 0.0, 13.0]) / np.hypot(3.0, 13.0)
+    assert abs(axis[0]) < 1e-6 and axis[2] > 0  # upright (it started 13 deg off)
+    assert abs(q_body[5]) < 1e-9  # the yaw stays
+    assert q_body[2] < -5.0  # the cans float the body: it sinks from z = 0 to its draft

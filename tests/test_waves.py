@@ -147,7 +147,7 @@ def test_sea_sums_current_and_waves():
 
 @pytest.mark.parametrize("build, field", [
     (lambda: Sea(-5.0), "Sea depth"),
-    (lambda: Sea(50.0, rho=0.0), "Sea rho"),
+    (lambda: Sea(50.0, rho=-1.0), "Sea rho"),
     (lambda: Sea(50.0, current=0.5), "Sea current"),
     (lambda: Sea(50.0, waves=[AiryWave(1.0, 8.0, 40.0)]), "Sea waves[0]: depth"),
     (lambda: Sea(50.0, waves=["big"]), "Sea waves[0]"),
