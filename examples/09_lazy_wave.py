@@ -39,9 +39,11 @@ def lazy_wave(elements=ELEMENTS) -> skmoor.Network:
     """The cable as a network of three bending lines, ``elements`` in all (shared out
     between the sections as the deck's 448 / 320 / 256)."""
     deck = sum(section[-1] for section in SECTIONS)
+    # the junctions' positions are first guesses (the catenary network settles them;
+    # from (40, -50) and (80, -50) m it does not, and Newton then needs ~80 iterations)
     points = [skmoor.Point("hang_off", "fixed", HANG_OFF),
-              skmoor.Point("buoyancy_start", "free", (40.0, 0.0, -50.0), smooth=True),
-              skmoor.Point("buoyancy_end", "free", (80.0, 0.0, -50.0), smooth=True),
+              skmoor.Point("buoyancy_start", "free", (35.0, 0.0, -60.0), smooth=True),
+              skmoor.Point("buoyancy_end", "free", (75.0, 0.0, -70.0), smooth=True),
               skmoor.Point("anchor", "fixed", ANCHOR)]
     lines = []
     for k, (name, diameter, mass, length, segments) in enumerate(SECTIONS):

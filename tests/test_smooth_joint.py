@@ -80,6 +80,22 @@ def test_clamped_beam_smooth_against_hinged_joint():
     assert M_h[N - 1] == pytest.approx(cantilever(L / 2 - h / 2), abs=0.01 * cantilever(0))
 
 
+def test_modes_across_a_smooth_joint():
+    """The pinned beam of two smoothly joined lines vibrates as one beam: omega_n =
+    (n pi / L)^2 sqrt(EI / m), n = 1, 2, 3, in both planes, within 1e-4 at 16 elements
+    as one line of 16 (the joint's shared tangent DOFs carry the consistent mass of both
+    sides; dropping one side's would raise the frequencies)."""
+    points = [Point("a", "fixed", [0.0, 0.0, -5.0]),
+              Point("mid", "free", [L / 2, 0.0, -5.0], smooth=True),
+              Point("b", "fixed", [L, 0.0, -5.0])]
+    lines = [MooringLine("left", beam_type(), "a", "mid", L / 2, 8),
+             MooringLine("right", beam_type(), "mid", "b", L / 2, 8)]
+    model = from_network(Network(points, lines, depth=50.0, hydro=False))
+    omega = equilibrium(model, n_modes=6).modes.omega
+    exact = (np.repeat([1, 2, 3], 2) * np.pi / L) ** 2 * np.sqrt(EI / (W / 9.81))
+    np.testing.assert_allclose(np.sort(omega), exact, rtol=1e-4)
+
+
 def test_bad_smooth_joints():
     """A smooth joint is a free point between end b of one bending line and end a of the
     next; anything else is refused naming the point (or the Ends entry)."""
