@@ -29,18 +29,17 @@ HANG_OFF, ANCHOR = (5.0, 0.0, -14.0), (125.0, 0.0, -80.0)
 SECTIONS = (("bare_top", 0.16, 36.70, 68.114, 448),
             ("buoyancy", 0.29, 59.53, 50.0, 320),
             ("bare_bottom", 0.16, 36.70, 52.101, 256))
-ELEMENTS = int(os.environ.get("SKMOOR_EXAMPLE_ELEMENTS", 1024))  # the deck's: 1024
+ELEMENTS = int(os.environ.get("SKMOOR_EXAMPLE_ELEMENTS", "1024"))  # the deck's: 1024
 ORCAFLEX = {"hang_off_tension": 9.32e3, "peak_curvature": 0.0968}  # N, 1/m
 IMAGES = Path(__file__).parents[1] / "docs" / "images"
-OUT = Path(os.environ.get("SKMOOR_EXAMPLE_OUT", IMAGES))
+OUT = Path(os.environ.get("SKMOOR_EXAMPLE_OUT", str(IMAGES)))
 
 
 def lazy_wave(elements=ELEMENTS) -> skmoor.Network:
     """The cable as a network of three bending lines, ``elements`` in all (shared out
     between the sections as the deck's 448 / 320 / 256)."""
     deck = sum(section[-1] for section in SECTIONS)
-    # the junctions' positions are first guesses (the catenary network settles them;
-    # from (40, -50) and (80, -50) m it does not, and Newton then needs ~80 iterations)
+    # the junctions' positions: first guesses, which the catenary network settles
     points = [skmoor.Point("hang_off", "fixed", HANG_OFF),
               skmoor.Point("buoyancy_start", "free", (35.0, 0.0, -60.0), smooth=True),
               skmoor.Point("buoyancy_end", "free", (75.0, 0.0, -70.0), smooth=True),
