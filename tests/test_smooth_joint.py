@@ -2,6 +2,8 @@
 ``Ends.smooth``) against Euler-Bernoulli: a beam made of two lines joined at mid-span
 carries the bending moment across the joint as one beam does; the same two lines
 joined at a hinge (a plain free point) do not."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -94,6 +96,44 @@ def test_modes_across_a_smooth_joint():
     omega = equilibrium(model, n_modes=6).modes.omega
     exact = (np.repeat([1, 2, 3], 2) * np.pi / L) ** 2 * np.sqrt(EI / (W / 9.81))
     np.testing.assert_allclose(np.sort(omega), exact, rtol=1e-4)
+
+
+def beam_case(smooth, anchor=None):
+    """The pinned two-line beam as a case file's tables (``smooth`` on the joint, and on
+    the fixed end a when ``anchor`` is given)."""
+    from skmoor.case import Case
+
+    point = {"name": "mid", "kind": "free", "position": [L / 2, 0.0, -5.0], "smooth": smooth}
+    end = {"name": "a", "kind": "fixed", "position": [0.0, 0.0, -5.0]}
+    if anchor is not None:
+        end["smooth"] = anchor
+    return Case({
+        "name": "two-line beam", "water": {"density": 1025.0, "gravity": 9.81, "depth": 50.0},
+        "line_types": {"beam": {"EA": EA, "mass": 50.0, "diameter": 0.1, "EI": EI}},
+        "mooring": {"tension_only": False},
+        "points": [end, point,
+                   {"name": "b", "kind": "fixed", "position": [L, 0.0, -5.0]}],
+        "lines": [{"name": "left", "type": "beam", "a": "a", "b": "mid", "length": L / 2,
+                   "n_elements": N},
+                  {"name": "right", "type": "beam", "a": "mid", "b": "b", "length": L / 2,
+                   "n_elements": N}]}, Path("."))
+
+
+def test_case_file_smooth_point():
+    """``smooth = true`` on a case file's free point: the pinned beam of two lines sags
+    5 w L^4 / 384 EI (w its submerged weight); on a fixed point, or not a flag, refused."""
+    import skmoor
+
+    model = skmoor.build(beam_case(True))
+    w = model.network.lines[0].line_type.weight
+    lineset = model.lines
+    u = model.system.full_displacement(equilibrium(model, n_modes=1).x)
+    z = (lineset.points + u[lineset.nodal_dofs])[lineset.fairlead_nodes[0], 2]
+    assert -5.0 - z == pytest.approx(5 * w * L**4 / (384 * EI), rel=1e-3)
+    with pytest.raises(ValueError, match=r"points\[1\]\.smooth: expected true or false"):
+        skmoor.build(beam_case("yes"))
+    with pytest.raises(ValueError, match=r"points\[0\]\.smooth: only a free point"):
+        skmoor.build(beam_case(True, anchor=True))
 
 
 def test_bad_smooth_joints():
