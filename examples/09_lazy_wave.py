@@ -51,8 +51,10 @@ def lazy_wave(elements=ELEMENTS) -> skmoor.Network:
         lines.append(skmoor.MooringLine(name, cable, points[k].name, points[k + 1].name,
                                         length, max(2, round(segments * elements / deck))))
     seabed = skmoor.Seabed(DEPTH, stiffness=1e5, damping=1e4, per_diameter=True)
+    # a bending cable carries compression (a tension-only law would clip the cubic's
+    # axial noise in the bends to slack elements; see docs/bending.md)
     return skmoor.Network(points, lines, depth=DEPTH, rho=RHO, g=G, hydro=False,
-                          seabed=seabed)
+                          seabed=seabed, strain_law=skmoor.Engineering(tension_only=False))
 
 
 def static_cable(elements=ELEMENTS):
