@@ -12,8 +12,9 @@ between two bodies. Rods (:mod:`skmoor.rods`) are bodies with a rod load.
 :func:`build_network` turns a :class:`Network` into a :class:`~skmoor.model.Model`: the
 free points are first settled on analytic catenaries (the catenary-network first guess),
 each line's reference state is the elastic catenary between its ends there (seabed
-touchdown included; a weightless or buoyant line: straight and taut, or a stress-free
-sagging polyline when slack), and one :class:`~skmoor.coupling.System` joins them.
+touchdown included; a buoyant line's catenary upside down; a weightless line: straight
+and taut, or a stress-free sagging polyline when slack), and one
+:class:`~skmoor.coupling.System` joins them.
 
 Coupled motion (``Network.motion``): fn(t) -> displacements of the coupled objects from
 their given positions in MoorDyn's order of coupled DOFs: 6 per coupled body (x, y, z in
@@ -314,8 +315,29 @@ def reference_line(name, line_type: LineType, length, n_elements, a, b, seabed_z
         return Line(name, line_type, s, X, lambda sq: np.broadcast_to(tangent, np.shape(sq) + (3,)),
                     lambda sq: np.full(np.shape(sq), T),
                     lambda sq: np.full(np.shape(sq), stretch)), None
+    if line_type.weight < 0:  # buoyant and slack: the catenary upside down
+        upside, _ = reference_line(name, _upside_down(line_type), length, n_elements,
+                                   a * MIRROR, b * MIRROR)
+        return _mirrored(upside, line_type), None
     return Line.from_polyline(_sagging(a, b, length, n_elements, line_type.weight, seabed_z),
                               line_type, name=name), None
+
+
+MIRROR = np.array([1.0, 1.0, -1.0])  # z -> -z: a buoyant line's catenary hangs upside down
+
+
+def _upside_down(line_type: LineType) -> LineType:
+    """The line type of the mirrored problem: the same line weighing what it buoys (N/m)."""
+    return LineType(line_type.EA, line_type.mass, line_type.diameter, weight=-line_type.weight,
+                    rho_water=line_type.rho_water, g=line_type.g, law=line_type.law)
+
+
+def _mirrored(line: Line, line_type: LineType) -> Line:
+    """A reference Line mirrored in z (positions and tangents), of ``line_type``."""
+    tangent, ends = line.tangent, line.end_tangents
+    return Line(line.name, line_type, line.s, line.X * MIRROR,
+                lambda sq: tangent(sq) * MIRROR, line.tension, line.stretch,
+                tuple(None if t is None else t * MIRROR for t in ends))
 
 
 def _taut_tension(line_type: LineType, stretch):
@@ -367,12 +389,8 @@ def line_end_forces(line_type: LineType, length, a, b, seabed_z=None):
         return (f_high, f_low) if flipped else (f_low, f_high)
     chord = np.linalg.norm(b - a)
     if line_type.weight < 0 and chord < length:  # buoyant and slack: mirror the catenary
-        mirror = np.array([1.0, 1.0, -1.0])
-        upside = LineType(line_type.EA, line_type.mass, line_type.diameter,
-                          weight=-line_type.weight, rho_water=line_type.rho_water, g=line_type.g,
-                          law=line_type.law)
-        fa, fb = line_end_forces(upside, length, a * mirror, b * mirror)
-        return fa * mirror, fb * mirror
+        fa, fb = line_end_forces(_upside_down(line_type), length, a * MIRROR, b * MIRROR)
+        return fa * MIRROR, fb * MIRROR
     if chord >= length:
         pull = _taut_tension(line_type, chord / length) * (b - a) / chord
         half = np.array([0.0, 0.0, -0.5 * line_type.weight * length])
