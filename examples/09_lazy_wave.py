@@ -6,9 +6,9 @@ bed at (125, 0, -80) m; EA = 4.69e8 N, EI = 1.99e4 N m2 throughout; 80 m of wate
 (rho = 1025 kg/m3, g = 9.80665 m/s2), penalty bed kBot = 1e5 Pa/m, cBot = 1e4 Pa s/m.
 
 The three sections are three bending lines joined at two smooth free points (C1: the
-joint carries the bending moment). The first guess is the catenary network (EI = 0:
-the junctions settled where the three catenaries balance), from which the static solve
-finds the lazy wave directly. Published: hang-off tension 9.32 kN, peak curvature
+joint carries the bending moment). The first guess is the catenary network (EI = 0,
+the buoyant section's catenary upside down: the junctions settled where the three
+balance), from which the static solve finds the lazy wave directly. Published: hang-off tension 9.32 kN, peak curvature
 0.0968 1/m (OrcaFlex 11.6d, Lozon et al. 2025; CableDyn's VALIDATION.md, case L3-5).
 
 Run: python examples/09_lazy_wave.py   (prints the mesh convergence of both numbers,
@@ -51,8 +51,8 @@ def lazy_wave(elements=ELEMENTS) -> skmoor.Network:
         lines.append(skmoor.MooringLine(name, cable, points[k].name, points[k + 1].name,
                                         length, max(2, round(segments * elements / deck))))
     seabed = skmoor.Seabed(DEPTH, stiffness=1e5, damping=1e4, per_diameter=True)
-    # a bending cable carries compression (a tension-only law would clip the cubic's
-    # axial noise in the bends to slack elements; see docs/bending.md)
+    # a bending cable carries compression, as a beam does (a tension-only law gives the
+    # same statics here; docs/bending.md)
     return skmoor.Network(points, lines, depth=DEPTH, rho=RHO, g=G, hydro=False,
                           seabed=seabed, strain_law=skmoor.Engineering(tension_only=False))
 
