@@ -71,11 +71,17 @@ class Ends:
     tangent, as ``(line index, "a" or "b")`` pairs, on fixed or prescribed ends (the
     others are pinned: the end tangent free). MoorDyn clamps a line by ending it on a
     fixed rod; here the line end says so itself.
+
+    smooth: C1 joints of bending lines, as ``(k, j)`` pairs: end B of line k and end A of
+    line j sit on the same free point and share their tangent DOFs (the same d/ds of
+    the displacement, so r' is continuous when their reference tangents there are
+    equal): the joint carries the bending moment. Without it a free point is a hinge.
     """
 
     a: list
     b: list
     clamped: tuple = ()
+    smooth: tuple = ()
 
     def __post_init__(self):
         if len(self.a) != len(self.b):
@@ -89,6 +95,19 @@ class Ends:
             if held[0] not in ("fixed", "prescribed"):
                 raise ValueError(f"Ends clamped: end {end.upper()} of line {k} is on a "
                                  f"{held[0]!r}; only fixed or prescribed ends can be clamped")
+        self.smooth = tuple((int(k), int(j)) for k, j in self.smooth)
+        joined = [end for pair in self.smooth for end in ((pair[0], "b"), (pair[1], "a"))]
+        for k, j in self.smooth:
+            if not (0 <= k < len(self.a) and 0 <= j < len(self.a)) or k == j:
+                raise ValueError(f"Ends smooth: ({k}, {j}) is not a pair of two of the "
+                                 f"{len(self.a)} lines")
+            if self.b[k][0] != "point" or self.b[k] != self.a[j]:
+                raise ValueError(f"Ends smooth: end B of line {k} ({self.b[k]}) and end A of "
+                                 f"line {j} ({self.a[j]}) are not on the same free point")
+        repeated = sorted({end for end in joined if joined.count(end) > 1})
+        if repeated:
+            k, end = repeated[0]
+            raise ValueError(f"Ends smooth: end {end.upper()} of line {k} is in two joints")
         for end in self.a + self.b:
             if end[0] not in ("fixed", "prescribed", "point", "body"):
                 raise ValueError(f"Ends: {end[0]!r} is not 'fixed', 'prescribed', 'point' "
@@ -114,7 +133,8 @@ class System:
     Unknowns x = [line DOFs | 6 DOFs per body]: the line DOFs are the free line nodes and
     the free points (3 each, numbered where a line first reaches them, so that a chain of
     lines keeps a narrow band), and on a bending (Hermite) LineSet every node's 3 tangent
-    DOFs but those of clamped ends (``Ends.clamped``). ends: an :class:`Ends`; or the anchor -> fairlead shorthand
+    DOFs but those of clamped ends (``Ends.clamped``; the two ends of a smooth joint,
+    ``Ends.smooth``, share theirs). ends: an :class:`Ends`; or the anchor -> fairlead shorthand
     ``fairleads`` = 'body' (on ``body``), 'fixed' or 'prescribed' (by ``motion``).
     bodies: dynamic :class:`~skmoor.body.RigidBody` objects (``body`` alone: one).
     points: a :class:`PointMass` per free point. motion(t) -> (nslots, 3) displacements of
@@ -190,6 +210,13 @@ class System:
                              "with EI > 0); cables are pinned")
         clamped = {int((lines.anchor_nodes if end == "a" else lines.fairlead_nodes)[k])
                    for k, end in ends.clamped}
+        if ends.smooth and slopes is None:
+            raise ValueError("System ends: smooth joints need bending lines (a LineType "
+                             "with EI > 0); cables are hinged at their points")
+        joint = {}  # node -> its smooth joint's number: one set of tangent columns each
+        for number, (k, j) in enumerate(ends.smooth):
+            joint[int(lines.fairlead_nodes[k])] = joint[int(lines.anchor_nodes[j])] = number
+        joint_columns = {}
         npoints = len(self.point_masses)
         position = np.full(lines.ndofs, -1)
         self.point_columns = np.full((npoints, 3), -1)
@@ -224,7 +251,12 @@ class System:
             elif end[0] == "prescribed":
                 prescribed_ends.append((int(end[1]), node))
             if slopes is not None and node not in clamped:
+                if joint.get(node) in joint_columns:
+                    position[slopes[node]] = joint_columns[joint[node]]
+                    continue
                 position[slopes[node]] = np.arange(columns, columns + 3)
+                if node in joint:
+                    joint_columns[joint[node]] = position[slopes[node]]
                 columns += 3
         unused = np.flatnonzero(self.point_columns[:, 0] < 0)
         if len(unused):

@@ -383,7 +383,8 @@ def explicit_network(case) -> Network:
         target.load = body_load(case, load)
     points = [Point(p["name"], p.get("kind", "fixed"), p["position"], body=p.get("body"),
                     mass=float(p.get("mass", 0.0)), volume=float(p.get("volume", 0.0)),
-                    CdA=float(p.get("CdA", 0.0)), Ca=float(p.get("Ca", 0.0)))
+                    CdA=float(p.get("CdA", 0.0)), Ca=float(p.get("Ca", 0.0)),
+                    smooth=bool(p.get("smooth", False)))
               for p in data["points"]]
     for p in points:
         if p.kind == "body" and (p.mass or p.volume):

@@ -12,8 +12,9 @@ between two bodies. Rods (:mod:`skmoor.rods`) are bodies with a rod load.
 :func:`build_network` turns a :class:`Network` into a :class:`~skmoor.model.Model`: the
 free points are first settled on analytic catenaries (the catenary-network first guess),
 each line's reference state is the elastic catenary between its ends there (seabed
-touchdown included; a weightless or buoyant line: straight and taut, or a stress-free
-sagging polyline when slack), and one :class:`~skmoor.coupling.System` joins them.
+touchdown included; a buoyant line's catenary upside down; a weightless line: straight
+and taut, or a stress-free sagging polyline when slack), and one
+:class:`~skmoor.coupling.System` joins them.
 
 Coupled motion (``Network.motion``): fn(t) -> displacements of the coupled objects from
 their given positions in MoorDyn's order of coupled DOFs: 6 per coupled body (x, y, z in
@@ -49,7 +50,10 @@ PINS = (None, "fixed", "coupled")
 class Point:
     """A point of the network. position: global (m), or for kind 'body' in the body's
     frame relative to its reference point. mass kg, volume m3, CdA m2, Ca (-): loads of a
-    free point (a body point's are not modelled: refused when non-zero)."""
+    free point (a body point's are not modelled: refused when non-zero). smooth: a free
+    point where one bending line ends (its b) and the next starts (its a), joined C1:
+    their tangents there are one (the joint carries the bending moment, as between the
+    sections of one cable); False: a hinge."""
 
     name: str
     kind: str
@@ -59,8 +63,12 @@ class Point:
     volume: float = 0.0
     CdA: float = 0.0
     Ca: float = 0.0
+    smooth: bool = False
 
     def __post_init__(self):
+        if self.smooth and self.kind != "free":
+            raise ValueError(f"point {self.name} smooth: only a free point is a smooth "
+                             f"joint (this one is {self.kind!r})")
         if self.kind not in POINT_KINDS:
             raise ValueError(f"point {self.name}: kind {self.kind!r} is not one of {POINT_KINDS}")
         self.position = _vector(f"point {self.name} position", self.position)
@@ -315,8 +323,29 @@ def reference_line(name, line_type: LineType, length, n_elements, a, b, seabed_z
         return Line(name, line_type, s, X, lambda sq: np.broadcast_to(tangent, np.shape(sq) + (3,)),
                     lambda sq: np.full(np.shape(sq), T),
                     lambda sq: np.full(np.shape(sq), stretch)), None
+    if line_type.weight < 0:  # buoyant and slack: the catenary upside down
+        upside, _ = reference_line(name, _upside_down(line_type), length, n_elements,
+                                   a * MIRROR, b * MIRROR)
+        return _mirrored(upside, line_type), None
     return Line.from_polyline(_sagging(a, b, length, n_elements, line_type.weight, seabed_z),
                               line_type, name=name), None
+
+
+MIRROR = np.array([1.0, 1.0, -1.0])  # z -> -z: a buoyant line's catenary hangs upside down
+
+
+def _upside_down(line_type: LineType) -> LineType:
+    """The line type of the mirrored problem: the same line weighing what it buoys (N/m)."""
+    return LineType(line_type.EA, line_type.mass, line_type.diameter, weight=-line_type.weight,
+                    rho_water=line_type.rho_water, g=line_type.g, law=line_type.law)
+
+
+def _mirrored(line: Line, line_type: LineType) -> Line:
+    """A reference Line mirrored in z (positions and tangents), of ``line_type``."""
+    tangent, ends = line.tangent, line.end_tangents
+    return Line(line.name, line_type, line.s, line.X * MIRROR,
+                lambda sq: tangent(sq) * MIRROR, line.tension, line.stretch,
+                tuple(None if t is None else t * MIRROR for t in ends))
 
 
 def _taut_tension(line_type: LineType, stretch):
@@ -368,12 +397,8 @@ def line_end_forces(line_type: LineType, length, a, b, seabed_z=None):
         return (f_high, f_low) if flipped else (f_low, f_high)
     chord = np.linalg.norm(b - a)
     if line_type.weight < 0 and chord < length:  # buoyant and slack: mirror the catenary
-        mirror = np.array([1.0, 1.0, -1.0])
-        upside = LineType(line_type.EA, line_type.mass, line_type.diameter,
-                          weight=-line_type.weight, rho_water=line_type.rho_water, g=line_type.g,
-                          law=line_type.law)
-        fa, fb = line_end_forces(upside, length, a * mirror, b * mirror)
-        return fa * mirror, fb * mirror
+        fa, fb = line_end_forces(_upside_down(line_type), length, a * MIRROR, b * MIRROR)
+        return fa * MIRROR, fb * MIRROR
     if chord >= length:
         pull = _taut_tension(line_type, chord / length) * (b - a) / chord
         half = np.array([0.0, 0.0, -0.5 * line_type.weight * length])
@@ -487,7 +512,8 @@ def build_system(network: Network, positions: dict | None = None):
             clamped.append((k, side))
             lines[k].end_tangents = _clamp_tangents(ln, side, clamp, positions,
                                                     lines[k].end_tangents)
-    ends = Ends(ends_a, ends_b, clamped=clamped)
+    smooth = [_smooth_joint(network, p, lines) for p in network.points if p.smooth]
+    ends = Ends(ends_a, ends_b, clamped=clamped, smooth=smooth)
     lineset = LineSet(lines, law=network.strain_law)
     motion = _slot_motion(network, slots) if slots else None
     masses = [PointMass(p.mass, p.volume, p.CdA, p.Ca, rho=network.rho, g=network.g)
@@ -566,6 +592,36 @@ def _coupled_vector(network: Network, t) -> np.ndarray:
         raise ValueError(f"motion: expected {n} coupled DOFs "
                          f"({', '.join(o.name for o in network.coupled)}), got {y.shape}")
     return y
+
+
+def _smooth_joint(network: Network, point: Point, lines) -> tuple:
+    """(k, j) of the smooth joint at ``point``: line k ends there (b), line j starts
+    there (a); both reference Lines get the mean of their tangents there as their end
+    tangent, so that the C1 reference geometry is smooth across the joint."""
+    ending = [k for k, ln in enumerate(network.lines) if ln.b == point.name]
+    starting = [k for k, ln in enumerate(network.lines) if ln.a == point.name]
+    if len(ending) != 1 or len(starting) != 1:
+        raise ValueError(f"point {point.name} smooth: a smooth joint takes end b of one line "
+                         f"and end a of the next (found {len(ending)} b and "
+                         f"{len(starting)} a ends there)")
+    k, j = ending[0], starting[0]
+    for m in (k, j):
+        if network.lines[m].line_type.EI <= 0:
+            raise ValueError(f"point {point.name} smooth: line {network.lines[m].name} has "
+                             "no bending stiffness (EI = 0); a cable is hinged at its points")
+    before, after = lines[k], lines[j]
+    t_b = before.end_tangents[1]
+    t_b = before.tangent(np.array([before.s[-1]]))[0] if t_b is None else t_b
+    t_a = after.end_tangents[0]
+    t_a = after.tangent(np.array([after.s[0]]))[0] if t_a is None else t_a
+    mean = t_b / np.linalg.norm(t_b) + t_a / np.linalg.norm(t_a)
+    if not np.linalg.norm(mean) > 1e-6:
+        raise ValueError(f"point {point.name} smooth: lines {network.lines[k].name} and "
+                         f"{network.lines[j].name} leave it in opposite directions")
+    mean = mean / np.linalg.norm(mean)
+    before.end_tangents = (before.end_tangents[0], mean)
+    after.end_tangents = (mean, after.end_tangents[1])
+    return k, j
 
 
 def _clamp_tangents(ln: MooringLine, side, clamp, positions, tangents):

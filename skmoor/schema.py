@@ -782,7 +782,8 @@ class ParametricCase(_CaseBase):
 
 class Point(_Table):
     """A [[points]] entry. ``position`` is global, or in the body frame relative to the
-    body's reference point for kind 'body'."""
+    body's reference point for kind 'body'. ``smooth``: a free point joining two bending
+    lines C1 (skmoor.network.Point)."""
 
     name: Name
     kind: Annotated[str, _choice("fixed", "free", "coupled", "body")] = "fixed"
@@ -792,9 +793,12 @@ class Point(_Table):
     volume: NonNegative = None
     CdA: NonNegative = None
     Ca: NonNegative = None
+    smooth: OptFlag = None
 
     @model_validator(mode="after")
     def _body(self):
+        if self.smooth and self.kind != "free":
+            _fail(f"only a free point is a smooth joint, this one is {self.kind!r}", "smooth")
         if self.kind == "body" and not self._given("body"):
             _fail("missing (a point of kind 'body' names its body)", "body")
         if self.kind != "body" and "body" in self.model_fields_set:
