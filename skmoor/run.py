@@ -29,6 +29,7 @@ from .statics import ConvergenceError, solve_static
 
 
 INTERRUPTED = "interrupted (Ctrl-C)"
+BLOWN_UP_STRAIN = 0.5  # no mooring material stretches by half (nylon breaks at 20-30 %)
 # what a run writes into its output folder (a reused folder is cleared of these first)
 OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png",
            "snapshot.png", "animation.mp4", "animation.gif", "lines.xdmf", "lines.h5",
@@ -520,6 +521,7 @@ class _Recorder:
              else np.asarray(network.motion(state.t), float).ravel())
         bodies = self._bodies(state.x, y)
         tension, strain = lines.element_tension_and_strain(u, ud)  # T + BA x strain rate
+        self._check_blow_up(state, strain)
         nodal = (lambda w: w.reshape(-1, 3)) if self._node_major else (
             lambda w: w[lines.nodal_dofs])
         for key, value in (("t", state.t), ("bodies", bodies),
@@ -532,6 +534,22 @@ class _Recorder:
             curvature = lines.curvature(u)
             self.rows["curvature"].append(curvature)
             self.rows["moment"].append(lines.fields["EI"][:, 0] * curvature)
+
+    def _check_blow_up(self, state, strain):
+        """A DivergenceError when a line stretches beyond BLOWN_UP_STRAIN or its state is
+        not finite: Newton can converge on every step of a run that has blown up."""
+        worst = int(np.argmax(strain)) if len(strain) else 0
+        if len(strain) and (not np.all(np.isfinite(strain)) or strain[worst] > BLOWN_UP_STRAIN):
+            lines = self.model.lines
+            line = lines.lines[int(lines.line_of_cell[worst])].name
+            what = ("a line's state is not finite" if not np.all(np.isfinite(strain)) else
+                    f"line {line!r} stretched by {strain[worst]:.0%} (element {worst}), more "
+                    "than any mooring material: the solution has blown up")
+            raise DivergenceError(
+                f"time integration stopped at t = {state.t:.6g} s (step {state.step}): {what}. "
+                "Try a smaller time step, more damping (generalized-alpha with rho_inf < 1, "
+                "the lines' drag) or check the loads and the motion for a jump.",
+                state.t, state.step)
 
     def results(self, meta) -> Results:
         r, model = {k: np.array(v) for k, v in self.rows.items()}, self.model

@@ -132,3 +132,27 @@ def test_subdivision_gives_up_with_the_smallest_step(chain):
         for _ in integrate(_LongStepsFail(model.system, 1e-3), x0, v0, 0.4, 1.0,
                            subdivide=0):
             pass
+
+
+def test_a_run_whose_lines_blow_up_stops_with_the_line_and_the_time():
+    """Newton can converge on every step of a run that has blown up (seen on a lazy-wave
+    cable heaved without damping: 1e3 m/s and 1e8 N within 3 s): the recorder stops it
+    where a line is stretched by more than half its length, naming the line and the time,
+    and keeps what came before; a state merely far from rest passes."""
+    from skmoor.dynamics import State
+    from skmoor.run import BLOWN_UP_STRAIN, _Recorder
+
+    model = skmoor.build(skmoor.paper_case())
+    eq = skmoor.equilibrium(model)
+    recorder = _Recorder(model)
+    zero = np.zeros(model.system.n)
+    # the body moved, the lines' inner nodes not: their end elements (~12 m) stretch
+    x = eq.x.copy()
+    x[model.system.nf] += 2.0  # m: by up to ~17 %, far from rest but no blow-up
+    recorder.record(State(1.0, 20, x, zero, zero))
+    x[model.system.nf] += 8.0  # m: by ~85 % on the windward lines
+    with pytest.raises(DivergenceError, match=r"t = 2 s \(step 40\).*stretched by") as err:
+        recorder.record(State(2.0, 40, x, zero, zero))
+    assert err.value.t == 2.0 and err.value.step == 40
+    assert any(repr(line.name) in str(err.value) for line in model.lines.lines)
+    assert len(recorder.rows["t"]) == 1 and BLOWN_UP_STRAIN == 0.5
