@@ -30,6 +30,7 @@ import scipy.sparse as sp
 
 from . import body as rigid
 from .banded import LAYOUTS, as_layout
+from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
 from .large_rotations import generalized_load, rate_matrix, zyx_angles
 from .terms import Term
@@ -119,7 +120,8 @@ class System:
     bodies: dynamic :class:`~skmoor.body.RigidBody` objects (``body`` alone: one).
     points: a :class:`PointMass` per free point. motion(t) -> (nslots, 3) displacements of
     the prescribed ends, m. body_load(t, q, qdot) -> 6-vector (N, N m) on body 0, or a list
-    with one (or None) per body. terms: :class:`~skmoor.terms.Term` objects on the lines,
+    with one (or None) per body (q, qdot with the angles from the global frame, also on a
+    re-based body: the true pose; on an 'exact' body the load's moment is global). terms: :class:`~skmoor.terms.Term` objects on the lines,
     the free points or the bodies (add more with :meth:`add_term`). sea: the water whose
     current drags the free points (None: still).
     """
@@ -358,15 +360,16 @@ class System:
         """Re-base the angles of every 'exact' body whose pitch passed ``REBASE_PITCH``:
         its angles are then counted from its present attitude (R = Rz Ry Rx(q) @ frame,
         the new q angles 0, their rates the angular velocity). Returns the new (x, v), or
-        None when no body was re-based. A body with terms of its own (rods, pins, drag)
-        is not re-based (they read its angles from the global frame): it stops at the
-        gimbal lock with an error."""
+        None when no body was re-based. A body with a term that reads its angles off q
+        (not ``frame_aware``: a user's BodyLoad) is not re-based: it stops at the gimbal
+        lock with an error."""
         turned = None
         for k, body in enumerate(self.bodies):
             block = self._body_block(k)
             q = x[block]
             if (body.rotations != "exact" or abs(q[4]) < REBASE_PITCH
-                    or any(term.body == k for term in self._terms["bodies"])):
+                    or any(term.body == k and not term.frame_aware
+                           for term in self._terms["bodies"])):
                 continue
             if turned is None:
                 turned = (x.copy(), v.copy())
@@ -394,6 +397,24 @@ class System:
         """The attitude R (3, 3) of body ``body`` in the reduced state x (its angles
         counted from its re-based frame, :meth:`rebase`)."""
         return self.bodies[body].rotation(self.q(x, body), self._frames[body])
+
+    def body_motion(self, q, qdot=None, body=0) -> BodyMotion:
+        """The :class:`~skmoor.body_motion.BodyMotion` of body ``body`` at its DOFs q and
+        rates qdot: what its terms read of its attitude (re-based frame included)."""
+        rigid = self.bodies[body]
+        return BodyMotion(q, qdot, reference_point=rigid.reference_point,
+                          frame=self._frames[body], exact=rigid.rotations == "exact")
+
+    def _global_rates(self, q, qdot, k):
+        """(q, qdot) of body k with its angles (and their rates) counted from the global
+        frame: what a ``body_load`` sees of a re-based body (at the gimbal lock the
+        rates are the least-squares ones)."""
+        if self._frames[k] is None:
+            return q, qdot
+        angles = zyx_angles(self.bodies[k].rotation(q, self._frames[k]))
+        omega = rate_matrix(q[3:])[0] @ qdot[3:]
+        rates = np.linalg.lstsq(rate_matrix(angles)[0], omega, rcond=None)[0]
+        return np.r_[q[:3], angles], np.r_[qdot[:3], rates]
 
     def body_pose(self, x) -> np.ndarray:
         """(nbodies, 6) displacement and angles Rz Ry Rx from the global frame of every
@@ -649,7 +670,7 @@ class System:
                 R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
             R[block] += body.linear_damping @ qdot
             if self.body_loads[k] is not None:
-                load = self.body_loads[k](t, q, qdot)
+                load = self.body_loads[k](t, *self._global_rates(q, qdot, k))
                 if body.rotations == "exact":  # force and moment (global) -> [F, E^T M]
                     load = generalized_load(q[3:], load[:3], load[3:])
                 R[block] -= load
