@@ -229,8 +229,10 @@ def step_start(R0, q0, v0, load0, mass, inertia, arm):
         raise ValueError(f"rotations: the body's ry = {math.degrees(q0[4]):.6g} deg reached "
                          "+-90 deg, the gimbal lock of the angles R = Rz Ry Rx (its x axis "
                          "vertical), and its angles were not re-based (System.rebase: a "
-                         "body with terms of its own is not): turn the body frame so that its "
-                         "x axis stays off vertical")
+                         "body with a term that is not frame_aware, such as a user's BodyLoad "
+                         "reading q[3:], is not): read the pose through term.body_motion and "
+                         "set frame_aware, or turn the body frame so that its x axis stays "
+                         "off vertical")
     E0 = rate_matrix(q0[3:])[0]
     p0, l0 = momenta(R0, q0, v0, mass, inertia, arm, np.zeros(3))
     return q0, p0, l0, load0[:3], np.linalg.solve(E0.T, load0[3:])
