@@ -176,7 +176,7 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
     cda = _six(body.CdA, "CdA")
     if any(cda):
         terms.append(body_hydrodynamics(drag_coefficients=np.ones(6), drag_areas=cda, sea=sea,
-                                        reference_point=position, rho=deck.rho))
+                                        reference_point=position, rho=deck.rho, axes=R0))
     for rod in rods:  # the rod's ends in the body frame -> global offsets at the start
         rod_type, a, b = _rod_type(deck, rod), R0 @ rod.a, R0 @ rod.b
         rigid = mount_rod(rigid, rod_type, position + a, position + b,

@@ -374,13 +374,15 @@ def _six(name, value):
 
 
 def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=None, sea=None,
-                       reference_point=(0.0, 0.0, 0.0), rho=1025.0) -> "BodyDrag":
+                       reference_point=(0.0, 0.0, 0.0), rho=1025.0, axes=None) -> "BodyDrag":
     """A :class:`BodyDrag`: quadratic drag on the body's velocity relative to the water and
     a constant added mass, MoorDyn v2's body convention (source/Body.cpp).
 
     drag_coefficients (-), drag_areas (m2 translational; m5 rotational): 3 or 6 values
-    each, multiplied; added_mass: (6, 6) about the reference point (kg, kg m, kg m2);
-    reference_point (m): where q is measured and the water velocity taken.
+    each, multiplied, along / about the body's axes; added_mass: (6, 6) about the
+    reference point (kg, kg m, kg m2); reference_point (m): where q is measured and the
+    water velocity taken; axes (3, 3): the body's axes (columns, global) at q = 0 (a deck
+    body's start attitude; None: the global axes).
     """
     check_positive("body_hydrodynamics rho", rho)
     point = np.asarray(reference_point, float)
@@ -403,7 +405,12 @@ def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=No
             raise ValueError(f"body_hydrodynamics added_mass: need a (6, 6) matrix, "
                              f"got {added_mass.shape}")
         check_finite("body_hydrodynamics added_mass", added_mass)
-    return BodyDrag(cda, sea, point, float(rho), added_mass)
+    if axes is not None:
+        axes = np.asarray(axes, float)
+        if axes.shape != (3, 3) or not np.allclose(axes.T @ axes, np.eye(3), atol=1e-9):
+            raise ValueError("body_hydrodynamics axes: need a (3, 3) rotation matrix (the "
+                             f"body's axes as columns), got {axes.tolist()}")
+    return BodyDrag(cda, sea, point, float(rho), added_mass, axes=axes)
 
 
 class BodyDrag(BodyLoad):
@@ -413,17 +420,19 @@ class BodyDrag(BodyLoad):
 
         F = 1/2 rho D(CdA[:3]) |v_r| v_r,   M = 1/2 rho D(CdA[3:]) |w_r| w_r
 
-    (|.| the norm of the 3-vector), applied as [F, E^T M]. On an 'exact' body the drag
-    areas are body axes, D(c) = R diag(c) R^T, and omega = E qdot[3:] the angular
-    velocity; a 'small' body keeps the linear model (global axes, omega = qdot[3:], E = I).
+    (|.| the norm of the 3-vector), applied as [F, E^T M]. The drag areas are along the
+    body's axes: D(c) = R A diag(c) A^T R^T, A the body's axes at q = 0 (``axes``), R its
+    rotation (MoorDyn's OrMat diag(CdA) OrMat^T), with omega = E qdot[3:] the angular
+    velocity; a 'small' body keeps the linear model (R = I, omega = qdot[3:], E = I).
     The pose comes from :meth:`body_motion` (re-based frames included). Tangents: dF/dqdot
     exact; dF/dq without the water velocity's gradient (zero on a small body, central
     differences in the angles on an exact one)."""
 
     frame_aware = True
 
-    def __init__(self, cda, sea, reference_point, rho, added_mass=None, body=0):
+    def __init__(self, cda, sea, reference_point, rho, added_mass=None, body=0, axes=None):
         self.cda, self.sea, self.point, self.rho = cda, sea, reference_point, rho
+        self.axes = np.eye(3) if axes is None else axes
         self._moving_water = sea is not None and not sea.still
         super().__init__(self.forces, body=body, added_mass=added_mass, tangent=self.tangents)
 
@@ -435,11 +444,8 @@ class BodyDrag(BodyLoad):
             vr = vr + self.sea.velocity(self.point + motion.q[:3], t)
         wr = -motion.angular_velocity
         half = 0.5 * self.rho * self.cda
-        if motion.exact:
-            R = motion.rotation
-            D_F, D_M = (R * half[:3]) @ R.T, (R * half[3:]) @ R.T  # R diag(c) R^T
-        else:
-            D_F, D_M = np.diag(half[:3]), np.diag(half[3:])
+        axes = motion.rotation @ self.axes if motion.exact else self.axes
+        D_F, D_M = (axes * half[:3]) @ axes.T, (axes * half[3:]) @ axes.T  # R diag(c) R^T
         return (np.linalg.norm(vr) * (D_F @ vr), np.linalg.norm(wr) * (D_M @ wr),
                 D_F, D_M, vr, wr)
 

@@ -92,6 +92,16 @@ def test_drag_areas_turn_with_an_exact_body():
                                [0, 0, 0, -2.0 * v**2, 0, 0], atol=1e-12)
     np.testing.assert_allclose(body_load(system, term, yawed, [0, 0, 0, 0, v, 0]), 0.0,
                                atol=1e-12)
+    # a body built yawed 90 deg (a deck body's start attitude, ``axes``): the same at q = 0,
+    # on the small model too
+    for rotations in ("exact", "small"):
+        body.rotations = rotations
+        built = drag([3.0, 0.0, 0.0], [2.0, 0.0, 0.0], axes=rotation_matrix([0, 0, np.pi / 2]))
+        system.add_term(built)
+        np.testing.assert_allclose(body_load(system, built, np.zeros(6), [0.0, v, 0, 0, 0, 0]),
+                                   [0.0, -3.0 * v**2, 0, 0, 0, 0], atol=1e-12)
+    with pytest.raises(ValueError, match="body_hydrodynamics axes"):
+        drag([1.0] * 3, [1.0] * 3, axes=2 * np.eye(3))
 
 
 def spin_down(dt, duration=6.0):
