@@ -7,7 +7,7 @@ attitude or the angular velocity off q[3:] is wrong after a re-base. It reads th
 
     R = Rz Ry Rx(q[3:]) F                        (F = I as built)
     omega = E(q[3:]) qdot[3:]                    ('exact'; E of large_rotations)
-    p = x_ref0 + q[:3] + Rz Ry Rx(q[3:]) F r     (a body point r at the built attitude)
+    p - x_ref0 = q[:3] + Rz Ry Rx(q[3:]) F r     (a body point r at the built attitude)
     Q = [force, E^T moment]                      (the load conjugate to q)
 
 A 'small' body keeps the linear model's reading: omega = qdot[3:] and Q = [force,
@@ -24,18 +24,16 @@ __all__ = ["BodyMotion"]
 
 
 class BodyMotion:
-    """Pose and velocities of one body at DOFs q (6,) and rates qdot (6,): reference_point
-    (3,) its reference point at q = 0 (global, m); frame (3, 3) the turned frame its
-    angles count from (None: the global frame); exact: rotations='exact' (the angle
-    rates map to the angular velocity through E) or the small-rotation model."""
+    """Pose and velocities of one body at DOFs q (6,) and rates qdot (6,) (m, rad, m/s,
+    rad/s): frame (3, 3) the turned frame its angles count from (None: the global frame);
+    exact: rotations='exact' (the angle rates map to the angular velocity through E) or
+    the small-rotation model."""
 
-    __slots__ = ("q", "qdot", "reference_point", "frame", "exact", "_R", "_E")
+    __slots__ = ("q", "qdot", "frame", "exact", "_R", "_E")
 
-    def __init__(self, q, qdot=None, *, reference_point=None, frame=None, exact=False):
+    def __init__(self, q, qdot=None, *, frame=None, exact=False):
         self.q = np.asarray(q, float)
         self.qdot = np.zeros(6) if qdot is None else np.asarray(qdot, float)
-        self.reference_point = (np.zeros(3) if reference_point is None
-                                else np.asarray(reference_point, float))
         self.frame, self.exact = frame, bool(exact)
         self._R = self._E = None
 
@@ -53,11 +51,6 @@ class BodyMotion:
         if self._E is None:
             self._E = rate_matrix(self.q[3:])[0] if self.exact else np.eye(3)
         return self._E
-
-    @property
-    def position(self) -> np.ndarray:
-        """The reference point now (global, m)."""
-        return self.reference_point + self.q[:3]
 
     @property
     def velocity(self) -> np.ndarray:

@@ -121,9 +121,10 @@ class System:
     points: a :class:`PointMass` per free point. motion(t) -> (nslots, 3) displacements of
     the prescribed ends, m. body_load(t, q, qdot) -> 6-vector (N, N m) on body 0, or a list
     with one (or None) per body (q, qdot with the angles from the global frame, also on a
-    re-based body: the true pose; on an 'exact' body the load's moment is global). terms: :class:`~skmoor.terms.Term` objects on the lines,
-    the free points or the bodies (add more with :meth:`add_term`). sea: the water whose
-    current drags the free points (None: still).
+    re-based body: the true pose; on an 'exact' body the load's moment is global). terms:
+    :class:`~skmoor.terms.Term` objects on the lines, the free points or the bodies (add
+    more with :meth:`add_term`). sea: the water whose current drags the free points
+    (None: still).
     """
 
     def __init__(self, lines, body=None, *, fairleads="body", motion=None,
@@ -401,9 +402,8 @@ class System:
     def body_motion(self, q, qdot=None, body=0) -> BodyMotion:
         """The :class:`~skmoor.body_motion.BodyMotion` of body ``body`` at its DOFs q and
         rates qdot: what its terms read of its attitude (re-based frame included)."""
-        rigid = self.bodies[body]
-        return BodyMotion(q, qdot, reference_point=rigid.reference_point,
-                          frame=self._frames[body], exact=rigid.rotations == "exact")
+        return BodyMotion(q, qdot, frame=self._frames[body],
+                          exact=self.bodies[body].rotations == "exact")
 
     def _global_rates(self, q, qdot, k):
         """(q, qdot) of body k with its angles (and their rates) counted from the global

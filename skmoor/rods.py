@@ -162,6 +162,8 @@ class RodLoad(BodyLoad):
     about q = 0 on a 'small' body, which this load replaces by the exact one; at the
     pose on an 'exact' body, where this load adds none."""
 
+    frame_aware = True  # the rod's ends from self.body_motion: re-based frames included
+
     def __init__(self, rod_type: RodType, a, b, *, reference_point, n_segments=1,
                  rho=1025.0, g=9.81, sea=None, bed=None, body=0, name="rod"):
         a, b, length = _axis(a, b, name)
@@ -180,8 +182,6 @@ class RodLoad(BodyLoad):
         self._linear = (alone.static_force(), alone.hydrostatic_stiffness(generalized=True))
         super().__init__(self.forces, body=body, added_mass=self.added_mass_matrix(),
                          tangent=self._central)
-
-    frame_aware = True  # the rod's ends from self.body_motion: re-based frames included
 
     def forces(self, q, qdot, t):
         """Generalized load (6,), N and N m: J^T f summed over the rod's loads. Positions
@@ -320,6 +320,8 @@ class SpinLoad(BodyLoad):
     t0 and the least rotation is undefined (no load of an axisymmetric rod drives the
     spin: the spring only keeps the statics regular)."""
 
+    frame_aware = True  # the attitude from self.body_motion: re-based frames included
+
     def __init__(self, a, b, stiffness, *, body=0):
         a, b, length = _axis(a, b, "spin")
         self.a, self.t0 = a, (b - a) / length
@@ -340,8 +342,6 @@ class SpinLoad(BodyLoad):
         turned = _cross(v, self.n0)
         least = self.n0 + turned + _cross(v, turned) / (1 + c)
         return math.atan2(float(axis @ _cross(least, n)), float(least @ n))
-
-    frame_aware = True  # the attitude from self.body_motion: re-based frames included
 
     def spin(self, q) -> float:
         """psi (rad) of body DOFs q (0 where the rod points opposite to t0)."""
