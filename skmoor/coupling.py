@@ -406,11 +406,9 @@ class System:
                           exact=self.bodies[body].rotations == "exact")
 
     def _global_rates(self, q, qdot, k):
-        """(q, qdot) of body k with its angles (and their rates) counted from the global
-        frame: what a ``body_load`` sees of a re-based body (at the gimbal lock the
-        rates are the least-squares ones)."""
-        if self._frames[k] is None:
-            return q, qdot
+        """(q, qdot) of re-based body k with its angles (and their rates) counted from the
+        global frame: what its ``body_load`` sees (at the gimbal lock the rates are the
+        least-squares ones)."""
         angles = zyx_angles(self.bodies[k].rotation(q, self._frames[k]))
         omega = rate_matrix(q[3:])[0] @ qdot[3:]
         rates = np.linalg.lstsq(rate_matrix(angles)[0], omega, rcond=None)[0]
@@ -670,7 +668,8 @@ class System:
                 R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
             R[block] += body.linear_damping @ qdot
             if self.body_loads[k] is not None:
-                load = self.body_loads[k](t, *self._global_rates(q, qdot, k))
+                load = self.body_loads[k](t, q, qdot) if self._frames[k] is None else \
+                    self.body_loads[k](t, *self._global_rates(q, qdot, k))
                 if body.rotations == "exact":  # force and moment (global) -> [F, E^T M]
                     load = generalized_load(q[3:], load[:3], load[3:])
                 R[block] -= load
