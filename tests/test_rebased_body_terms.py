@@ -10,6 +10,8 @@ compound pendulum in closed form, and the invariance of every load under a re-ba
                                            the fixed axis, x(t) in closed form  1.5e-4 rad (dt 0.02 s)
     pinned_rod_swings_through_the_lock     4 K(sin^2 45 deg) / w0 (90 deg)      5e-5
     rebase_keeps_the_loads_of_the_terms    the same state before / after       1e-9
+    excitation_is_taken_where_...          the wave's phase k dx                1e-9
+    exact_box_in_regular_waves             frequency-domain response            0.25 %
 """
 import warnings
 from pathlib import Path
@@ -309,6 +311,28 @@ def test_potential_flow_memory_is_in_the_global_frame(box):
     np.testing.assert_allclose(Q_exact[:3], Q_small[:3], atol=1e-12 * scale)
     np.testing.assert_allclose(np.linalg.solve(E0.T, Q_exact[3:]), Q_small[3:],
                                atol=1e-9 * scale)
+
+
+def test_excitation_is_taken_where_the_exact_body_is(box):
+    """A regular head wave reaches a body moved dx down-wave k dx / omega later: the exact
+    body's excitation there is the small body's at t - k dx / omega (the small body's
+    stays at the reference point, linear theory)."""
+    sea = skmoor.Sea(depth=100.0, waves=[skmoor.AiryWave(1.0, 8.0, 100.0)])
+    wave = sea.waves[0]
+    shift = 7.0
+    q = np.array([shift, 0.0, 0.0, 0.0, 0.0, 0.0])
+    loads = {}
+    for rotations in ("exact", "small"):
+        system = deep_body(0.5)
+        system.bodies[0].rotations = rotations
+        term = PotentialFlow(box, sea)
+        system.add_term(term)
+        loads[rotations] = [body_load(system, term, q, np.zeros(6), t) for t in (3.0, 5.5)]
+    lag = float(wave.k[0]) * shift / float(wave.omega[0])
+    for t, exact in zip((3.0, 5.5), loads["exact"]):
+        np.testing.assert_allclose(exact, term.excitation(t - lag), rtol=1e-9,
+                                   atol=1e-9 * np.abs(exact).max())
+    assert np.abs(loads["exact"][0] - loads["small"][0]).max() > 0.1 * np.abs(loads["small"][0]).max()
 
 
 def test_exact_box_in_regular_waves(box):
