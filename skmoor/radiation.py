@@ -202,13 +202,16 @@ class PotentialFlow(Term):
 
     def memory(self, t, qdot) -> tuple:
         """(mu (6,), d mu / d qdot (6, 6)): the convolution int_0^t K(t - s) qdot(s) ds
-        (N, N m) with qdot the velocity at t after the committed history."""
-        if not self._count or t <= self._t[self._count - 1]:
+        (N, N m) with qdot the velocity at t after the committed history (at the last
+        committed time: the history's own, qdot the committed one; before it: zeros)."""
+        if not self._count or t < self._t[self._count - 1]:
             return np.zeros(6), np.zeros((6, 6))
         if self._past[0] != t:
             self._past = (t, self._history(t))
         last = self._count - 1
         h = t - self._t[last]
+        if h == 0:  # at the last committed step (a restart there): the history is all of it
+            return self._past[1].copy(), np.zeros((6, 6))
         K0 = self.kernel[0]
         K_last = self._K(np.array([h]))[0].reshape(6, 6)
         mu = self._past[1] + 0.5 * h * (K_last @ self._v[last] + K0 @ qdot)
