@@ -32,7 +32,8 @@ from . import body as rigid
 from .banded import LAYOUTS, as_layout
 from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
-from .large_rotations import generalized_load, rate_matrix, zyx_angles
+from .large_rotations import (added_mass_load, added_mass_tangents, generalized_load,
+                              rate_matrix, zyx_angles)
 from .terms import Term
 
 REBASE_PITCH = math.radians(60.0)  # |ry| past which an 'exact' body's angles are re-based
@@ -334,13 +335,15 @@ class System:
                     block = block + term.mass_matrix()
             cols = self.point_columns[p]
             M[np.ix_(cols, cols)] = M[np.ix_(cols, cols)].toarray() + block
+        self._added_masses = []  # each body's constant added mass (its own, its terms')
         for k, body in enumerate(self.bodies):
-            body_mass = body.mass_matrix() + body.added_mass
+            added = body.added_mass
             for term in self._terms["bodies"]:
                 if term.body == k and term.mass_matrix() is not None:
-                    body_mass = body_mass + term.mass_matrix()
+                    added = added + term.mass_matrix()
+            self._added_masses.append(added)
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
-            M[block, block] = M[block, block].toarray() + body_mass
+            M[block, block] = M[block, block].toarray() + body.mass_matrix() + added
         self.M = M.tocsr()
 
     def commit(self, t, x, v):
@@ -734,7 +737,8 @@ class System:
 
     def inertia(self, x, v, a, tangent=False, layout="sparse", previous=None):
         """G = Q_inertia - M0 qddot of the 'exact' bodies with their lumped line-end masses
-        (N, N m; M0 their rigid mass at q = 0, which M holds), and with ``tangent`` its
+        (N, N m; M0 their rigid mass at q = 0, which M holds), plus their constant added
+        masses taken on [a_ref, alpha] beyond A qddot (:meth:`_added_beyond`), and with ``tangent`` its
         derivatives (dG/da, dG/dv, dG/dx) in ``layout``; (G, None, None, None) without. Q_inertia is the Newton-Euler load
         at (x, v, a), or with ``previous`` = (x0, v0, a0, G0, h, gamma) (a time step's
         start) its momentum form over the step (:meth:`RigidBody.step_inertia_load`)."""
@@ -747,18 +751,28 @@ class System:
             q, qdot, qddot = x[block], v[block], a[block]
             body, M0 = self._carrying_body(k)
             frame = self._frames[k]
+            added = self._added_masses[k]
             if previous is None:
                 G[block] = body.inertia_load(q, qdot, qddot, frame) - M0 @ qddot
             else:
                 x0, v0, a0, G0, h, gamma = previous
-                start = (x0[block], v0[block], G0[block] + M0 @ a0[block], h, gamma)
+                load0 = G0[block] + M0 @ a0[block]  # the rigid inertia at the start
+                if added.any():
+                    load0 = load0 - self._added_beyond(added, x0[block], v0[block], a0[block])
+                start = (x0[block], v0[block], load0, h, gamma)
                 G[block] = body.step_inertia_load(q, qdot, *start, frame) - M0 @ qddot
+            if added.any():  # on [a_ref, alpha]: the part beyond M's constant A qddot
+                G[block] += self._added_beyond(added, q, qdot, qddot)
             if tangent:
                 if previous is None:
                     d_acc, d_rate, d_pose = body.inertia_tangents(q, qdot, qddot, frame)
                 else:
                     d_acc = np.zeros((6, 6))
                     d_rate, d_pose = body.step_inertia_tangents(q, qdot, *start, frame)
+                if added.any():
+                    extra = added_mass_tangents(q, qdot, qddot, added)
+                    d_acc, d_rate, d_pose = (d_acc + extra[0] - added, d_rate + extra[1],
+                                             d_pose + extra[2])
                 b = slice(6 * k, 6 * k + 6)
                 for out, value in zip(blocks, (d_acc - M0, d_rate, d_pose)):
                     out[b, b] = value
@@ -772,6 +786,12 @@ class System:
                 embedded.append(full)
             return (G, *embedded)
         return (G, *(self._embed_bodies(A) for A in blocks))
+
+    @staticmethod
+    def _added_beyond(added, q, qdot, qddot):
+        """An exact body's constant added mass on [a_ref, alpha] (global axes) beyond the
+        A qddot that M holds (N, N m): :func:`~skmoor.large_rotations.added_mass_load`."""
+        return added_mass_load(q, qdot, qddot, added) - added @ qddot
 
     def _carrying_body(self, k):
         """(body k with the lumped masses of its line ends as point masses fixed on it, its
