@@ -31,8 +31,8 @@ docs/bodies.md): the kernel convolves the body's velocity V = [v_ref, omega] (no
 angle rates, which change meaning when the angles are re-based), the memory and the
 excitation are a force and a moment about the reference point (global axes) applied as
 [F, E^T M], and the excitation is taken where the reference point is now (the phase
-k . (x_ref + q[:3]) of each wave component). A_inf stays a constant matrix on the DOF
-accelerations (as a body's added mass).
+k . (x_ref + q[:3]) of each wave component). A_inf acts on [a_ref, alpha] in global axes,
+as the body's added mass (:meth:`skmoor.coupling.System.inertia`).
 """
 from __future__ import annotations
 

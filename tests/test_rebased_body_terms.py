@@ -30,7 +30,8 @@ from skmoor.coupling import Ends, System
 from skmoor.dynamics import integrate
 from skmoor.hydro import body_hydrodynamics
 from skmoor.line import Line, LineSet
-from skmoor.large_rotations import rate_matrix, zyx_angles
+from skmoor.large_rotations import (added_mass_load, added_mass_tangents, rate_matrix,
+                                    zyx_angles)
 from skmoor.radiation import PotentialFlow
 from skmoor.rods import RodLoad, RodType, SpinLoad
 from skmoor.terms import check_tangent
@@ -366,6 +367,34 @@ def test_added_mass_acts_on_the_angular_acceleration():
         errors.append(worst)
     assert errors[1] < 5e-4
     assert 3.5 < errors[0] / errors[1] < 4.5
+
+
+def test_added_mass_tangents_are_the_load_derivatives():
+    """d/dqddot = T^T A T and d/dqdot (exact) of the added mass's load on [a, alpha]
+    against central differences; the load is T^T A [a, alpha] with alpha from E and its
+    rate (a dropped Edot term breaks the second)."""
+    rng = np.random.default_rng(3)
+    B = rng.standard_normal((6, 6))
+    added = B @ B.T
+    q, qdot, qddot = (rng.standard_normal(6) for _ in range(3))
+    d_acc, d_rate, d_pose = added_mass_tangents(q, qdot, qddot, added)
+
+    def differences(f, x, h=1e-6):
+        return np.column_stack([(f(x + h * e) - f(x - h * e)) / (2 * h) for e in np.eye(6)])
+
+    np.testing.assert_allclose(d_acc, differences(lambda a: added_mass_load(q, qdot, a, added),
+                                                  qddot), atol=1e-7)
+    np.testing.assert_allclose(d_rate, differences(lambda v: added_mass_load(q, v, qddot, added),
+                                                   qdot), atol=1e-6)
+    np.testing.assert_allclose(d_pose, differences(lambda x: added_mass_load(x, qdot, qddot, added),
+                                                   q), atol=1e-6)
+    h = 1e-6  # alpha = d omega / dt along the motion
+    alpha = (rate_matrix(q[3:] + h * qdot[3:])[0] @ (qdot[3:] + h * qddot[3:])
+             - rate_matrix(q[3:] - h * qdot[3:])[0] @ (qdot[3:] - h * qddot[3:])) / (2 * h)
+    force = added @ np.r_[qddot[:3], alpha]
+    E = rate_matrix(q[3:])[0]
+    np.testing.assert_allclose(added_mass_load(q, qdot, qddot, added),
+                               np.r_[force[:3], E.T @ force[3:]], atol=1e-7)
 
 
 def test_rebase_leaves_the_motion_of_a_body_in_potential_flow(box, monkeypatch):
