@@ -29,7 +29,7 @@ class BodyMotion:
     exact: rotations='exact' (the angle rates map to the angular velocity through E) or
     the small-rotation model."""
 
-    __slots__ = ("q", "qdot", "frame", "exact", "_R", "_E")
+    __slots__ = ("_E", "_R", "exact", "frame", "q", "qdot")
 
     def __init__(self, q, qdot=None, *, frame=None, exact=False):
         self.q = np.asarray(q, float)

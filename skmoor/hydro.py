@@ -374,7 +374,7 @@ def _six(name, value):
 
 
 def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=None, sea=None,
-                       reference_point=(0.0, 0.0, 0.0), rho=1025.0, axes=None) -> "BodyDrag":
+                       reference_point=(0.0, 0.0, 0.0), rho=1025.0, axes=None) -> BodyDrag:
     """A :class:`BodyDrag`: quadratic drag on the body's velocity relative to the water and
     a constant added mass, MoorDyn v2's body convention (source/Body.cpp).
 

@@ -29,9 +29,9 @@ from skmoor.body import RigidBody, rotation_matrix
 from skmoor.coupling import Ends, System
 from skmoor.dynamics import integrate
 from skmoor.hydro import body_hydrodynamics
-from skmoor.line import Line, LineSet
 from skmoor.large_rotations import (added_mass_load, added_mass_tangents, rate_matrix,
                                     zyx_angles)
+from skmoor.line import Line, LineSet
 from skmoor.radiation import PotentialFlow
 from skmoor.rods import RodLoad, RodType, SpinLoad
 from skmoor.terms import check_tangent
@@ -258,7 +258,7 @@ def test_body_load_sees_the_global_pose_of_a_rebased_body():
     seen = []
     system = tethered_body()
     system.body_load = lambda t, q, qdot: seen.append((q.copy(), qdot.copy())) or np.zeros(6)
-    x, v, (x1, v1) = rebased(system)
+    x, _, (x1, v1) = rebased(system)
     system.residual(x1, v1, tangent=False)
     q, qdot = seen[-1]
     np.testing.assert_allclose(rotation_matrix(q[3:]), system.body_rotation(x1), atol=1e-12)
@@ -404,7 +404,7 @@ def test_rebase_leaves_the_motion_of_a_body_in_potential_flow(box, monkeypatch):
     The memory on [v, omega] and A_inf on [a, alpha] make the motion independent of the
     angles' frame; the memory lost at the restart after a re-base, or A_inf on the angle
     accelerations, give O(dt) (7e-3 rad) and O(1) (0.13 rad) differences."""
-    import skmoor.coupling as coupling
+    from skmoor import coupling
     from skmoor.body import uniform_box_inertia
 
     def attitudes(pitch, dt):
