@@ -1,7 +1,9 @@
-"""Exact bodies with terms of their own (drag, rods, pins, spin springs, potential flow)
-re-based past 60 deg pitch (System.rebase): the terms read the pose from one place
-(skmoor.body_motion), checked against hand-computed drag loads, a spin-down and a
-compound pendulum in closed form, and the invariance of every load under a re-base.
+"""Exact bodies with terms of their own (drag, rods, pins, spin springs, added mass,
+potential flow) re-based past 60 deg pitch (System.rebase): the terms read the pose from
+one place (skmoor.body_motion), checked against hand-computed drag loads, a spin-down, a
+compound pendulum and a spin with added mass in closed form, the frequency-domain
+response of the box in waves, and the invariance of the loads and of the motion under a
+re-base.
 
     test                                   compared with                       measured
     drag_moment_of_a_spinning_body         1/2 rho CdA |w| w by hand, E^T M    1e-12
