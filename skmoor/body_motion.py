@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .body import attachment_state, rotation_and_slopes
+from .body import attachment_state, attachment_velocity_slope, rotation_and_slopes
 from .large_rotations import rate_matrix
 
 __all__ = ["BodyMotion"]
@@ -70,6 +70,15 @@ class BodyMotion:
         turned = r if self.frame is None else np.ascontiguousarray(r @ self.frame.T)
         moved, J = attachment_state(self.q, turned)
         return turned + moved, J
+
+    def accelerations(self, r, qddot) -> tuple[np.ndarray, np.ndarray]:
+        """Accelerations (n, 3) (m/s2) of body points r (as :meth:`points`) at DOF
+        accelerations qddot, J qddot + d(J qdot)/dq qdot, and their Jacobian J (3 n, 6)."""
+        r = np.ascontiguousarray(r, dtype=float)
+        turned = r if self.frame is None else np.ascontiguousarray(r @ self.frame.T)
+        _, J = attachment_state(self.q, turned)
+        slope = attachment_velocity_slope(self.q, turned, self.qdot)
+        return (J @ qddot + slope @ self.qdot).reshape(-1, 3), J
 
     def generalized(self, force, moment) -> np.ndarray:
         """[force, E^T moment] (N, N m): a force and a moment about the reference point

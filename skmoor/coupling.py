@@ -335,15 +335,22 @@ class System:
                     block = block + term.mass_matrix()
             cols = self.point_columns[p]
             M[np.ix_(cols, cols)] = M[np.ix_(cols, cols)].toarray() + block
-        self._added_masses = []  # each body's constant added mass (its own, its terms')
+        # each body's added mass: constant in global axes (its own, its terms'), or turning
+        # with it (terms with an inertia_load: rods); on exact bodies see inertia()
+        self._added_masses, self._turning_masses = [], []
         for k, body in enumerate(self.bodies):
-            added = body.added_mass
+            added, turning = body.added_mass, []
             for term in self._terms["bodies"]:
                 if term.body == k and term.mass_matrix() is not None:
-                    added = added + term.mass_matrix()
+                    if callable(getattr(term, "inertia_load", None)):
+                        turning.append(term)
+                    else:
+                        added = added + term.mass_matrix()
             self._added_masses.append(added)
+            self._turning_masses.append(turning)
+            constant = added + sum(term.mass_matrix() for term in turning)
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
-            M[block, block] = M[block, block].toarray() + body.mass_matrix() + added
+            M[block, block] = M[block, block].toarray() + body.mass_matrix() + constant
         self.M = M.tocsr()
 
     def commit(self, t, x, v):
@@ -737,8 +744,8 @@ class System:
 
     def inertia(self, x, v, a, tangent=False, layout="sparse", previous=None):
         """G = Q_inertia - M0 qddot of the 'exact' bodies with their lumped line-end masses
-        (N, N m; M0 their rigid mass at q = 0, which M holds), plus their constant added
-        masses taken on [a_ref, alpha] beyond A qddot (:meth:`_added_beyond`), and with ``tangent`` its
+        (N, N m; M0 their rigid mass at q = 0, which M holds), plus their added masses
+        beyond the constant A qddot (:meth:`_added_inertia`), and with ``tangent`` its
         derivatives (dG/da, dG/dv, dG/dx) in ``layout``; (G, None, None, None) without. Q_inertia is the Newton-Euler load
         at (x, v, a), or with ``previous`` = (x0, v0, a0, G0, h, gamma) (a time step's
         start) its momentum form over the step (:meth:`RigidBody.step_inertia_load`)."""
@@ -749,30 +756,27 @@ class System:
                 continue
             block = self._body_block(k)
             q, qdot, qddot = x[block], v[block], a[block]
-            body, M0 = self._carrying_body(k)
+            rigid, M0 = self._carrying_body(k)
             frame = self._frames[k]
-            added = self._added_masses[k]
+            added, slopes = self._added_inertia(k, q, qdot, qddot, tangent)
             if previous is None:
-                G[block] = body.inertia_load(q, qdot, qddot, frame) - M0 @ qddot
+                G[block] = rigid.inertia_load(q, qdot, qddot, frame) - M0 @ qddot
             else:
                 x0, v0, a0, G0, h, gamma = previous
-                load0 = G0[block] + M0 @ a0[block]  # the rigid inertia at the start
-                if added.any():
-                    load0 = load0 - self._added_beyond(added, x0[block], v0[block], a0[block])
+                # the rigid body's inertia at the start: G0 less its added-mass part
+                load0 = (G0[block] + M0 @ a0[block]
+                         - self._added_inertia(k, x0[block], v0[block], a0[block])[0])
                 start = (x0[block], v0[block], load0, h, gamma)
-                G[block] = body.step_inertia_load(q, qdot, *start, frame) - M0 @ qddot
-            if added.any():  # on [a_ref, alpha]: the part beyond M's constant A qddot
-                G[block] += self._added_beyond(added, q, qdot, qddot)
+                G[block] = rigid.step_inertia_load(q, qdot, *start, frame) - M0 @ qddot
+            G[block] += added
             if tangent:
                 if previous is None:
-                    d_acc, d_rate, d_pose = body.inertia_tangents(q, qdot, qddot, frame)
+                    d_acc, d_rate, d_pose = rigid.inertia_tangents(q, qdot, qddot, frame)
                 else:
                     d_acc = np.zeros((6, 6))
-                    d_rate, d_pose = body.step_inertia_tangents(q, qdot, *start, frame)
-                if added.any():
-                    extra = added_mass_tangents(q, qdot, qddot, added)
-                    d_acc, d_rate, d_pose = (d_acc + extra[0] - added, d_rate + extra[1],
-                                             d_pose + extra[2])
+                    d_rate, d_pose = rigid.step_inertia_tangents(q, qdot, *start, frame)
+                d_acc, d_rate, d_pose = (d_acc + slopes[0], d_rate + slopes[1],
+                                         d_pose + slopes[2])
                 b = slice(6 * k, 6 * k + 6)
                 for out, value in zip(blocks, (d_acc - M0, d_rate, d_pose)):
                     out[b, b] = value
@@ -787,11 +791,25 @@ class System:
             return (G, *embedded)
         return (G, *(self._embed_bodies(A) for A in blocks))
 
-    @staticmethod
-    def _added_beyond(added, q, qdot, qddot):
-        """An exact body's constant added mass on [a_ref, alpha] (global axes) beyond the
-        A qddot that M holds (N, N m): :func:`~skmoor.large_rotations.added_mass_load`."""
-        return added_mass_load(q, qdot, qddot, added) - added @ qddot
+    def _added_inertia(self, k, q, qdot, qddot, tangent=False):
+        """(load (6,), its derivatives in qddot, qdot, q or None): exact body k's added mass
+        beyond the constant A qddot that M holds (N, N m): the constant one on [a_ref,
+        alpha] in global axes (:func:`~skmoor.large_rotations.added_mass_load`) and the
+        terms' that turn with the body (``term.inertia_load``: a rod's)."""
+        added = self._added_masses[k]
+        parts = []  # (constant A, load, its derivatives or None)
+        if added.any():
+            parts.append((added, added_mass_load(q, qdot, qddot, added),
+                          added_mass_tangents(q, qdot, qddot, added) if tangent else None))
+        for term in self._turning_masses[k]:
+            parts.append((term.mass_matrix(), term.inertia_load(q, qdot, qddot),
+                          term.inertia_tangents(q, qdot, qddot) if tangent else None))
+        load = sum((value - constant @ qddot for constant, value, _ in parts), np.zeros(6))
+        if not tangent:
+            return load, None
+        slopes = [sum((d[i] for _, _, d in parts), np.zeros((6, 6))) for i in range(3)]
+        slopes[0] -= sum((constant for constant, _, _ in parts), np.zeros((6, 6)))
+        return load, slopes
 
     def _carrying_body(self, k):
         """(body k with the lumped masses of its line ends as point masses fixed on it, its

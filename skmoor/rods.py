@@ -244,30 +244,70 @@ class RodLoad(BodyLoad):
             return np.zeros_like(points), np.zeros_like(points)
         return self.sea.kinematics(points, t)
 
-    def added_mass_matrix(self) -> np.ndarray:
-        """Added mass (6, 6) about the reference point at q = 0 (kg, kg m, kg m2):
-        Ca rho A (I - t t^T) over the submerged length (two-point Gauss, exact for the
-        straight rod) and CaEnd rho (2/3) pi r^3 t t^T at each submerged end."""
+    def _added_mass_points(self, A, B):
+        """[(r, m)]: body points r (from the reference point, built attitude, m) and their
+        added mass (3, 3) (kg) for the rod from A to B (global, m) as it is: Ca rho A
+        (I - t t^T) over the submerged length (two-point Gauss, exact for the straight
+        rod) and CaEnd rho (2/3) pi r^3 t t^T at each submerged end (MoorDyn's Rod.cpp)."""
         lt, rho = self.rod_type, self.rho
-        zero = np.zeros(6)
-        A, B = self.reference_point + self.a, self.reference_point + self.b
         axis = (B - A) / self.length
         start, end = _submerged(A[2], B[2])
-        M = np.zeros((6, 6))
+        out = []
         if lt.Ca and end > start:
             transverse = lt.Ca * rho * lt.area * (np.eye(3) - np.outer(axis, axis))
             half = 0.5 * (end - start) * self.length
+            along = (self.b - self.a) / self.length  # the axis as built
             for xi in (-1 / math.sqrt(3), 1 / math.sqrt(3)):
-                s = (0.5 * (start + end) * self.length + xi * half)
-                J = attachment_jacobian(zero, self.a + s * axis)
-                M += half * J.T @ transverse @ J
+                s = 0.5 * (start + end) * self.length + xi * half
+                out.append((self.a + s * along, half * transverse))
         if lt.CaEnd:
             cap = lt.CaEnd * rho * (2 / 3) * math.pi * (lt.diameter / 2) ** 3
-            for r in (self.a, self.b):
-                if self.reference_point[2] + r[2] < 0:
-                    J = attachment_jacobian(zero, r)
-                    M += cap * J.T @ np.outer(axis, axis) @ J
+            for r, z in ((self.a, A[2]), (self.b, B[2])):
+                if z < 0:
+                    out.append((r, cap * np.outer(axis, axis)))
+        return out
+
+    def added_mass_matrix(self) -> np.ndarray:
+        """Added mass (6, 6) about the reference point at q = 0 (kg, kg m, kg m2): that of
+        :meth:`_added_mass_points` at the built attitude."""
+        zero = np.zeros(6)
+        M = np.zeros((6, 6))
+        for r, m in self._added_mass_points(self.reference_point + self.a,
+                                            self.reference_point + self.b):
+            J = attachment_jacobian(zero, r)
+            M += J.T @ m @ J
         return 0.5 * (M + M.T)
+
+    def inertia_load(self, q, qdot, qddot) -> np.ndarray:
+        """The load (6,) (N, N m) of the rod's added mass as it turns (an 'exact' body:
+        :meth:`skmoor.coupling.System.inertia`): J^T m a at the points of
+        :meth:`_added_mass_points` for the rod where it is, a their accelerations."""
+        motion = self.body_motion(q, qdot)
+        moved, _ = motion.points(self.ends)
+        A, B = self.reference_point + moved
+        pairs = self._added_mass_points(A, B)
+        if not pairs:
+            return np.zeros(6)
+        acceleration, J = motion.accelerations(np.array([r for r, _ in pairs]), qddot)
+        J = J.reshape(len(pairs), 3, 6)
+        return sum(J[k].T @ m @ acceleration[k] for k, (_, m) in enumerate(pairs))
+
+    def inertia_tangents(self, q, qdot, qddot):
+        """Derivatives (6, 6 each) of :meth:`inertia_load` in qddot, qdot and q (central
+        differences; the load is linear in qddot)."""
+        q, qdot, qddot = (np.asarray(x, float) for x in (q, qdot, qddot))
+        out = []
+        for which in range(3):
+            state = [q, qdot, qddot]
+            step = 1e-6 * (1 + np.max(np.abs(state[which])))
+            D = np.empty((6, 6))
+            for k, e in enumerate(np.eye(6)):
+                plus, minus = list(state), list(state)
+                plus[which], minus[which] = state[which] + step * e, state[which] - step * e
+                D[:, k] = (self.inertia_load(*plus) - self.inertia_load(*minus)) / (2 * step)
+            out.append(D)
+        by_q, by_qdot, by_qddot = out
+        return by_qddot, by_qdot, by_q
 
     def _central(self, q, qdot, t):
         """dF/dq and dF/dqdot (6, 6) by central differences (the loads are smooth:
