@@ -337,7 +337,7 @@ class System:
             M[np.ix_(cols, cols)] = M[np.ix_(cols, cols)].toarray() + block
         # each body's added mass: constant in global axes (its own, its terms'), or turning
         # with it (terms with an inertia_load: rods); on exact bodies see inertia()
-        self._added_masses, self._turning_masses = [], []
+        self._added_masses, self._turning_masses, self._with_added = [], [], []
         for k, body in enumerate(self.bodies):
             added, turning = body.added_mass, []
             for term in self._terms["bodies"]:
@@ -348,6 +348,7 @@ class System:
                         added = added + term.mass_matrix()
             self._added_masses.append(added)
             self._turning_masses.append(turning)
+            self._with_added.append(bool(added.any() or turning))
             constant = added + sum(term.mass_matrix() for term in turning)
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
             M[block, block] = M[block, block].toarray() + body.mass_matrix() + constant
@@ -758,25 +759,28 @@ class System:
             q, qdot, qddot = x[block], v[block], a[block]
             rigid, M0 = self._carrying_body(k)
             frame = self._frames[k]
-            added, slopes = self._added_inertia(k, q, qdot, qddot, tangent)
+            with_added = self._with_added[k]
             if previous is None:
                 G[block] = rigid.inertia_load(q, qdot, qddot, frame) - M0 @ qddot
             else:
                 x0, v0, a0, G0, h, gamma = previous
-                # the rigid body's inertia at the start: G0 less its added-mass part
-                load0 = (G0[block] + M0 @ a0[block]
-                         - self._added_inertia(k, x0[block], v0[block], a0[block])[0])
+                load0 = G0[block] + M0 @ a0[block]  # the rigid body's inertia at the start
+                if with_added:  # G0 less its added-mass part
+                    load0 = load0 - self._added_inertia(k, x0[block], v0[block], a0[block])[0]
                 start = (x0[block], v0[block], load0, h, gamma)
                 G[block] = rigid.step_inertia_load(q, qdot, *start, frame) - M0 @ qddot
-            G[block] += added
+            if with_added:
+                added, slopes = self._added_inertia(k, q, qdot, qddot, tangent)
+                G[block] += added
             if tangent:
                 if previous is None:
                     d_acc, d_rate, d_pose = rigid.inertia_tangents(q, qdot, qddot, frame)
                 else:
                     d_acc = np.zeros((6, 6))
                     d_rate, d_pose = rigid.step_inertia_tangents(q, qdot, *start, frame)
-                d_acc, d_rate, d_pose = (d_acc + slopes[0], d_rate + slopes[1],
-                                         d_pose + slopes[2])
+                if with_added:
+                    d_acc, d_rate, d_pose = (d_acc + slopes[0], d_rate + slopes[1],
+                                             d_pose + slopes[2])
                 b = slice(6 * k, 6 * k + 6)
                 for out, value in zip(blocks, (d_acc - M0, d_rate, d_pose)):
                     out[b, b] = value
