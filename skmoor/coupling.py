@@ -30,8 +30,10 @@ import scipy.sparse as sp
 
 from . import body as rigid
 from .banded import LAYOUTS, as_layout
+from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
-from .large_rotations import generalized_load, rate_matrix, zyx_angles
+from .large_rotations import (added_mass_load, added_mass_tangents, generalized_load,
+                              rate_matrix, zyx_angles)
 from .terms import Term
 
 REBASE_PITCH = math.radians(60.0)  # |ry| past which an 'exact' body's angles are re-based
@@ -139,10 +141,12 @@ class System:
     bodies: dynamic :class:`~skmoor.body.RigidBody` objects (``body`` alone: one).
     points: a :class:`PointMass` per free point. motion(t) -> (nslots, 3) displacements of
     the prescribed ends, m; with a ``motion.velocity(t)`` (m/s, same shape) the ends'
-    velocities are that, else central differences of motion. body_load(t, q, qdot) -> 6-vector (N, N m) on body 0, or a list
-    with one (or None) per body. terms: :class:`~skmoor.terms.Term` objects on the lines,
-    the free points or the bodies (add more with :meth:`add_term`). sea: the water whose
-    current drags the free points (None: still).
+    velocities are that, else central differences of motion. body_load(t, q, qdot) ->
+    6-vector (N, N m) on body 0, or a list with one (or None) per body (q, qdot with the
+    angles from the global frame, also on a re-based body: the true pose; on an 'exact'
+    body the load's moment is global). terms: :class:`~skmoor.terms.Term` objects on the
+    lines, the free points or the bodies (add more with :meth:`add_term`). sea: the water
+    whose current drags the free points (None: still).
     """
 
     def __init__(self, lines, body=None, *, fairleads="body", motion=None,
@@ -377,13 +381,23 @@ class System:
                     block = block + term.mass_matrix()
             cols = self.point_columns[p]
             M[np.ix_(cols, cols)] = M[np.ix_(cols, cols)].toarray() + block
+        # each body's added mass: constant in global axes (its own, its terms'), or turning
+        # with it (terms with an inertia_load: rods); on exact bodies see inertia()
+        self._added_masses, self._turning_masses, self._with_added = [], [], []
         for k, body in enumerate(self.bodies):
-            body_mass = body.mass_matrix() + body.added_mass
+            added, turning = body.added_mass, []
             for term in self._terms["bodies"]:
                 if term.body == k and term.mass_matrix() is not None:
-                    body_mass = body_mass + term.mass_matrix()
+                    if callable(getattr(term, "inertia_load", None)):
+                        turning.append(term)
+                    else:
+                        added = added + term.mass_matrix()
+            self._added_masses.append(added)
+            self._turning_masses.append(turning)
+            self._with_added.append(bool(added.any() or turning))
+            constant = added + sum(term.mass_matrix() for term in turning)
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
-            M[block, block] = M[block, block].toarray() + body_mass
+            M[block, block] = M[block, block].toarray() + body.mass_matrix() + constant
         self.M = M.tocsr()
 
     def commit(self, t, x, v):
@@ -404,15 +418,16 @@ class System:
         """Re-base the angles of every 'exact' body whose pitch passed ``REBASE_PITCH``:
         its angles are then counted from its present attitude (R = Rz Ry Rx(q) @ frame,
         the new q angles 0, their rates the angular velocity). Returns the new (x, v), or
-        None when no body was re-based. A body with terms of its own (rods, pins, drag)
-        is not re-based (they read its angles from the global frame): it stops at the
-        gimbal lock with an error."""
+        None when no body was re-based. A body with a term that reads its angles off q
+        (not ``frame_aware``: a user's BodyLoad) is not re-based: it stops at the gimbal
+        lock with an error."""
         turned = None
         for k, body in enumerate(self.bodies):
             block = self._body_block(k)
             q = x[block]
             if (body.rotations != "exact" or abs(q[4]) < REBASE_PITCH
-                    or any(term.body == k for term in self._terms["bodies"])
+                    or any(term.body == k and not term.frame_aware
+                           for term in self._terms["bodies"])
                     or any(k in term.bodies for term in self._terms["body pairs"])):
                 continue
             if turned is None:
@@ -441,6 +456,21 @@ class System:
         """The attitude R (3, 3) of body ``body`` in the reduced state x (its angles
         counted from its re-based frame, :meth:`rebase`)."""
         return self.bodies[body].rotation(self.q(x, body), self._frames[body])
+
+    def body_motion(self, q, qdot=None, body=0) -> BodyMotion:
+        """The :class:`~skmoor.body_motion.BodyMotion` of body ``body`` at its DOFs q and
+        rates qdot: what its terms read of its attitude (re-based frame included)."""
+        return BodyMotion(q, qdot, frame=self._frames[body],
+                          exact=self.bodies[body].rotations == "exact")
+
+    def _global_rates(self, q, qdot, k):
+        """(q, qdot) of re-based body k with its angles (and their rates) counted from the
+        global frame: what its ``body_load`` sees (at the gimbal lock the rates are the
+        least-squares ones)."""
+        angles = zyx_angles(self.bodies[k].rotation(q, self._frames[k]))
+        omega = rate_matrix(q[3:])[0] @ qdot[3:]
+        rates = np.linalg.lstsq(rate_matrix(angles)[0], omega, rcond=None)[0]
+        return np.r_[q[:3], angles], np.r_[qdot[:3], rates]
 
     def body_pose(self, x) -> np.ndarray:
         """(nbodies, 6) displacement and angles Rz Ry Rx from the global frame of every
@@ -715,7 +745,8 @@ class System:
                 R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
             R[block] += body.linear_damping @ qdot
             if self.body_loads[k] is not None:
-                load = self.body_loads[k](t, q, qdot)
+                load = self.body_loads[k](t, q, qdot) if self._frames[k] is None else \
+                    self.body_loads[k](t, *self._global_rates(q, qdot, k))
                 if body.rotations == "exact":  # force and moment (global) -> [F, E^T M]
                     load = generalized_load(q[3:], load[:3], load[3:])
                 R[block] -= load
@@ -804,7 +835,8 @@ class System:
 
     def inertia(self, x, v, a, tangent=False, layout="sparse", previous=None):
         """G = Q_inertia - M0 qddot of the 'exact' bodies with their lumped line-end masses
-        (N, N m; M0 their rigid mass at q = 0, which M holds), and with ``tangent`` its
+        (N, N m; M0 their rigid mass at q = 0, which M holds), plus their added masses
+        beyond the constant A qddot (:meth:`_added_inertia`), and with ``tangent`` its
         derivatives (dG/da, dG/dv, dG/dx) in ``layout``; (G, None, None, None) without. Q_inertia is the Newton-Euler load
         at (x, v, a), or with ``previous`` = (x0, v0, a0, G0, h, gamma) (a time step's
         start) its momentum form over the step (:meth:`RigidBody.step_inertia_load`)."""
@@ -815,20 +847,30 @@ class System:
                 continue
             block = self._body_block(k)
             q, qdot, qddot = x[block], v[block], a[block]
-            body, M0 = self._carrying_body(k)
+            rigid, M0 = self._carrying_body(k)
             frame = self._frames[k]
+            with_added = self._with_added[k]
             if previous is None:
-                G[block] = body.inertia_load(q, qdot, qddot, frame) - M0 @ qddot
+                G[block] = rigid.inertia_load(q, qdot, qddot, frame) - M0 @ qddot
             else:
                 x0, v0, a0, G0, h, gamma = previous
-                start = (x0[block], v0[block], G0[block] + M0 @ a0[block], h, gamma)
-                G[block] = body.step_inertia_load(q, qdot, *start, frame) - M0 @ qddot
+                load0 = G0[block] + M0 @ a0[block]  # the rigid body's inertia at the start
+                if with_added:  # G0 less its added-mass part
+                    load0 = load0 - self._added_inertia(k, x0[block], v0[block], a0[block])[0]
+                start = (x0[block], v0[block], load0, h, gamma)
+                G[block] = rigid.step_inertia_load(q, qdot, *start, frame) - M0 @ qddot
+            if with_added:
+                added, slopes = self._added_inertia(k, q, qdot, qddot, tangent)
+                G[block] += added
             if tangent:
                 if previous is None:
-                    d_acc, d_rate, d_pose = body.inertia_tangents(q, qdot, qddot, frame)
+                    d_acc, d_rate, d_pose = rigid.inertia_tangents(q, qdot, qddot, frame)
                 else:
                     d_acc = np.zeros((6, 6))
-                    d_rate, d_pose = body.step_inertia_tangents(q, qdot, *start, frame)
+                    d_rate, d_pose = rigid.step_inertia_tangents(q, qdot, *start, frame)
+                if with_added:
+                    d_acc, d_rate, d_pose = (d_acc + slopes[0], d_rate + slopes[1],
+                                             d_pose + slopes[2])
                 b = slice(6 * k, 6 * k + 6)
                 for out, value in zip(blocks, (d_acc - M0, d_rate, d_pose)):
                     out[b, b] = value
@@ -842,6 +884,26 @@ class System:
                 embedded.append(full)
             return (G, *embedded)
         return (G, *(self._embed_bodies(A) for A in blocks))
+
+    def _added_inertia(self, k, q, qdot, qddot, tangent=False):
+        """(load (6,), its derivatives in qddot, qdot, q or None): exact body k's added mass
+        beyond the constant A qddot that M holds (N, N m): the constant one on [a_ref,
+        alpha] in global axes (:func:`~skmoor.large_rotations.added_mass_load`) and the
+        terms' that turn with the body (``term.inertia_load``: a rod's)."""
+        added = self._added_masses[k]
+        parts = []  # (constant A, load, its derivatives or None)
+        if added.any():
+            parts.append((added, added_mass_load(q, qdot, qddot, added),
+                          added_mass_tangents(q, qdot, qddot, added) if tangent else None))
+        for term in self._turning_masses[k]:
+            parts.append((term.mass_matrix(), term.inertia_load(q, qdot, qddot),
+                          term.inertia_tangents(q, qdot, qddot) if tangent else None))
+        load = sum((value - constant @ qddot for constant, value, _ in parts), np.zeros(6))
+        if not tangent:
+            return load, None
+        slopes = [sum((d[i] for _, _, d in parts), np.zeros((6, 6))) for i in range(3)]
+        slopes[0] -= sum((constant for constant, _, _ in parts), np.zeros((6, 6)))
+        return load, slopes
 
     def _carrying_body(self, k):
         """(body k with the lumped masses of its line ends as point masses fixed on it, its

@@ -177,11 +177,12 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
     cda = _six(body.CdA, "CdA")
     if any(cda) and deck.rho > 0:  # in air (rho = 0) nothing drags
         terms.append(body_hydrodynamics(drag_coefficients=np.ones(6), drag_areas=cda, sea=sea,
-                                        reference_point=position, rho=deck.rho))
+                                        reference_point=position, rho=deck.rho, axes=R0))
     for rod in rods:  # the rod's ends in the body frame -> global offsets at the start
         rod_type, a, b = _rod_type(deck, rod), R0 @ rod.a, R0 @ rod.b
         rigid = mount_rod(rigid, rod_type, position + a, position + b,
-                          reference_point=position, g=deck.g, name=f"rod{rod.id}")
+                          reference_point=position, g=deck.g, name=f"rod{rod.id}",
+                          rotations=rotations)
         terms.append(RodLoad(rod_type, a, b, reference_point=position,
                              n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
                              bed=bed, name=f"rod{rod.id}"))
@@ -223,9 +224,9 @@ def _rod_type(deck: Deck, rod) -> RodType:
     return RodType(t.name, t.diameter, t.mass, t.Cd, t.Ca, t.CdEnd, t.CaEnd)
 
 
-def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
+def _deck_rod(deck: Deck, rod, bodies, sea, bed=None, rotations="small"):
     """(points, body or None) of a deck rod: its end points ``rodN.A``, ``rodN.B`` and,
-    for a free or pinned rod, its own dynamic body."""
+    for a free or pinned rod, its own dynamic body (with ``rotations``)."""
     name = f"rod{rod.id}"
     a, b = np.array(rod.a, float), np.array(rod.b, float)
     if rod.n_segments == 0:  # a zero-length Free rod: a massless junction of its lines
@@ -241,7 +242,7 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
         if carrier.kind in ("coupled", "dynamic"):  # on a free body: a joint of the two
             body, ends = rods.rod(name, _rod_type(deck, rod), a, b, pin=pin.name,
                                   n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
-                                  bed=bed)
+                                  bed=bed, rotations=rotations)
             return [pin, *ends], body
         kind = "pinned"
     else:
@@ -253,7 +254,7 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None):
                     "not supported (CoupledPinned, Pinned, Free, Fixed and Body<N> rods are)")
     pin = {"free": None, "pinned": "fixed", "coupled pinned": "coupled"}[kind]
     body, ends = rods.rod(name, _rod_type(deck, rod), a, b, pin=pin, n_segments=rod.n_segments,
-                          rho=deck.rho, g=deck.g, sea=sea, bed=bed)
+                          rho=deck.rho, g=deck.g, sea=sea, bed=bed, rotations=rotations)
     return ends, body
 
 
@@ -267,8 +268,9 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     files, still water without them), which is also what a WaveKin 1 deck's caller
     builds its waves on (``Sea(..., fields=deck_sea(deck).fields)``). hydro: add drag, fluid inertia and added mass
     (:func:`skmoor.hydro.line_hydrodynamics`). seabed: add the deck's bottom contact
-    (on the lines and the rods). rotations: the free bodies' 'small' or 'exact'
-    (:class:`~skmoor.body.RigidBody`; bodies that turn far, rods excepted).
+    (on the lines and the rods). rotations: 'small' or 'exact' for the free bodies and
+    the free and pinned rods (:class:`~skmoor.body.RigidBody`; 'exact' for those that
+    turn far).
     settings: the solver's defaults for the deck (Newmark, dtOut as the output interval).
     """
     deck = read_deck(deck) if not isinstance(deck, Deck) else deck
@@ -287,7 +289,7 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     bodies = [_deck_body(deck, b, sea, bed, rotations) for b in deck.bodies]
     points = []
     for rod in deck.rods:
-        ends, body = _deck_rod(deck, rod, bodies[:len(deck.bodies)], sea, bed)
+        ends, body = _deck_rod(deck, rod, bodies[:len(deck.bodies)], sea, bed, rotations)
         points += ends
         if body is not None:
             bodies.append(body)

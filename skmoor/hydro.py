@@ -388,17 +388,15 @@ def _six(name, value):
 
 
 def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=None, sea=None,
-                       reference_point=(0.0, 0.0, 0.0), rho=1025.0):
-    """A :class:`~skmoor.terms.BodyLoad`: quadratic drag on the body's velocity relative
-    to the water and a constant added mass, MoorDyn v2's body convention
-    (source/Body.cpp): F = 1/2 rho diag(Cd A)[:3] |v_r| v_r with v_r = u_w(x_ref + q[:3], t)
-    - qdot[:3], and M = 1/2 rho diag(Cd A)[3:] |w_r| w_r with w_r = -qdot[3:]
-    (|.| the norm of the 3-vector). Axes are global (small rotations).
+                       reference_point=(0.0, 0.0, 0.0), rho=1025.0, axes=None) -> BodyDrag:
+    """A :class:`BodyDrag`: quadratic drag on the body's velocity relative to the water and
+    a constant added mass, MoorDyn v2's body convention (source/Body.cpp).
 
     drag_coefficients (-), drag_areas (m2 translational; m5 rotational): 3 or 6 values
-    each, multiplied; added_mass: (6, 6) about the reference point (kg, kg m, kg m2);
-    reference_point (m): where q is measured and the water velocity taken. The tangent
-    dF/dq neglects the water velocity's gradient (None); dF/dqdot is exact.
+    each, multiplied, along / about the body's axes; added_mass: (6, 6) about the
+    reference point (kg, kg m, kg m2); reference_point (m): where q is measured and the
+    water velocity taken; axes (3, 3): the body's axes (columns, global) at q = 0 (a deck
+    body's start attitude; None: the global axes).
     """
     check_positive("body_hydrodynamics rho", rho)
     point = np.asarray(reference_point, float)
@@ -421,27 +419,72 @@ def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=No
             raise ValueError(f"body_hydrodynamics added_mass: need a (6, 6) matrix, "
                              f"got {added_mass.shape}")
         check_finite("body_hydrodynamics added_mass", added_mass)
-    moving_water = sea is not None and not sea.still
+    if axes is not None:
+        axes = np.asarray(axes, float)
+        if axes.shape != (3, 3) or not np.allclose(axes.T @ axes, np.eye(3), atol=1e-9):
+            raise ValueError("body_hydrodynamics axes: need a (3, 3) rotation matrix (the "
+                             f"body's axes as columns), got {axes.tolist()}")
+    return BodyDrag(cda, sea, point, float(rho), added_mass, axes=axes)
 
-    def relative(q, qdot, t):
-        out = -np.asarray(qdot, float)
-        if moving_water:
-            out[:3] += sea.velocity(point + q[:3], t)
-        return out
 
-    def load(q, qdot, t):
-        vr = relative(q, qdot, t)
-        return 0.5 * rho * cda * np.concatenate([np.linalg.norm(vr[:3]) * vr[:3],
-                                                 np.linalg.norm(vr[3:]) * vr[3:]])
+class BodyDrag(BodyLoad):
+    """Quadratic drag on a body (:func:`body_hydrodynamics`), MoorDyn v2's Body.cpp: with
+    v_r = u_w(x_ref + q[:3], t) - v the relative velocity of the reference point and
+    w_r = -omega,
 
-    def tangent(q, qdot, t):
-        vr, dF_dv = relative(q, qdot, t), np.zeros((6, 6))
-        for block in (slice(0, 3), slice(3, 6)):
-            w = vr[block]
+        F = 1/2 rho D(CdA[:3]) |v_r| v_r,   M = 1/2 rho D(CdA[3:]) |w_r| w_r
+
+    (|.| the norm of the 3-vector), applied as [F, E^T M]. The drag areas are along the
+    body's axes: D(c) = R A diag(c) A^T R^T, A the body's axes at q = 0 (``axes``), R its
+    rotation (MoorDyn's OrMat diag(CdA) OrMat^T), with omega = E qdot[3:] the angular
+    velocity; a 'small' body keeps the linear model (R = I, omega = qdot[3:], E = I).
+    The pose comes from :meth:`body_motion` (re-based frames included). Tangents: dF/dqdot
+    exact; dF/dq without the water velocity's gradient (zero on a small body, central
+    differences in the angles on an exact one)."""
+
+    frame_aware = True
+
+    def __init__(self, cda, sea, reference_point, rho, added_mass=None, body=0, axes=None):
+        self.cda, self.sea, self.point, self.rho = cda, sea, reference_point, rho
+        self.axes = np.eye(3) if axes is None else axes
+        self._moving_water = sea is not None and not sea.still
+        super().__init__(self.forces, body=body, added_mass=added_mass, tangent=self.tangents)
+
+    def _drag(self, motion, t):
+        """(F, M, D_F, D_M, v_r, w_r): the drag force and moment (global, N, N m), the
+        drag matrices 1/2 rho D(CdA) (3, 3 each) and the relative velocities."""
+        vr = -motion.velocity
+        if self._moving_water:
+            vr = vr + self.sea.velocity(self.point + motion.q[:3], t)
+        wr = -motion.angular_velocity
+        half = 0.5 * self.rho * self.cda
+        axes = motion.rotation @ self.axes if motion.exact else self.axes
+        D_F, D_M = (axes * half[:3]) @ axes.T, (axes * half[3:]) @ axes.T  # R diag(c) R^T
+        return (np.linalg.norm(vr) * (D_F @ vr), np.linalg.norm(wr) * (D_M @ wr),
+                D_F, D_M, vr, wr)
+
+    def forces(self, q, qdot, t):
+        """The load conjugate to q (6,), N and N m."""
+        motion = self.body_motion(q, qdot)
+        F, M = self._drag(motion, t)[:2]
+        return motion.generalized(F, M)
+
+    def tangents(self, q, qdot, t):
+        """(dQ/dq or None, dQ/dqdot) (6, 6 each)."""
+        motion = self.body_motion(q, qdot)
+        _, _, D_F, D_M, vr, wr = self._drag(motion, t)
+        E = motion.rate_map
+        dQ_dv = np.zeros((6, 6))
+        # d(|w| D w)/dw = D (|w| I + w w^T / |w|); dv_r/dv = -I, dw_r/dqdot[3:] = -E
+        for block, D, w, T in ((slice(0, 3), D_F, vr, np.eye(3)), (slice(3, 6), D_M, wr, E)):
             speed = np.linalg.norm(w)
-            # dF/dqdot = -1/2 rho diag(Cd A) (|v_r| I + v_r v_r^T / |v_r|)
-            dF_dv[block, block] = -0.5 * rho * cda[block][:, None] * (
-                speed * np.eye(3) + np.outer(w, w) / (speed or 1.0))
-        return None, dF_dv
-
-    return BodyLoad(load, added_mass=added_mass, tangent=tangent)
+            dQ_dv[block, block] = -T.T @ D @ (speed * np.eye(3) + np.outer(w, w) / (speed or 1.0)) @ T
+        if not motion.exact:
+            return None, dQ_dv
+        step = 1e-6
+        dQ_dq = np.zeros((6, 6))
+        for k in range(3, 6):
+            e = np.zeros(6)
+            e[k] = step
+            dQ_dq[:, k] = (self.forces(q + e, qdot, t) - self.forces(q - e, qdot, t)) / (2 * step)
+        return dQ_dq, dQ_dv

@@ -43,6 +43,8 @@ __all__ = [
     "momentum_inertia_tangents",
     "step_start",
     "exact_mass_matrix",
+    "added_mass_load",
+    "added_mass_tangents",
     "submerged_volume",
     "submerged_hull",
     "box_triangles",
@@ -108,6 +110,39 @@ def inertia_load(R, q, qdot, qddot, mass, inertia, arm) -> np.ndarray:
     force = mass * (a_ref + cross3(alpha, rho) + cross3(omega, cross3(omega, rho)))
     moment = I_ref @ alpha + cross3(omega, I_ref @ omega) + mass * cross3(rho, a_ref)
     return np.concatenate([force, E.T @ moment])
+
+
+def added_mass_load(q, qdot, qddot, added) -> np.ndarray:
+    """A constant added mass (6, 6) (kg, kg m, kg m2; global axes, about x_ref) on the
+    body's acceleration [a_ref, alpha], alpha = E qddot[3:] + Edot qdot[3:], as the load
+    conjugate to q (N, N m): T^T A (T qddot + Tdot qdot), T = diag(I, E)."""
+    E, dE_dry, dE_drz = rate_matrix(q[3:])
+    rates = qdot[3:]
+    acceleration = np.concatenate(
+        [qddot[:3], E @ qddot[3:] + (rates[1] * dE_dry + rates[2] * dE_drz) @ rates])
+    force = added @ acceleration
+    return np.concatenate([force[:3], E.T @ force[3:]])
+
+
+def added_mass_tangents(q, qdot, qddot, added, step=1e-6):
+    """Derivatives (6, 6 each) of :func:`added_mass_load` in qddot (T^T A T) and qdot
+    (exact), and in q (central differences of ``step`` rad in the angles)."""
+    E, dE_dry, dE_drz = rate_matrix(q[3:])
+    T = np.eye(6)
+    T[3:, 3:] = E
+    rates = qdot[3:]
+    d_alpha = rates[1] * dE_dry + rates[2] * dE_drz  # d(Edot rates)/d rates
+    d_alpha[:, 1] += dE_dry @ rates
+    d_alpha[:, 2] += dE_drz @ rates
+    by_rate = np.zeros((6, 6))
+    by_rate[3:, 3:] = d_alpha
+    by_pose = np.zeros((6, 6))
+    for k in range(3, 6):
+        e = np.zeros(6)
+        e[k] = step
+        by_pose[:, k] = (added_mass_load(q + e, qdot, qddot, added)
+                         - added_mass_load(q - e, qdot, qddot, added)) / (2 * step)
+    return T.T @ added @ T, T.T @ added @ by_rate, by_pose
 
 
 def exact_mass_matrix(R, q, mass, inertia, arm) -> np.ndarray:
@@ -229,8 +264,10 @@ def step_start(R0, q0, v0, load0, mass, inertia, arm):
         raise ValueError(f"rotations: the body's ry = {math.degrees(q0[4]):.6g} deg reached "
                          "+-90 deg, the gimbal lock of the angles R = Rz Ry Rx (its x axis "
                          "vertical), and its angles were not re-based (System.rebase: a "
-                         "body with terms of its own is not): turn the body frame so that its "
-                         "x axis stays off vertical")
+                         "body with a term that is not frame_aware, such as a user's BodyLoad "
+                         "reading q[3:], is not): read the pose through term.body_motion and "
+                         "set frame_aware, or turn the body frame so that its x axis stays "
+                         "off vertical")
     E0 = rate_matrix(q0[3:])[0]
     p0, l0 = momenta(R0, q0, v0, mass, inertia, arm, np.zeros(3))
     return q0, p0, l0, load0[:3], np.linalg.solve(E0.T, load0[3:])

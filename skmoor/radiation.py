@@ -23,8 +23,16 @@ A_inf)] V exp(-i omega t)): A(omega) = A_inf - (1/omega) int_0^inf K(t) sin(omeg
   X per metre of amplitude from :class:`~skmoor.bem.Hydrodynamics`; faded in over
   ``ramp`` seconds by (1 - cos(pi t / ramp)) / 2 (0: none; the static state sees F(0)).
 
-The body's hydrostatics stay the body's own (:mod:`skmoor.body`): this term adds A_inf,
-the memory and the excitation only.
+The body's hydrostatics stay the body's own (:mod:`skmoor.body`; on an 'exact' body the
+hull clipped at the pose): this term adds A_inf, the memory and the excitation only.
+
+On a body with ``rotations='exact'`` the term works in the global frame (see
+docs/bodies.md): the kernel convolves the body's velocity V = [v_ref, omega] (not the
+angle rates, which change meaning when the angles are re-based), the memory and the
+excitation are a force and a moment about the reference point (global axes) applied as
+[F, E^T M], and the excitation is taken where the reference point is now (the phase
+k . (x_ref + q[:3]) of each wave component). A_inf acts on [a_ref, alpha] in global axes,
+as the body's added mass (:meth:`skmoor.coupling.System.inertia`).
 """
 from __future__ import annotations
 
@@ -88,6 +96,7 @@ class PotentialFlow(Term):
     reproduces A(omega) and B(omega) (see :meth:`_consistency`)."""
 
     acts_on = "bodies"
+    frame_aware = True  # on an exact body: V, R and E from self.body_motion
 
     def __init__(self, hydro: Hydrodynamics, sea=None, *, body=0, memory=60.0,
                  dt_kernel=0.01, ramp=0.0, tail_factor=4.0, added_mass_inf="fit"):
@@ -115,10 +124,12 @@ class PotentialFlow(Term):
         self._pairs, self._flat_pairs = (rows, cols), self._flat[:, rows * 6 + cols].copy()
 
     def _excitation_components(self, sea):
-        """(omega (n,), complex coefficients (n, 6)): F(t) = Re(c exp(-i omega t))."""
+        """(omega (n,), complex coefficients (n, 6), wave-number vectors (n, 2) (rad/m)):
+        F(t) = Re(c exp(-i omega t)) at the reference point, times exp(i kvec . dx) a
+        horizontal shift dx from it."""
         if sea is None or not sea.waves:
-            return np.zeros(0), np.zeros((0, 6), complex)
-        omegas, coefficients = [], []
+            return np.zeros(0), np.zeros((0, 6), complex), np.zeros((0, 2))
+        omegas, coefficients, wavenumbers = [], [], []
         point = self.hydro.reference_point
         for i, wave in enumerate(sea.waves):
             heading = np.degrees(np.arctan2(wave.direction[1], wave.direction[0]))
@@ -130,7 +141,8 @@ class PotentialFlow(Term):
             phase = np.exp(1j * (wave.phi + wave.k * along))
             omegas.append(wave.omega)
             coefficients.append((wave.a * phase)[:, None] * X)
-        return np.concatenate(omegas), np.concatenate(coefficients)
+            wavenumbers.append(np.outer(wave.k, np.asarray(wave.direction, float)[:2]))
+        return np.concatenate(omegas), np.concatenate(coefficients), np.concatenate(wavenumbers)
 
     def _consistency(self, choice):
         """A_inf (the BEM's, or the least-squares one that makes the kernel reproduce
@@ -153,13 +165,16 @@ class PotentialFlow(Term):
     def mass_matrix(self):
         return self.added_mass_inf
 
-    def excitation(self, t) -> np.ndarray:
-        """Wave excitation (6,) at time t (s): N, N m."""
-        omega, c = self._components
+    def excitation(self, t, shift=None) -> np.ndarray:
+        """Wave excitation (6,) at time t (s): N, N m; ``shift`` (3,): the reference
+        point's displacement (m), whose horizontal part moves the waves' phase (None: at
+        the reference point)."""
+        omega, c, wavenumbers = self._components
         if not len(omega):
             return np.zeros(6)
         fade = 1.0 if self.ramp == 0 or t >= self.ramp else 0.5 * (1 - np.cos(np.pi * t / self.ramp))
-        return fade * (c.T @ np.exp(-1j * omega * t)).real
+        phase = -omega * t if shift is None else wavenumbers @ shift[:2] - omega * t
+        return fade * (c.T @ np.exp(1j * phase)).real
 
     def _K(self, lags, flat=None):
         """K at lags (k,) (s) by linear interpolation of the sampled kernel, (k, 36) (or
@@ -187,27 +202,67 @@ class PotentialFlow(Term):
 
     def memory(self, t, qdot) -> tuple:
         """(mu (6,), d mu / d qdot (6, 6)): the convolution int_0^t K(t - s) qdot(s) ds
-        (N, N m) with qdot the velocity at t after the committed history."""
-        if not self._count or t <= self._t[self._count - 1]:
+        (N, N m) with qdot the velocity at t after the committed history (at the last
+        committed time: the history's own, qdot the committed one; before it: zeros)."""
+        if not self._count or t < self._t[self._count - 1]:
             return np.zeros(6), np.zeros((6, 6))
         if self._past[0] != t:
             self._past = (t, self._history(t))
         last = self._count - 1
         h = t - self._t[last]
+        if h == 0:  # at the last committed step (a restart there): the history is all of it
+            return self._past[1].copy(), np.zeros((6, 6))
         K0 = self.kernel[0]
         K_last = self._K(np.array([h]))[0].reshape(6, 6)
         mu = self._past[1] + 0.5 * h * (K_last @ self._v[last] + K0 @ qdot)
         return mu, 0.5 * h * K0
 
     def add_to(self, q, qdot, t, R, K=None, C=None):
+        motion = self.body_motion(q, qdot)
+        if motion.exact:
+            self._add_exact(motion, t, R, K, C)
+            return
         mu, slope = self.memory(t, qdot)
         R += mu - self.excitation(t)
         if C is not None:
             C += slope
 
+    @staticmethod
+    def _velocity(motion) -> np.ndarray:
+        """What the kernel convolves (6,): [v_ref, omega] (m/s, rad/s, global) on an
+        exact body, the DOF rates on a small one."""
+        if not motion.exact:
+            return motion.qdot
+        return np.concatenate([motion.velocity, motion.angular_velocity])
+
+    def _exact_load(self, q, qdot, t) -> np.ndarray:
+        """The residual part (6,) on an exact body: [F, E^T M] of memory - excitation."""
+        motion = self.body_motion(q, qdot)
+        wrench = self.memory(t, self._velocity(motion))[0] - self.excitation(t, motion.q[:3])
+        return motion.generalized(wrench[:3], wrench[3:])
+
+    def _add_exact(self, motion, t, R, K, C):
+        """add_to on an exact body (global frame); d/dqdot exact (T^T (h/2) K(0) T,
+        T = diag(I, E)), d/dq by central differences (E and the excitation's phase)."""
+        q, qdot = motion.q, motion.qdot
+        R += self._exact_load(q, qdot, t)
+        if C is not None:
+            T = np.eye(6)
+            T[3:, 3:] = motion.rate_map
+            C += T.T @ self.memory(t, self._velocity(motion))[1] @ T
+        if K is not None:
+            step = 1e-6
+            for k in range(6):
+                e = np.zeros(6)
+                e[k] = step
+                K[:, k] += (self._exact_load(q + e, qdot, t)
+                            - self._exact_load(q - e, qdot, t)) / (2 * step)
+
     def commit(self, t, q, qdot):
-        """Keep the accepted step (t, qdot) for the convolution; a time at or before the
-        last one starts a new history (a new run)."""
+        """Keep the accepted step (t, velocity: qdot, or on an exact body [v_ref, omega])
+        for the convolution; a time at or before the last one starts a new history (a
+        new run)."""
+        qdot = self._velocity(self.body_motion(q, qdot))
         if self._count and t <= self._t[self._count - 1]:
             self._count = 0
         if self._count == 0:  # a new history in its own arrays (copies of a term share none)

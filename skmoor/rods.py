@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .body import RigidBody, attachment_jacobian, attachment_state, rotation_and_slopes
+from .body import RigidBody, attachment_jacobian
 from .terms import BodyLoad
 
 __all__ = ["RodType", "rod", "rod_body", "rod_inertia", "mount_rod", "RodLoad", "PinLoad",
@@ -91,23 +91,26 @@ def rod_inertia(rod_type: RodType, a, b, name="rod"):
     return mass, (a + b) / 2, across * (np.eye(3) - np.outer(t, t)) + along * np.outer(t, t)
 
 
-def rod_body(rod_type: RodType, a, b, *, g=9.81, name="rod") -> RigidBody:
+def rod_body(rod_type: RodType, a, b, *, g=9.81, name="rod", rotations="small") -> RigidBody:
     """The RigidBody of a free or pinned rod from a to b (global, m): reference point
-    end A, no hydrostatics (buoyancy is in its :class:`RodLoad`)."""
+    end A, no hydrostatics (buoyancy is in its :class:`RodLoad`); ``rotations`` as
+    :class:`~skmoor.body.RigidBody`'s."""
     mass, com, inertia = rod_inertia(rod_type, a, b, name)
-    return RigidBody(mass, com, inertia, reference_point=np.asarray(a, float), g=g)
+    return RigidBody(mass, com, inertia, reference_point=np.asarray(a, float), g=g,
+                     rotations=rotations)
 
 
 def rod(name, rod_type: RodType, a, b, *, pin=None, n_segments=1, rho=1025.0, g=9.81,
-        sea=None, bed=None):
+        sea=None, bed=None, rotations="small"):
     """(Body, [end A, end B]) of a free (``pin`` None) or pinned rod (``pin`` 'fixed' or
     'coupled', see :class:`~skmoor.network.Body`) from a to b (global, m): a dynamic
     body ``name`` at end A with the rod's RodLoad and spin spring, and its end points
-    ``name.A``, ``name.B`` for lines to end on. Keywords as :class:`RodLoad`'s."""
+    ``name.A``, ``name.B`` for lines to end on. ``rotations``: its body's ('exact': the
+    rod may turn through any attitude); other keywords as :class:`RodLoad`'s."""
     from .network import Body, Point
 
     a, b, length = _axis(a, b, name)
-    rigid = rod_body(rod_type, a, b, g=g, name=name)
+    rigid = rod_body(rod_type, a, b, g=g, name=name, rotations=rotations)
     terms = [RodLoad(rod_type, np.zeros(3), b - a, reference_point=a, n_segments=n_segments,
                      rho=rho, g=g, sea=sea, bed=bed, name=name),
              SpinLoad(np.zeros(3), b - a, spring_weight(rigid.mass, g) * length)]
@@ -117,13 +120,15 @@ def rod(name, rod_type: RodType, a, b, *, pin=None, n_segments=1, rho=1025.0, g=
 
 
 def mount_rod(rigid: RigidBody | None, rod_type: RodType, a, b, *, reference_point,
-              g=9.81, name="rod") -> RigidBody:
+              g=9.81, name="rod", rotations="small") -> RigidBody:
     """A body's RigidBody with a rod from a to b (global, m) fixed on it: masses added,
-    the centre of mass and the inertia combined (parallel axes). ``rigid`` None: a body
-    of no mass of its own (MoorDyn allows it when rods give it mass)."""
+    the centre of mass and the inertia combined (parallel axes), its rotations and hull
+    kept. ``rigid`` None: a body of no mass of its own (MoorDyn allows it when rods give
+    it mass), with ``rotations``."""
     mass, com, inertia = rod_inertia(rod_type, a, b, name)
     if rigid is None:
-        return RigidBody(mass, com, inertia, reference_point=reference_point, g=g)
+        return RigidBody(mass, com, inertia, reference_point=reference_point, g=g,
+                         rotations=rotations)
     total = rigid.mass + mass
     centre = (rigid.mass * rigid.center_of_mass + mass * com) / total
 
@@ -136,7 +141,7 @@ def mount_rod(rigid: RigidBody | None, rod_type: RodType, a, b, *, reference_poi
                      reference_point=rigid.reference_point, hydrostatics=rigid.hydrostatics,
                      added_mass=rigid.added_mass, linear_damping=rigid.linear_damping,
                      rho=rigid.rho, g=rigid.g, box_size=rigid.box_size,
-                     box_center=rigid.box_center)
+                     box_center=rigid.box_center, rotations=rigid.rotations, hull=rigid.hull)
 
 
 def _submerged(za, zb):
@@ -160,8 +165,11 @@ class RodLoad(BodyLoad):
     current and wave velocities drag the rod) or None; bed: (depth m, stiffness N/m3,
     damping N s/m3) of MoorDyn's sea bed, a vertical spring-damper per unit of d ds
     below z = -depth (Rod.cpp), or None. The body's RigidBody holds the rod's mass (see
-    :func:`rod_body`, :func:`mount_rod`), so the System carries its weight linearly about
-    q = 0; this load replaces that linear weight by the exact one."""
+    :func:`rod_body`, :func:`mount_rod`), so the System carries its weight: linearly
+    about q = 0 on a 'small' body, which this load replaces by the exact one; at the
+    pose on an 'exact' body, where this load adds none."""
+
+    frame_aware = True  # the rod's ends from self.body_motion: re-based frames included
 
     def __init__(self, rod_type: RodType, a, b, *, reference_point, n_segments=1,
                  rho=1025.0, g=9.81, sea=None, bed=None, body=0, name="rod"):
@@ -182,29 +190,26 @@ class RodLoad(BodyLoad):
         super().__init__(self.forces, body=body, added_mass=self.added_mass_matrix(),
                          tangent=self._central)
 
-    def bind(self, system):
-        """Refuses a body with exact rotations: its System weighs and moves it exactly
-        already, and this load's replacement of the linear weight would count it twice."""
-        if getattr(system.bodies[self.body], "rotations", "small") == "exact":
-            raise ValueError(f"rod {self.name}: its body has rotations='exact'; rods are built "
-                             "for rotations='small' (the body's linear weight is replaced here)")
-        super().bind(system)
-
     def forces(self, q, qdot, t):
         """Generalized load (6,), N and N m: J^T f summed over the rod's loads. Positions
-        and Jacobians are linear along the rod: those of its ends, interpolated."""
+        and Jacobians are linear along the rod: those of its ends, interpolated. On an
+        'exact' body the System weighs the rod (in the body's mass) at the pose: no
+        weight here."""
         lt, rho, g = self.rod_type, self.rho, self.g
         q, qdot = np.asarray(q, float), np.asarray(qdot, float)
-        moved, J = attachment_state(q, self.ends)
-        (A, B), (JA, JB) = self.reference_point + self.ends + moved, J.reshape(2, 3, 6)
+        motion = self.body_motion(q, qdot)
+        moved, J = motion.points(self.ends)
+        (A, B), (JA, JB) = self.reference_point + moved, J.reshape(2, 3, 6)
 
         def at(s):  # (position, Jacobian) a fraction s along the rod from end A
             return A + s * (B - A), JA + s * (JB - JA)
 
         axis = (B - A) / self.length
-        F = at(0.5)[1].T @ np.array([0.0, 0.0, -self.mass * g])
-        F0, K = self._linear  # the body model's linear weight of the rod, replaced
-        F -= F0 - K @ q
+        F = np.zeros(6)
+        if not motion.exact:
+            F += at(0.5)[1].T @ np.array([0.0, 0.0, -self.mass * g])
+            F0, K = self._linear  # the body model's linear weight of the rod, replaced
+            F -= F0 - K @ q
         start, end = _submerged(A[2], B[2])
         if end > start:  # rho g A L_sub at the centre of the submerged length
             F += at(0.5 * (start + end))[1].T @ np.array(
@@ -246,30 +251,70 @@ class RodLoad(BodyLoad):
             return np.zeros_like(points), np.zeros_like(points)
         return self.sea.kinematics(points, t)
 
-    def added_mass_matrix(self) -> np.ndarray:
-        """Added mass (6, 6) about the reference point at q = 0 (kg, kg m, kg m2):
-        Ca rho A (I - t t^T) over the submerged length (two-point Gauss, exact for the
-        straight rod) and CaEnd rho (2/3) pi r^3 t t^T at each submerged end."""
+    def _added_mass_points(self, A, B):
+        """[(r, m)]: body points r (from the reference point, built attitude, m) and their
+        added mass (3, 3) (kg) for the rod from A to B (global, m) as it is: Ca rho A
+        (I - t t^T) over the submerged length (two-point Gauss, exact for the straight
+        rod) and CaEnd rho (2/3) pi r^3 t t^T at each submerged end (MoorDyn's Rod.cpp)."""
         lt, rho = self.rod_type, self.rho
-        zero = np.zeros(6)
-        A, B = self.reference_point + self.a, self.reference_point + self.b
         axis = (B - A) / self.length
         start, end = _submerged(A[2], B[2])
-        M = np.zeros((6, 6))
+        out = []
         if lt.Ca and end > start:
             transverse = lt.Ca * rho * lt.area * (np.eye(3) - np.outer(axis, axis))
             half = 0.5 * (end - start) * self.length
+            along = (self.b - self.a) / self.length  # the axis as built
             for xi in (-1 / math.sqrt(3), 1 / math.sqrt(3)):
-                s = (0.5 * (start + end) * self.length + xi * half)
-                J = attachment_jacobian(zero, self.a + s * axis)
-                M += half * J.T @ transverse @ J
+                s = 0.5 * (start + end) * self.length + xi * half
+                out.append((self.a + s * along, half * transverse))
         if lt.CaEnd:
             cap = lt.CaEnd * rho * (2 / 3) * math.pi * (lt.diameter / 2) ** 3
-            for r in (self.a, self.b):
-                if self.reference_point[2] + r[2] < 0:
-                    J = attachment_jacobian(zero, r)
-                    M += cap * J.T @ np.outer(axis, axis) @ J
+            for r, z in ((self.a, A[2]), (self.b, B[2])):
+                if z < 0:
+                    out.append((r, cap * np.outer(axis, axis)))
+        return out
+
+    def added_mass_matrix(self) -> np.ndarray:
+        """Added mass (6, 6) about the reference point at q = 0 (kg, kg m, kg m2): that of
+        :meth:`_added_mass_points` at the built attitude."""
+        zero = np.zeros(6)
+        M = np.zeros((6, 6))
+        for r, m in self._added_mass_points(self.reference_point + self.a,
+                                            self.reference_point + self.b):
+            J = attachment_jacobian(zero, r)
+            M += J.T @ m @ J
         return 0.5 * (M + M.T)
+
+    def inertia_load(self, q, qdot, qddot) -> np.ndarray:
+        """The load (6,) (N, N m) of the rod's added mass as it turns (an 'exact' body:
+        :meth:`skmoor.coupling.System.inertia`): J^T m a at the points of
+        :meth:`_added_mass_points` for the rod where it is, a their accelerations."""
+        motion = self.body_motion(q, qdot)
+        moved, _ = motion.points(self.ends)
+        A, B = self.reference_point + moved
+        pairs = self._added_mass_points(A, B)
+        if not pairs:
+            return np.zeros(6)
+        acceleration, J = motion.accelerations(np.array([r for r, _ in pairs]), qddot)
+        J = J.reshape(len(pairs), 3, 6)
+        return sum(J[k].T @ m @ acceleration[k] for k, (_, m) in enumerate(pairs))
+
+    def inertia_tangents(self, q, qdot, qddot):
+        """Derivatives (6, 6 each) of :meth:`inertia_load` in qddot, qdot and q (central
+        differences; the load is linear in qddot)."""
+        q, qdot, qddot = (np.asarray(x, float) for x in (q, qdot, qddot))
+        out = []
+        for which in range(3):
+            state = [q, qdot, qddot]
+            step = 1e-6 * (1 + np.max(np.abs(state[which])))
+            D = np.empty((6, 6))
+            for k, e in enumerate(np.eye(6)):
+                plus, minus = list(state), list(state)
+                plus[which], minus[which] = state[which] + step * e, state[which] - step * e
+                D[:, k] = (self.inertia_load(*plus) - self.inertia_load(*minus)) / (2 * step)
+            out.append(D)
+        by_q, by_qdot, by_qddot = out
+        return by_qddot, by_qdot, by_q
 
     def _central(self, q, qdot, t):
         """dF/dq and dF/dqdot (6, 6) by central differences (the loads are smooth:
@@ -297,6 +342,8 @@ class PinLoad(BodyLoad):
     c = 2 sqrt(k m) (its mode critically damped). motion(t) -> (d, d'): the pin's
     displacement (m) and velocity (m/s) from where it starts, or None (fixed)."""
 
+    frame_aware = True  # it reads the reference point's translation only
+
     def __init__(self, mass, length, *, g=9.81, motion=None, body=0):
         self.stiffness = spring_weight(mass, g) / (PIN_DEFLECTION * length)  # N/m
         self.damping = 2 * math.sqrt(self.stiffness * mass)  # N s/m
@@ -321,6 +368,8 @@ class SpinLoad(BodyLoad):
     t0 and the least rotation is undefined (no load of an axisymmetric rod drives the
     spin: the spring only keeps the statics regular)."""
 
+    frame_aware = True  # the attitude from self.body_motion: re-based frames included
+
     def __init__(self, a, b, stiffness, *, body=0):
         a, b, length = _axis(a, b, "spin")
         self.a, self.t0 = a, (b - a) / length
@@ -344,16 +393,16 @@ class SpinLoad(BodyLoad):
 
     def spin(self, q) -> float:
         """psi (rad) of body DOFs q (0 where the rod points opposite to t0)."""
-        R = rotation_and_slopes(np.asarray(q, float)[3:])[0]
+        R = self.body_motion(np.asarray(q, float)).rotation
         return self._spin(R @ self.t0, R @ self.n0)
 
     def forces(self, q, qdot, t):
-        q = np.asarray(q, float)
-        R = rotation_and_slopes(q[3:])[0]
+        motion = self.body_motion(np.asarray(q, float), qdot)
+        R = motion.rotation
         axis, n = R @ self.t0, R @ self.n0
         fade = 0.5 * (1 + float(self.t0 @ axis))
         f = -self.stiffness * fade * self._spin(axis, n) * _cross(axis, n)  # n x f = -k' psi t
-        _, J = attachment_state(q, self.points)
+        _, J = motion.points(self.points)
         return (J[:3] - J[3:]).T @ f
 
     def _central(self, q, qdot, t):

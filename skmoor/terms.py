@@ -11,6 +11,9 @@ N or N m), and its derivatives with respect to the displacements and to the velo
   DOFs ``LineSet.element_dofs``);
 - on a free point (``"points"``, index ``term.point``): u, v, R (3,), K, C (3, 3);
 - on a dynamic body (``"bodies"``, index ``term.body``): q, qdot, R (6,), K, C (6, 6);
+  a body term that needs the attitude or the angular velocity takes them from
+  ``term.body_motion(q, qdot)`` (:mod:`skmoor.body_motion`) and sets ``frame_aware = True``
+  (an 'exact' body re-bases its angles only when all its terms do).
 - on two dynamic bodies (``"body pairs"``, indices ``term.bodies``, a joint such as
   :class:`~skmoor.joints.BodyPin`): both bodies' DOFs one after the other, q, qdot,
   R (12,), K, C (12, 12); no mass.
@@ -48,13 +51,30 @@ class Term:
 
     acts_on = "lines"
     lines = None
+    # a body term that reads its body's attitude only through :meth:`body_motion` (never off
+    # q[3:]) lets an 'exact' body re-base its angles (System.rebase)
+    frame_aware = False
+    _system = None
 
     def bind(self, system):
-        """Attach to a System's LineSet (line terms; others need nothing)."""
+        """Attach to a System: a line term to its LineSet, a body term to the body's
+        kinematics (:meth:`body_motion`)."""
         if self.acts_on == "lines":
             if self.lines is not None and self.lines is not system.lines:
                 raise ValueError(f"{type(self).__name__}: built for another LineSet")
             self.lines = system.lines
+        elif self.acts_on == "bodies":
+            self._system = system
+
+    def body_motion(self, q, qdot=None):
+        """A body term's :class:`~skmoor.body_motion.BodyMotion` at (q, qdot): the pose,
+        rotation and angular velocity of its body, re-based frame included (a term not
+        in a System: the small-rotation reading of q about the origin)."""
+        if self._system is None:
+            from .body_motion import BodyMotion
+
+            return BodyMotion(q, qdot)
+        return self._system.body_motion(q, qdot, self.body)
 
     def add_to(self, u, v, t, R, K=None, C=None):
         raise NotImplementedError
@@ -643,6 +663,17 @@ class _PointwiseLoad(Term):
         if self.added_mass is not None and self.added_mass.shape not in ((n, n), ()):
             raise ValueError(f"{type(self).__name__} added_mass: need a ({n}, {n}) matrix, "
                              f"got {self.added_mass.shape}")
+
+    def __copy__(self):
+        """A copy whose load and tangent, where they are methods of this term, are the
+        copy's own (a copy joins its own System: :meth:`body_motion` reads that one)."""
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        for name in ("load", "tangent"):
+            method = getattr(self, name)
+            if getattr(method, "__self__", None) is self:
+                setattr(new, name, getattr(new, method.__name__))
+        return new
 
     def add_to(self, u, v, t, R, K=None, C=None):
         F = np.asarray(self.load(u, v, t), float)

@@ -127,8 +127,10 @@ def test_rebase_keeps_the_pose_the_line_ends_and_the_loads():
     assert np.allclose(system.full_displacement(x), u0, atol=1e-14)
 
 
-def test_a_body_with_terms_of_its_own_is_not_rebased():
-    """Its terms read the angles from the global frame: the re-base leaves it alone."""
+def test_a_body_with_a_user_body_load_term_is_not_rebased():
+    """A user's BodyLoad reads q as it comes (not frame-aware): the re-base leaves the body
+    alone (it stops at the lock with the error that says so; tests/test_rebased_body_terms.py
+    has the frame-aware terms)."""
     system = tethered_body()
     x = np.zeros(system.n)
     x[-2] = np.radians(70)
