@@ -4,7 +4,9 @@ Each stage runs in a fresh interpreter (best of ``--repeats``), so that nothing 
 in memory; numba's compiled machine code is cached on disk (as after an install):
 
 - python: the interpreter alone (``python -c pass``);
-- stack: numpy, scipy.sparse, scipy.linalg, numba and scikit-fem imported, skmoor's floor;
+- design stack: numpy, scipy.sparse and scikit-fem imported (the packages the design
+  card binds the project to, before anything is computed);
+- stack: with scipy.linalg and numba, skmoor's floor;
 - import skmoor: the package on top of its stack;
 - build: ``skmoor.build(skmoor.paper_case())`` (the case's validation, the lines, the
   System; the first call of a compiled kernel loads numba's typing context and its
@@ -30,6 +32,7 @@ from pathlib import Path
 STACK = "import numpy, scipy.sparse, scipy.linalg, numba, skfem"
 STAGES = {
     "python": "pass",
+    "design stack": "import numpy, scipy.sparse, skfem",
     "stack": STACK,
     "import skmoor": "import skmoor",
     "build": "import skmoor; skmoor.build(skmoor.paper_case())",
@@ -96,7 +99,9 @@ def main(argv=None):
         previous = name
     floor = times["stack"] - times["python"]
     own = times["statics"] - times["stack"]
-    print(f"\nthe stack's import (numpy, scipy, numba, scikit-fem): {floor:.3f} s")
+    print(f"\nnumpy + scipy.sparse + scikit-fem alone:              "
+          f"{times['design stack'] - times['python']:.3f} s")
+    print(f"the stack's import (numpy, scipy, numba, scikit-fem): {floor:.3f} s")
     print(f"skmoor's own (import + build + statics on top):    {own:.3f} s")
     print(f"import + build + statics, all:                      "
           f"{times['statics'] - times['python']:.3f} s")
