@@ -38,8 +38,9 @@ from validate_sea import (check_bed_damping, check_box_in_regular_waves,
                           check_retardation_kernel, check_volturnus_static,
                           check_wavekin3_record, check_wavekin7_against_moordyn)
 from validate_structures import (check_beams_euler_bernoulli, check_floating_spar_rod,
-                                 check_free_spin, check_large_roll, check_lowe_langley_jumper,
-                                 check_moordyn_beam_decks, check_pinned_rod_pendulum,
+                                 check_free_spin, check_large_roll, check_lazy_wave,
+                                 check_lowe_langley_jumper, check_moordyn_beam_decks,
+                                 check_pendulum_on_a_free_body, check_pinned_rod_pendulum,
                                  check_rising_rods, check_squat_spar_periods,
                                  check_symmetric_top)
 
@@ -526,9 +527,11 @@ CHECKS = [
     ("Bending", check_beams_euler_bernoulli, True),
     ("Bending", check_moordyn_beam_decks, True),
     ("Bending", check_lowe_langley_jumper, True),
+    ("Bending", check_lazy_wave, False),
     ("Rods", check_rising_rods, True),
     ("Rods", check_pinned_rod_pendulum, False),
     ("Rods", check_floating_spar_rod, False),
+    ("Rods", check_pendulum_on_a_free_body, True),
     ("Rigid bodies", check_squat_spar_periods, False),
     ("Rigid bodies", check_free_spin, False),
     ("Rigid bodies", check_symmetric_top, False),

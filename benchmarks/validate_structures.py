@@ -259,3 +259,66 @@ def check_large_roll():
     return Row("box released at 30 deg roll, 12 s: largest roll difference / 30 deg", 0.0,
                "solve_ivp of heave and roll with the waterline-clipped section",
                float(np.abs(roll - reference.sol(t)[1]).max() / roll0), 1e-2, "abs")
+
+
+LOZON = "OrcaFlex 11.6d (Lozon et al. 2025; CableDyn's VALIDATION.md, case L3-5)"
+
+
+def check_lazy_wave(elements=256):
+    """examples/09_lazy_wave.py: the Lozon 80 m lazy-wave power cable (three bending lines
+    joined smoothly) in its static state: hang-off tension and peak curvature against the
+    published OrcaFlex numbers and CableDyn run side by side on the same mesh."""
+    import pytest
+    from test_lazy_wave import cabledyn_static, load_example
+
+    with tempfile.TemporaryDirectory() as workdir, pytest.MonkeyPatch.context() as patch:
+        ex = load_example(patch, Path(workdir), elements)
+        tension, peak = ex.hang_off_tension, float(ex.curvature.max())
+        rows = [Row("lazy-wave cable (80 m): hang-off tension", 9.32e3, LOZON, tension,
+                    1e-3, unit="N"),
+                Row("lazy-wave cable (80 m): peak curvature", 0.0968, LOZON, peak, 5e-3,
+                    unit="1/m")]
+        try:
+            import cabledyn  # noqa: F401
+        except ImportError:
+            return rows
+        T_cd, kappa_cd, _ = cabledyn_static(ex, elements, Path(workdir))
+        version = f"CableDyn {cabledyn.__version__}" if hasattr(cabledyn, "__version__") \
+            else "CableDyn"
+        return rows + [
+            Row("lazy-wave cable: hang-off tension", T_cd, f"{version}, run side by side",
+                tension, 1e-4, unit="N"),
+            Row("lazy-wave cable: peak curvature (mid-points vs CableDyn's nodes)",
+                float(np.max(kappa_cd)), f"{version}, run side by side", peak, 5e-3,
+                unit="1/m")]
+
+
+def check_pendulum_on_a_free_body():
+    """tests/decks/rods/pendulum_on_a_free_body.dat: a buoyant rod pinned to a free body
+    (skmoor.joints.BodyPin), 2 deg off the vertical: the swing's period with the
+    carrier's recoil."""
+    import skmoor
+
+    deck = Path(__file__).parents[1] / "tests" / "decks" / "rods" / "pendulum_on_a_free_body.dat"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = skmoor.simulate(skmoor.build(deck), duration=5.5, dt=0.0125,
+                            output_interval=0.0125, start="given", progress=False)
+    G, RHO, L, d, mu = 9.80665, 1025.0, 4.0, 0.5, 100.0
+    m, lift = mu * L, RHO * np.pi * d ** 2 / 4 * L
+    I_A = m * (L ** 2 / 3 + (d / 2) ** 2 / 4)
+    I_eff = I_A - m ** 2 * (L / 2) ** 2 / lift  # M + m = the lift: neutrally buoyant
+    w = np.sqrt((lift - m) * G * L / 2 / I_eff)
+
+    def track(name):
+        i = r.point_names.index(name)
+        return r.point_reference[i] + r.point_displacement[:, i]
+
+    x = track("rod1.B")[:, 0] - track("rod1.A")[:, 0]
+    k = np.flatnonzero(np.sign(x[:-1]) * np.sign(x[1:]) < 0)
+    upright = r.t[k] - x[k] * (r.t[k + 1] - r.t[k]) / (x[k + 1] - x[k])
+    return Row("rod pinned to a free body, 2 deg swing: period",
+               4 * ellipk(np.sin(np.radians(1.0)) ** 2) / w,
+               "pendulum on a free carrier: w^2 = (rho V - m) g L/2 / I_eff, "
+               "I_eff = I_A - m^2 (L/2)^2 / (M + m)",
+               float(2 * np.mean(np.diff(upright))), 1e-3, unit="s")
