@@ -182,9 +182,11 @@ class CompiledStep:
         key = tuple(id(a) for part in (cable, hydro, bed) for a in part)
         if self._terms_cache[0] != key:
             arrays = (_contiguous(cable), _contiguous(hydro), _contiguous(bed))
-            # kept while the kernels hold these very arrays, unless a conversion copied one
-            # (a change in place would not show in the copy)
-            same = all(a is b for given, used in zip((cable, hydro, bed), arrays)
+            # kept while the kernels hold these very arrays, unless a conversion copied a
+            # float one (a change in place would not show in the copy; index arrays are
+            # the mesh's, never changed)
+            same = all(a is b or a.dtype.kind in "iub"
+                       for given, used in zip((cable, hydro, bed), arrays)
                        for a, b in zip(given, used) if isinstance(a, np.ndarray))
             self._terms_cache = (key if same else None, arrays)
         cable, hydro, bed = self._terms_cache[1]

@@ -538,18 +538,19 @@ class _Recorder:
     def _check_blow_up(self, state, strain):
         """A DivergenceError when a line stretches beyond BLOWN_UP_STRAIN or its state is
         not finite: Newton can converge on every step of a run that has blown up."""
-        worst = int(np.argmax(strain)) if len(strain) else 0
-        if len(strain) and (not np.all(np.isfinite(strain)) or strain[worst] > BLOWN_UP_STRAIN):
-            lines = self.model.lines
-            line = lines.lines[int(lines.line_of_cell[worst])].name
-            what = ("a line's state is not finite" if not np.all(np.isfinite(strain)) else
-                    f"line {line!r} stretched by {strain[worst]:.0%} (element {worst}), more "
-                    "than any mooring material: the solution has blown up")
-            raise DivergenceError(
-                f"time integration stopped at t = {state.t:.6g} s (step {state.step}): {what}. "
-                "Try a smaller time step, more damping (generalized-alpha with rho_inf < 1, "
-                "the lines' drag) or check the loads and the motion for a jump.",
-                state.t, state.step)
+        if not len(strain) or strain.max() <= BLOWN_UP_STRAIN:  # (False for a NaN too)
+            return
+        worst = int(np.argmax(strain))
+        lines = self.model.lines
+        line = lines.lines[int(lines.line_of_cell[worst])].name
+        what = ("a line's state is not finite" if not np.all(np.isfinite(strain)) else
+                f"line {line!r} stretched by {strain[worst]:.0%} (element {worst}), more "
+                "than any mooring material: the solution has blown up")
+        raise DivergenceError(
+            f"time integration stopped at t = {state.t:.6g} s (step {state.step}): {what}. "
+            "Try a smaller time step, more damping (generalized-alpha with rho_inf < 1, "
+            "the lines' drag) or check the loads and the motion for a jump.",
+            state.t, state.step)
 
     def results(self, meta) -> Results:
         r, model = {k: np.array(v) for k, v in self.rows.items()}, self.model
