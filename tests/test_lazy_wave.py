@@ -30,11 +30,9 @@ def load_example(monkeypatch, tmp_path, elements):
     return module
 
 
-def cabledyn_static(ex, elements, workdir):
-    """(hang-off tension N, curvature at the nodes 1/m, node positions (n, 3) m) of the
-    example's cable in CableDyn (its static initialisation, TMax = 0), the sections
-    meshed as skmoor's."""
-    cabledyn = pytest.importorskip("cabledyn")
+def cabledyn_deck(ex, elements, workdir, options=OPTIONS):
+    """Path of a CableDyn deck of the example's cable (hang-off 'Coupled'), the sections
+    meshed as skmoor's; options: the deck's OPTIONS rows."""
     network = ex.lazy_wave(elements)
     types = {}
     for line in network.lines:
@@ -50,11 +48,19 @@ def cabledyn_static(ex, elements, workdir):
         "1 Coupled {} {} {}".format(*ex.HANG_OFF), "2 Fixed {} {} {}".format(*ex.ANCHOR),
         "--- LINES ---", "ID NodeA NodeB Outputs", "(-) (-) (-) (-)", "1 1 2 -",
         "--- SECTIONS ---", "LineID LineType Length NumSegs", "(-) (-) (m) (-)", *sections,
-        "--- OPTIONS ---", OPTIONS.rstrip(), "--- OUTPUTS ---", '"FairTen1"',
+        "--- OPTIONS ---", options.rstrip(), "--- OUTPUTS ---", '"FairTen1"',
         "--- need this line ---", ""])
     path = workdir / "lazy_wave_cabledyn.dat"
     path.write_text(deck)
-    model = cabledyn.CableDyn(str(path))
+    return path
+
+
+def cabledyn_static(ex, elements, workdir):
+    """(hang-off tension N, curvature at the nodes 1/m, node positions (n, 3) m) of the
+    example's cable in CableDyn (its static initialisation, TMax = 0), the sections
+    meshed as skmoor's."""
+    cabledyn = pytest.importorskip("cabledyn")
+    model = cabledyn.CableDyn(str(cabledyn_deck(ex, elements, workdir)))
     try:
         line = model.line(1)
         return (float(line.fairlead_tension()), np.asarray(line.curvature()),
