@@ -30,14 +30,15 @@ def load_example(monkeypatch, tmp_path, elements):
     return module
 
 
-def cabledyn_deck(ex, elements, workdir, options=OPTIONS):
+def cabledyn_deck(ex, elements, workdir, options=OPTIONS, coefficients="0 0 0 0"):
     """Path of a CableDyn deck of the example's cable (hang-off 'Coupled'), the sections
-    meshed as skmoor's; options: the deck's OPTIONS rows."""
+    meshed as skmoor's; options: the deck's OPTIONS rows; coefficients: its line types'
+    Cd_n Cd_t Ca_n Ca_t."""
     network = ex.lazy_wave(elements)
     types = {}
     for line in network.lines:
         types.setdefault((line.line_type.diameter, line.line_type.mass), f"type{len(types) + 1}")
-    rows = [f"{name} {d} {m} 4.69e8 0.0 1.99e4 0 0 0 0" for (d, m), name in types.items()]
+    rows = [f"{name} {d} {m} 4.69e8 0.0 1.99e4 {coefficients}" for (d, m), name in types.items()]
     sections = [f"1 {types[(ln.line_type.diameter, ln.line_type.mass)]} {ln.length} {ln.n_elements}"
                 for ln in network.lines]
     deck = "\n".join([
