@@ -10,6 +10,9 @@ joint carries the bending moment). The first guess is the catenary network (EI =
 the buoyant section's catenary upside down: the junctions settled where the three
 balance), from which the static solve finds the lazy wave directly. Published: hang-off tension 9.32 kN, peak curvature
 0.0968 1/m (OrcaFlex 11.6d, Lozon et al. 2025; CableDyn's VALIDATION.md, case L3-5).
+Heaved at the hang-off (a "coupled" point), start the motion from rest with
+``skmoor.fade_in``: a sinusoid from t = 0 is a velocity jump (docs/bending.md,
+tests/test_lazy_wave_dynamics.py).
 
 Run: python examples/09_lazy_wave.py   (prints the mesh convergence of both numbers,
 writes docs/images/lazy_wave.png: the shape and the curvature along the arc)

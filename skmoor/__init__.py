@@ -31,7 +31,7 @@ from .line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
 from .model import Model, build, from_network
 from .network import Body, MooringLine, Network, Point
 from .modes import eigenmodes
-from .motion import Motion
+from .motion import Motion, fade_in
 from . import bem
 from .bem import Hydrodynamics
 from .radiation import PotentialFlow
@@ -57,5 +57,5 @@ __all__ = [
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
     "from_network", "mooring_stiffness", "Ends", "PointMass", "bem", "Hydrodynamics",
-    "PotentialFlow", "rods", "Motion",
+    "PotentialFlow", "rods", "Motion", "fade_in",
 ]

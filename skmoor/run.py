@@ -37,7 +37,8 @@ OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png"
 
 
 class ResolutionWarning(UserWarning):
-    """A time step too coarse for the periods the run claims to resolve."""
+    """A time step too coarse for the periods the run claims to resolve, or a prescribed
+    motion that starts with a velocity jump."""
 
 
 @dataclass
@@ -210,6 +211,35 @@ def resolution_notes(model: Model, eq: Equilibrium, dt: float) -> list:
                      f"generalized-alpha with rho_inf <= {BED_RHO_INF:g} "
                      "(model.solver.update(scheme='generalized-alpha', rho_inf=0.5)) or a "
                      f"smaller step")
+    return notes + start_shock_notes(model.system, eq.x)
+
+
+SHOCK_SHARE = 0.1  # an axial shock above this share of an end's tension is noted
+
+
+def start_shock_notes(system, x) -> list:
+    """Warnings for prescribed ends that start moving at t = 0 while the lines rest at x:
+    such an end sends an axial shock of about v sqrt(EA m) (N; v the end's speed, m/s) into
+    its line; noted where that exceeds SHOCK_SHARE of the end's static tension."""
+    if not getattr(system, "_has_prescribed", False):
+        return []
+    _, rates = system._prescribed(0.0)  # (n, 3) m/s, in the order of the prescribed slots
+    u = system.full_displacement(x, 0.0)
+    on_b, on_a = system.end_forces(u, None, 0.0)
+    notes = []
+    for k, line in enumerate(system.lines.lines):
+        for end, force in ((system.ends.a[k], on_a[k]), (system.ends.b[k], on_b[k])):
+            if end[0] != "prescribed":
+                continue
+            speed = float(np.linalg.norm(rates[list(system._prescribed_slots).index(end[1])]))
+            shock = speed * math.sqrt(line.line_type.EA * line.line_type.mass)
+            tension = float(np.linalg.norm(force))
+            if shock > SHOCK_SHARE * tension:
+                notes.append(f"line {line.name!r}: its prescribed end starts at {speed:.3g} m/s "
+                             f"from rest, an axial shock of about v sqrt(EA m) = "
+                             f"{shock / 1e3:.4g} kN on its {tension / 1e3:.4g} kN tension that "
+                             "the run does not resolve; start the motion from rest: "
+                             "skmoor.fade_in(motion, ramp) with a ramp of a period or more")
     return notes
 
 

@@ -30,16 +30,15 @@ def load_example(monkeypatch, tmp_path, elements):
     return module
 
 
-def cabledyn_static(ex, elements, workdir):
-    """(hang-off tension N, curvature at the nodes 1/m, node positions (n, 3) m) of the
-    example's cable in CableDyn (its static initialisation, TMax = 0), the sections
-    meshed as skmoor's."""
-    cabledyn = pytest.importorskip("cabledyn")
+def cabledyn_deck(ex, elements, workdir, options=OPTIONS, coefficients="0 0 0 0"):
+    """Path of a CableDyn deck of the example's cable (hang-off 'Coupled'), the sections
+    meshed as skmoor's; options: the deck's OPTIONS rows; coefficients: its line types'
+    Cd_n Cd_t Ca_n Ca_t."""
     network = ex.lazy_wave(elements)
     types = {}
     for line in network.lines:
         types.setdefault((line.line_type.diameter, line.line_type.mass), f"type{len(types) + 1}")
-    rows = [f"{name} {d} {m} 4.69e8 0.0 1.99e4 0 0 0 0" for (d, m), name in types.items()]
+    rows = [f"{name} {d} {m} 4.69e8 0.0 1.99e4 {coefficients}" for (d, m), name in types.items()]
     sections = [f"1 {types[(ln.line_type.diameter, ln.line_type.mass)]} {ln.length} {ln.n_elements}"
                 for ln in network.lines]
     deck = "\n".join([
@@ -50,11 +49,19 @@ def cabledyn_static(ex, elements, workdir):
         "1 Coupled {} {} {}".format(*ex.HANG_OFF), "2 Fixed {} {} {}".format(*ex.ANCHOR),
         "--- LINES ---", "ID NodeA NodeB Outputs", "(-) (-) (-) (-)", "1 1 2 -",
         "--- SECTIONS ---", "LineID LineType Length NumSegs", "(-) (-) (m) (-)", *sections,
-        "--- OPTIONS ---", OPTIONS.rstrip(), "--- OUTPUTS ---", '"FairTen1"',
+        "--- OPTIONS ---", options.rstrip(), "--- OUTPUTS ---", '"FairTen1"',
         "--- need this line ---", ""])
     path = workdir / "lazy_wave_cabledyn.dat"
     path.write_text(deck)
-    model = cabledyn.CableDyn(str(path))
+    return path
+
+
+def cabledyn_static(ex, elements, workdir):
+    """(hang-off tension N, curvature at the nodes 1/m, node positions (n, 3) m) of the
+    example's cable in CableDyn (its static initialisation, TMax = 0), the sections
+    meshed as skmoor's."""
+    cabledyn = pytest.importorskip("cabledyn")
+    model = cabledyn.CableDyn(str(cabledyn_deck(ex, elements, workdir)))
     try:
         line = model.line(1)
         return (float(line.fairlead_tension()), np.asarray(line.curvature()),
