@@ -78,7 +78,7 @@ def unrestrained(model: Model, x=None) -> list:
     _, K, _ = system.residual(x, layout="dense")
     K = 0.5 * (K + K.T)
     w, V = np.linalg.eigh(K)
-    scale = max(np.abs(w).max(), 1.0)
+    scale = max(np.abs(w).max(initial=0.0), 1.0)
     names = [""] * system.n
     free = iter(p.name for p in network.points if p.kind == "free")
     for columns in system.point_columns:
@@ -108,7 +108,8 @@ def unrestrained(model: Model, x=None) -> list:
 
 def _pretension(system) -> float:
     """A tension of the order of the heaviest line's weight (N), for starting Newton."""
-    return max(abs(line.line_type.weight) * line.length for line in system.lines.lines) or 1.0
+    return max((abs(line.line_type.weight) * line.length for line in system.lines.lines),
+               default=0.0) or 1.0
 
 
 def steady_water(model: Model):
