@@ -23,31 +23,22 @@ class EmptyMesh:
 
 class NoLines:
     """The LineSet of a network without lines: ndofs = 0, every per-node and per-element
-    array empty, zero loads and mass."""
+    array empty, no load, no mass."""
 
     hermite = False
     damped = False
-    element = "p1"
-    block_size = 6
     tension_only = True
     has_static_laws = False
-    mesh = EmptyMesh()
-    basis = None
+    ndofs = 0
+    slope_dofs = None
 
     def __init__(self):
         self.lines = []
+        self.mesh = EmptyMesh()
         self.points = np.zeros((0, 3))  # m
         self.nodal_dofs = np.zeros((0, 3), int)
-        self.slope_dofs = None
-        self.element_dofs = np.zeros((0, 6), int)
         self.anchor_nodes = self.fairlead_nodes = np.zeros(0, int)
         self.line_of_cell = np.zeros(0, int)
-        self.element_lengths = np.zeros(0)  # m
-        self.reference_dofs = np.zeros(0)
-        self.fields = self.cable_fields = {}
-        self.bandwidth = 0
-
-    ndofs = 0
 
     def weight_load(self):
         return np.zeros(0)
@@ -61,33 +52,18 @@ class NoLines:
     def element_tension_and_strain(self, u, ud=None):
         return np.zeros(0), np.zeros(0)
 
-    def element_tension(self, u, ud=None):
-        return np.zeros(0)
-
-    def element_strain(self, u):
-        return np.zeros(0)
-
-    def curvature(self, u):
-        return np.zeros(0)
-
-    def bending_moment(self, u):
-        return np.zeros(0)
-
     def use_static_laws(self, static: bool):
-        pass
+        """No line laws to switch (as LineSet.use_static_laws)."""
 
     def carry_compression(self, fraction: float):
-        pass
-
-    def set_static_state(self, u):
-        pass
+        """No line to let compression through (as LineSet.carry_compression)."""
 
 
 class EmptyPattern:
     """The element pattern of no elements on ``ndofs`` unknowns: every assembly a zero
     matrix of that size."""
 
-    nel, nloc, nnz, bandwidth = 0, 6, 0, 0
+    nel, nloc, bandwidth = 0, 6, 0
 
     def __init__(self, ndofs: int = 0):
         self.ndofs = ndofs
@@ -104,11 +80,8 @@ class EmptyPattern:
 class NoLineKernel:
     """The cable kernel of no lines: adds nothing."""
 
-    def __init__(self, ndofs: int = 0):
-        self.pattern = EmptyPattern(ndofs)
+    def __init__(self):
+        self.pattern = EmptyPattern()
 
     def add_to(self, u, ud, R, Ke=None, Ce=None):
-        pass
-
-    def element_tension_and_strain(self, u, ud=None):
-        return np.zeros(0), np.zeros(0)
+        """Nothing to add (as CableKernel.add_to)."""
