@@ -32,9 +32,9 @@ from . import body as rigid
 from .banded import LAYOUTS, as_layout
 from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
-from .no_lines import EmptyPattern, NoLineKernel
 from .large_rotations import (added_mass_load, added_mass_tangents, generalized_load,
                               rate_matrix, zyx_angles)
+from .no_lines import EmptyPattern, NoLineKernel
 from .terms import Term
 
 REBASE_PITCH = math.radians(60.0)  # |ry| past which an 'exact' body's angles are re-based

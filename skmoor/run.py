@@ -709,8 +709,9 @@ class OutputWriter:
         if len(rows["t"]) == start:
             return
         points = np.array(rows["points"][start:]).reshape(len(rows["t"]) - start, -1, 3)
+        tension = rows["tension"][start:]  # no lines: no tension, 0
         table = _timeseries_table(np.array(rows["t"][start:]), np.array(rows["bodies"][start:]),
-                                  np.array([np.max(x) if len(x) else 0.0 for x in rows["tension"][start:]]),
+                                  np.array([np.max(x) if len(x) else 0.0 for x in tension]),
                                   np.array(rows["fair"][start:]), np.array(rows["anchor"][start:]),
                                   points[:, self.free])
         _write_rows(self.folder / "timeseries.csv", table, self.header if start == 0 else None)
