@@ -34,6 +34,7 @@ from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
 from .large_rotations import (added_mass_load, added_mass_tangents, generalized_load,
                               rate_matrix, zyx_angles)
+from .no_lines import EmptyPattern, NoLineKernel
 from .terms import Term
 
 REBASE_PITCH = math.radians(60.0)  # |ry| past which an 'exact' body's angles are re-based
@@ -173,7 +174,9 @@ class System:
         self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
                            else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
         self._terms = {"lines": [], "points": [], "bodies": [], "body pairs": []}
-        if lines.hermite:
+        if not lines.lines:
+            self.kernel = NoLineKernel()
+        elif lines.hermite:
             from .bending import HermiteKernel
             self.kernel = HermiteKernel(lines)
         else:
@@ -193,7 +196,8 @@ class System:
         self._end_masses = (self.M_lines.diagonal()[self.body_end_dofs[:, 0]]
                             if lumped_mass and not lines.hermite else None)
         self._carrying = {}  # exact bodies with their line-end masses (_carrying_body)
-        self._free_pattern = None if self.nb else ElementPattern(lines, position=self._position)
+        self._free_pattern = (None if self.nb else EmptyPattern(self.nf) if not lines.lines
+                              else ElementPattern(lines, position=self._position))
         self._committing = []  # terms with a history (commit(t, u, v))
         for term in terms:
             self._join(term)

@@ -376,10 +376,6 @@ def read_deck(path) -> Deck:
         _option(entry, deck)
     for entry in entries.get("OUTPUTS", []):
         deck.outputs.extend(entry.words)
-    if not deck.lines:
-        raise ValueError(f"{deck.source} line {len(text)}: no LINES section with at least "
-                         "one line: skmoor models moorings, a deck of bodies and points "
-                         "alone is not supported")
     return deck
 
 

@@ -318,7 +318,7 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
                           motion=_network_motion(deck, motion), surface=True)
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
-    if seabed:
+    if seabed and lines:  # the lines' bed (the rods' is their own, above)
         network.seabed = _seabed(deck, network, bathymetry)
     dt_out = deck.option("dtOut") or None
     settings = {"solver": {"scheme": "newmark", "duration": 60.0,

@@ -352,12 +352,12 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
         if A is not None:
             matrix.update(A)
         dx = matrix.solve(-B)
-        size = np.max(np.abs(dx))
+        size = np.max(np.abs(dx), initial=0.0)
         if not math.isfinite(size):
             return False, it
         x_new = x1 + dx
         if it == 1:  # the step's change, to scale the tolerance
-            scale = np.max(np.abs(x_new - x0))
+            scale = np.max(np.abs(x_new - x0), initial=0.0)
         if size <= tol * scale + 1e-12:
             return x_new, it
         if not full:

@@ -37,6 +37,7 @@ from .hydro import line_terms
 from .surface import SurfaceTerm
 from .laws import Engineering
 from .line import Line, LineSet, LineType
+from .no_lines import NoLines
 from .seabed import seabed_term
 
 _LINEAR = Engineering(tension_only=False)
@@ -514,17 +515,17 @@ def build_system(network: Network, positions: dict | None = None):
                                                     lines[k].end_tangents)
     smooth = [_smooth_joint(network, p, lines) for p in network.points if p.smooth]
     ends = Ends(ends_a, ends_b, clamped=clamped, smooth=smooth)
-    lineset = LineSet(lines, law=network.strain_law)
+    lineset = LineSet(lines, law=network.strain_law) if lines else NoLines()
     motion = _slot_motion(network, slots) if slots else None
     masses = [PointMass(p.mass, p.volume, p.CdA, p.Ca, rho=network.rho, g=network.g)
               for p in free]
-    terms = []
+    terms = []  # on the lines: sea bed, hydrodynamics, free surface
     if network.seabed is not None:
         terms.append(seabed_term(lineset, network.seabed, path=network.form_path))
     if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
         terms += line_terms(lineset, network.sea, path=network.form_path)
-    if network.surface:
+    if network.surface and lines:
         terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,
                                  path=network.form_path))
     for k, body in enumerate(dynamic):

@@ -100,8 +100,8 @@ class Results:
 
     @property
     def max_tension(self) -> np.ndarray:
-        """(nt,) largest element tension over all lines at each time, N."""
-        return self.tension.max(axis=1)
+        """(nt,) largest element tension over all lines at each time, N (0 without lines)."""
+        return self.tension.max(axis=1) if self.tension.shape[1] else np.zeros(len(self.t))
 
     def positions(self, i: int) -> np.ndarray:
         """(nnodes, 3) deformed node positions at sample ``i``, m."""

@@ -79,7 +79,7 @@ def unrestrained(model: Model, x=None) -> list:
     _, K, _ = system.residual(x, layout="dense")
     K = 0.5 * (K + K.T)
     w, V = np.linalg.eigh(K)
-    scale = max(np.abs(w).max(), 1.0)
+    scale = max(np.abs(w).max(initial=0.0), 1.0)
     names = [""] * system.n
     free = iter(p.name for p in network.points if p.kind == "free")
     for columns in system.point_columns:
@@ -109,7 +109,8 @@ def unrestrained(model: Model, x=None) -> list:
 
 def _pretension(system) -> float:
     """A tension of the order of the heaviest line's weight (N), for starting Newton."""
-    return max(abs(line.line_type.weight) * line.length for line in system.lines.lines) or 1.0
+    return max((abs(line.line_type.weight) * line.length for line in system.lines.lines),
+               default=0.0) or 1.0
 
 
 def steady_water(model: Model):
@@ -739,8 +740,9 @@ class OutputWriter:
         if len(rows["t"]) == start:
             return
         points = np.array(rows["points"][start:]).reshape(len(rows["t"]) - start, -1, 3)
+        tension = rows["tension"][start:]  # no lines: no tension, 0
         table = _timeseries_table(np.array(rows["t"][start:]), np.array(rows["bodies"][start:]),
-                                  np.array([np.max(x) for x in rows["tension"][start:]]),
+                                  np.array([np.max(x) if len(x) else 0.0 for x in tension]),
                                   np.array(rows["fair"][start:]), np.array(rows["anchor"][start:]),
                                   points[:, self.free])
         _write_rows(self.folder / "timeseries.csv", table, self.header if start == 0 else None)

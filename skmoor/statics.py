@@ -33,6 +33,8 @@ def newton(residual, x0, *, xtol=1e-9, maxiter=60, shift=None, shift_matrix=None
     Converged when max |dx| < xtol (m or rad) in a step without shift.
     """
     x = np.array(x0, float)
+    if x.size == 0:  # nothing free (a network of coupled objects alone)
+        return StaticSolution(x, 0, 0.0)
     R, K = residual(x)
     shift = float(shift or 0.0)
     floor = shift * 1e-6

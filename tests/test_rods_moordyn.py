@@ -4,9 +4,8 @@ The decks are read from the local mirror of MoorDyn's repository (as
 tests/test_moordyn_deck_set.py does; skipped without it) and copied into a temporary
 folder, where MoorDyn writes its log. Changes made to them, the same for both codes:
 
-    rod_tests/AddedMass.txt   a line between two fixed points far away (skmoor reads
-    RodPinnedFloating.txt     mooring decks only; it carries nothing to the rods); a
-                              second run of RodPinnedFloating with Cd 1.2, Ca 1 on 20
+    rod_tests/AddedMass.txt   as given (no lines: a network of rods alone); a
+    RodPinnedFloating.txt     second run of RodPinnedFloating with Cd 1.2, Ca 1 on 20
                               segments (MoorDyn's dtM 1e-4 s)
     RodHanging.txt            its two fixed points made Coupled and heaved 2 m at 10 s
                               (the deck as given starts from lines far off their
@@ -88,25 +87,13 @@ ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 (#)  (name)  (#)  (#)  (m)  (-)  (-)
 1  {type}  1  2  1.0  1  -
 """
-DUMMY_TYPE = """---------------------- LINE TYPES ----------------------------------
-TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
-(name)  (m)  (kg/m)  (N)  (N-s/-)  (N-m^2)  (-)  (-)  (-)  (-)
-dummy  0.01  0.1  1e6  0  0  0  0  0  0
-"""
-
-
-def deck(workdir, path, *, dummy_line=False, replace=()):
-    """A copy of MoorDyn's deck ``path`` in workdir: with a line between two fixed points
-    added before OPTIONS, and the (old, new) text replacements done."""
+def deck(workdir, path, *, replace=()):
+    """A copy of MoorDyn's deck ``path`` in workdir with the (old, new) text replacements
+    done."""
     text = MIRROR.read(path).decode()
     for old, new in replace:
         assert old in text, old
         text = text.replace(old, new)
-    if dummy_line:
-        types = re.search(r"(?m)^-+\s*LINE TYPES.*\n.*\n.*\n(\S+)", text)
-        options = re.search(r"(?m)^-+.*OPTIONS", text).start()
-        text = (text[:options] + ("" if types else DUMMY_TYPE)
-                + DUMMY_LINE.format(type=types.group(1) if types else "dummy") + text[options:])
     out = Path(workdir) / Path(path).name
     out.write_text(text)
     return out
@@ -165,7 +152,7 @@ def worst(t, series, t_md, series_md):
 def test_added_mass_rise(tmp_path):
     """rod_tests/AddedMass.txt: a buoyant horizontal rod (Ca = 1, no drag) rises from
     10 m at a = (rho V - m) g / (m + Ca rho V) in both codes."""
-    path = deck(tmp_path, "tests/Mooring/rod_tests/AddedMass.txt", dummy_line=True)
+    path = deck(tmp_path, "tests/Mooring/rod_tests/AddedMass.txt")
     t_md, ends_md, _ = run_moordyn(path, 2.3, coupling=0.01, sample=0.01)
     r = simulate(path, 2.3, 0.05)
     z = track(r, "rod1.A")[:, 2]
@@ -182,7 +169,7 @@ def test_pinned_floating(tmp_path):
     swing up through the vertical to the other side and back (no drag: conservative);
     one along x (its pitch passes 90 deg), one along y. Rod 2's period is the compound
     pendulum's at 90 deg amplitude, 2 K(1/2) / pi longer than the small-swing one."""
-    path = deck(tmp_path, "tests/Mooring/RodPinnedFloating.txt", dummy_line=True)
+    path = deck(tmp_path, "tests/Mooring/RodPinnedFloating.txt")
     t_md, ends_md, _ = run_moordyn(path, 1.3, coupling=0.01, sample=0.01, rods=(1, 2))
     r = simulate(path, 1.3, 0.005)
     for k in (1, 2):
@@ -209,7 +196,7 @@ def test_pinned_floating_with_drag(tmp_path, rotations):
     rotations rod 1 (along x) passes pitch 90 deg, the gimbal lock, re-based with its rod
     load (0.14 % of MoorDyn's range, as the small model, which is exact for a swing in
     one plane)."""
-    path = deck(tmp_path, "tests/Mooring/RodPinnedFloating.txt", dummy_line=True, replace=[
+    path = deck(tmp_path, "tests/Mooring/RodPinnedFloating.txt", replace=[
         ("0.25     10.0      0.0    0.0     0.0      0.0",
          "0.25     10.0      1.2    1.0     0.0      0.0"),
         ("-5   1         -", "-5   20        -"), ("1e-5          dtM", "1e-4          dtM")])
