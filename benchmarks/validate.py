@@ -35,13 +35,15 @@ from validate_laws import (check_curve_catenary, check_slack_and_snap,
 from validate_sea import (check_bed_damping, check_box_in_regular_waves,
                           check_paper_case_against_moordyn,
                           check_capytaine_long_waves, check_radiation_memory,
-                          check_retardation_kernel, check_volturnus_static,
+                          check_retardation_kernel, check_sea_decks_in_time,
+                          check_volturnus_static,
                           check_wavekin3_record, check_wavekin7_against_moordyn)
 from validate_structures import (check_beams_euler_bernoulli, check_floating_spar_rod,
                                  check_free_spin, check_large_roll, check_lazy_wave,
                                  check_lowe_langley_jumper, check_moordyn_beam_decks,
                                  check_pendulum_on_a_free_body, check_pinned_rod_pendulum,
-                                 check_rising_rods, check_squat_spar_periods,
+                                 check_pinned_rods_in_current, check_rising_rods,
+                                 check_squat_spar_periods,
                                  check_symmetric_top)
 
 def _number(value, unit=""):
@@ -532,6 +534,7 @@ CHECKS = [
     ("Rods", check_pinned_rod_pendulum, False),
     ("Rods", check_floating_spar_rod, False),
     ("Rods", check_pendulum_on_a_free_body, True),
+    ("Rods", check_pinned_rods_in_current, True),
     ("Rigid bodies", check_squat_spar_periods, False),
     ("Rigid bodies", check_free_spin, False),
     ("Rigid bodies", check_symmetric_top, False),
@@ -542,6 +545,7 @@ CHECKS = [
     ("Bodies in waves", check_capytaine_long_waves, False),
     ("MoorDyn's sea input", check_wavekin3_record, True),
     ("MoorDyn's sea input", check_wavekin7_against_moordyn, False),
+    ("MoorDyn's sea input", check_sea_decks_in_time, False),
     ("VolturnUS-S", check_volturnus_static, True),
 ]
 

@@ -148,6 +148,26 @@ def check_wavekin7_against_moordyn():
                MOORDYN + " (GetWavesKin)", float(worst), 1e-6, "abs", "m/s, m/s2, m")
 
 
+def check_sea_decks_in_time(names=("WaveKin1", "WaveKin2-Currents5", "SeafloorFile")):
+    """MoorDyn's sea decks (waves from a file, current grids, a bathymetry), both codes
+    started from still water, 20 s (tests/test_sea_decks_moordyn.py): over 5-20 s, the
+    offset of skmoor's end tension from MoorDyn's and the rms difference of what the water
+    does to the tension (each code's change from its own static state)."""
+    from test_sea_decks_moordyn import MIRROR, NO_MIRROR, run_deck
+
+    if MIRROR is None:
+        raise NotRun(NO_MIRROR)
+    rows = []
+    for name in names:
+        with tempfile.TemporaryDirectory() as tmp, inside(tmp), quiet():
+            offset, change = run_deck(name, Path(tmp))
+        rows += [Row(f"{name} deck, 20 s: end tension offset / MoorDyn's mean", 0.0,
+                     MOORDYN, float(offset), 1e-2, "abs"),
+                 Row(f"{name} deck: water's change of the tension, rms difference / "
+                     "MoorDyn's", 0.0, MOORDYN, float(change), 0.2, "abs")]
+    return rows
+
+
 # ------------------------------------------------------------------ sea bed, VolturnUS-S
 
 def check_bed_damping():

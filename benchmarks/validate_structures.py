@@ -322,3 +322,18 @@ def check_pendulum_on_a_free_body():
                "pendulum on a free carrier: w^2 = (rho V - m) g L/2 / I_eff, "
                "I_eff = I_A - m^2 (L/2)^2 / (M + m)",
                float(2 * np.mean(np.diff(upright))), 1e-3, unit="s")
+
+
+def check_pinned_rods_in_current():
+    """MoorDyn's RodPinnedFloating.txt (no lines): two buoyant rods pinned at one end,
+    given drag, settled in a uniform current (tests/test_no_lines_moordyn.py)."""
+    from test_no_lines_moordyn import MIRROR, NO_MIRROR, pinned_rods_in_current
+
+    if MIRROR is None:
+        raise NotRun(NO_MIRROR)
+    with tempfile.TemporaryDirectory() as workdir:
+        theta, _, _, ends = pinned_rods_in_current(workdir)
+    angle = max((np.arctan2(*(B - A)[[0, 2]]) for A, B in ends), key=lambda a: abs(a - theta))
+    return Row("pinned rods in a 1.5 m/s current: static angle from the vertical (the worse "
+               "rod)", float(theta), "moment balance about the pin: 1/2 rho Cd d (U cos a)^2 "
+               "= (rho A - m) g sin a", float(angle), 1e-6, unit="rad")

@@ -59,6 +59,31 @@ def positions(results, names, k=-1):
     return results.point_reference[i] + results.point_displacement[k, i]
 
 
+def pinned_rods_in_current(workdir):
+    """RodPinnedFloating.txt's two rods (Cd 1.2, 20 segments) settled in a 1.5 m/s current:
+    (the angle from the vertical of the moment balance by hand, rad; the model; its
+    results; each rod's end A and B at the static state)."""
+    path = deck(workdir, "tests/Mooring/RodPinnedFloating.txt", [
+        ("0.25     10.0      0.0    0.0     0.0      0.0",
+         "0.25     10.0      1.2    0.0     0.0      0.0"),
+        ("1    rod       Pinned      0     0     -5    1     0     -5   1 ",
+         "1    rod       Pinned      0     0     -5    0.6   0     -4.2 20"),
+        ("2    rod       Pinned      0     0     -5    0     1     -5   1 ",
+         "2    rod       Pinned      0     0     -5    0     0.6   -4.2 20")])
+    d, mu, rho, g, U, Cd = 0.25, 10.0, 1000.0, 9.80665, 1.5, 1.2
+    sea = skmoor.Sea(10.0, rho=rho, g=g, current=skmoor.waves.Current(U))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = skmoor.build(path, sea=sea)
+        eq = skmoor.equilibrium(model)
+        r = skmoor.simulate(model, duration=0.01, dt=0.01, eq=eq, progress=False)
+    net = (rho * np.pi * d ** 2 / 4 - mu) * g
+    theta = brentq(lambda a: 0.5 * rho * Cd * d * (U * np.cos(a)) ** 2 - net * np.sin(a),
+                   0.0, np.pi / 2)
+    ends = [positions(r, [f"rod{k}.A", f"rod{k}.B"], 0) for k in (1, 2)]
+    return theta, model, r, ends
+
+
 def test_pinned_rods_static_in_current(tmp_path):
     """RodPinnedFloating.txt's two buoyant rods, pinned at (0, 0, -5), given Cd 1.2 on 20
     segments and started tilted 37 deg from the vertical (one toward x, one toward y):
@@ -67,28 +92,11 @@ def test_pinned_rods_static_in_current(tmp_path):
     flow U cos(theta) against the net buoyancy, both uniform along the rod (arm L/2):
     1/2 rho Cd d (U cos theta)^2 = (rho pi d^2 / 4 - mu) g sin(theta). The axial drag
     acts through the pin and the rods carry no line."""
-    path = deck(tmp_path, "tests/Mooring/RodPinnedFloating.txt", [
-        ("0.25     10.0      0.0    0.0     0.0      0.0",
-         "0.25     10.0      1.2    0.0     0.0      0.0"),
-        ("1    rod       Pinned      0     0     -5    1     0     -5   1 ",
-         "1    rod       Pinned      0     0     -5    0.6   0     -4.2 20"),
-        ("2    rod       Pinned      0     0     -5    0     1     -5   1 ",
-         "2    rod       Pinned      0     0     -5    0     0.6   -4.2 20")])
-    L, d, mu, rho, g, U, Cd = 1.0, 0.25, 10.0, 1000.0, 9.80665, 1.5, 1.2
-    sea = skmoor.Sea(10.0, rho=rho, g=g, current=skmoor.waves.Current(U))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        model = skmoor.build(path, sea=sea)
-        eq = skmoor.equilibrium(model)
-        r = skmoor.simulate(model, duration=0.01, dt=0.01, eq=eq, progress=False)
+    theta, model, r, ends = pinned_rods_in_current(tmp_path)
     assert model.system.nf == 0 and r.tension.shape[1] == 0  # no line DOFs, no elements
-    net = (rho * np.pi * d ** 2 / 4 - mu) * g
-    theta = brentq(lambda a: 0.5 * rho * Cd * d * (U * np.cos(a)) ** 2 - net * np.sin(a),
-                   0.0, np.pi / 2)
     assert np.degrees(theta) == pytest.approx(35.6, abs=0.05)
-    for k in (1, 2):
-        A, B = positions(r, [f"rod{k}.A", f"rod{k}.B"], 0)
-        axis = (B - A) / L
+    for k, (A, B) in enumerate(ends, start=1):
+        axis = B - A  # the rods are 1 m long
         assert np.linalg.norm(A - [0.0, 0.0, -5.0]) < 1e-4  # on its pin (a stiff spring)
         assert abs(axis[1]) < 1e-9  # turned into the current's plane
         assert np.arctan2(axis[0], axis[2]) == pytest.approx(theta, abs=1e-9), k
