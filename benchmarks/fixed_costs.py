@@ -1,7 +1,9 @@
 """Fixed costs of a process: from the interpreter's start to the paper case's static state.
 
 Each stage runs in a fresh interpreter (best of ``--repeats``), so that nothing is cached
-in memory; numba's compiled machine code is cached on disk (as after an install):
+in memory; skmoor's bytecode and numba's compiled machine code are on disk first (as after an
+install: pip writes the bytecode; a shell with PYTHONDONTWRITEBYTECODE set, as this
+project's machines have, would otherwise compile skmoor's sources in every process):
 
 - python: the interpreter alone (``python -c pass``);
 - design stack: numpy, scipy.sparse and scikit-fem imported (the packages the design
@@ -23,6 +25,7 @@ Run: ``python benchmarks/fixed_costs.py [--repeats 5]``
 from __future__ import annotations
 
 import argparse
+import compileall
 import subprocess
 import sys
 import tempfile
@@ -88,6 +91,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as workdir:
         codes = {**STAGES, "moordyn": moordyn_code(workdir)}
+        compileall.compile_dir(ROOT / "skmoor", quiet=1)  # the bytecode, as pip writes it
         wall(codes["statics"])  # numba's disk cache written, if it is not yet
         times = best_walls(codes, args.repeats)
     moordyn = times.pop("moordyn")
