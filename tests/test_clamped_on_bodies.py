@@ -1,0 +1,124 @@
+"""Bending lines clamped on bodies that move and turn: the end tangent is R(body) t0.
+
+- a cantilever clamped on a coupled body turned by an angle a (statics): its tip
+  deflection in the body's frame is Euler-Bernoulli's w cos(a) L^4 / 8 EI, w cos(a) the
+  weight's component normal to the beam (a tangent that does not turn leaves the beam
+  along x, L sin(a) off in the body's frame; one turned the wrong way bends it the other
+  way); the reaction on the body (force and moment about the root) is the beam's weight
+  w L and the root moment w cos(a) L^2 / 2;
+- a beam clamped on a dynamic body pinned at the root (free to turn) hangs straight
+  down: the body turns until the tangent R t0 is vertical (a tangent held at t0 leaves
+  the body's attitude unrestrained);
+- the exact tangent of the reduced residual with a clamped end on a turning body
+  (Taylor test: the remainder falls as h^2).
+"""
+import numpy as np
+import pytest
+
+from skmoor.body import RigidBody
+from skmoor.laws import Engineering
+from skmoor.line import LineType
+from skmoor.network import Body, MooringLine, Network, Point, build_system
+from skmoor.rods import coupled_reaction
+from skmoor.statics import solve_static
+from skmoor.terms import BodyLoad
+
+L, EI, EA, W = 10.0, 1e8, 1e10, 100.0  # m, N m2, N, N/m: a stiff beam (deflection ~1e-4 L)
+ROOT = np.array([0.0, 0.0, -5.0])
+
+
+def beam_type(EI=EI, EA=EA):
+    return LineType(EA=EA, mass=W / 9.81, diameter=0.1, weight=W, EI=EI,
+                    law=Engineering(tension_only=False))
+
+
+class Built:
+    """What coupled_reaction reads of a model: the network and its System."""
+
+    def __init__(self, network, positions):
+        self.network = network
+        self.system, self.lines, _, _ = build_system(network, positions)
+
+
+def turned_cantilever(angle):
+    """A cantilever clamped on a coupled body at ROOT (along x as given), the body turned
+    by ``angle`` (rad) about y by the coupled motion; its tip a free point."""
+    hub = Body("hub", "coupled", ROOT)
+    points = [Point("root", "body", np.zeros(3), body="hub"),
+              Point("tip", "free", ROOT + [L, 0.0, 0.0])]
+    beam = MooringLine("beam", beam_type(), "root", "tip", L, 8, clamp_a=True)
+    network = Network(points, [beam], [hub], depth=50.0, hydro=False,
+                      motion=lambda t: np.array([0.0, 0.0, 0.0, 0.0, angle, 0.0]))
+    return Built(network, {"root": ROOT, "tip": ROOT + [L, 0.0, 0.0]})
+
+
+@pytest.mark.parametrize("degrees", [30.0, -50.0])
+def test_cantilever_on_a_turned_body(degrees):
+    a = np.radians(degrees)
+    model = turned_cantilever(a)
+    system, lines = model.system, model.lines
+    x = solve_static(system, t=0.0).x
+    u = system.full_displacement(x, 0.0)
+    tip = lines.points[-1] + u[lines.nodal_dofs[-1]] - ROOT
+    turn = np.array([[np.cos(a), 0.0, np.sin(a)], [0.0, 1.0, 0.0],
+                     [-np.sin(a), 0.0, np.cos(a)]])  # MoorDyn's Ry(a)
+    local = turn.T @ tip  # in the body's frame
+    deflection = W * np.cos(a) * L ** 4 / (8 * EI)
+    assert local[2] == pytest.approx(-deflection, rel=1e-3)
+    assert abs(local[0] - L) < 1e-5 and abs(local[1]) < 1e-12
+    force, moment = coupled_reaction(model, x, np.zeros(system.n), 0.0, "hub")
+    np.testing.assert_allclose(force, [0.0, 0.0, -W * L], atol=1e-6 * W * L)
+    # the root moment w cos(a) L^2 / 2, about y: the weight pulls the beam's tip down
+    np.testing.assert_allclose(moment, [0.0, W * np.cos(a) * L ** 2 / 2, 0.0],
+                               atol=1e-3 * W * L ** 2 / 2)
+
+
+def test_cantilever_on_a_body_not_turned_keeps_its_moment():
+    """The same beam on the body at rest: w L^4 / 8 EI and w L^2 / 2 (the slot adds 0)."""
+    model = turned_cantilever(0.0)
+    x = solve_static(model.system, t=0.0).x
+    u = model.system.full_displacement(x, 0.0)
+    assert u[model.lines.nodal_dofs[-1]][2] == pytest.approx(-W * L ** 4 / (8 * EI), rel=1e-4)
+    _, moment = coupled_reaction(model, x, np.zeros(model.system.n), 0.0, "hub")
+    assert moment[1] == pytest.approx(W * L ** 2 / 2, rel=1e-4)
+
+
+def pinned_hub(tilt):
+    """A beam (EI 1e6) clamped on a dynamic body pinned at ROOT, leaving it ``tilt`` (rad)
+    below the horizontal in the y-z plane; a torsion spring holds the body's yaw."""
+    k = 1e4  # N m/rad
+    spin = BodyLoad(lambda q, qd, t: np.r_[0.0, 0.0, 0.0, 0.0, 0.0, -k * q[5]],
+                    tangent=lambda q, qd, t: (np.diag([0.0, 0, 0, 0, 0, -k]), None))
+    rigid = RigidBody(100.0, ROOT, 10.0 * np.eye(3), reference_point=ROOT)
+    hub = Body("hub", "dynamic", ROOT, rigid=rigid, terms=[spin], pin="fixed")
+    tip = ROOT + L * np.array([0.0, np.cos(tilt), -np.sin(tilt)])
+    points = [Point("root", "body", np.zeros(3), body="hub"), Point("tip", "free", tip)]
+    beam = MooringLine("beam", beam_type(EI=1e6, EA=1e9), "root", "tip", L, 8, clamp_a=True)
+    network = Network(points, [beam], [hub], depth=50.0, hydro=False)
+    return Built(network, {"root": ROOT, "tip": tip})
+
+
+def test_beam_clamped_on_a_pinned_body_hangs_it_vertical():
+    tilt = np.radians(80.0)
+    model = pinned_hub(tilt)
+    system, lines = model.system, model.lines
+    x = solve_static(system).x
+    q = system.q(x)
+    # R t0 vertical: the body turned by -(90 deg - tilt) about x
+    assert q[3] == pytest.approx(-(np.pi / 2 - tilt), abs=1e-9)
+    u = system.full_displacement(x)
+    tip = lines.points[-1] + u[lines.nodal_dofs[-1]]
+    np.testing.assert_allclose(tip[:2], ROOT[:2], atol=1e-9)
+    assert tip[2] == pytest.approx(ROOT[2] - L, abs=1e-4)  # straight: its stretch only
+
+
+def test_clamped_tangent_on_a_turning_body_is_exact():
+    model = pinned_hub(np.radians(45.0))
+    system = model.system
+    rng = np.random.default_rng(1)
+    x = np.r_[1e-3 * rng.standard_normal(system.nf), 0.02 * rng.standard_normal(6)]
+    dx = rng.standard_normal(system.n)
+    R, K, _ = system.residual(x, layout="dense")
+    remainders = [np.linalg.norm(system.residual(x + h * dx, tangent=False)[0] - R
+                                 - h * K @ dx) for h in (1e-3, 1e-4)]
+    assert np.log10(remainders[0] / remainders[1]) == pytest.approx(2.0, abs=0.1)
