@@ -9,6 +9,8 @@
 - a beam clamped on a dynamic body pinned at the root (free to turn) hangs straight
   down: the body turns until the tangent R t0 is vertical (a tangent held at t0 leaves
   the body's attitude unrestrained);
+- the same body, held 5 deg off the vertical and released, swings at the compound
+  pendulum's period (dynamics; 5e-5 measured);
 - the exact tangent of the reduced residual with a clamped end on a turning body
   (Taylor test: the remainder falls as h^2).
 """
@@ -83,8 +85,8 @@ def test_cantilever_on_a_body_not_turned_keeps_its_moment():
     assert moment[1] == pytest.approx(W * L ** 2 / 2, rel=1e-4)
 
 
-def pinned_hub(tilt):
-    """A beam (EI 1e6) clamped on a dynamic body pinned at ROOT, leaving it ``tilt`` (rad)
+def pinned_hub(tilt, EI=1e6):
+    """A beam (EI in N m2) clamped on a dynamic body pinned at ROOT, leaving it ``tilt`` (rad)
     below the horizontal in the y-z plane; a torsion spring holds the body's yaw."""
     k = 1e4  # N m/rad
     spin = BodyLoad(lambda q, qd, t: np.r_[0.0, 0.0, 0.0, 0.0, 0.0, -k * q[5]],
@@ -93,7 +95,7 @@ def pinned_hub(tilt):
     hub = Body("hub", "dynamic", ROOT, rigid=rigid, terms=[spin], pin="fixed")
     tip = ROOT + L * np.array([0.0, np.cos(tilt), -np.sin(tilt)])
     points = [Point("root", "body", np.zeros(3), body="hub"), Point("tip", "free", tip)]
-    beam = MooringLine("beam", beam_type(EI=1e6, EA=1e9), "root", "tip", L, 8, clamp_a=True)
+    beam = MooringLine("beam", beam_type(EI=EI, EA=1e9), "root", "tip", L, 8, clamp_a=True)
     network = Network(points, [beam], [hub], depth=50.0, hydro=False)
     return Built(network, {"root": ROOT, "tip": tip})
 
@@ -122,3 +124,40 @@ def test_clamped_tangent_on_a_turning_body_is_exact():
     remainders = [np.linalg.norm(system.residual(x + h * dx, tangent=False)[0] - R
                                  - h * K @ dx) for h in (1e-3, 1e-4)]
     assert np.log10(remainders[0] / remainders[1]) == pytest.approx(2.0, abs=0.1)
+
+
+def test_body_swinging_a_clamped_beam_keeps_the_compound_pendulum_period():
+    """Dynamics: the pinned body with the stiff beam hanging from it (EI 1e8: its first
+    bending mode 90 times the swing's frequency), held 5 deg off the vertical by a
+    spring and released, swings at the compound pendulum's period 4 K(sin(a/2)) /
+    omega_0, omega_0^2 = (w L^2 / 2) / (I_body + m L^3 / 3) (a clamp that does not turn
+    the tangent leaves the body to spin alone at its own small inertia)."""
+    from scipy.special import ellipk
+
+    from skmoor.dynamics import integrate
+
+    model = pinned_hub(np.radians(80.0), EI=1e8)
+    system = model.system
+    hanging = solve_static(system).x
+    vertical = system.q(hanging)[3]  # -10 deg: the beam straight down
+    stiffness = 1e5  # N m/rad: the spring holding the body off the vertical until t = 0
+    on = lambda t: t <= 0  # noqa: E731
+    held = BodyLoad(lambda q, qd, t: np.r_[0.0, 0, 0, on(t) * stiffness
+                                           * (vertical + np.radians(5.0) - q[3]), 0, 0],
+                    tangent=lambda q, qd, t: (np.diag([0.0, 0, 0, -on(t) * stiffness, 0, 0]),
+                                              None))
+    held.body = 0
+    system.add_term(held)
+    x0 = solve_static(system, hanging, t=0.0).x
+    t, swing = [0.0], [system.q(x0)[3] - vertical]
+    for state in integrate(system, x0, np.zeros(system.n), 0.02, 12.0):
+        t.append(state.t)
+        swing.append(system.q(state.x)[3] - vertical)
+    t, swing = np.array(t), np.array(swing)
+    k = np.flatnonzero(np.diff(np.sign(swing)) != 0)
+    crossings = t[k] - swing[k] * (t[k + 1] - t[k]) / (swing[k + 1] - swing[k])
+    period = 2 * float(np.mean(np.diff(crossings)))
+    omega0 = np.sqrt(W * L ** 2 / 2 / (10.0 + W / 9.81 * L ** 3 / 3))
+    expected = 4 * ellipk(np.sin(abs(swing[0]) / 2) ** 2) / omega0
+    assert abs(swing[0]) > np.radians(4.0)
+    assert period == pytest.approx(expected, rel=1e-3)
