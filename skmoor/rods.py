@@ -426,12 +426,20 @@ def coupled_rod(name, rod_type: RodType, a, b, *, n_segments=1, rho=1025.0, g=9.
     a, b, _ = _axis(a, b, name)
     load = RodLoad(rod_type, np.zeros(3), b - a, reference_point=a, n_segments=n_segments,
                    rho=rho, g=g, sea=sea, bed=bed, name=name)
+    load.body_motion = _exact_motion  # in no System: its pose read as an exact body's
     body = Body(name, "coupled", a, terms=[load])
     return body, [Point(f"{name}.A", "body", np.zeros(3), body=name),
                   Point(f"{name}.B", "body", b - a, body=name)]
 
 
 COUPLED_STEP = 1e-4  # s: the central differences of the coupled motion
+
+
+def _exact_motion(q, qdot=None):
+    """The BodyMotion of an exact body at (q, qdot) about the global frame."""
+    from .body_motion import BodyMotion
+
+    return BodyMotion(q, qdot, exact=True)
 
 
 def coupled_reaction(model, x, v, t, body):
@@ -462,16 +470,16 @@ def coupled_reaction(model, x, v, t, body):
         p0, p, p1 = A0 + R0 @ r, A + R @ r, A1 + R1 @ r
         return (p1 - p0) / (2 * h), (p1 - 2 * p + p0) / h ** 2
 
-    u, ud = system.full_state(x, v, t)
-    forces, moments = system.end_forces(u, ud, t), system.end_moments(u, ud, t)
-    end_mass = system.M_lines.diagonal()
     F, M = np.zeros(3), np.zeros(3)
-    for k, line in enumerate(network.lines):
-        for end, side, dofs in ((line.b, 0, system.fairlead_dofs[k]),
-                                (line.a, 1, system.anchor_dofs[k])):
-            point = network.point(end)
-            if point.kind != "body" or point.body != body:
-                continue
+    ends = [(k, side, network.point(end)) for k, line in enumerate(network.lines)
+            for side, end in enumerate((line.b, line.a))
+            if network.point(end).kind == "body" and network.point(end).body == body]
+    if ends:  # the lines' loads on it, less their end nodes' inertia
+        u, ud = system.full_state(x, v, t)
+        forces, moments = system.end_forces(u, ud, t), system.end_moments(u, ud, t)
+        end_mass = system.M_lines.diagonal()
+        for k, side, point in ends:
+            dofs = (system.fairlead_dofs, system.anchor_dofs)[side][k]
             f = forces[side][k] - end_mass[dofs] * moving(point.position)[1]
             F += f
             M += np.cross(R @ point.position, f) + moments[side][k]
@@ -485,7 +493,6 @@ def coupled_reaction(model, x, v, t, body):
 def _rod_reaction(load: RodLoad, pose, R, t, h):
     """(force, moment about end A) of a coupled rod's own loads less its inertia at time
     t: its RodLoad read on an exact body (moment E^-T Q), its weight, and -d(momentum)."""
-    from .body_motion import BodyMotion
     from .large_rotations import rate_matrix, zyx_angles
 
     def q_at(time):
@@ -494,8 +501,7 @@ def _rod_reaction(load: RodLoad, pose, R, t, h):
 
     q0, q, q1 = q_at(t - h), q_at(t), q_at(t + h)
     qdot, qddot = (q1 - q0) / (2 * h), (q1 - 2 * q + q0) / h ** 2
-    load.body_motion = lambda q, qdot=None: BodyMotion(q, qdot, exact=True)
-    Q = load.forces(q, qdot, t)
+    Q = load.forces(q, qdot, t)  # [F, E^T M] (an exact body's reading: coupled_rod)
     E, dE_dry, dE_drz = rate_matrix(q[3:])
     F, M = Q[:3].copy(), np.linalg.solve(E.T, Q[3:])
     omega = E @ qdot[3:]

@@ -87,29 +87,23 @@ def test_turned_coupled_rod_reaction(tmp_path):
                         [0.0, 0.0, net])
     np.testing.assert_allclose(moment, expected, atol=1e-6 * abs(net) * LENGTH)
     assert ends.position == pytest.approx([0.0, 0.0, LENGTH])
+    saved = skmoor.static_results(model, eq).coupled_loads  # in the Results too
+    np.testing.assert_allclose(saved[0, model.network.bodies.index(model.network.body("rod1"))],
+                               np.r_[force, moment])
 
 
 @pytest.mark.slow
 def test_surged_coupled_rod_against_moordyn(tmp_path):
     moordyn = pytest.importorskip("moordyn")
-    from skmoor.run import record_run
 
     path, model = build(tmp_path, lambda t: np.array([surge(t), 0.0, 0.0, 0.0, 0.0, 0.0]))
-    eq = skmoor.equilibrium(model, n_modes=2)
-    system, duration = model.system, 16.0
-    last = int(np.flatnonzero(model.lines.line_of_cell == 0)[-1])  # the segment at the rod
-    sk = []
-
-    def record(state):
-        force, moment = coupled_reaction(model, state.x, state.v, state.t, "rod1")
-        u, ud = system.full_state(state.x, state.v, state.t)
-        tension = model.lines.element_tension(u, ud)[last]
-        sk.append((state.t, tension, force[0], force[2], moment[1]))
-
-    stopped, _ = record_run(system, eq.x, dt=0.01, duration=duration, every=1,
-                            record=record, C=eq.C, progress=False)
-    assert stopped is None
-    sk = np.array(sk)
+    duration = 16.0
+    results = skmoor.simulate(model, duration=duration, dt=0.01, output_interval=0.01,
+                              progress=False)
+    last = int(np.flatnonzero(results.line_of_cell == 0)[-1])  # the segment at the rod
+    rod = results.body_names.index("rod1")
+    loads = results.coupled_loads[:, rod]
+    sk = np.c_[results.t, results.tension[:, last], loads[:, 0], loads[:, 2], loads[:, 4]]
 
     def velocity(t, h=1e-6):
         return (surge(t + h) - surge(t - h)) / (2 * h)
