@@ -44,7 +44,7 @@ class Results:
     point_displacement  (nt, npoints, 3) point displacements from it, m
     curvature           (nt, nel)        curvature at the element mid-points, 1/m (zeros on cables)
     bending_moment      (nt, nel)        bending moment EI x curvature there, N m (zeros on cables)
-    coupled_loads       (nt, nbodies, 6) force (N) and moment (N m, about the reference point, global axes) each coupled body passes to the caller (skmoor.rods.coupled_reaction; zeros on the others)
+    coupled_loads       (nt, nbodies, 6) force (N) and moment (N m, about the reference point, global axes) each coupled body, and each body pinned on coupled DOFs (its pin's force), passes to the caller (skmoor.rods.coupled_reaction; zeros on the others)
     """
 
     t: np.ndarray

@@ -449,12 +449,16 @@ def coupled_reaction(model, x, v, t, body):
     on its points less their end nodes' inertia (lumped mass times the points'
     accelerations) and, on a Coupled rod, its RodLoad (weight, buoyancy, drag, fluid
     inertia, bed at its pose) less its own inertia, m a_c at the centre, I alpha +
-    omega x I omega about it, and its added mass on its points' accelerations."""
+    omega x I omega about it, and its added mass on its points' accelerations. A body
+    pinned on 3 coupled DOFs (a CoupledPinned rod or body) passes its pin's force
+    (the -f of its :class:`PinLoad`) and no moment."""
     network, system = model.network, model.system
     coupled = network.body(body)
+    if coupled.kind == "dynamic" and coupled.pin == "coupled":
+        return _pin_reaction(network, system, x, v, t, body)
     if coupled.kind != "coupled":
         raise ValueError(f"coupled_reaction body: {body!r} is a {coupled.kind} body, not "
-                         "a coupled one")
+                         "a coupled one or one pinned on coupled DOFs")
     from .network import _coupled_offsets, _coupled_vector
 
     where = _coupled_offsets(network)[("Body", body)]
@@ -488,6 +492,15 @@ def coupled_reaction(model, x, v, t, body):
         rod_F, rod_M = _rod_reaction(load, pose, R, t, h)
         F, M = F + rod_F, M + rod_M
     return F, M
+
+
+def _pin_reaction(network, system, x, v, t, body):
+    """(force, zero moment) the PinLoad of dynamic body ``body`` takes from the caller."""
+    k = [b.name for b in network.bodies if b.kind == "dynamic"].index(body)
+    block = system._body_block(k)
+    pin = next(term for term in system.body_terms
+               if isinstance(term, PinLoad) and term.body == k)
+    return -pin.forces(x[block], v[block], t)[:3], np.zeros(3)
 
 
 def _rod_reaction(load: RodLoad, pose, R, t, h):

@@ -563,7 +563,7 @@ class _Recorder:
             self.rows[key].append(value)
         coupled = np.zeros((len(network.bodies), 6))  # what the coupled bodies pass on
         for k, body in enumerate(network.bodies):
-            if body.kind == "coupled":
+            if body.kind == "coupled" or body.pin == "coupled":
                 from .rods import coupled_reaction
 
                 coupled[k] = np.concatenate(coupled_reaction(self.model, state.x, state.v,

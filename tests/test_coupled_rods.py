@@ -129,3 +129,22 @@ def test_surged_coupled_rod_against_moordyn(tmp_path):
         errors[name] = np.abs(sk[keep, column] - peer).max() / np.ptp(md[:, column])
     limits = {"segment tension": 0.008, "Fx": 0.006, "Fz": 0.01, "My": 0.004}
     assert all(errors[name] < limit for name, limit in limits.items()), errors
+
+
+def test_coupled_pinned_rod_passes_its_pin_force(tmp_path):
+    """The same rod CoupledPinned (end A on 3 coupled DOFs, free to turn): in statics its
+    pin passes the chain's pull and the rod's net weight (rho A - m) g L, no moment."""
+    path = tmp_path / "pinned_rod.txt"
+    path.write_text(DECK.replace("can       Coupled ", "can       CoupledPinned "))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = skmoor.build(path)
+    assert model.network.body("rod1").pin == "coupled"
+    eq = skmoor.equilibrium(model, n_modes=1)
+    force, moment = coupled_reaction(model, eq.x, np.zeros(model.system.n), 0.0, "rod1")
+    line_force, _ = model.system.reactions(eq.x)
+    net = (RHO * np.pi * D ** 2 / 4 - MASS) * G * LENGTH
+    np.testing.assert_allclose(force - line_force[0], [0.0, 0.0, net], atol=1e-5 * abs(net))
+    assert not moment.any()
+    saved = skmoor.static_results(model, eq).coupled_loads[0, -1]
+    np.testing.assert_allclose(saved, np.r_[force, moment])
