@@ -161,3 +161,17 @@ def test_body_swinging_a_clamped_beam_keeps_the_compound_pendulum_period():
     expected = 4 * ellipk(np.sin(abs(swing[0]) / 2) ** 2) / omega0
     assert abs(swing[0]) > np.radians(4.0)
     assert period == pytest.approx(expected, rel=1e-3)
+
+
+def test_bad_clamps_are_refused_by_name():
+    from skmoor.coupling import Ends
+
+    points = [Point("a", "fixed", ROOT), Point("mid", "free", ROOT + [L, 0.0, 0.0]),
+              Point("b", "fixed", ROOT + [2 * L, 0.0, 0.0])]
+    lines = [MooringLine("left", beam_type(), "a", "mid", L, 4, clamp_b=True),
+             MooringLine("right", beam_type(), "mid", "b", L, 4)]
+    with pytest.raises(ValueError, match="line left clamp_b: point mid is free"):
+        build_system(Network(points, lines, depth=50.0, hydro=False),
+                     {p.name: p.position for p in points})
+    with pytest.raises(ValueError, match="only a prescribed end's tangent has a slot"):
+        Ends([("fixed",)], [("body", 0)], clamped=[(0, "b", 1)])
