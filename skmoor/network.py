@@ -658,7 +658,8 @@ def _slot_motion(network: Network, slots):
         out = np.zeros((len(slots), 3))
         for k, p in enumerate(slots):
             if isinstance(p, tuple):  # a clamped tangent turning with its coupled body
-                (p, t0), body = p, network.body(p[0].body)
+                point, t0 = p
+                body = network.body(point.body)
                 q = y[offsets[("Body", body.name)]]
                 out[k] = (body.rotation_matrix(body.attitude + q[3:])
                           @ body.rotation_matrix().T @ t0 - t0)

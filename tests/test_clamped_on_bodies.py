@@ -142,7 +142,7 @@ def test_body_swinging_a_clamped_beam_keeps_the_compound_pendulum_period():
     hanging = solve_static(system).x
     vertical = system.q(hanging)[3]  # -10 deg: the beam straight down
     stiffness = 1e5  # N m/rad: the spring holding the body off the vertical until t = 0
-    on = lambda t: t <= 0  # noqa: E731
+    on = lambda t: t <= 0
     held = BodyLoad(lambda q, qd, t: np.r_[0.0, 0, 0, on(t) * stiffness
                                            * (vertical + np.radians(5.0) - q[3]), 0, 0],
                     tangent=lambda q, qd, t: (np.diag([0.0, 0, 0, -on(t) * stiffness, 0, 0]),

@@ -113,7 +113,7 @@ def test_surged_coupled_rod_against_moordyn(tmp_path):
     try:
         moordyn.Init(instance, [*A0, 0.0, 0.0, 0.0], [0.0] * 6)
         line = moordyn.GetLine(instance, 1)
-        for k in range(int(round(duration / coupling))):
+        for k in range(round(duration / coupling)):
             tk = k * coupling
             f = moordyn.Step(instance, [surge(tk), 0.0, A0[2], 0.0, 0.0, 0.0],
                              [velocity(tk), 0.0, 0.0, 0.0, 0.0, 0.0], tk, coupling)
