@@ -30,7 +30,8 @@ v0 = N / FricDamp, N a segment's weight).
 
 The coupled objects move as the caller says: ``motion(t)`` returns their displacements
 from the deck's positions in MoorDyn's order of coupled DOFs (6 per coupled body:
-x, y, z in m and roll, pitch, yaw in rad; then 3 per coupled point). Without a motion
+x, y, z in m and roll, pitch, yaw in rad; then 6 per Coupled rod, the same of its end A,
+and 3 per CoupledPinned rod; then 3 per coupled point). Without a motion
 they stay where the deck puts them. ``skmoor run DECK --motion FILE`` reads such a motion
 from a time-series file (:func:`read_motion`).
 
