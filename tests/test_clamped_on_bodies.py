@@ -151,7 +151,7 @@ def test_body_swinging_a_clamped_beam_keeps_the_compound_pendulum_period():
     system.add_term(held)
     x0 = solve_static(system, hanging, t=0.0).x
     t, swing = [0.0], [system.q(x0)[3] - vertical]
-    for state in integrate(system, x0, np.zeros(system.n), 0.02, 12.0):
+    for state in integrate(system, x0, np.zeros(system.n), 0.02, 7.0):
         t.append(state.t)
         swing.append(system.q(state.x)[3] - vertical)
     t, swing = np.array(t), np.array(swing)
@@ -160,7 +160,7 @@ def test_body_swinging_a_clamped_beam_keeps_the_compound_pendulum_period():
     period = 2 * float(np.mean(np.diff(crossings)))
     omega0 = np.sqrt(W * L ** 2 / 2 / (10.0 + W / 9.81 * L ** 3 / 3))
     expected = 4 * ellipk(np.sin(abs(swing[0]) / 2) ** 2) / omega0
-    assert abs(swing[0]) > np.radians(4.0)
+    assert abs(swing[0]) > np.radians(4.0) and len(crossings) >= 3
     assert period == pytest.approx(expected, rel=1e-3)
 
 
