@@ -70,10 +70,12 @@ class Ends:
     (free point p: its own 3 DOFs); ``("body", b)`` (on dynamic body b, where the line's
     reference state puts the end).
 
-    clamped: the ends of bending (Hermite) lines whose tangent is held at the reference
-    tangent, as ``(line index, "a" or "b")`` pairs, on fixed or prescribed ends (the
-    others are pinned: the end tangent free). MoorDyn clamps a line by ending it on a
-    fixed rod; here the line end says so itself.
+    clamped: the ends of bending (Hermite) lines whose tangent is held, as
+    ``(line index, "a" or "b")`` pairs (the others are pinned: the end tangent free): on a
+    fixed end at the reference tangent t0; on a body it turns with the body, R(q) t0; on
+    a prescribed end at t0, or with a third entry ``slot``, ``(k, end, slot)``, at
+    t0 + motion(t)[slot] (a clamp on a coupled body that turns: R(t) t0 - t0 there).
+    MoorDyn clamps a line by ending it on a rod; here the line end says so itself.
 
     smooth: C1 joints of bending lines, as ``(k, j)`` pairs: end B of line k and end A of
     line j sit on the same free point and share their tangent DOFs (the same d/ds of
@@ -89,15 +91,20 @@ class Ends:
     def __post_init__(self):
         if len(self.a) != len(self.b):
             raise ValueError(f"Ends: {len(self.a)} A ends and {len(self.b)} B ends")
-        self.clamped = tuple((int(k), str(end)) for k, end in self.clamped)
-        for k, end in self.clamped:
+        self.clamped = tuple((int(c[0]), str(c[1]), *(int(slot) for slot in c[2:3]))
+                             for c in self.clamped)
+        for k, end, *slot in self.clamped:
             if end not in ("a", "b") or not 0 <= k < len(self.a):
                 raise ValueError(f"Ends clamped: ({k}, {end!r}) is not a (line index, 'a' "
                                  f"or 'b') of the {len(self.a)} lines")
             held = (self.a if end == "a" else self.b)[k]
-            if held[0] not in ("fixed", "prescribed"):
+            if held[0] not in ("fixed", "prescribed", "body"):
                 raise ValueError(f"Ends clamped: end {end.upper()} of line {k} is on a "
-                                 f"{held[0]!r}; only fixed or prescribed ends can be clamped")
+                                 f"{held[0]!r}; only fixed, prescribed or body ends can be "
+                                 "clamped")
+            if slot and held[0] != "prescribed":
+                raise ValueError(f"Ends clamped: end {end.upper()} of line {k} is on a "
+                                 f"{held[0]!r}; only a prescribed end's tangent has a slot")
         self.smooth = tuple((int(k), int(j)) for k, j in self.smooth)
         joined = [end for pair in self.smooth for end in ((pair[0], "b"), (pair[1], "a"))]
         for k, j in self.smooth:
@@ -216,8 +223,8 @@ class System:
         if ends.clamped and slopes is None:
             raise ValueError("System ends: clamped ends need bending lines (a LineType "
                              "with EI > 0); cables are pinned")
-        clamped = {int((lines.anchor_nodes if end == "a" else lines.fairlead_nodes)[k])
-                   for k, end in ends.clamped}
+        clamped = {int((lines.anchor_nodes if end == "a" else lines.fairlead_nodes)[k]):
+                   slot[0] if slot else None for k, end, *slot in ends.clamped}
         if ends.smooth and slopes is None:
             raise ValueError("System ends: smooth joints need bending lines (a LineType "
                              "with EI > 0); cables are hinged at their points")
@@ -254,10 +261,16 @@ class System:
                 if not 0 <= end[1] < len(self.bodies):
                     raise ValueError(f"System ends: body {end[1]} does not exist "
                                      f"({len(self.bodies)} dynamic bodies given)")
-                body_ends.append((end[1], node,
-                                  lines.points[node] - self.bodies[end[1]].reference_point))
+                body_ends.append((end[1], dofs[node],
+                                  lines.points[node] - self.bodies[end[1]].reference_point,
+                                  False))
+                if node in clamped:  # the end tangent t0 turns with the body: R(q) t0
+                    body_ends.append((end[1], slopes[node],
+                                      lines.reference_dofs[slopes[node]], True))
             elif end[0] == "prescribed":
-                prescribed_ends.append((int(end[1]), node))
+                prescribed_ends.append((int(end[1]), dofs[node]))
+                if clamped.get(node) is not None:  # the end tangent moved by its slot
+                    prescribed_ends.append((clamped[node], slopes[node]))
             if slopes is not None and node not in clamped:
                 if joint.get(node) in joint_columns:
                     position[slopes[node]] = joint_columns[joint[node]]
@@ -279,11 +292,15 @@ class System:
         self._blocks = [slice(self.nf + 6 * k, self.nf + 6 * k + 6)
                         for k in range(len(self.bodies))]
         body_ends.sort(key=lambda e: e[0])
-        self._body_nodes = np.array([node for _, node, _ in body_ends], int)
-        self._body_of_end = np.array([b for b, _, _ in body_ends], int)
-        self.body_end_dofs = dofs[self._body_nodes] if body_ends else np.zeros((0, 3), int)
+        self._body_of_end = np.array([b for b, *_ in body_ends], int)
+        self.body_end_dofs = np.array([d for _, d, _, _ in body_ends], int).reshape(-1, 3)
         self._body_flat = self.body_end_dofs.ravel()
-        self._r_local = [np.array([r for b, _, r in body_ends if b == k]).reshape(-1, 3)
+        # clamped end tangents among the body ends: directions, R(q) t0 - t0 (no translation)
+        self._directions = np.flatnonzero([turning for *_, turning in body_ends])
+        rows = 3 * self._directions[:, None] + np.arange(3)
+        columns = 6 * self._body_of_end[self._directions][:, None] + np.arange(3)
+        self._direction_translation = (rows[:, :, None], columns[:, None, :])
+        self._r_local = [np.array([r for b, _, r, _ in body_ends if b == k]).reshape(-1, 3)
                          for k in range(len(self.bodies))]
         self._body_rows = [np.flatnonzero(self._body_of_end == k) for k in range(len(self.bodies))]
         self.r_local = self._r_local[0] if self.bodies else None
@@ -291,8 +308,7 @@ class System:
         self._frames = [None] * len(self.bodies)  # re-based frames (rebase), None: global
         self._end_offsets = np.zeros((len(body_ends), 3))
         self._prescribed_slots = np.array([slot for slot, _ in prescribed_ends], int)
-        self._prescribed_dofs = (dofs[[node for _, node in prescribed_ends]]
-                                 if prescribed_ends else np.zeros((0, 3), int))
+        self._prescribed_dofs = np.array([d for _, d in prescribed_ends], int).reshape(-1, 3)
         self._prescribed_flat = self._prescribed_dofs.ravel()
         self._has_prescribed = len(self._prescribed_flat) > 0
         self._ndofs = lines.ndofs
@@ -453,7 +469,7 @@ class System:
         """Count every body's angles from the global frame again (as built)."""
         self._frames = [None] * len(self.bodies)
         self._r_local = [r.copy() for r in self._r_local0]
-        self._end_offsets = np.zeros((len(self._body_nodes), 3))
+        self._end_offsets = np.zeros((len(self._body_of_end), 3))
         self._attachment_cache = (None, None, None)
 
     def body_rotation(self, x, body=0) -> np.ndarray:
@@ -522,14 +538,18 @@ class System:
             if len(self.bodies) == 1:
                 state = rigid.attachment_state(q, self._r_local[0])
             else:
-                disp = np.zeros((len(self._body_nodes), 3))
-                J = np.zeros((3 * len(self._body_nodes), self.nb))
+                disp = np.zeros((len(self._body_of_end), 3))
+                J = np.zeros((3 * len(self._body_of_end), self.nb))
                 for k, rows in enumerate(self._body_rows):
                     if len(rows):
                         d, Jk = rigid.attachment_state(q[6 * k: 6 * k + 6], self._r_local[k])
                         disp[rows] = d
                         J[3 * rows[0]: 3 * rows[-1] + 3, 6 * k: 6 * k + 6] = Jk
                 state = (disp, J)
+            if len(self._directions):  # clamped tangents: the rotation's part only
+                disp, J = state
+                disp[self._directions] -= q.reshape(-1, 6)[self._body_of_end[self._directions], :3]
+                J[self._direction_translation] = 0.0
             if any(frame is not None for frame in self._frames):
                 state = (state[0] + self._end_offsets, state[1])
             self._attachment_cache = (key, *state)
@@ -983,3 +1003,21 @@ class System:
         R_full, _, _ = self.line_residual(u, ud if self._needs_velocity else None, t,
                                           tangent=False)
         return -R_full[self.fairlead_dofs], -R_full[self.anchor_dofs]
+
+    def end_moments(self, u, ud, t=0.0):
+        """(nlines, 3) moments (N m) the lines exert on their B ends and (nlines, 3) on
+        their A ends at the full displacement u (m) and velocity ud (m/s, None: at rest):
+        r' x g, g = -R at the end's tangent DOFs (the generalized force on r'), r' the end
+        tangent; zeros on cables, and on pinned ends in equilibrium."""
+        slopes = self.lines.slope_dofs
+        if slopes is None:
+            zero = np.zeros((len(self.lines.lines), 3))
+            return zero, zero.copy()
+        R_full, _, _ = self.line_residual(u, ud if self._needs_velocity else None, t,
+                                          tangent=False)
+        r = self.lines.reference_dofs + u
+        out = []
+        for nodes in (self.lines.fairlead_nodes, self.lines.anchor_nodes):
+            dofs = slopes[nodes]
+            out.append(np.cross(r[dofs], -R_full[dofs]))
+        return tuple(out)

@@ -30,7 +30,8 @@ v0 = N / FricDamp, N a segment's weight).
 
 The coupled objects move as the caller says: ``motion(t)`` returns their displacements
 from the deck's positions in MoorDyn's order of coupled DOFs (6 per coupled body:
-x, y, z in m and roll, pitch, yaw in rad; then 3 per coupled point). Without a motion
+x, y, z in m and roll, pitch, yaw in rad; then 6 per Coupled rod, the same of its end A,
+and 3 per CoupledPinned rod; then 3 per coupled point). Without a motion
 they stay where the deck puts them. ``skmoor run DECK --motion FILE`` reads such a motion
 from a time-series file (:func:`read_motion`).
 
@@ -51,16 +52,19 @@ pinned at its reference point on 3 coupled DOFs (MoorDyn's coupled-DOF vector gi
 one rod gets that rod's spin spring.
 
 A line type with EI > 0 is a bending line (:mod:`skmoor.bending`: the deck's lines then
-all go on the Hermite element, the cables with EI = 0), its ends pinned (MoorDyn clamps a
-line where it ends on a rod; here a line end on a Fixed rod is clamped along the rod's
-axis, on a moving rod pinned to it).
+all go on the Hermite element, the cables with EI = 0), its ends pinned, but where it ends
+on a rod: there it is clamped along the rod's axis (as MoorDyn attaches it), its end
+tangent turning with the rod.
 
 A zero-length Free rod (NumSegs 0, MoorDyn's 6-DOF connection node) is a massless free
 point ``rodN`` joining the lines on its two ends; they are pinned there (MoorDyn clamps
 them to the node, which turns: the bending moment is carried across it).
 
-Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), mass or
-volume on a body point, VIV (Cl > 0),
+A Coupled rod is a coupled body ``rodN`` at end A (its 6 coupled DOFs: end A's
+position and MoorDyn's angles Rx Ry Rz turning the deck's axis), carrying its RodLoad
+for :func:`skmoor.rods.coupled_reaction`.
+
+Refused, with the deck line and the reason: mass or volume on a body point, VIV (Cl > 0),
 MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
@@ -249,9 +253,11 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None, rotations="small"):
         kind = rod.kind
     if kind == "fixed":
         return [Point(f"{name}.A", "fixed", a), Point(f"{name}.B", "fixed", b)], None
-    if kind == "coupled":
-        raise _fail(deck, rod.where, f"RODS {rod.id}: a Coupled rod (6 prescribed DOFs) is "
-                    "not supported (CoupledPinned, Pinned, Free, Fixed and Body<N> rods are)")
+    if kind == "coupled":  # a coupled body at end A, its attitude the deck's axis
+        body, ends = rods.coupled_rod(name, _rod_type(deck, rod), a, b,
+                                      n_segments=rod.n_segments, rho=deck.rho, g=deck.g,
+                                      sea=sea, bed=bed)
+        return ends, body
     pin = {"free": None, "pinned": "fixed", "coupled pinned": "coupled"}[kind]
     body, ends = rods.rod(name, _rod_type(deck, rod), a, b, pin=pin, n_segments=rod.n_segments,
                           rho=deck.rho, g=deck.g, sea=sea, bed=bed, rotations=rotations)
@@ -352,14 +358,18 @@ def _coupled_kinds(deck: Deck) -> list:
 
 
 def _rod_clamp(deck: Deck, end, side):
-    """The clamp of a bending line's end ``side`` ('a' or 'b') on a Fixed rod's end: the
-    line leaves the rod along its axis, as MoorDyn attaches it (False elsewhere: pinned)."""
+    """The clamp of a bending line's end ``side`` ('a' or 'b') on a rod's end: the line
+    leaves the rod along its axis (global, at the deck's state), as MoorDyn attaches it,
+    and turns with the rod (False on a point or a zero-length rod: pinned)."""
     if isinstance(end, int):
         return False
     rod = next(r for r in deck.rods if r.id == int(end[1:-1]))
-    if rod.kind != "fixed":
+    if rod.n_segments == 0:
         return False
     axis = np.asarray(rod.b, float) - np.asarray(rod.a, float)  # A -> B
+    if rod.kind == "body":  # the rod's ends are in its body's frame
+        carrier = next(b for b in deck.bodies if b.id == rod.body)
+        axis = moordyn_rotation(np.radians(np.asarray(carrier.r6[3:], float))) @ axis
     outward = axis if end[-1] == "B" else -axis  # out of the rod at that end
     return outward if side == "a" else -outward  # the line's tangent runs a -> b
 

@@ -82,9 +82,10 @@ class Point:
 class MooringLine:
     """A line from point ``a`` to point ``b`` (names): its LineType, unstretched length
     (m) and number of elements. clamp_a, clamp_b: clamp a bending line (EI > 0) at that
-    end (on a fixed or coupled point): True holds its tangent along the chord from a to
-    b (a straight beam's axis), a 3-vector along that direction (the line's tangent
-    there, pointing from a towards b); False (default): pinned, the end tangent free."""
+    end (on a fixed or coupled point, or on a body, where the tangent turns with the
+    body): True holds its tangent along the chord from a to b (a straight beam's axis),
+    a 3-vector along that direction (the line's tangent there at the given state,
+    pointing from a towards b); False (default): pinned, the end tangent free."""
 
     name: str
     line_type: LineType
@@ -506,13 +507,18 @@ def build_system(network: Network, positions: dict | None = None):
             if ln.line_type.EI <= 0:
                 raise ValueError(f"line {ln.name} clamp_{side}: only a bending line (EI > 0) "
                                  "can be clamped; a cable end is pinned")
-            if held[0] not in ("fixed", "prescribed"):
+            if held[0] == "point":
                 raise ValueError(f"line {ln.name} clamp_{side}: point {getattr(ln, side)} is "
-                                 f"{'free' if held[0] == 'point' else 'on a dynamic body'}; "
-                                 "only ends on fixed or coupled points can be clamped")
-            clamped.append((k, side))
+                                 "free; only ends on fixed or coupled points or on bodies "
+                                 "can be clamped")
             lines[k].end_tangents = _clamp_tangents(ln, side, clamp, positions,
                                                     lines[k].end_tangents)
+            point = points[getattr(ln, side)]
+            if held[0] == "prescribed" and point.kind == "body":  # turns with its body
+                slots.append((point, lines[k].end_tangents[0 if side == "a" else 1]))
+                clamped.append((k, side, len(slots) - 1))
+            else:
+                clamped.append((k, side))
     smooth = [_smooth_joint(network, p, lines) for p in network.points if p.smooth]
     ends = Ends(ends_a, ends_b, clamped=clamped, smooth=smooth)
     lineset = LineSet(lines, law=network.strain_law) if lines else NoLines()
@@ -643,13 +649,21 @@ def _clamp_tangents(ln: MooringLine, side, clamp, positions, tangents):
 
 def _slot_motion(network: Network, slots):
     """motion(t) -> (nslots, 3) displacements of the prescribed ends from the network's
-    coupled-DOF motion (zeros without one)."""
+    coupled-DOF motion (zeros without one). A slot is a Point, or (a Point on a coupled
+    body, t0): the change R(t) R0^T t0 - t0 of a line's clamped tangent t0 there."""
     offsets = _coupled_offsets(network)
 
     def motion(t):
         y = _coupled_vector(network, t)
         out = np.zeros((len(slots), 3))
         for k, p in enumerate(slots):
+            if isinstance(p, tuple):  # a clamped tangent turning with its coupled body
+                point, t0 = p
+                body = network.body(point.body)
+                q = y[offsets[("Body", body.name)]]
+                out[k] = (body.rotation_matrix(body.attitude + q[3:])
+                          @ body.rotation_matrix().T @ t0 - t0)
+                continue
             if p.kind == "coupled":
                 out[k] = y[offsets[("Point", p.name)]]
                 continue

@@ -44,6 +44,7 @@ class Results:
     point_displacement  (nt, npoints, 3) point displacements from it, m
     curvature           (nt, nel)        curvature at the element mid-points, 1/m (zeros on cables)
     bending_moment      (nt, nel)        bending moment EI x curvature there, N m (zeros on cables)
+    coupled_loads       (nt, nbodies, 6) force (N) and moment (N m, about the reference point, global axes) each coupled body, and each body pinned on coupled DOFs (its pin's force), passes to the caller (skmoor.rods.coupled_reaction; zeros on the others)
     """
 
     t: np.ndarray
@@ -71,6 +72,7 @@ class Results:
     point_displacement: np.ndarray = None
     curvature: np.ndarray = None
     bending_moment: np.ndarray = None
+    coupled_loads: np.ndarray = None
 
     def __post_init__(self):
         nt = len(self.t)
@@ -81,6 +83,8 @@ class Results:
             self.bodies = np.zeros((nt, len(self.body_names), 6))
         if self.point_displacement is None:
             self.point_displacement = np.zeros((nt, len(self.point_names), 3))
+        if self.coupled_loads is None:
+            self.coupled_loads = np.zeros((nt, len(self.body_names), 6))
 
     def point_positions(self, i: int) -> np.ndarray:
         """(npoints, 3) positions of the network's points at sample ``i``, m."""
@@ -153,7 +157,7 @@ class Results:
 
 _TIME_ARRAYS = ("t", "body", "displacement", "velocity", "tension", "strain",
                 "fairlead_tension", "anchor_tension", "bodies", "point_displacement",
-                "curvature", "bending_moment")
+                "curvature", "bending_moment", "coupled_loads")
 _NAMES = ("line_names", "body_names", "point_names")
 
 

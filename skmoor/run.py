@@ -479,7 +479,7 @@ class _Recorder:
         self.model = model
         network = model.network
         self.rows = {k: [] for k in ("t", "bodies", "points", "u", "v", "tension", "strain",
-                                     "fair", "anchor", "curvature", "moment")}
+                                     "fair", "anchor", "curvature", "moment", "coupled")}
         self._dynamic = {b.name: k for k, b in enumerate(
             b for b in network.bodies if b.kind == "dynamic")}
         self._coupled, start = {}, 0
@@ -561,6 +561,14 @@ class _Recorder:
                            ("strain", strain), ("fair", np.sqrt((fair * fair).sum(axis=1))),
                            ("anchor", np.sqrt((anchor * anchor).sum(axis=1)))):
             self.rows[key].append(value)
+        coupled = np.zeros((len(network.bodies), 6))  # what the coupled bodies pass on
+        for k, body in enumerate(network.bodies):
+            if body.kind == "coupled" or body.pin == "coupled":
+                from .rods import coupled_reaction
+
+                coupled[k] = np.concatenate(coupled_reaction(self.model, state.x, state.v,
+                                                             state.t, body.name))
+        self.rows["coupled"].append(coupled)
         if lines.hermite:  # bending lines: curvature and moment at the element mid-points
             curvature = lines.curvature(u)
             self.rows["curvature"].append(curvature)
@@ -611,7 +619,8 @@ class _Recorder:
                        point_reference=self._point_reference,
                        point_displacement=r["points"].reshape(nt, len(network.points), 3),
                        curvature=r["curvature"] if bending else None,
-                       bending_moment=r["moment"] if bending else None)
+                       bending_moment=r["moment"] if bending else None,
+                       coupled_loads=r["coupled"].reshape(nt, len(network.bodies), 6))
 
 
 def summary(results: Results) -> dict:

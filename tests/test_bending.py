@@ -174,7 +174,7 @@ def test_bad_bending_inputs():
     cable = LineSet([straight(4, LineType(EA=EA, mass=10.0, diameter=0.1))])
     with pytest.raises(ValueError, match="clamped ends need bending lines"):
         System(cable, ends=Ends([("fixed",)], [("fixed",)], clamped=[(0, "a")]))
-    with pytest.raises(ValueError, match="only fixed or prescribed ends can be clamped"):
+    with pytest.raises(ValueError, match="only fixed, prescribed or body ends can be clamped"):
         Ends([("fixed",)], [("point", 0)], clamped=[(0, "b")])
     with pytest.raises(ValueError, match="Ends clamped"):
         Ends([("fixed",)], [("fixed",)], clamped=[(1, "a")])

@@ -190,3 +190,32 @@ def test_lowe_langley_jumper_top_tension_in_waves(tmp_path, case, heading, phase
     assert np.ptp(reference[:, 1]) > 10.0  # the waves move the tension by more than that
     t_md, tension_md = moordyn_jumper_in_waves(path, wave, 50.0)
     assert np.abs(top - np.interp(times, t_md, tension_md) / 1e3).max() < 0.25
+
+
+@pytest.mark.filterwarnings("ignore:point point")
+def test_cantilevered_beam_deck_on_a_turned_coupled_rod(tmp_path):
+    """BeamCantilevered.txt with its rod made Coupled and turned 10 deg about y by its
+    coupled DOFs (MoorDyn's Rx Ry Rz of the axis): the beam, clamped along the turned
+    axis, sags w cos(a) L^4 / 8 EI normal to it (a tangent that does not turn leaves the
+    tip L sin(a) off that line); the rod passes the beam's and its own weight, and
+    their moment about end A (the beam's centre 15 m out along the axis, the rod's 5 m:
+    small sag), to the caller (its coupled_loads)."""
+    from skmoor.rods import coupled_reaction
+
+    text = MIRROR.read("tests/Mooring/BeamCantilevered.txt").decode()
+    path = tmp_path / "BeamOnCoupledRod.txt"
+    path.write_text(text.replace("cantilever Fixed ", "cantilever Coupled "))
+    a = np.radians(10.0)
+    model = skmoor.build(path, motion=lambda t: np.array([0.0, 0.0, 0.0, 0.0, a, 0.0]))
+    eq = equilibrium(model, n_modes=1)
+    lines = model.lines
+    u = model.system.full_displacement(eq.x)
+    X = lines.points + u[lines.nodal_dofs]
+    axis, normal = np.array([np.cos(a), 0.0, -np.sin(a)]), np.array([np.sin(a), 0.0, np.cos(a)])
+    B = np.array([-10.0, 0.0, 10.0]) + 10.0 * axis  # the turned rod's end B
+    w, EI, L = lines.lines[0].line_type.mass * 9.80665, 1e7, 10.0
+    assert (X[-1] - B) @ normal == pytest.approx(-w * np.cos(a) * L**4 / (8 * EI), rel=5e-3)
+    force, moment = coupled_reaction(model, eq.x, np.zeros(model.system.n), 0.0, "rod1")
+    rod_weight = 100.0 * 10.0 * 9.80665
+    np.testing.assert_allclose(force, [0.0, 0.0, -(w * L + rod_weight)], rtol=1e-6, atol=1e-3)
+    assert moment[1] == pytest.approx((15.0 * w * L + 5.0 * rod_weight) * np.cos(a), rel=1e-3)

@@ -346,10 +346,3 @@ def test_bad_rod_input_names_the_deck_line(tmp_path, old, new, message):
     with pytest.raises(ValueError, match=r"bad\.dat line \d+: (ROD TYPES|RODS|LINES) .*"
                        + re.escape(message)):
         read_deck(tmp_path / "bad.dat")
-
-
-def test_coupled_rod_is_refused_at_its_line(tmp_path):
-    text = (DECKS / "floating_spar.dat").read_text().replace("1  spar  Free ", "1  spar  Coupled ")
-    (tmp_path / "coupled.dat").write_text(text)
-    with pytest.raises(ValueError, match=r"coupled\.dat line 16: RODS 1: a Coupled rod"):
-        build(tmp_path / "coupled.dat")
