@@ -36,6 +36,9 @@ OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png"
            "motion.pvd")
 
 
+STARTS = ("equilibrium", "given", "reference")  # simulate's starting states
+
+
 class ResolutionWarning(UserWarning):
     """A time step too coarse for the periods the run claims to resolve, or a prescribed
     motion that starts with a velocity jump."""
@@ -131,10 +134,15 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
             static = static_state(system)
         except ConvergenceError as err:
             free = unrestrained(model)
+            hint = (". The deck asks for no initial-condition solve (TmaxIC = 0): "
+                    "skmoor.simulate runs it from its given state (start='reference')"
+                    if model.solver.get("start") == "reference" else "")
             if free:
                 raise ConvergenceError(f"{err}; unrestrained at the given state: "
                                        f"{', '.join(free)} (nothing holds them statically)"
-                                       ) from None
+                                       f"{hint}") from None
+            if hint:
+                raise ConvergenceError(f"{err}{hint}") from None
             raise
         _, K, _ = system.residual(static.x)
     damping = model.damping
@@ -262,17 +270,21 @@ def bed_contact_period(model: Model) -> float | None:
 
 
 def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
-             progress=True, eq: Equilibrium | None = None, start="equilibrium",
+             progress=True, eq: Equilibrium | None = None, start=None,
              out=None) -> Results:
     """Time history of ``model`` from rest; settings (s) default to the model's. start:
-    'equilibrium' (the static state) or 'given' (free points and bodies released from
-    their given positions, the lines in equilibrium between them: a pendulum let go).
-    out: an output folder, checked (and cleared of a previous run's files) before the
-    solve and written as the run goes (see :class:`OutputWriter`); a crash, a full disk
-    or Ctrl-C keeps what was computed."""
-    if start not in ("equilibrium", "given"):
-        raise ValueError(f"simulate start: {start!r} is not 'equilibrium' or 'given'")
+    'equilibrium' (the static state), 'given' (free points and bodies released from
+    their given positions, the lines in equilibrium between them: a pendulum let go) or
+    'reference' (the reference state as built, nothing solved: each line on its catenary
+    between the points' reference positions, MoorDyn's start with TmaxIC = 0); default:
+    the model's ``solver["start"]``, else 'equilibrium' (a deck with TmaxIC = 0 says
+    'reference'). out: an output folder, checked (and cleared of a previous run's files)
+    before the solve and written as the run goes (see :class:`OutputWriter`); a crash, a
+    full disk or Ctrl-C keeps what was computed."""
     solver = model.solver
+    start = solver.get("start", "equilibrium") if start is None else start
+    if start not in STARTS:
+        raise ValueError(f"simulate start: {start!r} is not one of {', '.join(STARTS)}")
     duration = run_setting("duration", duration, solver["duration"])
     dt = run_setting("dt", dt, solver["dt"])
     interval = run_setting("output_interval", output_interval, solver["output_interval"])
@@ -286,7 +298,7 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     notes = resolution_notes(model, eq, dt)
     for note in notes:
         warnings.warn(note, ResolutionWarning, stacklevel=2)
-    x0 = eq.x if start == "equilibrium" else released_state(model)
+    x0 = released_state(model) if start == "given" else eq.x
     recorder = _Recorder(model)
     meta = _meta(model, eq)
     meta["notes"] += notes
@@ -323,12 +335,19 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
 def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
     """The model's equilibrium; for a release from the given state (``start='given'``)
     without Rayleigh damping, a model with no static equilibrium (a buoyant rod pinned
-    below the surface turns over, nothing holds it horizontal) starts without one."""
+    below the surface turns over, nothing holds it horizontal) starts without one; from
+    the reference state (``start='reference'``) without Rayleigh damping, no static
+    state is sought (x = 0: the reference itself)."""
+    damping = model.damping
+    rayleigh = any(damping.get(k) for k in ("ratio", "alpha", "beta"))
+    if start == "reference" and not rayleigh:
+        model.notes.append("started from the reference state as built, no static solve "
+                           "(start='reference'; a deck's TmaxIC = 0 asks for it)")
+        return Equilibrium(np.zeros(model.system.n), None, None, None, (0.0, 0.0))
     try:
         return equilibrium(model)
     except ConvergenceError as err:
-        damping = model.damping
-        if start != "given" or any(damping.get(k) for k in ("ratio", "alpha", "beta")):
+        if start != "given" or rayleigh:
             raise
         model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "
                            "released from the given state without one")
