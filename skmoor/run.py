@@ -186,6 +186,23 @@ def released_state(model: Model) -> np.ndarray:
         return static_state(system, x0, held=held.astype(int)).x
 
 
+def reference_state(model: Model) -> np.ndarray:
+    """The reduced state of the reference as built (x = 0: the points and bodies where
+    the model puts them, each line on its catenary between them), its bending lines'
+    node tangents turned to rotational balance with every position held (in the sea's
+    steady part): the catenary's curvature at a pinned end would otherwise be a moment
+    on a tangent of almost no rotary inertia, a start shock of ~1e4 m/s2 that the
+    consistent Hermite mass passes on to the points (MoorDyn's nodes have no tangents)."""
+    system, lines = model.system, model.lines
+    x0 = np.zeros(system.n)
+    if lines.slope_dofs is None:
+        return x0
+    turning = np.unique(system._columns[np.isin(system.free, lines.slope_dofs)])
+    held = np.setdiff1d(np.arange(system.n), turning)
+    with steady_water(model):
+        return static_state(system, x0, held=held).x
+
+
 def run_setting(name, value, default=None) -> float:
     """A run setting in seconds (duration, dt, output_interval): ``default`` when None,
     else a finite number > 0 (ValueError naming the setting otherwise)."""
@@ -298,7 +315,8 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     notes = resolution_notes(model, eq, dt)
     for note in notes:
         warnings.warn(note, ResolutionWarning, stacklevel=2)
-    x0 = released_state(model) if start == "given" else eq.x
+    x0 = {"given": released_state, "reference": reference_state}.get(start)
+    x0 = eq.x if x0 is None else x0(model)
     recorder = _Recorder(model)
     meta = _meta(model, eq)
     meta["notes"] += notes
