@@ -198,6 +198,8 @@ def reference_state(model: Model) -> np.ndarray:
     if lines.slope_dofs is None:
         return x0
     turning = np.unique(system._columns[np.isin(system.free, lines.slope_dofs)])
+    if turning.size == 0:  # every tangent clamped
+        return x0
     held = np.setdiff1d(np.arange(system.n), turning)
     with steady_water(model):
         return static_state(system, x0, held=held).x
