@@ -277,7 +277,9 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     (on the lines and the rods). rotations: 'small' or 'exact' for the free bodies and
     the free and pinned rods (:class:`~skmoor.body.RigidBody`; 'exact' for those that
     turn far).
-    settings: the solver's defaults for the deck (Newmark, dtOut as the output interval).
+    settings: the solver's defaults for the deck (Newmark, dtOut as the output interval;
+    ``start='reference'`` when the deck gives TmaxIC = 0: MoorDyn then runs it from its
+    given state, every line on its catenary between the points as given, no IC solve).
     """
     deck = read_deck(deck) if not isinstance(deck, Deck) else deck
     _check_options(deck)
@@ -327,8 +329,10 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
     if seabed and lines:  # the lines' bed (the rods' is their own, above)
         network.seabed = _seabed(deck, network, bathymetry)
     dt_out = deck.option("dtOut") or None
+    no_ic = "TmaxIC" in deck.options and deck.option("TmaxIC") == 0  # MoorDyn: no IC stage
     settings = {"solver": {"scheme": "newmark", "duration": 60.0,
-                           **({"output_interval": dt_out} if dt_out else {})},
+                           **({"output_interval": dt_out} if dt_out else {}),
+                           **({"start": "reference"} if no_ic else {})},
                 "damping": {"ratio": 0.0}, "load": {}}
     return network, settings
 

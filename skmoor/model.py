@@ -117,9 +117,10 @@ def build(source, *, motion=None, sea=None, rotations=None) -> Model:
         from .deck_model import default_time_step, deck_network
         network, settings = deck_network(source, motion=motion, sea=sea,
                                          rotations=rotations or "small")
+        as_given = settings["solver"].get("start") == "reference"  # TmaxIC = 0
         try:
             model = from_network(network, name=source.source, settings=settings,
-                                 source=source, notes=list(source.notes))
+                                 source=source, notes=list(source.notes), settle=not as_given)
         except ValueError as err:
             raise _on_deck_line(source, err) from None
         if "dt" not in settings["solver"]:
@@ -155,11 +156,14 @@ def _on_deck_line(deck, err) -> ValueError:
 
 
 def from_network(network: Network, *, name="network", settings=None, draft=None,
-                 source=None, notes=()) -> Model:
+                 source=None, notes=(), settle=True) -> Model:
     """Build a Network into a Model (statics not yet solved: see :func:`skmoor.equilibrium`).
-    Impossible input is refused first, suspicious input warned about (:mod:`skmoor.checks`)."""
+    Impossible input is refused first, suspicious input warned about (:mod:`skmoor.checks`).
+    settle: the free points' reference positions settled on catenaries
+    (:func:`~skmoor.network.settle_points`), else where the network gives them."""
     warned = _checked(network)
-    system, lineset, catenaries, positions = build_system(network)
+    given = None if settle else {p.name: network.global_position(p) for p in network.points}
+    system, lineset, catenaries, positions = build_system(network, given)
     return Model(name, system, lineset, network, catenaries, dict(settings or {}),
                  network.depth, draft, source, list(notes) + warned + network.notes, positions)
 

@@ -36,6 +36,9 @@ OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png"
            "motion.pvd")
 
 
+STARTS = ("equilibrium", "given", "reference")  # simulate's starting states
+
+
 class ResolutionWarning(UserWarning):
     """A time step too coarse for the periods the run claims to resolve, or a prescribed
     motion that starts with a velocity jump."""
@@ -131,10 +134,15 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
             static = static_state(system)
         except ConvergenceError as err:
             free = unrestrained(model)
+            hint = (". The deck asks for no initial-condition solve (TmaxIC = 0): "
+                    "skmoor.simulate runs it from its given state (start='reference')"
+                    if model.solver.get("start") == "reference" else "")
             if free:
                 raise ConvergenceError(f"{err}; unrestrained at the given state: "
                                        f"{', '.join(free)} (nothing holds them statically)"
-                                       ) from None
+                                       f"{hint}") from None
+            if hint:
+                raise ConvergenceError(f"{err}{hint}") from None
             raise
         _, K, _ = system.residual(static.x)
     damping = model.damping
@@ -176,6 +184,25 @@ def released_state(model: Model) -> np.ndarray:
         return x0
     with steady_water(model):
         return static_state(system, x0, held=held.astype(int)).x
+
+
+def reference_state(model: Model) -> np.ndarray:
+    """The reduced state of the reference as built (x = 0: the points and bodies where
+    the model puts them, each line on its catenary between them), its bending lines'
+    node tangents turned to rotational balance with every position held (in the sea's
+    steady part): the catenary's curvature at a pinned end would otherwise be a moment
+    on a tangent of almost no rotary inertia, a start shock of ~1e4 m/s2 that the
+    consistent Hermite mass passes on to the points (MoorDyn's nodes have no tangents)."""
+    system, lines = model.system, model.lines
+    x0 = np.zeros(system.n)
+    if lines.slope_dofs is None:
+        return x0
+    turning = np.unique(system._columns[np.isin(system.free, lines.slope_dofs)])
+    if turning.size == 0:  # every tangent clamped
+        return x0
+    held = np.setdiff1d(np.arange(system.n), turning)
+    with steady_water(model):
+        return static_state(system, x0, held=held).x
 
 
 def run_setting(name, value, default=None) -> float:
@@ -262,17 +289,21 @@ def bed_contact_period(model: Model) -> float | None:
 
 
 def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
-             progress=True, eq: Equilibrium | None = None, start="equilibrium",
+             progress=True, eq: Equilibrium | None = None, start=None,
              out=None) -> Results:
     """Time history of ``model`` from rest; settings (s) default to the model's. start:
-    'equilibrium' (the static state) or 'given' (free points and bodies released from
-    their given positions, the lines in equilibrium between them: a pendulum let go).
-    out: an output folder, checked (and cleared of a previous run's files) before the
-    solve and written as the run goes (see :class:`OutputWriter`); a crash, a full disk
-    or Ctrl-C keeps what was computed."""
-    if start not in ("equilibrium", "given"):
-        raise ValueError(f"simulate start: {start!r} is not 'equilibrium' or 'given'")
+    'equilibrium' (the static state), 'given' (free points and bodies released from
+    their given positions, the lines in equilibrium between them: a pendulum let go) or
+    'reference' (the reference state as built, nothing solved: each line on its catenary
+    between the points' reference positions, MoorDyn's start with TmaxIC = 0); default:
+    the model's ``solver["start"]``, else 'equilibrium' (a deck with TmaxIC = 0 says
+    'reference'). out: an output folder, checked (and cleared of a previous run's files)
+    before the solve and written as the run goes (see :class:`OutputWriter`); a crash, a
+    full disk or Ctrl-C keeps what was computed."""
     solver = model.solver
+    start = solver.get("start", "equilibrium") if start is None else start
+    if start not in STARTS:
+        raise ValueError(f"simulate start: {start!r} is not one of {', '.join(STARTS)}")
     duration = run_setting("duration", duration, solver["duration"])
     dt = run_setting("dt", dt, solver["dt"])
     interval = run_setting("output_interval", output_interval, solver["output_interval"])
@@ -286,7 +317,8 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     notes = resolution_notes(model, eq, dt)
     for note in notes:
         warnings.warn(note, ResolutionWarning, stacklevel=2)
-    x0 = eq.x if start == "equilibrium" else released_state(model)
+    x0 = {"given": released_state, "reference": reference_state}.get(start)
+    x0 = eq.x if x0 is None else x0(model)
     recorder = _Recorder(model)
     meta = _meta(model, eq)
     meta["notes"] += notes
@@ -323,12 +355,19 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
 def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
     """The model's equilibrium; for a release from the given state (``start='given'``)
     without Rayleigh damping, a model with no static equilibrium (a buoyant rod pinned
-    below the surface turns over, nothing holds it horizontal) starts without one."""
+    below the surface turns over, nothing holds it horizontal) starts without one; from
+    the reference state (``start='reference'``) without Rayleigh damping, no static
+    state is sought (x = 0: the reference itself)."""
+    damping = model.damping
+    rayleigh = any(damping.get(k) for k in ("ratio", "alpha", "beta"))
+    if start == "reference" and not rayleigh:
+        model.notes.append("started from the reference state as built, no static solve "
+                           "(start='reference'; a deck's TmaxIC = 0 asks for it)")
+        return Equilibrium(np.zeros(model.system.n), None, None, None, (0.0, 0.0))
     try:
         return equilibrium(model)
     except ConvergenceError as err:
-        damping = model.damping
-        if start != "given" or any(damping.get(k) for k in ("ratio", "alpha", "beta")):
+        if start != "given" or rayleigh:
             raise
         model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "
                            "released from the given state without one")

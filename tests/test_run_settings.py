@@ -208,3 +208,18 @@ def test_a_step_past_the_bed_contact_period_without_numerical_damping_is_warned(
         skmoor.simulate(model, eq=eq, duration=0.3, dt=0.1, progress=False)
         model.solver.update(scheme="generalized-alpha", rho_inf=0.5)
         skmoor.simulate(model, eq=eq, duration=0.5, dt=0.25, progress=False)
+
+
+def test_a_deck_without_ic_solve_starts_from_its_given_state():
+    """pendulum.dat sets TmaxIC = 0: its model's default start is the reference as built
+    (start='reference', no static solve: the run's notes say so), the clump at rest where
+    the deck puts it (x = 10 m, z = -100 m) in the first sample; a start that is not one
+    of the three is refused naming the setting."""
+    model = skmoor.build(Path(__file__).parent / "decks" / "free_points" / "pendulum.dat")
+    assert model.solver["start"] == "reference"
+    results = skmoor.simulate(model, duration=0.02, dt=0.01, progress=False)
+    assert any("no static solve" in note for note in results.meta["notes"])
+    clump = results.point_reference + results.point_displacement[0]
+    assert np.abs(clump[results.point_names.index("point2")] - [10.0, 0.0, -100.0]).max() < 1e-9
+    with pytest.raises(ValueError, match="simulate start: 'rest' is not one of"):
+        skmoor.simulate(model, duration=0.02, dt=0.01, progress=False, start="rest")
