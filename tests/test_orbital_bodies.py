@@ -14,10 +14,10 @@ hand and MoorDyn v2 run side by side.
                                    m2), MoorDyn's tests/bodies.cpp   4e-7 rad/s at dt
                                    start: spin 0.2 rad/s about the   0.025 s, 2nd order
                                    common centre of mass             in dt (ratio 4.0)
-    buoyant_point_pendulum         3 point masses, one buoyant, in   COM fall 1e-9 m;
-                                   water: the COM falls at F/m, the  angle 2e-4 rad (by
-                                   body swings about it (by hand)    hand), points 1 mm
-                                   and MoorDyn side by side          (MoorDyn)
+    buoyant_point_pendulum         3 point masses, one buoyant, in   COM fall 2e-6 m of
+                                   water: the COM falls at F/m, the  3.9, angle 1e-5 rad
+                                   body swings about it (by hand)    (by hand), points
+                                   and MoorDyn side by side          2 mm (MoorDyn)
 """
 import sys
 import warnings
@@ -119,3 +119,92 @@ def test_orbit_without_forces(tmp_path):
     assert fine[0] < 1.2e-5 and fine[1] < 5e-7
     assert coarse[0] / fine[0] == pytest.approx(4.0, rel=0.05)  # second order
     assert coarse[1] / fine[1] == pytest.approx(4.0, rel=0.05)
+
+
+PENDULUM = """--------------------- MoorDyn Input File ------------------------------------
+Three point masses on a free body of no mass of its own, the top one buoyant
+---------------------------- BODIES -----------------------------------------
+ID  Attachment  X0  Y0  Z0   r0  p0  y0  Mass  CG*  I*  Volume  CdA*  Ca
+(#) (-)         (m) (m) (m)  (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)
+1   free        0   10  -20  0   0   0   0     0    0   0       0     0
+----------------------- POINTS ----------------------------------------------
+Node  Type   X    Y    Z    M     V     CdA  CA
+(-)   (-)    (m)  (m)  (m)  (kg)  (m^3) (m^2) (-)
+1     Body1  0.0  -10  -2   20.0  0     0    0
+2     Body1  0.0  -10  2    20.0  0.04  0    0
+3     Body1  1.0  -10  0    5.0   0     0    0
+-------------------------- SOLVER OPTIONS------------------------------------
+9.81     g
+1025     rho
+1e-3     dtM
+70       WtrDpth
+0        TmaxIC
+--------------------------- need this line ----------------------------------
+"""
+MASSES = np.array([20.0, 20.0, 5.0])  # kg, the points' (PENDULUM)
+OFFSETS = np.array([[0.0, -10, -2], [0.0, -10, 2], [1.0, -10, 0]])  # m, from (0, 10, -20)
+RHO, G, VOLUME, DURATION = 1025.0, 9.81, 0.04, 3.0
+
+
+def pendulum_by_hand(t):
+    """(z of the centre of mass (m), angle (rad) about y of the line from it to the
+    buoyant point 2 from the vertical) at times t: the centre falls at (B - m g) / m,
+    B = rho g V; about it (its weights act there) B alone turns the body, a pendulum
+    I theta'' = -B d sin(theta), I the y inertia about the centre, d the arm."""
+    m, B = MASSES.sum(), RHO * G * VOLUME
+    com = MASSES @ OFFSETS / m
+    arms = OFFSETS - com
+    inertia = MASSES @ (arms[:, 0] ** 2 + arms[:, 2] ** 2)  # all in one y plane
+    d, theta0 = np.linalg.norm(arms[1]), np.arctan2(-arms[1, 0], arms[1, 2])
+    swing = solve_ivp(lambda _, y: [y[1], -B * d / inertia * np.sin(y[0])], (0, t[-1]),
+                      [theta0, 0.0], t_eval=t, rtol=1e-11, atol=1e-13)
+    return -20.0 + 0.5 * (B - m * G) / m * t ** 2, swing.y[0]
+
+
+def com_and_angle(points):
+    """(nt,) z of the centre of mass and (nt,) angle from the vertical (about y) of the
+    line from it to point 2, from the (nt, 3, 3) point positions (m)."""
+    com = np.einsum("p,tpi->ti", MASSES, points) / MASSES.sum()
+    arm = points[:, 1] - com
+    return com[:, 2], np.arctan2(-arm[:, 0], arm[:, 2])
+
+
+def moordyn_pendulum(path, dt=0.01):
+    """MoorDyn's positions (nt, 3 points, 3) at t = dt, 2 dt, ... DURATION."""
+    moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) "
+                                  "is the peer")
+    system = moordyn.Create(str(path))
+    try:
+        assert moordyn.Init(system, [], []) == 0
+        points = [moordyn.GetPoint(system, k + 1) for k in range(3)]
+        out = []
+        for k in range(round(DURATION / dt)):
+            moordyn.Step(system, [], [], k * dt, dt)
+            out.append([moordyn.GetPointPos(p) for p in points])
+    finally:
+        moordyn.Close(system)
+    return np.array(out)
+
+
+def test_buoyant_point_pendulum(tmp_path, monkeypatch):
+    """A body of no mass of its own, its 45 kg in three points, 0.04 m3 of buoyancy on
+    the top one, released in water: weight and buoyancy at their points (their moments
+    about the reference point) and the points' mass matrix drive it. By hand: the fall
+    of the centre of mass at (B - m g) / m and the swing about it; and MoorDyn v2 side by
+    side (its points every 10 ms over the 3 s, about one swing)."""
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "pendulum.txt"
+    path.write_text(PENDULUM)
+    model = skmoor.build(path, rotations="exact")
+    results = skmoor.simulate(model, duration=DURATION, dt=0.01, output_interval=0.01,
+                              start="given", progress=False)
+    assert results.meta["stopped"] is None, results.meta["stopped"]
+    k = [results.point_names.index(f"point{i}") for i in (1, 2, 3)]
+    ours = results.point_reference[k] + results.point_displacement[:, k]
+    z, theta = com_and_angle(ours)
+    z_hand, theta_hand = pendulum_by_hand(results.t)
+    assert abs(theta_hand[0]) > 0.05 and np.ptp(theta_hand) > 0.1  # it swings through
+    theirs = moordyn_pendulum(path)
+    assert np.abs(z - z_hand).max() < 1e-5
+    assert np.abs(theta - theta_hand).max() < 5e-5
+    assert np.abs(ours[1:] - theirs).max() < 4e-3  # of a 3.9 m fall
