@@ -48,7 +48,8 @@ Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` / ``rodN.B`` on
 the rod. A CoupledPinned body is a dynamic body (its mass and its rods')
 pinned at its reference point on 3 coupled DOFs (MoorDyn's coupled-DOF vector gives it
 6, of which the first 3, its position, are used); a body of no mass of its own carrying
-one rod gets that rod's spin spring.
+one rod gets that rod's spin spring. A free or pinned body's RigidBody holds its own mass
+and its points' and rods' (:func:`_body_rigid`); its points' volumes are buoyant there.
 
 A line type with EI > 0 is a bending line (:mod:`skmoor.bending`: the deck's lines then
 all go on the Hermite element, the cables with EI = 0), its ends pinned (MoorDyn clamps a
@@ -60,8 +61,8 @@ point ``rodN`` joining the lines on its two ends; they are pinned there (MoorDyn
 them to the node, which turns: the bending moment is carried across it).
 
 Refused, with the deck line and the reason: Coupled rods (6 prescribed DOFs), mass or
-volume on a body point, VIV (Cl > 0),
-MoorDyn-F's WaterKin file.
+volume on a point of a fixed or coupled body, a free body whose summed mass matrix is
+singular, VIV (Cl > 0), MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
 
