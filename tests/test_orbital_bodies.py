@@ -18,6 +18,7 @@ hand and MoorDyn v2 run side by side.
                                    water: the COM falls at F/m, the  3.9, angle 1e-5 rad
                                    body swings about it (by hand)    (by hand), points
                                    and MoorDyn side by side          2 mm (MoorDyn)
+    rod_mounted_on_a_body          mount_rod's combined inertia      1e-12 (by hand)
 """
 import sys
 import warnings
@@ -208,3 +209,19 @@ def test_buoyant_point_pendulum(tmp_path, monkeypatch):
     assert np.abs(z - z_hand).max() < 1e-5
     assert np.abs(theta - theta_hand).max() < 5e-5
     assert np.abs(ours[1:] - theirs).max() < 4e-3  # of a 3.9 m fall
+
+
+def test_rod_mounted_on_a_body():
+    """mount_rod: a 10 kg body (inertia diag(1, 2, 3) kg m2 at the origin) and a 10 kg
+    rod (5 kg/m, 2 m, diameter 0.2 m) from (1, 0, 0) to (3, 0, 0): 20 kg at (1, 0, 0); by
+    hand about it, the body diag(1, 2, 3) + 10 (1 m)^2 across x, the rod its along
+    m r^2 / 2 = 0.05 and across m (L^2/12 + r^2/4) + 10 (1 m)^2; rotations kept."""
+    body = skmoor.RigidBody(10.0, np.zeros(3), np.diag([1.0, 2.0, 3.0]), rotations="exact")
+    rod_type = skmoor.rods.RodType("r", 0.2, 5.0, 0.0, 0.0, 0.0, 0.0)
+    both = skmoor.rods.mount_rod(body, rod_type, [1.0, 0, 0], [3.0, 0, 0],
+                                 reference_point=np.zeros(3))
+    across = 10 * (4 / 12 + 0.01 / 4)
+    assert both.mass == 20.0 and np.allclose(both.center_of_mass, [1.0, 0, 0])
+    assert np.allclose(both.inertia, np.diag([1 + 0.05, 2 + 10 + across + 10,
+                                              3 + 10 + across + 10]), rtol=0, atol=1e-12)
+    assert both.rotations == "exact"
