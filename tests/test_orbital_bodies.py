@@ -10,10 +10,10 @@ hand and MoorDyn v2 run side by side.
                                    reference point): 6x6 matrices
     collinear_point_masses_refused orbitalBody as given: body 1's    the error names the
                                    masses on one line (z)            axis
-    orbit_without_forces           orbitalBody (body 1 given 1 kg    radius 1e-5 m, rate
+    orbit_without_forces           orbitalBody (body 1 given 1 kg    radius 3e-6 m, rate
                                    m2), MoorDyn's tests/bodies.cpp   4e-7 rad/s at dt
-                                   start: spin 0.2 rad/s about the   0.025 s, 2nd order
-                                   common centre of mass             in dt (ratio 4.0)
+                                   start: spin 0.2 rad/s about the   0.025 s over 2.5 s,
+                                   common centre of mass             2nd order (ratio 4.0)
     buoyant_point_pendulum         3 point masses, one buoyant, in   COM fall 2e-6 m of
                                    water: the COM falls at F/m, the  3.9, angle 1e-5 rad
                                    body swings about it (by hand)    (by hand), points
@@ -21,7 +21,6 @@ hand and MoorDyn v2 run side by side.
     rod_mounted_on_a_body          mount_rod's combined inertia      1e-12 (by hand)
 """
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -91,7 +90,7 @@ def test_collinear_point_masses_refused(tmp_path):
         skmoor.build(orbital_deck(tmp_path, inertia=False))
 
 
-def orbit_errors(model, dt, duration=5.0, omega=0.2, radius=10.0):
+def orbit_errors(model, dt, duration=2.5, omega=0.2, radius=10.0):
     """Largest errors of the two bodies' reference points over the run: |r - r0| - 10 m
     (m) and the angle of r - r0 about x over t minus omega (rad/s), r0 = (0, 0, 20) the
     bodies' common centre of mass, started as MoorDyn's tests/bodies.cpp starts them:
@@ -117,7 +116,7 @@ def test_orbit_without_forces(tmp_path):
     centripetal terms; Newmark's error in the orbit falls as dt^2."""
     model = skmoor.build(orbital_deck(tmp_path), rotations="exact")
     coarse, fine = orbit_errors(model, 0.05), orbit_errors(model, 0.025)
-    assert fine[0] < 1.2e-5 and fine[1] < 5e-7
+    assert fine[0] < 3e-6 and fine[1] < 5e-7
     assert coarse[0] / fine[0] == pytest.approx(4.0, rel=0.05)  # second order
     assert coarse[1] / fine[1] == pytest.approx(4.0, rel=0.05)
 
