@@ -39,6 +39,8 @@ __all__ = [
     "attachment_jacobian",
     "attachment_hessian",
     "uniform_box_inertia",
+    "combined_mass",
+    "point_mass_matrix",
     "Hydrostatics",
     "box_hydrostatics",
     "hull_hydrostatics",
@@ -208,6 +210,29 @@ def uniform_box_inertia(mass: float, length: float, width: float, height: float)
     return mass / 12.0 * np.diag(
         [width**2 + height**2, length**2 + height**2, length**2 + width**2]
     )
+
+
+def combined_mass(parts):
+    """(mass kg, centre of mass (3,) m, inertia about it (3, 3) kg m2) of rigidly joined
+    parts, each (mass, centre (3,), own inertia about its centre (3, 3)): the masses
+    summed, the inertias moved to the common centre by the parallel-axis theorem
+    (I = sum I_i + m_i (|d_i|^2 E - d_i d_i^T)). A point mass has a zero own inertia."""
+    parts = [(float(m), np.asarray(c, float), np.asarray(i, float)) for m, c, i in parts]
+    mass = sum(m for m, _, _ in parts)
+    centre = (sum(m * c for m, c, _ in parts) / mass if mass > 0 else np.zeros(3))
+    inertia = np.zeros((3, 3))
+    for m, c, own in parts:
+        d = c - centre
+        inertia += own + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return mass, centre, 0.5 * (inertia + inertia.T)
+
+
+def point_mass_matrix(mass: float, offset) -> np.ndarray:
+    """(6, 6) mass matrix (kg, kg m, kg m2) about a reference point of a point mass (kg)
+    at ``offset`` (m) from it: [[m E, -m S], [m S, -m S S]], S = skew(offset)
+    (Sadeghi and Incecik's translation of a 3x3 mass, MoorDyn's translateMass)."""
+    s = _skew(np.asarray(offset, float))
+    return mass * np.block([[np.eye(3), -s], [s, -s @ s]])
 
 
 # --------------------------------------------------------------------------- hydrostatics

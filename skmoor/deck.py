@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -672,8 +673,10 @@ def _option(e, deck):
     elif name in F_ONLY:
         deck.notes.append(f"line {e.number}: option {written!r} is MoorDyn-F only "
                           "(MoorDyn-C ignores it)")
-    if name in deck.options:
-        raise e.error(f"{written}: given twice (line {deck.option_lines[name]} and here)")
+    if name in deck.options:  # MoorDyn reads on: the later value wins
+        warnings.warn(f"{e.source} line {e.number}: {e.section} {written}: given twice "
+                      f"(line {deck.option_lines[name]}: {deck.options[name]}, and here: "
+                      f"{value}); the later value is used, as MoorDyn uses it", stacklevel=2)
     deck.options[name] = value
     deck.option_lines[name] = e.number
 

@@ -49,7 +49,8 @@ Line ends ``R<N>A`` / ``R<N>B`` are the points ``rodN.A`` / ``rodN.B`` on
 the rod. A CoupledPinned body is a dynamic body (its mass and its rods')
 pinned at its reference point on 3 coupled DOFs (MoorDyn's coupled-DOF vector gives it
 6, of which the first 3, its position, are used); a body of no mass of its own carrying
-one rod gets that rod's spin spring.
+one rod gets that rod's spin spring. A free or pinned body's RigidBody holds its own mass
+and its points' and rods' (:func:`_body_rigid`); its points' volumes are buoyant there.
 
 A line type with EI > 0 is a bending line (:mod:`skmoor.bending`: the deck's lines then
 all go on the Hermite element, the cables with EI = 0), its ends pinned, but where it ends
@@ -64,8 +65,9 @@ A Coupled rod is a coupled body ``rodN`` at end A (its 6 coupled DOFs: end A's
 position and MoorDyn's angles Rx Ry Rz turning the deck's axis), carrying its RodLoad
 for :func:`skmoor.rods.coupled_reaction`.
 
-Refused, with the deck line and the reason: mass or volume on a body point, VIV (Cl > 0),
-MoorDyn-F's WaterKin file.
+Refused, with the deck line and the reason: mass or volume on a point of a fixed or
+coupled body, a free body whose summed mass matrix is singular, VIV (Cl > 0), MoorDyn-F's
+WaterKin file.
 """
 from __future__ import annotations
 
@@ -73,14 +75,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .body import Hydrostatics, RigidBody
+from .body import Hydrostatics, RigidBody, combined_mass, point_mass_matrix
 from .deck import Deck, read_deck
 from .hydro import body_hydrodynamics
 from . import laws
 from .line import LineType
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
 from . import rods
-from .rods import RodLoad, RodType, SpinLoad, mount_rod, spring_weight
+from .rods import RodLoad, RodType, SpinLoad, spring_weight
 from .sea_files import deck_bathymetry, deck_sea
 from .seabed import Seabed
 
@@ -161,22 +163,9 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
     inertia = np.array(body.inertia, float)
     inertia = np.full(3, inertia[0]) if inertia.size == 1 else inertia
     rods = [r for r in deck.rods if r.kind == "body" and r.body == body.id and not r.pinned]
-    if not rods and (body.mass <= 0 or np.any(inertia <= 0)):
-        raise _fail(deck, body.where, f"BODIES {body.id}: a {body.kind} body needs Mass > 0 "
-                    f"and inertia > 0, or a rod on it (got {body.mass:g} kg, "
-                    f"{inertia.tolist()} kg m2)")
     com = position + R0 @ cg
-    hydro = (Hydrostatics.submerged(body.volume, com, position) if body.volume > 0 else None)
-    added = deck.rho * body.volume * np.diag(_six(body.Ca, "Ca"))
     rotated = R0 @ np.diag(inertia) @ R0.T
-    rigid = None
-    if body.mass > 0:
-        rigid = RigidBody(body.mass, com, 0.5 * (rotated + rotated.T), reference_point=position,
-                          hydrostatics=hydro, added_mass=added, rho=deck.rho, g=deck.g,
-                          rotations=rotations)
-    elif hydro is not None or np.any(added):
-        raise _fail(deck, body.where, f"BODIES {body.id}: a body of no mass of its own "
-                    "with a Volume is not supported")
+    rigid = _body_rigid(deck, body, position, R0, com, rotated, rods, rotations)
     terms = []
     cda = _six(body.CdA, "CdA")
     if any(cda) and deck.rho > 0:  # in air (rho = 0) nothing drags
@@ -184,9 +173,6 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
                                         reference_point=position, rho=deck.rho, axes=R0))
     for rod in rods:  # the rod's ends in the body frame -> global offsets at the start
         rod_type, a, b = _rod_type(deck, rod), R0 @ rod.a, R0 @ rod.b
-        rigid = mount_rod(rigid, rod_type, position + a, position + b,
-                          reference_point=position, g=deck.g, name=f"rod{rod.id}",
-                          rotations=rotations)
         terms.append(RodLoad(rod_type, a, b, reference_point=position,
                              n_segments=rod.n_segments, rho=deck.rho, g=deck.g, sea=sea,
                              bed=bed, name=f"rod{rod.id}"))
@@ -196,17 +182,59 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
                 pin="coupled" if body.kind == "pinned" else None)
 
 
+def _massive_points(deck: Deck, body):
+    """The deck points fixed on ``body`` that carry a mass or a volume."""
+    return [p for p in deck.points
+            if p.kind == "body" and p.body == body.id and (p.mass or p.volume)]
+
+
+def _body_rigid(deck: Deck, body, position, R0, com, inertia, body_rods, rotations):
+    """The RigidBody of a free deck body: its own mass and inertia (about com, global
+    axes), plus the masses, volumes and added masses of its points and the masses of its
+    rods, as MoorDyn sums them into the body's 6x6 mass matrix (Body.cpp, Point.cpp's
+    getNetForceAndMass); a point's volume is buoyant at the point, the body's at com."""
+    points = _massive_points(deck, body)
+    offsets = [R0 @ np.array(p.position, float) for p in points]
+    parts = [(body.mass, com, inertia)]
+    parts += [(p.mass, position + r, np.zeros((3, 3))) for p, r in zip(points, offsets)]
+    parts += [rods.rod_inertia(_rod_type(deck, rod), position + R0 @ rod.a,
+                               position + R0 @ rod.b, f"rod{rod.id}") for rod in body_rods]
+    mass, centre, total = combined_mass(parts)
+    scale = max(mass * 1.0, np.trace(total), 1e-300)
+    lowest, axes = np.linalg.eigh(total)
+    if mass <= 0 or lowest[0] <= 1e-12 * scale:
+        axis = np.round(axes[:, 0], 12) + 0.0
+        raise _fail(deck, body.where, f"BODIES {body.id}: a free body's mass matrix (its own "
+                    f"{body.mass:g} kg, {inertia.diagonal().tolist()} kg m2, plus {len(points)} "
+                    f"point mass(es) and {len(body_rods)} rod(s) on it) is singular: "
+                    + ("no mass" if mass <= 0 else
+                       f"no inertia about the axis {axis.tolist()} through its centre of mass "
+                       f"{centre.tolist()} (all its masses on that line)")
+                    + ": give the body a Mass and an inertia I")
+    volumes = [(body.volume, com)] + [(p.volume, position + r) for p, r in zip(points, offsets)]
+    volume = sum(v for v, _ in volumes)
+    hydro = None
+    if volume > 0:  # MoorDyn: buoyancy rho g V at each volume's place, submerged or not
+        hydro = Hydrostatics.submerged(volume, sum(v * c for v, c in volumes) / volume,
+                                       position)
+    added = deck.rho * body.volume * np.diag(_six(body.Ca, "Ca"))
+    for p, r in zip(points, offsets):  # Point.cpp: Ca rho V E at the point
+        added = added + point_mass_matrix(deck.rho * p.volume * p.Ca, r)
+    return RigidBody(mass, centre, total, reference_point=position, hydrostatics=hydro,
+                     added_mass=added, rho=deck.rho, g=deck.g, rotations=rotations)
+
+
 def _spins_freely(deck: Deck, body, cg, rod) -> bool:
     """True when nothing holds a body on one rod about the rod's axis in statics: no
     mass of its own, or its centre of mass, all its points and its pinned rods' pins on
     the axis (body frame); a pinned rod that carries no line may pin off a vertical axis
     (it pulls there with its weight and buoyancy alone, vertical)."""
-    if body.mass <= 0:
+    if body.mass <= 0 and not _massive_points(deck, body):
         return True
     a, b = np.array(rod.a, float), np.array(rod.b, float)
     axis = (b - a) / np.linalg.norm(b - a)
-    points = [cg] + [np.array(p.position, float) for p in deck.points
-                     if p.kind == "body" and p.body == body.id]
+    points = [cg] * (body.mass > 0) + [np.array(p.position, float) for p in deck.points
+                                       if p.kind == "body" and p.body == body.id]
     vertical = abs(abs(axis[2]) - 1) < 1e-9 and np.allclose(body.r6[3:5], 0.0)
     for r in deck.rods:
         if r.kind == "body" and r.body == body.id and r.pinned:
@@ -303,15 +331,16 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
             bodies.append(body)
     for p in deck.points:
         kind = p.kind
-        if kind == "body":
-            if p.mass or p.volume:
-                raise _fail(deck, p.where, f"POINTS {p.id}: mass or volume on a body point "
-                            "is not supported (add it to the body)")
+        on_body = kind == "body" and deck.bodies[p.body - 1].kind not in ("fixed", "coupled")
+        if kind == "body" and (p.mass or p.volume) and not on_body:
+            raise _fail(deck, p.where, f"POINTS {p.id}: mass or volume on a point of a "
+                        "fixed or coupled body is not supported (it moves as given)")
         if p.force and any(p.force):
             raise _fail(deck, p.where, f"POINTS {p.id}: a constant point force is not supported")
         points.append(Point(f"point{p.id}", kind, p.position,
                             body=f"body{p.body}" if kind == "body" else None,
-                            mass=p.mass, volume=p.volume, CdA=p.CdA, Ca=p.Ca))
+                            mass=0.0 if on_body else p.mass,  # in its body's RigidBody
+                            volume=0.0 if on_body else p.volume, CdA=p.CdA, Ca=p.Ca))
     lines = []
     for line in deck.lines:
         line_type = line_type_of(deck, line)

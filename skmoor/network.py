@@ -360,33 +360,40 @@ def _sagging(a, b, length, n, weight, seabed_z):
     """A stress-free polyline of ``length`` (m) from a to b, sagging down (up for a buoyant
     line) as a parabola, kept above the bed: the slack line's first guess. A (nearly)
     vertical chord bows sideways instead (a sag along the chord would fold the line onto
-    itself, a state tension-only elements cannot leave)."""
+    itself, a state tension-only elements cannot leave). A line too long to sag onto the
+    bed (its ends nearer than its length along the bed and up) bows sideways in plan as
+    well, across its chord, to take up the rest."""
     t = np.linspace(0.0, 1.0, n + 1)[:, None]
+    bow = 4 * t * (1 - t)
     direction = np.array([0.0, 0.0, 1.0 if weight < 0 else -1.0])
     chord = (b - a) / np.linalg.norm(b - a)
     if abs(chord[2]) > 0.9:
         side = np.cross(chord, [0.0, 1.0, 0.0])
         direction = side / np.linalg.norm(side)
+    across = np.cross(chord, [0.0, 0.0, 1.0])  # horizontal, across the chord in plan
+    across = across / np.linalg.norm(across) if np.linalg.norm(across) > 1e-9 else np.eye(3)[1]
 
-    def shape(d):
-        X = a + t * (b - a) + d * 4 * t * (1 - t) * direction
+    def shape(d, w=0.0):
+        X = a + t * (b - a) + d * bow * direction + w * bow * across
         if seabed_z is not None:
             X[:, 2] = np.maximum(X[:, 2], seabed_z)
         return X
 
-    def excess(d):
-        return np.linalg.norm(np.diff(shape(d), axis=0), axis=1).sum() - length
+    def excess(d, w=0.0):
+        return np.linalg.norm(np.diff(shape(d, w), axis=0), axis=1).sum() - length
 
-    low, high = 0.0, length
-    if excess(high) < 0:  # the bed stops it: lay the rest in plan, bent sideways
-        raise ValueError(f"a line of {length:.6g} m between {a} and {b} cannot be laid out "
-                         "as a first guess: give its ends further apart")
-    for _ in range(200):
-        mid = 0.5 * (low + high)
-        low, high = (mid, high) if excess(mid) < 0 else (low, mid)
-        if high - low < 1e-12 * length:
-            break
-    return shape(high)
+    def bisect(f):  # the root of the increasing f on [0, length]
+        low, high = 0.0, length
+        for _ in range(200):
+            mid = 0.5 * (low + high)
+            low, high = (mid, high) if f(mid) < 0 else (low, mid)
+            if high - low < 1e-12 * length:
+                break
+        return high
+
+    if excess(length) < 0:  # the bed stops the sag: the rest bows across in plan
+        return shape(length, bisect(lambda w: excess(length, w)))
+    return shape(bisect(excess))
 
 
 def line_end_forces(line_type: LineType, length, a, b, seabed_z=None):

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .body import RigidBody, attachment_jacobian
+from .body import RigidBody, attachment_jacobian, combined_mass
 from .terms import BodyLoad
 
 __all__ = ["RodType", "rod", "rod_body", "rod_inertia", "mount_rod", "RodLoad", "PinLoad",
@@ -129,15 +129,9 @@ def mount_rod(rigid: RigidBody | None, rod_type: RodType, a, b, *, reference_poi
     if rigid is None:
         return RigidBody(mass, com, inertia, reference_point=reference_point, g=g,
                          rotations=rotations)
-    total = rigid.mass + mass
-    centre = (rigid.mass * rigid.center_of_mass + mass * com) / total
-
-    def shifted(m, c, inertia):  # inertia about `centre` of mass m at c
-        d = c - centre
-        return inertia + m * (d @ d * np.eye(3) - np.outer(d, d))
-
-    combined = shifted(rigid.mass, rigid.center_of_mass, rigid.inertia) + shifted(mass, com, inertia)
-    return RigidBody(total, centre, 0.5 * (combined + combined.T),
+    total, centre, combined = combined_mass([(rigid.mass, rigid.center_of_mass, rigid.inertia),
+                                             (mass, com, inertia)])
+    return RigidBody(total, centre, combined,
                      reference_point=rigid.reference_point, hydrostatics=rigid.hydrostatics,
                      added_mass=rigid.added_mass, linear_damping=rigid.linear_damping,
                      rho=rigid.rho, g=rigid.g, box_size=rigid.box_size,

@@ -14,10 +14,8 @@ rods of RodPinnedFloating.txt are in tests/test_rods_moordyn.py (now run as give
                                    points vs MoorDyn and vs the
                                    intrinsic XYZ Euler angles
 
-body_tests/orbitalBody.txt stays refused (at BODIES 1: a free body of no mass of its own
-and no rod; its mass is two point masses on it, and mass on a body point is not
-supported), and MoorDyn's own test of it sets an initial velocity that MoorDyn's Python
-interface cannot give.
+body_tests/orbitalBody.txt (point masses on bodies of no mass of their own) is in
+tests/test_orbital_bodies.py.
 """
 import json
 import sys

@@ -22,8 +22,9 @@
    load-dependent ``EA_s|alphaMBL|beta`` (EA_d = alphaMBL + beta T_mean, T_mean the
    static tension in skmoor, the creep spring's in MoorDyn).
 3. MoorDyn's viscoelastic test deck ``visco.txt`` (``EA_s|alphaMBL|beta``, ``BA|BA_D``)
-   is read into a StaticDynamic law with the load-dependent dynamic stiffness, and
-   refused (zero gravity) at its deck line.
+   is read into a StaticDynamic law with the load-dependent dynamic stiffness (its
+   water density given twice: the later value, with a warning), and refused at its
+   line, stretched to twice its length.
 """
 import sys
 from pathlib import Path
@@ -199,12 +200,14 @@ def test_viscoelastic_polyester_against_moordyn(tmp_path, monkeypatch, EA_column
 # ------------------------------------------------------------ 3. visco.txt
 
 def test_moordyn_visco_deck_is_read(tmp_path):
-    """visco.txt gives the water density twice (rho 1025, then WtrDnsty 0): refused at its
-    second line; without that line, its viscoelastic line type reads, and the deck (g = 0,
-    accepted in still water) is refused for its line stretched to twice its length."""
+    """visco.txt gives the water density twice (rho 1025 on line 26, then WtrDnsty 0):
+    read as MoorDyn reads it, the later value used, with a warning naming both lines;
+    its viscoelastic line type reads, and the deck (g = 0, accepted in still water) is
+    refused for its line stretched to twice its length."""
     deck = mirror_file("visco.txt", tmp_path)
-    with pytest.raises(ValueError, match=r"^visco.txt line \d+: OPTIONS WtrDnsty: given twice"):
-        skmoor.read_deck(deck)
+    with pytest.warns(UserWarning, match=r"^visco.txt line 27: OPTIONS WtrDnsty: given "
+                      r"twice \(line 26: 1025, and here: 0.0\); the later value is used"):
+        assert skmoor.read_deck(deck).rho == 0.0
     text = deck.read_text(encoding="utf-8", errors="replace").splitlines()
     deck.write_text("\n".join(line for line in text if "WtrDnsty" not in line) + "\n")
     lt = skmoor.read_deck(deck).line_types["rope"]
