@@ -296,12 +296,13 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     their given positions, the lines in equilibrium between them: a pendulum let go) or
     'reference' (the reference state as built, nothing solved: each line on its catenary
     between the points' reference positions, MoorDyn's start with TmaxIC = 0); default:
-    the model's ``solver["start"]``, else 'equilibrium' (a deck with TmaxIC = 0 says
-    'reference'). out: an output folder, checked (and cleared of a previous run's files)
+    'equilibrium' when ``eq`` (a static state) is given, else the model's
+    ``solver["start"]``, else 'equilibrium' (a deck with TmaxIC = 0 says 'reference'). out: an output folder, checked (and cleared of a previous run's files)
     before the solve and written as the run goes (see :class:`OutputWriter`); a crash, a
     full disk or Ctrl-C keeps what was computed."""
     solver = model.solver
-    start = solver.get("start", "equilibrium") if start is None else start
+    if start is None:
+        start = "equilibrium" if eq is not None else solver.get("start", "equilibrium")
     if start not in STARTS:
         raise ValueError(f"simulate start: {start!r} is not one of {', '.join(STARTS)}")
     duration = run_setting("duration", duration, solver["duration"])
