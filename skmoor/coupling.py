@@ -32,6 +32,7 @@ from . import body as rigid
 from .banded import LAYOUTS, as_layout
 from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
+from .motion import acceleration_of
 from .large_rotations import (added_mass_load, added_mass_tangents, generalized_load,
                               rate_matrix, zyx_angles)
 from .no_lines import EmptyPattern, NoLineKernel
@@ -187,6 +188,7 @@ class System:
         self._number_dofs()
         self._attachment_cache = (None, None, None)
         self._prescribed_cache = (None, None, None)
+        self._acceleration_cache = (None, None)
         self.K_bodies = [b.hydrostatic_stiffness(generalized=True) for b in bodies]
         self.F_bodies0 = [b.static_force() for b in bodies]
         self.K_body = self.K_bodies[0] if bodies else None
@@ -403,6 +405,37 @@ class System:
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
             M[block, block] = M[block, block].toarray() + body.mass_matrix() + constant
         self.M = M.tocsr()
+        self._held_masses(M_lines)
+
+    def _held_masses(self, M_lines):
+        """The mass the held (fixed and prescribed) ends share with the rest, kg:
+        ``_M_driven`` = P0^T M[:, p], whose product with the prescribed ends' accelerations
+        joins the free DOFs' balance (M_fp a_p), and ``_end_mass`` = (M[e] P0, M[e, p]) of
+        the held ends' rows e, their own inertia in the reactions (M_ef a_f + M_ep a_p); each
+        None when zero (lumped P1 lines: no M_fp; fixed ends only: no acceleration)."""
+        M_lines = sp.csr_matrix(M_lines)
+        P0 = self.P(np.zeros(self.n))
+        driven = self._prescribed_flat
+        self._M_driven = None
+        if self._has_prescribed:
+            coupling = (P0.T @ M_lines[:, driven]).tocsr()
+            coupling.eliminate_zeros()
+            self._M_driven = coupling if coupling.nnz else None
+        nlines = len(self.lines.lines)
+        held = [("b", k, self.ends.b[k]) for k in range(nlines)] + [
+            ("a", k, self.ends.a[k]) for k in range(nlines)]
+        rows = [(0 if side == "b" else 1, k) for side, k, end in held
+                if end[0] in ("fixed", "prescribed")]
+        self._end_mass = None
+        if rows:
+            dofs = np.array([(self.fairlead_dofs if side == 0 else self.anchor_dofs)[k]
+                             for side, k in rows]).ravel()
+            on_free = (M_lines[dofs] @ P0).tocsr()
+            on_driven = M_lines[dofs][:, driven].tocsr()
+            for A in (on_free, on_driven):
+                A.eliminate_zeros()
+            if on_free.nnz or on_driven.nnz:
+                self._end_mass = (np.array(rows, int), on_free, on_driven)
 
     def commit(self, t, x, v):
         """An accepted time level (t, s; x, v reduced): passed to the terms that keep a
@@ -553,6 +586,46 @@ class System:
                     (at(self.motion, t + dt) - at(self.motion, t - dt)) / (2 * dt))
             self._prescribed_cache = ((t, dt), at(self.motion, t), rate)
         return self._prescribed_cache[1:]
+
+    def prescribed_acceleration(self, t):
+        """(n, 3) accelerations (m/s2) of the prescribed ends at t (s): the motion's
+        ``acceleration``, else differences of its velocity or position
+        (:func:`~skmoor.motion.acceleration_of`); the last time's is kept."""
+        if self._acceleration_cache[0] != t:
+            rate = np.asarray(acceleration_of(self.motion, t), float).reshape(-1, 3)
+            self._acceleration_cache = (t, rate[self._prescribed_slots])
+        return self._acceleration_cache[1]
+
+    def prescribed_accelerations_at(self, times):
+        """(m, 3 n) accelerations (m/s2) of the prescribed ends at the m ``times``."""
+        at_times = getattr(self.motion, "accelerations_at", None)
+        if at_times is None:
+            return np.array([self.prescribed_acceleration(t).ravel() for t in times]
+                            ).reshape(len(times), -1)
+        return at_times(times)[:, self._prescribed_slots].reshape(len(times), -1)
+
+    def driven_inertia(self, t):
+        """M_fp a_p(t) (N, reduced): the inertia the prescribed ends' accelerations put on
+        the free DOFs through the mass they share (consistent mass, bending lines), a
+        load of the dynamic balance; None when they share none (lumped P1 lines)."""
+        if self._M_driven is None:
+            return None
+        return self._M_driven @ self.prescribed_acceleration(t).ravel()
+
+    def end_inertia(self, a, t=0.0):
+        """(nlines, 3) inertia (N) of the B and of the A ends held fixed or prescribed,
+        M_ef a_f + M_ep a_p (a: reduced accelerations, m/s2, at t, s): the end nodes'
+        own mass share and the one they share with their neighbours; zeros at ends on
+        free points and bodies (the end's mass moves with them). None when zero."""
+        if self._end_mass is None:
+            return None
+        rows, on_free, on_driven = self._end_mass
+        values = on_free @ a
+        if on_driven.shape[1]:
+            values = values + on_driven @ self.prescribed_acceleration(t).ravel()
+        out = np.zeros((2, len(self.lines.lines), 3))
+        out[rows[:, 0], rows[:, 1]] = values.reshape(-1, 3)
+        return out[0], out[1]
 
     def prescribed_at(self, times):
         """Displacements (m) and velocities (m/s) of the prescribed ends at each of the m
@@ -969,17 +1042,29 @@ class System:
             out.append(A)
         return out
 
-    def reactions(self, x, v=None, t=0.0):
+    def reactions(self, x, v=None, t=0.0, a=None):
         """(nlines, 3) forces the lines exert on their B ends, and (nlines, 3) on their
-        A ends, N (quasi-static: internal force minus loads at the end node)."""
+        A ends, N: internal force minus loads at the end node, and with the reduced
+        accelerations ``a`` (m/s2) less the held ends' inertia (:meth:`end_inertia`);
+        without a, quasi-static."""
         v = np.zeros(self.n) if v is None else v
         u = self.full_displacement(x, t)
         return self.end_forces(u, self.full_velocity(x, v, t) if self._needs_velocity
-                               else None, t)
+                               else None, t, a)
 
-    def end_forces(self, u, ud, t=0.0):
+    def end_forces(self, u, ud, t=0.0, a=None):
         """:meth:`reactions` from the full cable displacement u (m) and velocity ud (m/s,
-        None: at rest) at time t (s)."""
+        None: at rest) at time t (s), and the reduced accelerations a (m/s2, None:
+        quasi-static)."""
         R_full, _, _ = self.line_residual(u, ud if self._needs_velocity else None, t,
                                           tangent=False)
-        return -R_full[self.fairlead_dofs], -R_full[self.anchor_dofs]
+        return self.less_inertia((-R_full[self.fairlead_dofs], -R_full[self.anchor_dofs]),
+                                 a, t)
+
+    def less_inertia(self, forces, a, t):
+        """(B, A end forces) less the held ends' inertia at the accelerations a (a: None,
+        or no inertia: the forces as given; Eq. 35's row of the end: f = -(R + M a))."""
+        inertia = None if a is None else self.end_inertia(a, t)
+        if inertia is None:
+            return forces
+        return forces[0] - inertia[0], forces[1] - inertia[1]

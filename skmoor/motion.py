@@ -2,9 +2,10 @@
 
 A :class:`~skmoor.coupling.System` takes any ``motion(t) -> (n, 3)`` displacements (m) of
 its prescribed ends and differentiates it numerically. A :class:`Motion` says more: its
-exact velocity, and (``vectorized``) that position and velocity accept an array of m times
+exact velocity and acceleration, and (``vectorized``) that they accept an array of m times
 and return (m, n, 3), so that the compiled time step gets a batch of steps' inputs in one
-call instead of three calls per step.
+call instead of three calls per step. The acceleration drives the inertia the ends share
+with their lines (consistent mass, bending lines) and the inertia in their reactions.
 
 A line at rest whose end starts moving at speed v sends an axial shock of about
 v sqrt(EA m) along it (the impedance of its axial wave): 68 kN for a 1 m / 12 s heave of
@@ -16,19 +17,43 @@ from __future__ import annotations
 import numpy as np
 
 
+SECOND_DIFFERENCE = 1e-4  # s: the step of the central second difference of a position
+
+
+def acceleration_of(motion, t):
+    """(n, 3) accelerations (m/s2) of ``motion`` (a function of t, or a :class:`Motion`)
+    at t (s, or (m,) times: (m, n, 3)): its own ``acceleration``, else central
+    differences of its velocity, else central second differences of its position."""
+    t = np.asarray(t, float)
+    acceleration = getattr(motion, "acceleration", None)
+    if acceleration is not None:
+        return np.asarray(acceleration(t), float)
+    velocity = getattr(motion, "velocity", None)
+    if velocity is not None:
+        dt = 1e-6
+        return (np.asarray(velocity(t + dt), float) - np.asarray(velocity(t - dt), float)) / (2 * dt)
+    dt = SECOND_DIFFERENCE
+    return (np.asarray(motion(t + dt), float) - 2 * np.asarray(motion(t), float)
+            + np.asarray(motion(t - dt), float)) / dt**2
+
+
 class Motion:
     """position(t) -> (n, 3) displacements (m) of the prescribed ends; velocity(t) ->
-    (n, 3) m/s (None: central differences of position); vectorized: both also take an
+    (n, 3) m/s (None: central differences of position); acceleration(t) -> (n, 3) m/s2
+    (None: central differences of the velocity); vectorized: all three also take an
     array of m times and return (m, n, 3)."""
 
-    def __init__(self, position, velocity=None, *, vectorized=False):
-        if not callable(position):
-            raise ValueError(f"Motion position: expected a function of t, got "
-                             f"{type(position).__name__}")
-        if velocity is not None and not callable(velocity):
-            raise ValueError(f"Motion velocity: expected a function of t or None, got "
-                             f"{type(velocity).__name__}")
+    def __init__(self, position, velocity=None, acceleration=None, *, vectorized=False):
+        for name, f, optional in (("position", position, False), ("velocity", velocity, True),
+                                  ("acceleration", acceleration, True)):
+            if not (callable(f) or (optional and f is None)):
+                raise ValueError(f"Motion {name}: expected a function of t"
+                                 f"{' or None' if optional else ''}, got {type(f).__name__}")
+        if acceleration is not None and velocity is None:
+            raise ValueError("Motion acceleration: give the velocity too (an acceleration "
+                             "without it would be differentiated from the position)")
         self.position, self.velocity, self.vectorized = position, velocity, bool(vectorized)
+        self.acceleration = acceleration
 
     def __call__(self, t):
         return self.position(t)
@@ -47,6 +72,14 @@ class Motion:
         return (at(self.position, times),
                 (at(self.position, times + dt) - at(self.position, times - dt)) / (2 * dt))
 
+    def accelerations_at(self, times):
+        """Accelerations (m/s2) at the m ``times`` (s), (m, n, 3)."""
+        times = np.asarray(times, float)
+        if self.vectorized:
+            return np.asarray(acceleration_of(self, times), float).reshape(len(times), -1, 3)
+        return np.array([np.asarray(acceleration_of(self, s), float).reshape(-1, 3)
+                         for s in times])
+
 
 def quintic_ramp(tau):
     """(r, dr/dtau, d2r/dtau2) of the C2 ramp r = 10 tau^3 - 15 tau^4 + 6 tau^5 from 0 at
@@ -60,7 +93,8 @@ def fade_in(motion, ramp):
     """``motion`` (a function of t, s, or a :class:`Motion`) faded in over the first
     ``ramp`` s by :func:`quintic_ramp`: r(t / ramp) motion(t), which starts with zero
     displacement, velocity and acceleration. A Motion keeps its exact velocity
-    (r' motion + r velocity, m/s) and its vectorization."""
+    (r' motion + r velocity, m/s), its acceleration (r'' motion + 2 r' velocity + r
+    acceleration, m/s2, from differences where it has none) and its vectorization."""
     ramp = float(ramp)
     if not (np.isfinite(ramp) and ramp > 0):
         raise ValueError(f"fade_in ramp: must be a positive time (s), got {ramp}")
@@ -89,4 +123,15 @@ def fade_in(motion, ramp):
               - np.asarray(motion.position(t - dt), float)) / (2 * dt))
         return scaled(dr / ramp, y) + scaled(r, v)
 
-    return Motion(position, velocity, vectorized=motion.vectorized)
+    def acceleration(t):
+        t = np.asarray(t, float)
+        r, dr, ddr = quintic_ramp(t / ramp)
+        y = np.asarray(motion.position(t), float)
+        dt = 1e-6
+        v = (np.asarray(motion.velocity(t), float) if motion.velocity is not None else
+             (np.asarray(motion.position(t + dt), float)
+              - np.asarray(motion.position(t - dt), float)) / (2 * dt))
+        return (scaled(ddr / ramp**2, y) + scaled(2 * dr / ramp, v)
+                + scaled(r, acceleration_of(motion, t)))
+
+    return Motion(position, velocity, acceleration, vectorized=motion.vectorized)

@@ -1,0 +1,102 @@
+"""Driven (prescribed) line ends in dynamics: the inertia they share with their lines.
+
+Independent numbers, from the equivalence principle: a line whose two ends accelerate
+together at a constant a, in no gravity and no water, moves rigidly in the static shape it
+takes under a gravity of -a (a line hanging between its ends under a weight m |a| per
+metre, solved by statics) -- every node accelerates at a, and the forces the line exerts
+on its two drivers add up to -m_total a (Newton's second law for the whole line). Dropping
+the consistent mass the ends share with their neighbours (M_fp a_p) makes the nodes next
+to the ends lag; dropping an end node's own inertia from its reaction (M_pp a_p + M_pf a_f)
+breaks the momentum balance by that node's mass share. Lumped P1, consistent P1 and
+bending (Hermite) lines; the Python step and the compiled one.
+"""
+import numpy as np
+import pytest
+
+import skmoor
+from skmoor.catenary import solve_catenary
+from skmoor.coupling import Ends
+from skmoor.dynamics import Scheme, integrate
+
+SPAN, LENGTH, ELEMENTS = 40.0, 50.0, 10  # m, m, -
+MASS, EA, DIAMETER = 80.0, 5e7, 0.1  # kg/m, N, m
+LIFT = 2.0  # m/s2: the ends' upward acceleration (the equivalent gravity, downward)
+
+
+def line_type(g, EI=0.0):
+    return skmoor.LineType(EA=EA, mass=MASS, diameter=DIAMETER, rho_water=0.0, g=g, EI=EI)
+
+
+def lines_under(g, EI=0.0):
+    """The line between (0, 0, 0) and (SPAN, 0, 0) under gravity g (m/s2), its reference
+    the catenary it hangs in under LIFT."""
+    kind = line_type(g, EI)
+    cat = solve_catenary([0.0, 0.0, 0.0], [SPAN, 0.0, 0.0], MASS * LIFT, EA, length=LENGTH)
+    return skmoor.LineSet([skmoor.Line.from_catenary(cat, kind, ELEMENTS)],
+                          law="engineering")
+
+
+def lifted(t):
+    """Both ends' displacement (2, 3): 0.5 a t^2 up (vectorized over t)."""
+    z = 0.5 * LIFT * np.asarray(t, float) ** 2
+    out = np.zeros(np.shape(z) + (2, 3))
+    out[..., 2] = z[..., None]
+    return out
+
+
+def rate(t):
+    return lifted(t) * 0 + np.array([0.0, 0.0, 1.0]) * (LIFT * np.asarray(t, float))[
+        ..., None, None]
+
+
+def lift(t):
+    return lifted(t) * 0 + np.array([0.0, 0.0, LIFT])
+
+
+MOTIONS = {"exact": skmoor.Motion(lifted, rate, lift, vectorized=True),
+           "velocity only": skmoor.Motion(lifted, rate, vectorized=True),
+           "plain function": lifted}
+
+
+def driven_line(EI=0.0, lumped=True, motion="exact"):
+    """(system in no gravity with both ends driven by ``motion``, the static state under
+    the gravity LIFT it starts from)."""
+    ends = Ends(a=[("prescribed", 0)], b=[("prescribed", 1)])
+    hanging = skmoor.System(lines_under(LIFT, EI), fairleads="fixed", lumped_mass=lumped)
+    x0 = skmoor.solve_static(hanging).x
+    system = skmoor.System(lines_under(0.0, EI), ends=ends, motion=MOTIONS[motion],
+                           lumped_mass=lumped)
+    assert system.n == hanging.n  # the same free DOFs, numbered alike
+    return system, x0
+
+
+CASES = {"lumped P1": {}, "consistent P1": {"lumped": False}, "Hermite": {"EI": 2e4}}
+
+
+def free_acceleration(system, a):
+    """(nnodes - 2, 3) accelerations (m/s2) of the interior nodes from reduced a."""
+    full = np.zeros(system.lines.ndofs)
+    full[system.free] = a[system._columns]
+    return full[system.lines.nodal_dofs[1:-1]]
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+@pytest.mark.parametrize("case", list(CASES))
+def test_a_line_lifted_by_both_ends_moves_rigidly_with_its_momentum_balanced(case, compiled):
+    """Every interior node accelerates at a and keeps its place in the static shape under
+    -a; the pulls on the drivers add up to -m_total a at every reported step."""
+    system, x0 = driven_line(**CASES[case])
+    total, up = MASS * LENGTH, np.array([0.0, 0.0, 1.0])
+    inner = system.lines.nodal_dofs[1:-1]
+    start = system.full_displacement(x0, 0.0)[inner]
+    reported = 0
+    for state in integrate(system, x0, np.zeros(system.n), 0.05, 1.0, compiled=compiled,
+                           scheme=Scheme.generalized_alpha(0.8), tol=1e-10, report_every=5):
+        assert np.allclose(free_acceleration(system, state.a), LIFT * up, atol=1e-7 * LIFT)
+        moved = system.full_displacement(state.x, state.t)[inner] - start
+        assert np.allclose(moved, 0.5 * LIFT * state.t**2 * up, atol=1e-8)
+        if state.reactions is not None:
+            on_b, on_a = state.reactions
+            assert np.allclose(on_a[0] + on_b[0], -total * LIFT * up, atol=1e-6 * total)
+            reported += 1
+    assert reported == 5
