@@ -37,6 +37,7 @@ from .hydro import line_terms
 from .surface import SurfaceTerm
 from .laws import Engineering
 from .line import Line, LineSet, LineType
+from .motion import Motion, acceleration_of
 from .no_lines import NoLines
 from .seabed import seabed_term
 
@@ -643,8 +644,26 @@ def _clamp_tangents(ln: MooringLine, side, clamp, positions, tangents):
 
 def _slot_motion(network: Network, slots):
     """motion(t) -> (nslots, 3) displacements of the prescribed ends from the network's
-    coupled-DOF motion (zeros without one)."""
+    coupled-DOF motion (zeros without one); a :class:`~skmoor.motion.Motion` with the
+    ends' velocities (and accelerations) when the network's motion is a Motion with a
+    velocity (its acceleration, or differences of its velocity)."""
     offsets = _coupled_offsets(network)
+
+    def turned(body, q, r):
+        """R(attitude + q) r - R(attitude) r (m) of a point r (body frame) on a body."""
+        return body.rotation_matrix(body.attitude + q) @ r - body.rotation_matrix() @ r
+
+    def along(body, q, r, w, order):
+        """The first (order 1) or second derivative of turned(q + h w) in h at h = 0
+        (central differences over h |w| = 1e-6 or 1e-4 rad)."""
+        size = np.linalg.norm(w)
+        if size == 0.0:
+            return np.zeros(3)
+        h = (1e-6 if order == 1 else 1e-4) / size
+        ahead, behind = turned(body, q + h * w, r), turned(body, q - h * w, r)
+        if order == 1:
+            return (ahead - behind) / (2 * h)
+        return (ahead - 2 * turned(body, q, r) + behind) / h**2
 
     def motion(t):
         y = _coupled_vector(network, t)
@@ -655,9 +674,37 @@ def _slot_motion(network: Network, slots):
                 continue
             body = network.body(p.body)
             q = y[offsets[("Body", body.name)]]
-            r = p.position
-            out[k] = (q[:3] + body.rotation_matrix(body.attitude + q[3:]) @ r
-                      - body.rotation_matrix() @ r)
+            out[k] = q[:3] + turned(body, q[3:], p.position)
         return out
 
-    return motion
+    given = network.motion
+    if getattr(given, "velocity", None) is None:
+        return motion
+
+    def rates(t, order):
+        """(nslots, 3) velocities (order 1, m/s) or accelerations (order 2, m/s2)."""
+        y = _coupled_vector(network, t)
+        yd = np.asarray(given.velocity(t), float).ravel()
+        ydd = np.asarray(acceleration_of(given, t), float).ravel() if order == 2 else None
+        for name, value in (("velocity", yd), ("acceleration", ydd)):
+            if value is not None and value.shape != y.shape:
+                raise ValueError(f"motion {name}: expected {y.size} coupled DOFs, got "
+                                 f"{value.shape}")
+        out = np.zeros((len(slots), 3))
+        for k, p in enumerate(slots):
+            if p.kind == "coupled":
+                where = offsets[("Point", p.name)]
+                out[k] = (yd if order == 1 else ydd)[where]
+                continue
+            body = network.body(p.body)
+            where = offsets[("Body", body.name)]
+            q, qd = y[where], yd[where]
+            if order == 1:  # d/dt [q + R(a + q) r]
+                out[k] = qd[:3] + along(body, q[3:], p.position, qd[3:], 1)
+            else:
+                qdd = ydd[where]
+                out[k] = (qdd[:3] + along(body, q[3:], p.position, qdd[3:], 1)
+                          + along(body, q[3:], p.position, qd[3:], 2))
+        return out
+
+    return Motion(motion, lambda t: rates(t, 1), lambda t: rates(t, 2))
