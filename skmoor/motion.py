@@ -31,7 +31,8 @@ def acceleration_of(motion, t):
     velocity = getattr(motion, "velocity", None)
     if velocity is not None:
         dt = 1e-6
-        return (np.asarray(velocity(t + dt), float) - np.asarray(velocity(t - dt), float)) / (2 * dt)
+        ahead, behind = np.asarray(velocity(t + dt), float), np.asarray(velocity(t - dt), float)
+        return (ahead - behind) / (2 * dt)
     dt = SECOND_DIFFERENCE
     return (np.asarray(motion(t + dt), float) - 2 * np.asarray(motion(t), float)
             + np.asarray(motion(t - dt), float)) / dt**2

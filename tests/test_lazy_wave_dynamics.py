@@ -85,18 +85,20 @@ def compare(ours, theirs):
 
 def test_lazy_wave_heave_against_cabledyn(monkeypatch, tmp_path):
     """Faded in over 6 s, 12 s of heave (64 elements, dt = 0.05 s; the tension swings
-    from 6.8 to 10.7 kN about the static 9.32 kN): every step within 3 % of CableDyn's
-    range (measured 1.8 %), the largest tension within 0.5 % (0.34 %) and the smallest
-    within 1.5 % (1.1 %). A heave of the wrong amplitude or phase, a missing buoyancy
-    (the static tension) or a mass off by a tenth moves these by more."""
+    from 6.8 to 10.7 kN about the static 9.32 kN): every step within 0.2 % of CableDyn's
+    range (measured 0.04 %: 1.7 N at most, 0.9 N rms), the largest and the smallest
+    tension within 0.05 % (0.01 %). A heave of the wrong amplitude or phase, a missing
+    buoyancy (the static tension), a mass off by a tenth, or the driven end's inertia left
+    out of the balance (M_fp a_p) or of the hang-off reaction (1.8 %, 73 N at most, 36 N
+    rms, before they were in) moves these by more."""
     ex = load_example(monkeypatch, tmp_path, ELEMENTS)
     ours = skmoor_heave(ex, ramp=6.0, duration=12.0)
     theirs = cabledyn_heave(ex, 6.0, 12.0, tmp_path)
     assert np.ptp(theirs) > 3.5e3  # a real dynamic swing, not the static tension
     history, largest, smallest = compare(ours, theirs)
-    assert history < 0.03
-    assert largest < 5e-3
-    assert smallest < 1.5e-2
+    assert history < 2e-3
+    assert largest < 5e-4
+    assert smallest < 5e-4
 
 
 def test_a_motion_that_starts_with_a_jump_is_noted_with_its_shock(monkeypatch, tmp_path):

@@ -36,21 +36,25 @@ def lines_under(g, EI=0.0):
                           law="engineering")
 
 
-def lifted(t):
-    """Both ends' displacement (2, 3): 0.5 a t^2 up (vectorized over t)."""
-    z = 0.5 * LIFT * np.asarray(t, float) ** 2
-    out = np.zeros(np.shape(z) + (2, 3))
+def up(z):
+    """(..., 2, 3): both ends moved z (a value per time) up."""
+    z = np.asarray(z, float)
+    out = np.zeros(z.shape + (2, 3))
     out[..., 2] = z[..., None]
     return out
 
 
+def lifted(t):
+    """Both ends' displacement: 0.5 a t^2 up (vectorized over t)."""
+    return up(0.5 * LIFT * np.asarray(t, float) ** 2)
+
+
 def rate(t):
-    return lifted(t) * 0 + np.array([0.0, 0.0, 1.0]) * (LIFT * np.asarray(t, float))[
-        ..., None, None]
+    return up(LIFT * np.asarray(t, float))
 
 
 def lift(t):
-    return lifted(t) * 0 + np.array([0.0, 0.0, LIFT])
+    return up(np.full(np.shape(t), LIFT))
 
 
 MOTIONS = {"exact": skmoor.Motion(lifted, rate, lift, vectorized=True),
@@ -157,3 +161,58 @@ def test_a_slow_stroke_along_a_taut_line_pulls_its_drivers_with_its_whole_mass(c
             worst = max(worst, abs(on_a[0, 0] + on_b[0, 0]
                                    + total * stroke_acceleration(state.t)))
     assert worst < 2.5e-2 * peak
+
+
+SURGE, W, YAW_RATE = 2.0, 0.5, 0.1  # m, rad/s, rad/s
+ARM = np.array([10.0, 0.0, -5.0])  # m: the fairlead on the coupled body (body frame)
+
+
+def network_on_a_turning_ship(motion):
+    from skmoor.network import Body, MooringLine, Network, Point
+
+    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09)
+    points = [Point("anchor", "fixed", [-290.0, 0.0, -100.0]),
+              Point("fairlead", "body", ARM, body="ship")]
+    lines = [MooringLine("leg", chain, "anchor", "fairlead", 320.0, 10)]
+    return Network(points, lines, [Body("ship", "coupled", np.zeros(3))], depth=100.0,
+                   motion=motion)
+
+
+def ship(t):
+    """Surge X sin(w t) and yaw at a constant rate: the 6 coupled DOFs."""
+    return np.array([SURGE * np.sin(W * t), 0, 0, 0, 0, YAW_RATE * t])
+
+
+def ship_rate(t):
+    return np.array([SURGE * W * np.cos(W * t), 0, 0, 0, 0, YAW_RATE])
+
+
+def ship_acceleration(t):
+    return np.array([-SURGE * W**2 * np.sin(W * t), 0, 0, 0, 0, 0.0])
+
+
+@pytest.mark.parametrize("with_acceleration", [True, False])
+def test_a_network_honours_its_motions_velocity_and_acceleration(with_acceleration):
+    """A fairlead on a coupled ship that surges and yaws: the driven end's velocity and
+    acceleration are the rigid body's, written by hand (the surge's plus the turning arm's
+    tangential speed and centripetal acceleration), from a Motion's velocity (and
+    acceleration, or differences of the velocity); a velocity given with a wrong factor
+    is the one used (not a difference of the positions)."""
+    from skmoor.network import build_system
+
+    motion = skmoor.Motion(ship, ship_rate, ship_acceleration if with_acceleration else None)
+    system = build_system(network_on_a_turning_ship(motion))[0]
+    for t in (0.0, 1.3, 7.0):
+        psi = YAW_RATE * t
+        radial = np.array([np.cos(psi), np.sin(psi), 0.0]) * ARM[0]
+        speed = (SURGE * W * np.cos(W * t) * np.array([1.0, 0, 0])
+                 + YAW_RATE * np.array([-radial[1], radial[0], 0.0]))
+        acceleration = (-SURGE * W**2 * np.sin(W * t) * np.array([1.0, 0, 0])
+                        - YAW_RATE**2 * radial)
+        _, rate = system._prescribed(t)
+        assert np.allclose(rate[0], speed, atol=1e-8)
+        assert np.allclose(system.prescribed_acceleration(t)[0], acceleration, atol=1e-6)
+    wrong = skmoor.Motion(ship, lambda t: 2 * ship_rate(t))
+    system = build_system(network_on_a_turning_ship(wrong))[0]
+    doubled = 2 * np.array([SURGE * W, YAW_RATE * ARM[0], 0.0])
+    assert np.allclose(system._prescribed(0.0)[1][0], doubled)
