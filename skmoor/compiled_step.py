@@ -204,11 +204,14 @@ class CompiledStep:
         pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
         loads = np.zeros((count, nbodies, 6))
         driven = np.zeros((count, 0))  # M_fp a_p of each step (none: lumped P1 lines)
+        pres_a = None  # the prescribed ends' accelerations, when something needs them
         if system._has_prescribed:  # the time-only inputs of each step
             pres_u, pres_v = (np.ascontiguousarray(p, float) for p in system.prescribed_at(times))
+            if system._M_driven is not None or (system._end_mass is not None
+                                                and report is not None and np.any(report)):
+                pres_a = system.prescribed_accelerations_at(times)
             if system._M_driven is not None:
-                driven = np.ascontiguousarray(
-                    (system._M_driven @ system.prescribed_accelerations_at(times).T).T, float)
+                driven = np.ascontiguousarray((system._M_driven @ pres_a.T).T, float)
         for k, load in enumerate(system.body_loads):
             if load is None:
                 continue
@@ -235,9 +238,12 @@ class CompiledStep:
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
+        reported = np.flatnonzero(report[:done] > 0)
+        if system._end_mass is not None and len(reported):  # the held ends' inertia
+            ends_out[reported] -= system.end_inertias(
+                out[2, reported], None if pres_a is None else pres_a[reported])
         return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
-                 ((lines_out[0, i], lines_out[1, i]),
-                  system.less_inertia((ends_out[i, 0], ends_out[i, 1]), out[2, i], times[i]))
+                 ((lines_out[0, i], lines_out[1, i]), (ends_out[i, 0], ends_out[i, 1]))
                  if report[i] > 0 else None) for i in range(done)], failure
 
 

@@ -619,13 +619,21 @@ class System:
         free points and bodies (the end's mass moves with them). None when zero."""
         if self._end_mass is None:
             return None
+        driven = self.prescribed_acceleration(t).ravel() if self._has_prescribed else None
+        out = self.end_inertias(np.asarray(a)[None], None if driven is None else driven[None])
+        return out[0, 0], out[0, 1]
+
+    def end_inertias(self, a, driven):
+        """(m, 2, nlines, 3) :meth:`end_inertia` (N; B ends, then A ends) at m states: a
+        (m, n) reduced accelerations, driven (m, 3 n_prescribed) the prescribed ends'
+        (m/s2; None without prescribed ends)."""
         rows, on_free, on_driven = self._end_mass
-        values = on_free @ a
-        if on_driven.shape[1]:
-            values = values + on_driven @ self.prescribed_acceleration(t).ravel()
-        out = np.zeros((2, len(self.lines.lines), 3))
-        out[rows[:, 0], rows[:, 1]] = values.reshape(-1, 3)
-        return out[0], out[1]
+        values = (on_free @ a.T).T
+        if driven is not None and on_driven.shape[1]:
+            values = values + (on_driven @ driven.T).T
+        out = np.zeros((len(a), 2, len(self.lines.lines), 3))
+        out[:, rows[:, 0], rows[:, 1]] = values.reshape(len(a), -1, 3)
+        return out
 
     def prescribed_at(self, times):
         """Displacements (m) and velocities (m/s) of the prescribed ends at each of the m
