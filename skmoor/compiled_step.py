@@ -206,10 +206,11 @@ class CompiledStep:
         driven = np.zeros((count, 0))  # M_fp a_p of each step (none: lumped P1 lines)
         pres_a = None  # the prescribed ends' accelerations, when something needs them
         if system._has_prescribed:  # the time-only inputs of each step
-            pres_u, pres_v = (np.ascontiguousarray(p, float) for p in system.prescribed_at(times))
-            if system._M_driven is not None or (system._end_mass is not None
-                                                and report is not None and np.any(report)):
-                pres_a = system.prescribed_accelerations_at(times)
+            needed = system._M_driven is not None or (
+                system._end_mass is not None and report is not None and np.any(report))
+            pres_u, pres_v, *pres_a = (np.ascontiguousarray(p, float) for p in
+                                       system.prescribed_at(times, accelerations=needed))
+            pres_a = pres_a[0] if pres_a else None
             if system._M_driven is not None:
                 driven = np.ascontiguousarray((system._M_driven @ pres_a.T).T, float)
         for k, load in enumerate(system.body_loads):

@@ -130,6 +130,16 @@ class Ends:
         return cls([("fixed",)] * nlines, b)
 
 
+def _compact(A, dense_below=20000):
+    """A sparse matrix as a dense array when it has fewer than ``dense_below`` entries
+    (a small product costs less so), as CSR else; None when it is zero."""
+    A = sp.csr_matrix(A)
+    A.eliminate_zeros()
+    if not A.nnz:
+        return None
+    return A.toarray() if A.shape[0] * A.shape[1] < dense_below else A
+
+
 class System:
     """The network's equations: lines (one :class:`~skmoor.line.LineSet`) whose ends sit
     on fixed, prescribed or free points or on rigid bodies, reduced to one nonlinear system.
@@ -430,11 +440,9 @@ class System:
         if rows:
             dofs = np.array([(self.fairlead_dofs if side == 0 else self.anchor_dofs)[k]
                              for side, k in rows]).ravel()
-            on_free = (M_lines[dofs] @ P0).tocsr()
-            on_driven = M_lines[dofs][:, driven].tocsr()
-            for A in (on_free, on_driven):
-                A.eliminate_zeros()
-            if on_free.nnz or on_driven.nnz:
+            on_free, on_driven = (_compact(A) for A in (M_lines[dofs] @ P0,
+                                                        M_lines[dofs][:, driven]))
+            if on_free is not None or on_driven is not None:
                 self._end_mass = (np.array(rows, int), on_free, on_driven)
 
     def commit(self, t, x, v):
@@ -596,14 +604,6 @@ class System:
             self._acceleration_cache = (t, rate[self._prescribed_slots])
         return self._acceleration_cache[1]
 
-    def prescribed_accelerations_at(self, times):
-        """(m, 3 n) accelerations (m/s2) of the prescribed ends at the m ``times``."""
-        at_times = getattr(self.motion, "accelerations_at", None)
-        if at_times is None:
-            return np.array([self.prescribed_acceleration(t).ravel() for t in times]
-                            ).reshape(len(times), -1)
-        return at_times(times)[:, self._prescribed_slots].reshape(len(times), -1)
-
     def driven_inertia(self, t):
         """M_fp a_p(t) (N, reduced): the inertia the prescribed ends' accelerations put on
         the free DOFs through the mass they share (consistent mass, bending lines), a
@@ -628,25 +628,32 @@ class System:
         (m, n) reduced accelerations, driven (m, 3 n_prescribed) the prescribed ends'
         (m/s2; None without prescribed ends)."""
         rows, on_free, on_driven = self._end_mass
-        values = (on_free @ a.T).T
-        if driven is not None and on_driven.shape[1]:
-            values = values + (on_driven @ driven.T).T
+        values = np.zeros((len(a), 3 * len(rows)))
+        if on_free is not None:
+            values += (on_free @ a.T).T
+        if driven is not None and on_driven is not None:
+            values += (on_driven @ driven.T).T
         out = np.zeros((len(a), 2, len(self.lines.lines), 3))
         out[:, rows[:, 0], rows[:, 1]] = values.reshape(len(a), -1, 3)
         return out
 
-    def prescribed_at(self, times):
+    def prescribed_at(self, times, accelerations=False):
         """Displacements (m) and velocities (m/s) of the prescribed ends at each of the m
-        ``times``, (m, 3 n) each: one call of ``motion.at_times`` when the motion has it
-        (a :class:`~skmoor.motion.Motion`), else :meth:`_prescribed` time by time."""
+        ``times``, (m, 3 n) each, and with ``accelerations`` their accelerations (m/s2):
+        one call of ``motion.at_times`` when the motion has it (a
+        :class:`~skmoor.motion.Motion`), else :meth:`_prescribed` time by time."""
         at_times = getattr(self.motion, "at_times", None)
+        m = len(times)
         if at_times is None:
             pairs = [self._prescribed(t) for t in times]
-            return (np.array([d.ravel() for d, _ in pairs]).reshape(len(times), -1),
-                    np.array([r.ravel() for _, r in pairs]).reshape(len(times), -1))
-        disp, rate = at_times(times)
-        slots, m = self._prescribed_slots, len(times)
-        return disp[:, slots].reshape(m, -1), rate[:, slots].reshape(m, -1)
+            out = (np.array([d.ravel() for d, _ in pairs]).reshape(m, -1),
+                   np.array([r.ravel() for _, r in pairs]).reshape(m, -1))
+            if accelerations:
+                out += (np.array([self.prescribed_acceleration(t).ravel() for t in times]
+                                 ).reshape(m, -1),)
+            return out
+        values = at_times(times, accelerations=accelerations)
+        return tuple(value[:, self._prescribed_slots].reshape(m, -1) for value in values)
 
     def full_state(self, x, v, t=0.0):
         """(ndofs,) cable displacement (m) and velocity (m/s) of the reduced state (x, v)

@@ -59,27 +59,36 @@ class Motion:
     def __call__(self, t):
         return self.position(t)
 
-    def at_times(self, times, dt=1e-6):
-        """(positions, velocities) at the m ``times`` (s), (m, n, 3) each (m, m/s)."""
+    def at_times(self, times, dt=1e-6, accelerations=False):
+        """(positions, velocities) at the m ``times`` (s), (m, n, 3) each (m, m/s), and
+        with ``accelerations`` the accelerations (m/s2) too, as :func:`acceleration_of`
+        gives them; a function's shifted times go in one call with the others."""
         times = np.asarray(times, float)
+        m = len(times)
         if self.vectorized:
-            def at(f, t):
-                return np.asarray(f(t), float).reshape(len(times), -1, 3)
+            def at(f, shifts):
+                t = np.concatenate([times + shift for shift in shifts])
+                return np.asarray(f(t), float).reshape(len(shifts), m, -1, 3)
         else:
-            def at(f, t):
-                return np.array([np.asarray(f(s), float).reshape(-1, 3) for s in t])
-        if self.velocity is not None:
-            return at(self.position, times), at(self.velocity, times)
-        return (at(self.position, times),
-                (at(self.position, times + dt) - at(self.position, times - dt)) / (2 * dt))
-
-    def accelerations_at(self, times):
-        """Accelerations (m/s2) at the m ``times`` (s), (m, n, 3)."""
-        times = np.asarray(times, float)
-        if self.vectorized:
-            return np.asarray(acceleration_of(self, times), float).reshape(len(times), -1, 3)
-        return np.array([np.asarray(acceleration_of(self, s), float).reshape(-1, 3)
-                         for s in times])
+            def at(f, shifts):
+                return np.array([[np.asarray(f(t + shift), float).reshape(-1, 3)
+                                  for t in times] for shift in shifts])
+        if self.velocity is None:
+            shifts = (0.0, dt, -dt) + ((SECOND_DIFFERENCE, -SECOND_DIFFERENCE)
+                                       if accelerations else ())
+            y = at(self.position, shifts)
+            out = (y[0], (y[1] - y[2]) / (2 * dt))
+            if accelerations:
+                out += ((y[3] - 2 * y[0] + y[4]) / SECOND_DIFFERENCE**2,)
+            return out
+        positions = at(self.position, (0.0,))[0]
+        if not accelerations:
+            return positions, at(self.velocity, (0.0,))[0]
+        if self.acceleration is not None:
+            return (positions, at(self.velocity, (0.0,))[0],
+                    at(self.acceleration, (0.0,))[0])
+        v = at(self.velocity, (0.0, 1e-6, -1e-6))
+        return positions, v[0], (v[1] - v[2]) / 2e-6
 
 
 def quintic_ramp(tau):
