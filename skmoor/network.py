@@ -643,10 +643,10 @@ def _clamp_tangents(ln: MooringLine, side, clamp, positions, tangents):
 
 
 def _slot_motion(network: Network, slots):
-    """motion(t) -> (nslots, 3) displacements of the prescribed ends from the network's
-    coupled-DOF motion (zeros without one); a :class:`~skmoor.motion.Motion` with the
-    ends' velocities (and accelerations) when the network's motion is a Motion with a
-    velocity (its acceleration, or differences of its velocity)."""
+    """A :class:`~skmoor.motion.Motion` of the prescribed ends from the network's
+    coupled-DOF motion (zeros without one): (nslots, 3) displacements, m; velocities and
+    accelerations from the network's motion when it is a Motion with a velocity (its
+    acceleration, or differences of its velocity), else differences of the positions."""
     offsets = _coupled_offsets(network)
 
     def turned(body, q, r):
@@ -677,12 +677,15 @@ def _slot_motion(network: Network, slots):
             out[k] = q[:3] + turned(body, q[3:], p.position)
         return out
 
-    given = network.motion
-    if getattr(given, "velocity", None) is None:
-        return motion
-
     def rates(t, order):
-        """(nslots, 3) velocities (order 1, m/s) or accelerations (order 2, m/s2)."""
+        """(nslots, 3) velocities (order 1, m/s) or accelerations (order 2, m/s2): from
+        the network's motion as it is now (a Motion's velocity and acceleration, else
+        central differences of the ends' positions)."""
+        given = network.motion
+        if getattr(given, "velocity", None) is None:
+            if order == 1:
+                return (motion(t + 1e-6) - motion(t - 1e-6)) / 2e-6
+            return acceleration_of(motion, t)
         y = _coupled_vector(network, t)
         yd = np.asarray(given.velocity(t), float).ravel()
         ydd = np.asarray(acceleration_of(given, t), float).ravel() if order == 2 else None
