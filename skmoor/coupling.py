@@ -32,9 +32,9 @@ from . import body as rigid
 from .banded import LAYOUTS, as_layout
 from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
-from .motion import acceleration_of
 from .large_rotations import (added_mass_load, added_mass_tangents, generalized_load,
                               rate_matrix, zyx_angles)
+from .motion import acceleration_of
 from .no_lines import EmptyPattern, NoLineKernel
 from .terms import Term
 
@@ -431,14 +431,11 @@ class System:
             coupling = (P0.T @ M_lines[:, driven]).tocsr()
             coupling.eliminate_zeros()
             self._M_driven = coupling if coupling.nnz else None
-        nlines = len(self.lines.lines)
-        held = [("b", k, self.ends.b[k]) for k in range(nlines)] + [
-            ("a", k, self.ends.a[k]) for k in range(nlines)]
-        rows = [(0 if side == "b" else 1, k) for side, k, end in held
-                if end[0] in ("fixed", "prescribed")]
+        rows = [(side, k) for side, ends in enumerate((self.ends.b, self.ends.a))
+                for k, end in enumerate(ends) if end[0] in ("fixed", "prescribed")]
         self._end_mass = None
         if rows:
-            dofs = np.array([(self.fairlead_dofs if side == 0 else self.anchor_dofs)[k]
+            dofs = np.array([(self.fairlead_dofs, self.anchor_dofs)[side][k]
                              for side, k in rows]).ravel()
             on_free, on_driven = (_compact(A) for A in (M_lines[dofs] @ P0,
                                                         M_lines[dofs][:, driven]))

@@ -8,7 +8,10 @@ on its two drivers add up to -m_total a (Newton's second law for the whole line)
 the consistent mass the ends share with their neighbours (M_fp a_p) makes the nodes next
 to the ends lag; dropping an end node's own inertia from its reaction (M_pp a_p + M_pf a_f)
 breaks the momentum balance by that node's mass share. Lumped P1, consistent P1 and
-bending (Hermite) lines; the Python step and the compiled one.
+bending (Hermite) lines; the Python step and the compiled one. Also: a taut line stroked
+slowly along itself pulls its drivers with its whole mass (m_total a(t), to the small
+ringing of its axial mode); a network's driven end on a surging, yawing ship moves with
+the rigid body's velocity and acceleration written by hand, from a Motion's own rates.
 """
 import numpy as np
 import pytest
