@@ -34,7 +34,7 @@ from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
 from .large_rotations import (added_mass_load, added_mass_tangents, generalized_load,
                               rate_matrix, zyx_angles)
-from .motion import acceleration_of
+from .motion import SECOND_DIFFERENCE, acceleration_of
 from .no_lines import EmptyPattern, NoLineKernel
 from .terms import Term
 
@@ -199,6 +199,9 @@ class System:
         self._attachment_cache = (None, None, None)
         self._prescribed_cache = (None, None, None)
         self._acceleration_cache = (None, None)
+        # s: the difference step of the prescribed ends' accelerations when the motion has
+        # none (integrate sets its time step)
+        self.acceleration_step = SECOND_DIFFERENCE
         self.K_bodies = [b.hydrostatic_stiffness(generalized=True) for b in bodies]
         self.F_bodies0 = [b.static_force() for b in bodies]
         self.K_body = self.K_bodies[0] if bodies else None
@@ -594,11 +597,14 @@ class System:
 
     def prescribed_acceleration(self, t):
         """(n, 3) accelerations (m/s2) of the prescribed ends at t (s): the motion's
-        ``acceleration``, else differences of its velocity or position
-        (:func:`~skmoor.motion.acceleration_of`); the last time's is kept."""
-        if self._acceleration_cache[0] != t:
-            rate = np.asarray(acceleration_of(self.motion, t), float).reshape(-1, 3)
-            self._acceleration_cache = (t, rate[self._prescribed_slots])
+        ``acceleration``, else differences of its velocity or position over
+        ``acceleration_step`` (:func:`~skmoor.motion.acceleration_of`); the last time's is
+        kept."""
+        key = (t, self.acceleration_step)
+        if self._acceleration_cache[0] != key:
+            rate = acceleration_of(self.motion, t, self.acceleration_step)
+            rate = np.asarray(rate, float).reshape(-1, 3)
+            self._acceleration_cache = (key, rate[self._prescribed_slots])
         return self._acceleration_cache[1]
 
     def driven_inertia(self, t):
@@ -649,7 +655,7 @@ class System:
                 out += (np.array([self.prescribed_acceleration(t).ravel() for t in times]
                                  ).reshape(m, -1),)
             return out
-        values = at_times(times, accelerations=accelerations)
+        values = at_times(times, accelerations=accelerations, step=self.acceleration_step)
         return tuple(value[:, self._prescribed_slots].reshape(m, -1) for value in values)
 
     def full_state(self, x, v, t=0.0):

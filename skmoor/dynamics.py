@@ -179,6 +179,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     nonlinear = getattr(system, "nonlinear_inertia", False)
     rebase = getattr(system, "rebase", None) if nonlinear else None
     driven = getattr(system, "driven_inertia", None) or (lambda t: None)
+    if hasattr(system, "acceleration_step"):  # driven ends' accelerations over the step
+        system.acceleration_step = dt
 
     def loads(R, t):
         """R plus the prescribed ends' inertia on the free DOFs (M_fp a_p(t), a load given

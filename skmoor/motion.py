@@ -17,25 +17,25 @@ from __future__ import annotations
 import numpy as np
 
 
-SECOND_DIFFERENCE = 1e-4  # s: the step of the central second difference of a position
+SECOND_DIFFERENCE = 1e-4  # s: the default step of an acceleration's central differences
 
 
-def acceleration_of(motion, t):
+def acceleration_of(motion, t, step=SECOND_DIFFERENCE):
     """(n, 3) accelerations (m/s2) of ``motion`` (a function of t, or a :class:`Motion`)
     at t (s, or (m,) times: (m, n, 3)): its own ``acceleration``, else central
-    differences of its velocity, else central second differences of its position."""
+    differences of its velocity over +-step (s), else central second differences of its
+    position over step. :func:`~skmoor.dynamics.integrate` takes its time step for step
+    (the mean acceleration over a step at a kink of a tabulated motion, not a spike)."""
     t = np.asarray(t, float)
     acceleration = getattr(motion, "acceleration", None)
     if acceleration is not None:
         return np.asarray(acceleration(t), float)
     velocity = getattr(motion, "velocity", None)
     if velocity is not None:
-        dt = 1e-6
-        ahead, behind = np.asarray(velocity(t + dt), float), np.asarray(velocity(t - dt), float)
-        return (ahead - behind) / (2 * dt)
-    dt = SECOND_DIFFERENCE
-    return (np.asarray(motion(t + dt), float) - 2 * np.asarray(motion(t), float)
-            + np.asarray(motion(t - dt), float)) / dt**2
+        ahead, behind = np.asarray(velocity(t + step), float), np.asarray(velocity(t - step), float)
+        return (ahead - behind) / (2 * step)
+    return (np.asarray(motion(t + step), float) - 2 * np.asarray(motion(t), float)
+            + np.asarray(motion(t - step), float)) / step**2
 
 
 class Motion:
@@ -59,10 +59,10 @@ class Motion:
     def __call__(self, t):
         return self.position(t)
 
-    def at_times(self, times, dt=1e-6, accelerations=False):
+    def at_times(self, times, dt=1e-6, accelerations=False, step=SECOND_DIFFERENCE):
         """(positions, velocities) at the m ``times`` (s), (m, n, 3) each (m, m/s), and
         with ``accelerations`` the accelerations (m/s2) too, as :func:`acceleration_of`
-        gives them; a function's shifted times go in one call with the others."""
+        gives them (over ``step``, s); a function's shifted times go in one call."""
         times = np.asarray(times, float)
         m = len(times)
         if self.vectorized:
@@ -74,12 +74,11 @@ class Motion:
                 return np.array([[np.asarray(f(t + shift), float).reshape(-1, 3)
                                   for t in times] for shift in shifts])
         if self.velocity is None:
-            shifts = (0.0, dt, -dt) + ((SECOND_DIFFERENCE, -SECOND_DIFFERENCE)
-                                       if accelerations else ())
+            shifts = (0.0, dt, -dt) + ((step, -step) if accelerations else ())
             y = at(self.position, shifts)
             out = (y[0], (y[1] - y[2]) / (2 * dt))
             if accelerations:
-                out += ((y[3] - 2 * y[0] + y[4]) / SECOND_DIFFERENCE**2,)
+                out += ((y[3] - 2 * y[0] + y[4]) / step**2,)
             return out
         positions = at(self.position, (0.0,))[0]
         if not accelerations:
@@ -87,8 +86,8 @@ class Motion:
         if self.acceleration is not None:
             return (positions, at(self.velocity, (0.0,))[0],
                     at(self.acceleration, (0.0,))[0])
-        v = at(self.velocity, (0.0, 1e-6, -1e-6))
-        return positions, v[0], (v[1] - v[2]) / 2e-6
+        v = at(self.velocity, (0.0, step, -step))
+        return positions, v[0], (v[1] - v[2]) / (2 * step)
 
 
 def quintic_ramp(tau):

@@ -37,7 +37,7 @@ from .hydro import line_terms
 from .surface import SurfaceTerm
 from .laws import Engineering
 from .line import Line, LineSet, LineType
-from .motion import Motion, acceleration_of
+from .motion import Motion
 from .no_lines import NoLines
 from .seabed import seabed_term
 
@@ -680,15 +680,15 @@ def _slot_motion(network: Network, slots):
     def rates(t, order):
         """(nslots, 3) velocities (order 1, m/s) or accelerations (order 2, m/s2): from
         the network's motion as it is now (a Motion's velocity and acceleration, else
-        central differences of the ends' positions)."""
+        central differences of the ends' positions or velocities)."""
         given = network.motion
-        if getattr(given, "velocity", None) is None:
-            if order == 1:
-                return (motion(t + 1e-6) - motion(t - 1e-6)) / 2e-6
-            return acceleration_of(motion, t)
+        if order == 1 and getattr(given, "velocity", None) is None:
+            return (motion(t + 1e-6) - motion(t - 1e-6)) / 2e-6
+        if order == 2 and getattr(given, "acceleration", None) is None:
+            return (rates(t + 1e-6, 1) - rates(t - 1e-6, 1)) / 2e-6
         y = _coupled_vector(network, t)
         yd = np.asarray(given.velocity(t), float).ravel()
-        ydd = np.asarray(acceleration_of(given, t), float).ravel() if order == 2 else None
+        ydd = np.asarray(given.acceleration(t), float).ravel() if order == 2 else None
         for name, value in (("velocity", yd), ("acceleration", ydd)):
             if value is not None and value.shape != y.shape:
                 raise ValueError(f"motion {name}: expected {y.size} coupled DOFs, got "
@@ -710,4 +710,5 @@ def _slot_motion(network: Network, slots):
                           + along(body, q[3:], p.position, qd[3:], 2))
         return out
 
-    return Motion(motion, lambda t: rates(t, 1), lambda t: rates(t, 2))
+    own = getattr(network.motion, "acceleration", None) is not None  # else: the step's
+    return Motion(motion, lambda t: rates(t, 1), (lambda t: rates(t, 2)) if own else None)
