@@ -114,7 +114,8 @@ def _export(results, out, max_frames):
     from .export import export
 
     for path in export(results, out, max_frames=max_frames or None):
-        print(f"exported {path}")
+        print(f"exported {path}" if path is not None else
+              "no lines: lines.xdmf not written (the network has none)")
 
 
 def _animate(results, out, quiet, scale=None, camera="iso"):

@@ -203,8 +203,16 @@ class CompiledStep:
         nbodies, m = len(system.bodies), len(self.prescribed_dofs)
         pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
         loads = np.zeros((count, nbodies, 6))
+        driven = np.zeros((count, 0))  # M_fp a_p of each step (none: lumped P1 lines)
+        pres_a = None  # the prescribed ends' accelerations, when something needs them
         if system._has_prescribed:  # the time-only inputs of each step
-            pres_u, pres_v = (np.ascontiguousarray(p, float) for p in system.prescribed_at(times))
+            needed = system._M_driven is not None or (
+                system._end_mass is not None and report is not None and np.any(report))
+            pres_u, pres_v, *pres_a = (np.ascontiguousarray(p, float) for p in
+                                       system.prescribed_at(times, accelerations=needed))
+            pres_a = pres_a[0] if pres_a else None
+            if system._M_driven is not None:
+                driven = np.ascontiguousarray((system._M_driven @ pres_a.T).T, float)
         for k, load in enumerate(system.body_loads):
             if load is None:
                 continue
@@ -225,22 +233,27 @@ class CompiledStep:
                  self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
                  self.damped, self.width)
         done, code = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, model,
-                          loads, pres_u, pres_v, self.factors, self.state, self.work, out,
-                          iterations, report, self.report_dofs, lines_out,
+                          loads, pres_u, pres_v, driven, self.factors, self.state, self.work,
+                          out, iterations, report, self.report_dofs, lines_out,
                           ends_out.reshape(count, -1))
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
+        reported = np.flatnonzero(report[:done] > 0)
+        if system._end_mass is not None and len(reported):  # the held ends' inertia
+            ends_out[reported] -= system.end_inertias(
+                out[2, reported], None if pres_a is None else pres_a[reported])
         return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
                  ((lines_out[0, i], lines_out[1, i]), (ends_out[i, 0], ends_out[i, 1]))
                  if report[i] > 0 else None) for i in range(done)], failure
 
 
 @njit(cache=True)
-def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, factors,
-         state, work, out, iterations, report, report_dofs, lines_out, ends_out):
+def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, driven,
+         factors, state, work, out, iterations, report, report_dofs, lines_out, ends_out):
     """Steps of h from (x, v, a, force = C v + R) with the inputs of step i in loads[i],
-    pres_u[i], pres_v[i]: (x1, v1, a1, force1) of step i into out[:, i], its Newton
+    pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free DOFs, N;
+    empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
     iterations into iterations[i]; where report[i], the lines' full displacement and
     velocity into lines_out[:, i] and the end forces (minus the full residual at
     report_dofs) into ends_out[i] (report[i] set to 0 when a line is at the surface: the
@@ -252,7 +265,8 @@ def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, 
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         it = _advance(x, v, a, force, h, scheme, tol, maxiter, model,
-                      (loads[i], pres_u[i], pres_v[i]), factors, state, work, x1)
+                      (loads[i], pres_u[i], pres_v[i], driven[i]), factors, state, work,
+                      x1)
         if it <= 0:
             return i, it
         iterations[i] = it
@@ -540,7 +554,7 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
     am, af, beta, gamma = scheme
     (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
      products, M, C, damped, width) = model
-    loads, pres_u, pres_v = inputs
+    loads, pres_u, pres_v, driven = inputs
     R, a1, v1, Ma, Cv = work[7], work[9], work[10], work[11], work[12]
     for i in range(y.size):
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
@@ -548,6 +562,8 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
     if not _residual(y, v1, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
                      bodies, loads, prescribed_dofs, pres_u, pres_v, tangent, work, R):
         return SURFACE
+    for i in range(driven.size):  # M_fp a_p: a load given in time, like the bodies' loads
+        R[i] += driven[i]
     _product(products[0], a1, Ma)
     if damped:
         _product(products[1], v1, Cv)

@@ -34,6 +34,7 @@ from .body_motion import BodyMotion
 from .kernels import CableKernel, ElementPattern
 from .large_rotations import (added_mass_load, added_mass_tangents, generalized_load,
                               rate_matrix, zyx_angles)
+from .motion import SECOND_DIFFERENCE, acceleration_of
 from .no_lines import EmptyPattern, NoLineKernel
 from .terms import Term
 
@@ -136,6 +137,16 @@ class Ends:
         return cls([("fixed",)] * nlines, b)
 
 
+def _compact(A, dense_below=20000):
+    """A sparse matrix as a dense array when it has fewer than ``dense_below`` entries
+    (a small product costs less so), as CSR else; None when it is zero."""
+    A = sp.csr_matrix(A)
+    A.eliminate_zeros()
+    if not A.nnz:
+        return None
+    return A.toarray() if A.shape[0] * A.shape[1] < dense_below else A
+
+
 class System:
     """The network's equations: lines (one :class:`~skmoor.line.LineSet`) whose ends sit
     on fixed, prescribed or free points or on rigid bodies, reduced to one nonlinear system.
@@ -194,6 +205,10 @@ class System:
         self._number_dofs()
         self._attachment_cache = (None, None, None)
         self._prescribed_cache = (None, None, None)
+        self._acceleration_cache = (None, None)
+        # s: the difference step of the prescribed ends' accelerations when the motion has
+        # none (integrate sets its time step)
+        self.acceleration_step = SECOND_DIFFERENCE
         self.K_bodies = [b.hydrostatic_stiffness(generalized=True) for b in bodies]
         self.F_bodies0 = [b.static_force() for b in bodies]
         self.K_body = self.K_bodies[0] if bodies else None
@@ -419,6 +434,32 @@ class System:
             block = slice(self.nf + 6 * k, self.nf + 6 * k + 6)
             M[block, block] = M[block, block].toarray() + body.mass_matrix() + constant
         self.M = M.tocsr()
+        self._held_masses(M_lines)
+
+    def _held_masses(self, M_lines):
+        """The mass the held (fixed and prescribed) ends share with the rest, kg:
+        ``_M_driven`` = P0^T M[:, p], whose product with the prescribed ends' accelerations
+        joins the free DOFs' balance (M_fp a_p), and ``_end_mass`` = (M[e] P0, M[e, p]) of
+        the held ends' rows e, their own inertia in the reactions (M_ef a_f + M_ep a_p); each
+        None when zero (lumped P1 lines: no M_fp; fixed ends only: no acceleration)."""
+        M_lines = sp.csr_matrix(M_lines)
+        P0 = self.P(np.zeros(self.n))
+        driven = self._prescribed_flat
+        self._M_driven = None
+        if self._has_prescribed:
+            coupling = (P0.T @ M_lines[:, driven]).tocsr()
+            coupling.eliminate_zeros()
+            self._M_driven = coupling if coupling.nnz else None
+        rows = [(side, k) for side, ends in enumerate((self.ends.b, self.ends.a))
+                for k, end in enumerate(ends) if end[0] in ("fixed", "prescribed")]
+        self._end_mass = None
+        if rows:
+            dofs = np.array([(self.fairlead_dofs, self.anchor_dofs)[side][k]
+                             for side, k in rows]).ravel()
+            on_free, on_driven = (_compact(A) for A in (M_lines[dofs] @ P0,
+                                                        M_lines[dofs][:, driven]))
+            if on_free is not None or on_driven is not None:
+                self._end_mass = (np.array(rows, int), on_free, on_driven)
 
     def commit(self, t, x, v):
         """An accepted time level (t, s; x, v reduced): passed to the terms that keep a
@@ -574,18 +615,68 @@ class System:
             self._prescribed_cache = ((t, dt), at(self.motion, t), rate)
         return self._prescribed_cache[1:]
 
-    def prescribed_at(self, times):
+    def prescribed_acceleration(self, t):
+        """(n, 3) accelerations (m/s2) of the prescribed ends at t (s): the motion's
+        ``acceleration``, else differences of its velocity or position over
+        ``acceleration_step`` (:func:`~skmoor.motion.acceleration_of`); the last time's is
+        kept."""
+        key = (t, self.acceleration_step)
+        if self._acceleration_cache[0] != key:
+            rate = acceleration_of(self.motion, t, self.acceleration_step)
+            rate = np.asarray(rate, float).reshape(-1, 3)
+            self._acceleration_cache = (key, rate[self._prescribed_slots])
+        return self._acceleration_cache[1]
+
+    def driven_inertia(self, t):
+        """M_fp a_p(t) (N, reduced): the inertia the prescribed ends' accelerations put on
+        the free DOFs through the mass they share (consistent mass, bending lines), a
+        load of the dynamic balance; None when they share none (lumped P1 lines)."""
+        if self._M_driven is None:
+            return None
+        return self._M_driven @ self.prescribed_acceleration(t).ravel()
+
+    def end_inertia(self, a, t=0.0):
+        """(nlines, 3) inertia (N) of the B and of the A ends held fixed or prescribed,
+        M_ef a_f + M_ep a_p (a: reduced accelerations, m/s2, at t, s): the end nodes'
+        own mass share and the one they share with their neighbours; zeros at ends on
+        free points and bodies (the end's mass moves with them). None when zero."""
+        if self._end_mass is None:
+            return None
+        driven = self.prescribed_acceleration(t).ravel() if self._has_prescribed else None
+        out = self.end_inertias(np.asarray(a)[None], None if driven is None else driven[None])
+        return out[0, 0], out[0, 1]
+
+    def end_inertias(self, a, driven):
+        """(m, 2, nlines, 3) :meth:`end_inertia` (N; B ends, then A ends) at m states: a
+        (m, n) reduced accelerations, driven (m, 3 n_prescribed) the prescribed ends'
+        (m/s2; None without prescribed ends)."""
+        rows, on_free, on_driven = self._end_mass
+        values = np.zeros((len(a), 3 * len(rows)))
+        if on_free is not None:
+            values += (on_free @ a.T).T
+        if driven is not None and on_driven is not None:
+            values += (on_driven @ driven.T).T
+        out = np.zeros((len(a), 2, len(self.lines.lines), 3))
+        out[:, rows[:, 0], rows[:, 1]] = values.reshape(len(a), -1, 3)
+        return out
+
+    def prescribed_at(self, times, accelerations=False):
         """Displacements (m) and velocities (m/s) of the prescribed ends at each of the m
-        ``times``, (m, 3 n) each: one call of ``motion.at_times`` when the motion has it
-        (a :class:`~skmoor.motion.Motion`), else :meth:`_prescribed` time by time."""
+        ``times``, (m, 3 n) each, and with ``accelerations`` their accelerations (m/s2):
+        one call of ``motion.at_times`` when the motion has it (a
+        :class:`~skmoor.motion.Motion`), else :meth:`_prescribed` time by time."""
         at_times = getattr(self.motion, "at_times", None)
+        m = len(times)
         if at_times is None:
             pairs = [self._prescribed(t) for t in times]
-            return (np.array([d.ravel() for d, _ in pairs]).reshape(len(times), -1),
-                    np.array([r.ravel() for _, r in pairs]).reshape(len(times), -1))
-        disp, rate = at_times(times)
-        slots, m = self._prescribed_slots, len(times)
-        return disp[:, slots].reshape(m, -1), rate[:, slots].reshape(m, -1)
+            out = (np.array([d.ravel() for d, _ in pairs]).reshape(m, -1),
+                   np.array([r.ravel() for _, r in pairs]).reshape(m, -1))
+            if accelerations:
+                out += (np.array([self.prescribed_acceleration(t).ravel() for t in times]
+                                 ).reshape(m, -1),)
+            return out
+        values = at_times(times, accelerations=accelerations, step=self.acceleration_step)
+        return tuple(value[:, self._prescribed_slots].reshape(m, -1) for value in values)
 
     def full_state(self, x, v, t=0.0):
         """(ndofs,) cable displacement (m) and velocity (m/s) of the reduced state (x, v)
@@ -989,20 +1080,32 @@ class System:
             out.append(A)
         return out
 
-    def reactions(self, x, v=None, t=0.0):
+    def reactions(self, x, v=None, t=0.0, a=None):
         """(nlines, 3) forces the lines exert on their B ends, and (nlines, 3) on their
-        A ends, N (quasi-static: internal force minus loads at the end node)."""
+        A ends, N: internal force minus loads at the end node, and with the reduced
+        accelerations ``a`` (m/s2) less the held ends' inertia (:meth:`end_inertia`);
+        without a, quasi-static."""
         v = np.zeros(self.n) if v is None else v
         u = self.full_displacement(x, t)
         return self.end_forces(u, self.full_velocity(x, v, t) if self._needs_velocity
-                               else None, t)
+                               else None, t, a)
 
-    def end_forces(self, u, ud, t=0.0):
+    def end_forces(self, u, ud, t=0.0, a=None):
         """:meth:`reactions` from the full cable displacement u (m) and velocity ud (m/s,
-        None: at rest) at time t (s)."""
+        None: at rest) at time t (s), and the reduced accelerations a (m/s2, None:
+        quasi-static)."""
         R_full, _, _ = self.line_residual(u, ud if self._needs_velocity else None, t,
                                           tangent=False)
-        return -R_full[self.fairlead_dofs], -R_full[self.anchor_dofs]
+        return self.less_inertia((-R_full[self.fairlead_dofs], -R_full[self.anchor_dofs]),
+                                 a, t)
+
+    def less_inertia(self, forces, a, t):
+        """(B, A end forces) less the held ends' inertia at the accelerations a (a: None,
+        or no inertia: the forces as given; Eq. 35's row of the end: f = -(R + M a))."""
+        inertia = None if a is None else self.end_inertia(a, t)
+        if inertia is None:
+            return forces
+        return forces[0] - inertia[0], forces[1] - inertia[1]
 
     def end_moments(self, u, ud, t=0.0):
         """(nlines, 3) moments (N m) the lines exert on their B ends and (nlines, 3) on

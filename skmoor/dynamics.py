@@ -178,12 +178,21 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
     nonlinear = getattr(system, "nonlinear_inertia", False)
     rebase = getattr(system, "rebase", None) if nonlinear else None
+    driven = getattr(system, "driven_inertia", None) or (lambda t: None)
+    if hasattr(system, "acceleration_step"):  # driven ends' accelerations over the step
+        system.acceleration_step = dt
+
+    def loads(R, t):
+        """R plus the prescribed ends' inertia on the free DOFs (M_fp a_p(t), a load given
+        in time: at the alpha_f level like the others), when the system has one."""
+        extra = driven(t)
+        return R if extra is None else R + extra
 
     def start(x, v, t):
         """(a, C v + R, G) at a start (x, v, t): a from the balance, G the state-dependent
         inertia (None: the system has none)."""
         R, _, _ = system.residual(x, v, t, tangent=False)
-        force = C @ v + R
+        force = C @ v + loads(R, t)
         mass = _IterationMatrix(layout)
         if not nonlinear:
             mass.update(M)
@@ -199,12 +208,12 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     commit(t, x, v)
     reports = report_every > 0 and hasattr(system, "end_forces")
 
-    def report(x, v, t):
-        """(full state, end forces) of the lines at (x, v, t), computed here."""
+    def report(x, v, a, t):
+        """(full state, end forces) of the lines at (x, v, a, t), computed here."""
         u, ud = system.full_state(x, v, t)
-        return (u, ud), system.end_forces(u, ud, t)
+        return (u, ud), system.end_forces(u, ud, t, a)
 
-    yield State(t, 0, x, v, a, 0, 0, *(report(x, v, t) if reports else (None, None)))
+    yield State(t, 0, x, v, a, 0, 0, *(report(x, v, a, t) if reports else (None, None)))
 
     def advance(x, v, a, force_old, G_old, t1, h, matrix):
         """One step of h from (x, v, a) to t1: ((x1, v1, a1, C v1 + R1, G1), iterations),
@@ -215,6 +224,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         v_pred = v + h * (1 - gamma) * a
         inertia_old = am * (M @ a if G_old is None else M @ a + G_old) + af * force_old
         previous = (x, v, a, G_old, h, gamma)
+        extra = driven(t1)
 
         def inertia(y, v1, a1, tangent=False):
             """M a1 plus the system's state-dependent inertia G1 (momentum-consistent over
@@ -230,6 +240,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             a1 = (y - x_pred) / (beta * h**2)
             v1 = v_pred + gamma * h * a1
             R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, layout=layout)
+            if extra is not None:
+                R1 = R1 + extra
             inertia1, slopes, _ = inertia(y, v1, a1, tangent)
             B = (1 - am) * inertia1 + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
             if not tangent:
@@ -318,7 +330,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             matrix = _IterationMatrix(layout)
             halves.clear()
         if reports and step % report_every == 0 and reported is None:
-            reported = report(x, v, t1)
+            reported = report(x, v, a, t1)
         yield State(t1, step, x, v, a, it, subdivided, *(reported or (None, None)))
 
 

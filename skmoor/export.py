@@ -131,15 +131,17 @@ def _network_points(results):
                               and len(masses) == n else np.zeros(n))}}
 
 
-def export(results, outdir, max_frames=MAX_FRAMES) -> tuple[Path, Path]:
+def export(results, outdir, max_frames=MAX_FRAMES) -> tuple[Path | None, Path]:
     """Write ``outdir/lines.xdmf`` (+ ``.h5``) and ``outdir/motion.pvd`` (+ ``motion/``),
     at most ``max_frames`` samples each (evenly strided; None: every sample).
 
-    Returns the paths of the ``.xdmf`` and the ``.pvd``."""
+    Returns the paths of the ``.xdmf`` (None for a network without lines: no file, it
+    would hold no mesh) and the ``.pvd``."""
     outdir = Path(outdir)
     samples = frames(results, max_frames)
-    return (write_xdmf(results, outdir / "lines.xdmf", samples),
-            write_vtu_series(results, outdir, samples))
+    lines = (write_xdmf(results, outdir / "lines.xdmf", samples) if len(results.cells)
+             else None)
+    return lines, write_vtu_series(results, outdir, samples)
 
 
 def write_mode_series(points, cells, shape, period, folder, n_frames=24, scale=None,

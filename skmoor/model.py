@@ -81,8 +81,20 @@ class Model:
     def add(self, term):
         """Add a :class:`~skmoor.terms.Term` (a LineForm, PointLoad, BodyLoad, ...) to the
         model's equations, with its mass: it acts in statics, modes and dynamics alike.
-        A PointLoad's ``point`` or a BodyLoad's ``body`` may be a name. Returns the term."""
+        A PointLoad's ``point``, a BodyLoad's ``body`` or the ``bodies`` of a term on a
+        pair of bodies (a :class:`~skmoor.joints.BodyPin`) may be names. Returns the term."""
         kind = getattr(term, "acts_on", None)
+        if kind == "body pairs":
+            names = [b.name for b in self.network.bodies if b.kind == "dynamic"]
+            pair = []
+            for index in getattr(term, "bodies", ()):
+                if isinstance(index, str):
+                    if index not in names:
+                        raise ValueError(f"Model.add {type(term).__name__}.bodies: no dynamic "
+                                         f"body {index!r} (have {names or 'none'})")
+                    index = names.index(index)
+                pair.append(index)
+            term.bodies = tuple(pair)
         if kind in ("points", "bodies"):
             attribute = "point" if kind == "points" else "body"
             names = ([p.name for p in self.network.points if p.kind == "free"] if kind == "points"

@@ -37,6 +37,7 @@ from .hydro import line_terms
 from .surface import SurfaceTerm
 from .laws import Engineering
 from .line import Line, LineSet, LineType
+from .motion import Motion
 from .no_lines import NoLines
 from .seabed import seabed_term
 
@@ -655,30 +656,82 @@ def _clamp_tangents(ln: MooringLine, side, clamp, positions, tangents):
 
 
 def _slot_motion(network: Network, slots):
-    """motion(t) -> (nslots, 3) displacements of the prescribed ends from the network's
-    coupled-DOF motion (zeros without one). A slot is a Point, or (a Point on a coupled
-    body, t0): the change R(t) R0^T t0 - t0 of a line's clamped tangent t0 there."""
+    """A :class:`~skmoor.motion.Motion` of the prescribed ends from the network's
+    coupled-DOF motion (zeros without one): (nslots, 3) displacements, m; velocities and
+    accelerations from the network's motion when it is a Motion with a velocity (its
+    acceleration, or differences of its velocity), else differences of the positions. A
+    slot is a Point, or (a Point on a coupled body, t0): the change R(t) R0^T t0 - t0 of a
+    line's clamped tangent t0 there (turned, not carried)."""
     offsets = _coupled_offsets(network)
+
+    def turned(body, q, r):
+        """R(attitude + q) r - R(attitude) r (m) of a point r (body frame) on a body."""
+        return body.rotation_matrix(body.attitude + q) @ r - body.rotation_matrix() @ r
+
+    def along(body, q, r, w, order):
+        """The first (order 1) or second derivative of turned(q + h w) in h at h = 0
+        (central differences over h |w| = 1e-6 or 1e-4 rad)."""
+        size = np.linalg.norm(w)
+        if size == 0.0:
+            return np.zeros(3)
+        h = (1e-6 if order == 1 else 1e-4) / size
+        ahead, behind = turned(body, q + h * w, r), turned(body, q - h * w, r)
+        if order == 1:
+            return (ahead - behind) / (2 * h)
+        return (ahead - 2 * turned(body, q, r) + behind) / h**2
+
+    def on_body(p):
+        """(body, r in the body's frame, 1 if the body's translation carries it else 0)."""
+        if isinstance(p, tuple):  # a clamped tangent turning with its coupled body
+            point, t0 = p
+            body = network.body(point.body)
+            return body, body.rotation_matrix().T @ t0, 0.0
+        return network.body(p.body), p.position, 1.0
 
     def motion(t):
         y = _coupled_vector(network, t)
         out = np.zeros((len(slots), 3))
         for k, p in enumerate(slots):
-            if isinstance(p, tuple):  # a clamped tangent turning with its coupled body
-                point, t0 = p
-                body = network.body(point.body)
-                q = y[offsets[("Body", body.name)]]
-                out[k] = (body.rotation_matrix(body.attitude + q[3:])
-                          @ body.rotation_matrix().T @ t0 - t0)
-                continue
-            if p.kind == "coupled":
+            if not isinstance(p, tuple) and p.kind == "coupled":
                 out[k] = y[offsets[("Point", p.name)]]
                 continue
-            body = network.body(p.body)
+            body, r, carried = on_body(p)
             q = y[offsets[("Body", body.name)]]
-            r = p.position
-            out[k] = (q[:3] + body.rotation_matrix(body.attitude + q[3:]) @ r
-                      - body.rotation_matrix() @ r)
+            out[k] = carried * q[:3] + turned(body, q[3:], r)
         return out
 
-    return motion
+    def rates(t, order):
+        """(nslots, 3) velocities (order 1, m/s) or accelerations (order 2, m/s2): from
+        the network's motion as it is now (a Motion's velocity and acceleration, else
+        central differences of the ends' positions or velocities)."""
+        given = network.motion
+        if order == 1 and getattr(given, "velocity", None) is None:
+            return (motion(t + 1e-6) - motion(t - 1e-6)) / 2e-6
+        if order == 2 and getattr(given, "acceleration", None) is None:
+            return (rates(t + 1e-6, 1) - rates(t - 1e-6, 1)) / 2e-6
+        y = _coupled_vector(network, t)
+        yd = np.asarray(given.velocity(t), float).ravel()
+        ydd = np.asarray(given.acceleration(t), float).ravel() if order == 2 else None
+        for name, value in (("velocity", yd), ("acceleration", ydd)):
+            if value is not None and value.shape != y.shape:
+                raise ValueError(f"motion {name}: expected {y.size} coupled DOFs, got "
+                                 f"{value.shape}")
+        out = np.zeros((len(slots), 3))
+        for k, p in enumerate(slots):
+            if not isinstance(p, tuple) and p.kind == "coupled":
+                where = offsets[("Point", p.name)]
+                out[k] = (yd if order == 1 else ydd)[where]
+                continue
+            body, r, carried = on_body(p)
+            where = offsets[("Body", body.name)]
+            q, qd = y[where], yd[where]
+            if order == 1:  # d/dt [q + R(a + q) r]
+                out[k] = carried * qd[:3] + along(body, q[3:], r, qd[3:], 1)
+            else:
+                qdd = ydd[where]
+                out[k] = (carried * qdd[:3] + along(body, q[3:], r, qdd[3:], 1)
+                          + along(body, q[3:], r, qd[3:], 2))
+        return out
+
+    own = getattr(network.motion, "acceleration", None) is not None  # else: the step's
+    return Motion(motion, lambda t: rates(t, 1), (lambda t: rates(t, 2)) if own else None)

@@ -587,7 +587,7 @@ class _Recorder:
             (u, ud), (fair, anchor) = state.full_state, state.reactions
         else:
             u, ud = system.full_state(state.x, state.v, state.t)
-            fair, anchor = system.end_forces(u, ud, state.t)
+            fair, anchor = system.end_forces(u, ud, state.t, state.a)
         y = (np.zeros(self._n_coupled) if network.motion is None
              else np.asarray(network.motion(state.t), float).ravel())
         bodies = self._bodies(state.x, y)

@@ -97,3 +97,20 @@ def test_bad_body_pins_are_refused():
         _pinned_network("side")
     with pytest.raises(ValueError, match="body mast pin: 'mast.B' is on the body itself"):
         _pinned_network("mast.B")
+
+
+def test_model_add_takes_a_pins_bodies_by_name():
+    """Model.add resolves a BodyPin's bodies given by name to their indices among the
+    dynamic bodies (the network's order: west 0, east 1, either way round); an unknown
+    name is refused with the names there are."""
+    from test_network import network_two_bodies
+
+    model = skmoor.from_network(network_two_bodies())
+    for names, indices in ((("west", "east"), (0, 1)), (("east", "west"), (1, 0))):
+        pin = BodyPin([1.0, 0.0, -1.5], mass=1e3, carrier_mass=4e4, length=2.0, bodies=names)
+        assert model.add(pin).bodies == indices
+        assert pin in model.system.terms
+    with pytest.raises(ValueError, match=r"BodyPin.bodies: no dynamic body 'north' \(have "
+                                         r"\['west', 'east'\]\)"):
+        model.add(BodyPin([0.0, 0.0, 0.0], mass=1.0, carrier_mass=1.0, length=1.0,
+                          bodies=("west", "north")))

@@ -165,7 +165,8 @@ def _chain_on_the_bed(motion):
 @pytest.mark.parametrize("compiled", [True, False])
 def test_reported_end_forces_and_line_state_are_the_systems(which, compiled):
     """States integrate reports (report_every) carry the lines' full state and end forces
-    as System.full_state and System.reactions compute them at that state, from the
+    as System.full_state and System.reactions (with the held ends' inertia at the state's
+    accelerations) compute them at that state, from the
     compiled step and from the Python one: a report taken at the step's alpha level, a
     sign, the anchor and fairlead swapped or a velocity left out (the drag, the lines' BA)
     would differ by far more than round-off. Other steps carry none."""
@@ -184,7 +185,7 @@ def test_reported_end_forces_and_line_state_are_the_systems(which, compiled):
             continue
         reported += 1
         u, ud = system.full_state(state.x, state.v, state.t)
-        fair, anchor = system.reactions(state.x, state.v, state.t)
+        fair, anchor = system.reactions(state.x, state.v, state.t, state.a)
         for got, expected in zip((*state.full_state, *state.reactions), (u, ud, fair, anchor)):
             assert np.abs(got - expected).max() <= 1e-9 * np.abs(expected).max()
         assert np.abs(ud).max() > 1e-3  # the lines do move

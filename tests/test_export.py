@@ -119,3 +119,20 @@ def test_mode_series_bad_input(results, tmp_path, kwargs, message):
 def test_xdmf_bad_suffix(results, tmp_path):
     with pytest.raises(ValueError, match=".xdmf"):
         write_xdmf(results, tmp_path / "lines.xmf")
+
+
+def test_a_network_without_lines_exports_no_empty_line_file(tmp_path):
+    """A coupled body with a point and no line: the VTU series is written, lines.xdmf
+    (which would hold no mesh) is not, and export says so with None."""
+    import skmoor
+    from skmoor.network import Body, Network, Point
+
+    network = Network([Point("p", "body", [1.0, 0.0, 0.0], body="b")], [],
+                      [Body("b", "coupled", np.zeros(3))], depth=50.0,
+                      motion=lambda t: np.array([0.1 * t, 0, 0, 0, 0, 0]))
+    model = skmoor.from_network(network)
+    results = skmoor.simulate(model, duration=0.2, dt=0.1, output_interval=0.1,
+                              start="given", progress=False)
+    xdmf, pvd = export(results, tmp_path / "run")
+    assert xdmf is None and not (tmp_path / "run" / "lines.xdmf").exists()
+    assert pvd.exists()

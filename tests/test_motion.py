@@ -42,12 +42,15 @@ def test_a_motion_with_its_velocity_moves_the_line_as_central_differences_do(vec
     """A heaving fairlead as a Motion with its exact velocity (a batch of times per call
     when vectorized) gives the tension history of the same motion as a plain function,
     differentiated numerically by System; a velocity with a wrong factor does not (the
-    drag, the bed's damping and the lines' BA see it), so the velocity is the one used."""
+    drag, the bed's damping and the lines' BA see it), so the velocity is the one used.
+    The fairlead's inertia in its reaction takes the acceleration from differences over
+    the step, of the velocity or of the positions: they differ by O(dt^2), 3e-6 of the
+    swing here."""
     plain = fairlead_tensions(lambda t: heave(t))
     exact = fairlead_tensions(skmoor.Motion(heave, heave_rate, vectorized=vectorized))
     swing = np.ptp(plain)
     assert swing > 5e3  # N: the heave does load the line
-    assert np.abs(exact - plain).max() < 1e-6 * swing
+    assert np.abs(exact - plain).max() < 1e-5 * swing
     wrong = fairlead_tensions(skmoor.Motion(heave, lambda t: heave_rate(t, 2.0)))
     assert np.abs(wrong - plain).max() > 1e-3 * swing
     python = fairlead_tensions(skmoor.Motion(heave, heave_rate, vectorized=vectorized),
