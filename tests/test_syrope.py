@@ -7,8 +7,8 @@
 2. MoorDyn's three Syrope decks (``tests/Mooring/syrope/{linear,quadratic,exp}_wc``, one
    1 m segment between a fixed and a coupled point, g = 0), read from the mirror of
    MoorDyn's repository. Statics: the fairlead held where the deck puts it, MoorDyn's creep
-   state relaxes (time constant ~70 s) onto the working curve at the deck's strain; after
-   4000 s its tension is skmoor's static tension to 1e-6 (both sample the working curve
+   state relaxes (time constant 70 s on the linear deck, longer on the softer curves)
+   onto the working curve at the deck's strain; after 4000 s its tension is skmoor's static tension to 1e-6 (both sample the working curve
    at 30 strains; the analytic curve differs by up to 4e-4, the OWC's first point taken
    as (0, 0) instead of MoorDyn's first row would move eps_min by 1.6e-3 of strain).
    The linear deck's Tmean0 lies on its working curve: MoorDyn's t = 0 tension agrees too.
@@ -20,11 +20,13 @@
    within 0.2 % between the codes (MoorDyn's mean creeps by 0.1 % over the run),
    fitted stiffness within 0.5 % (measured 0.1 %; the working curve's own slope would be
    23 % off, EA_Dc alone 6 %, the static tension as mean 3 %). The creep lag, in
-   quadrature, ~ 0.77 / (omega tau) of the wave tension (2 % at the spectrum's peak, 9 %
-   at its low end), is what skmoor leaves out: RMS difference 7 % of the wave tension
-   (asserted < 12 %). A 2 s sine (omega tau = 226, lag 0.34 %) agrees within 1 % of its
-   amplitude point by point (measured 0.18 %). MoorDyn's Step returns the forces of its
-   last RK2 stage, at mid-step: skmoor's history is read there. syrope.cpp's slow 18 h strain history (the mean creeping, rising past
+   quadrature, (1 - EA_wc / EA_d) / (omega tau) = 0.23 / (omega tau) of the wave tension
+   (0.6 % at the spectrum's peak, 2.8 % at its low end), is what skmoor leaves out: RMS
+   difference 0.9 % of the wave tension (asserted < 3 %). A 2 s sine (omega tau = 226,
+   lag 0.1 %) agrees within 1 % of its amplitude point by point (measured 0.18 %).
+   MoorDyn's Step returns the forces of the last RK2 stage of its last sub-step: skmoor's
+   history is read there (at dt = 0.1 s, 0.025 s before the step's end; read at the end,
+   the sine would differ by 8 %). syrope.cpp's slow 18 h strain history (the mean creeping, rising past
    Tmax0 onto new working curves) is not run: skmoor's law holds the mean and T_max.
 """
 import math
@@ -82,7 +84,7 @@ CURVES = [("linear", 1.25e8, 0.0), ("linear", 0.3, 0.0), ("quadratic", 0.25, 1.0
 def test_working_curve_against_its_formula(form, k1, k2):
     law = syrope.syrope_law(OWC, form, k1, k2, T_MAX0, ALPHA, BETA)
     wc = law.static
-    e, T = wc.table
+    e, _ = wc.table
     assert len(e) == 30 + 2  # 30 samples, then the OWC points above T_max (2.45, 4.39 MN)
     eps_min, eps_max = e[0], e[29]
     samples = e[:30]
@@ -199,10 +201,8 @@ def jonswap_elevation(t, Hs, Tp, gamma=3.3, n=300, seed=12345):
 
 def run_both(deck, x, dt):
     """(times s, skmoor's and MoorDyn's fairlead tension N there) with the fairlead at x
-    (m, at t = k dt).
-    MoorDyn's Step returns the forces of its last RK2 stage, half a step before the step's
-    end: skmoor's history is read there (read at the step's end, the half step would show
-    as a damping EA_d dt / 2, 1.6e7 N s at dt = 0.2 s)."""
+    (m, at t = k dt). MoorDyn's Step returns the forces of the last RK2 stage of its last
+    sub-step, half that sub-step before the step's end: skmoor's history is read there."""
     t = dt * np.arange(len(x))
     model = skmoor.build(deck, motion=lambda time: np.array(
         [np.interp(time, t, x) - DECKS["linear_wc"], 0.0, 0.0]))
@@ -210,8 +210,18 @@ def run_both(deck, x, dt):
                               progress=False)
     assert results.meta["stopped"] is None
     T_sk = results.fairlead_tension[: len(x), 0]
-    t_md = np.r_[0.0, t[1:] - dt / 2]
+    t_md = np.r_[0.0, t[1:] - last_substep(dt, float(skmoor.read_deck(deck).option("dtM"))) / 2]
     return t_md, np.interp(t_md, t, T_sk), run_moordyn(deck, x, dt)
+
+
+def last_substep(dt, dtM):
+    """MoorDyn's last sub-step (s) of a coupling step dt: MoorDyn::Step takes dtM from dt
+    until nothing is left (0.2 - 4 x 0.05 leaves 1.4e-17 s, 0.1 - 2 x 0.05 nothing)."""
+    left, step = dt, 0.0
+    while left > 0.0:
+        step = min(left, dtM)
+        left -= step
+    return step
 
 
 def test_linear_deck_in_waves_against_moordyn(tmp_path, monkeypatch, capfd):
@@ -231,27 +241,25 @@ def test_linear_deck_in_waves_against_moordyn(tmp_path, monkeypatch, capfd):
     assert mean_sk == pytest.approx(T_MEAN0, rel=1e-3)
     assert mean_md == pytest.approx(mean_sk, rel=2e-3)  # MoorDyn's mean creeps 0.1 % in 300 s
     assert EA_sk == pytest.approx(ALPHA + BETA * T_MEAN0, rel=1e-3)
-    assert EA_sk == pytest.approx(EA_md, rel=5e-3)  # measured 0.1 %
-    # what the held mean leaves out: MoorDyn's creep lag, 0.77 / (omega tau) of the wave
-    # tension in quadrature, 2 % at the peak, 9 % at the spectrum's low end (measured 7 %)
+    assert EA_sk == pytest.approx(EA_md, rel=3e-3)  # measured 0.05 %
+    # what the held mean leaves out: MoorDyn's creep lag, 0.23 / (omega tau) of the wave
+    # tension in quadrature, 0.6 % at the peak, 2.8 % at the spectrum's low end (measured 0.9 %)
     wave = T_md - T_md.mean()
     assert np.sqrt(np.mean(wave**2)) > 5e4  # the waves load the rope (~ 9e4 N)
     difference = np.sqrt(np.mean((T_sk - T_md)**2)) / np.sqrt(np.mean(wave**2))
-    print(f"RMS difference {difference:.4f} of the wave tension, stiffness {EA_sk / EA_md - 1:.2e}")
-    assert difference < 0.12
+    assert difference < 0.03
 
 
 def test_linear_deck_fast_sine_against_moordyn(tmp_path, monkeypatch, capfd):
-    """A 2 s strain sine of 5e-4: omega tau = 226, the creep lag 0.77 / (omega tau) =
-    0.34 % of the wave tension: skmoor within 1 % of it, point by point."""
+    """A 2 s strain sine of 5e-4: omega tau = 226, the creep lag 0.23 / (omega tau) =
+    0.1 % of the wave tension: skmoor within 1 % of its amplitude, point by point."""
     monkeypatch.chdir(tmp_path)
     deck = mirror_deck(tmp_path, "linear_wc")
-    dt = 0.02
+    dt = 0.1  # twice the decks' dtM
     t = np.arange(0.0, 20.0 + dt / 2, dt)
     strain = 5e-4 * np.sin(np.pi * t)
     _, T_sk, T_md = run_both(deck, DECKS["linear_wc"] + strain, dt)
     capfd.readouterr()
     wave = 5e-4 * (ALPHA + BETA * T_MEAN0) / np.sqrt(2)  # RMS of the wave tension, N
     assert np.sqrt(np.mean((T_md - T_md.mean())**2)) == pytest.approx(wave, rel=0.02)
-    print(f"largest difference {np.abs(T_sk - T_md).max() / (wave * np.sqrt(2)):.4f} of the amplitude")
     assert np.abs(T_sk - T_md).max() < 0.01 * wave * np.sqrt(2)
