@@ -211,8 +211,9 @@ def read_syrope_file(path, source=None):
         found[key] = value
     missing = [k for k in ("owc", "wctype", "k1", "k2") if k not in found]
     if missing:
+        spelled = {"owc": "OWC", "wctype": "WCType", "k1": "k1", "k2": "k2"}
         raise ValueError(f"{name}: Syrope file {path.name} does not give "
-                         f"{', '.join(m.upper() if m != 'wctype' else 'WCType' for m in missing)}")
+                         f"{', '.join(spelled[m] for m in missing)}")
     return found["owc"], found["wctype"], found["k1"], found["k2"]
 
 

@@ -263,3 +263,65 @@ def test_linear_deck_fast_sine_against_moordyn(tmp_path, monkeypatch, capfd):
     wave = 5e-4 * (ALPHA + BETA * T_MEAN0) / np.sqrt(2)  # RMS of the wave tension, N
     assert np.sqrt(np.mean((T_md - T_md.mean())**2)) == pytest.approx(wave, rel=0.02)
     assert np.abs(T_sk - T_md).max() < 0.01 * wave * np.sqrt(2)
+
+
+def syrope_deck(folder, ea="SYROPE:syrope.dat|1.53e8|23.12", ic="1  1.3886e6  4.339e5",
+                settings="owc.dat OWC\nLINEAR WCType\n1.25e8 k1\n0.0 k2\n"):
+    """A one-line Syrope deck in folder with its settings file and the OWC above."""
+    (folder / "owc.dat").write_text("OWC\nStrain Tension\n(-) (N)\n"
+                                    + "".join(f"{e} {T}\n" for e, T in zip(*OWC)))
+    (folder / "syrope.dat").write_text(settings)
+    ic_section = ("---- SYROPE IC ----\nLine(s) Tmax0 Tmean0\n(-) (N) (N)\n" + ic + "\n"
+                  if ic is not None else "")
+    path = folder / "line.txt"
+    path.write_text(f"""a Syrope line
+---- LINE TYPES ----
+Name Diam Mass/m EA BA EI Cd Ca CdAx CaAx
+(-) (m) (kg/m) (N) (N-s) (N-m^2) (-) (-) (-) (-)
+poly 0.2 40 {ea} 5e10|1e5 0 0 0 0 0
+---- POINTS ----
+ID Attachment X Y Z M V CdA CA
+(-) (-) (m) (m) (m) (kg) (m^3) (m^2) (-)
+1 Fixed 0 0 -5 0 0 0 0
+2 Coupled 1.015 0 -5 0 0 0 0
+---- LINES ----
+ID LineType AttachA AttachB UnstrLen NumSegs Outputs
+(-) (-) (-) (-) (m) (-) (-)
+1 poly 2 1 1.0 1 -
+{ic_section}---- OPTIONS ----
+0 g
+1025 rho
+0.05 dtM
+70 WtrDpth
+----------------
+""")
+    return path
+
+
+def test_syrope_deck_reader(tmp_path):
+    deck = skmoor.read_deck(syrope_deck(tmp_path))
+    t = deck.line_types["poly"]
+    assert t.syrope[0] == "syrope.dat" and t.syrope[2:] == ("linear", 1.25e8, 0.0)
+    assert t.syrope[1][0] == pytest.approx(OWC[0]) and t.EA_visco == (ALPHA, BETA)
+    assert deck.syrope_ic == {1: (T_MAX0, T_MEAN0)}
+    law = skmoor.build(deck).lines.laws[0]
+    assert isinstance(law, syrope.Syrope) and law.T_mean == T_MEAN0
+    with pytest.raises(ValueError, match="line.txt line 5: LINE TYPES poly EA .*Tmax0 = 5e"):
+        skmoor.build(syrope_deck(tmp_path, ic="1 5e6 1e5"))
+    with pytest.raises(ValueError, match="line.txt line 14: LINES 1: a Syrope line needs its "
+                       "Tmax0 in a SYROPE IC section"):
+        skmoor.build(syrope_deck(tmp_path, ic=None))
+    with pytest.raises(ValueError, match="line.txt line 18: SYROPE IC Line\\(s\\): there is no "
+                       "line 2"):
+        skmoor.read_deck(syrope_deck(tmp_path, ic="1,2 1.3886e6 4.339e5"))
+    with pytest.raises(ValueError, match="Tmean0: must be within \\[0, Tmax0"):
+        skmoor.read_deck(syrope_deck(tmp_path, ic="1 1e6 2e6"))
+    with pytest.raises(ValueError, match="line 5: LINE TYPES EA: .*: a Syrope EA is "
+                       "SYROPE:file\\|EA_Dc\\|EA_D_Lm"):
+        skmoor.read_deck(syrope_deck(tmp_path, ea="SYROPE:syrope.dat|1.53e8"))
+    with pytest.raises(ValueError, match="Syrope file syrope.dat line 2: WCType 'CUBIC'"):
+        skmoor.read_deck(syrope_deck(tmp_path, settings="owc.dat OWC\nCUBIC WCType\n1 k1\n0 k2\n"))
+    with pytest.raises(ValueError, match="Syrope file syrope.dat does not give k2"):
+        skmoor.read_deck(syrope_deck(tmp_path, settings="owc.dat OWC\nEXP WCType\n0.2 k1\n"))
+    with pytest.raises(ValueError, match="writing Syrope line types is not supported"):
+        skmoor.write_deck(deck, tmp_path / "out.txt")
