@@ -12,7 +12,7 @@ eps_max = OWC strain at T_max, and starts slack at eps_min:
     QUADRATIC: T = T_max xi (k2 xi + 1 - k2)
     EXP:       T = T_max (exp(k2 xi) - 1) / (exp(k2) - 1)
 
-(MoorDyn's Line::setWorkingCurve, after Falkenberg et al. 2017 and the Syrope JIP). Above
+(MoorDyn's Line::setWorkingCurve; Wei, Bingham & Shao, ESOMOOR D5.1, DTU 2026). Above
 T_max the rope is back on the OWC. Waves stretch it about its mean with the dynamic
 stiffness EA_d = alpha_MBL + beta T_mean (N), as MoorDyn's ``EA_s|alphaMBL|beta``.
 
@@ -21,8 +21,9 @@ stiffness EA_d = alpha_MBL + beta T_mean (N), as MoorDyn's ``EA_s|alphaMBL|beta`
 line's T_max (MoorDyn's ``SYROPE IC`` Tmax0): the static state on the working curve, the
 motion about a mean state on it, tension T_mean + EA_d(T_mean) (e - e_wc(T_mean)), T_mean
 the IC's Tmean0 (MoorDyn's initial creep state) or, without it, the element's static
-tension. This is the limit of MoorDyn's Syrope model for motions faster
-than its creep time (BA / EA_d) that stay below T_max: the mean tension and T_max held.
+tension. This is the limit of MoorDyn's Syrope model for motions faster than its creep
+time (BA / EA_d times 1 - EA_wc / EA_d) that stay below T_max: the mean tension and T_max
+held (MoorDyn integrates each segment's creep strain and raises T_max; skmoor does not).
 The working curve is sampled at ``points`` strains as MoorDyn does (30), linear between.
 """
 from __future__ import annotations
