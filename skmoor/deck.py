@@ -14,8 +14,10 @@ Mass/m Cd Ca CdEnd CaEnd), BODIES, RODS (ID RodType Attachment Xa Ya Za Xb Yb Zb
 RodOutputs), POINTS (9 columns, or 12 with a constant force), LINES between points and
 rod ends (``R<N>A``, ``R<N>B``), OPTIONS (names as MoorDyn-C spells them, aliases
 mapped; unknown options kept with a note) and OUTPUTS. Refused with the deck line and
-the reason: damping and bending curve files, the Syrope model, and the MoorDyn-F-only
-sections (FAILURE, CONTROL, EXTERNAL LOADS). The reader checks the format only; what
+the reason: damping and bending curve files and the MoorDyn-F-only
+sections (FAILURE, CONTROL, EXTERNAL LOADS). Syrope polyester (EA
+``SYROPE:file|EA_Dc|EA_D_Lm``, the settings file naming the OWC table, WCType, k1, k2,
+relative to the deck) with its SYROPE IC section (Line(s) Tmax0 Tmean0) is read too. The reader checks the format only; what
 skmoor can simulate is checked when the model is built (:mod:`skmoor.deck_model`).
 
 Units as MoorDyn: m, kg, N, s; body angles in degrees.
@@ -49,7 +51,6 @@ REFUSED_SECTIONS = {
     "FAILURE": "line failures are not supported",
     "CONTROL": "line control channels are not supported",
     "EXTERNAL LOADS": "external loads on points / bodies are not supported",
-    "SYROPE IC": "the Syrope line model is not supported",
 }
 TABLES = ("LINE TYPES", "ROD TYPES", "BODIES", "RODS", "POINTS", "LINES", "FAILURE",
           "CONTROL", "EXTERNAL LOADS", "SYROPE IC")
@@ -122,6 +123,7 @@ class DeckLineType:
     EA_file: str = ""
     EA_visco: tuple = ()
     BA_dynamic: float | None = None
+    syrope: tuple = ()  # (settings file, (OWC strains, tensions), WCType, k1, k2) of SYROPE:
     where: int = field(default=0, compare=False)  # deck line number (1-based)
 
 
@@ -244,6 +246,7 @@ class Deck:
     folder: Path = field(default=Path("."), compare=False)  # MoorDyn's wave / current files
     notes: list = field(default_factory=list, compare=False)
     option_lines: dict = field(default_factory=dict, compare=False)
+    syrope_ic: dict = field(default_factory=dict)  # line id -> (Tmax0, Tmean0) N, SYROPE IC
 
     def option(self, name: str, default=None):
         """The option ``name`` (MoorDyn-C spelling) as a float, or ``default``
@@ -373,6 +376,8 @@ def read_deck(path) -> Deck:
         _point(entry, deck)
     for entry in entries.get("LINES", []):
         _line(entry, deck)
+    for entry in entries.get("SYROPE IC", []):
+        _syrope_ic(entry, deck)
     for entry in entries.get("OPTIONS", []):
         _option(entry, deck)
     for entry in entries.get("OUTPUTS", []):
@@ -422,9 +427,12 @@ def _line_type(e, deck, folder=Path(".")):
     name = e.words[0]
     if name in deck.line_types:
         raise e.error(f"name: {name!r} is defined twice")
+    syrope = ()
     if e.words[3].upper().startswith("SYROPE:"):
-        raise e.error(f"EA: {e.words[3]!r}: the Syrope model is not supported")
-    EA, curve, curve_file, visco = _axial_stiffness(e, folder)
+        EA, syrope, visco = _syrope_stiffness(e, folder)
+        curve, curve_file = (), ""
+    else:
+        EA, curve, curve_file, visco = _axial_stiffness(e, folder)
     BA, BA_dynamic = _damping(e, len(visco) + 1)
     lt = DeckLineType(
         name=name, diameter=e.number_at(1, "Diam"), mass=e.number_at(2, "Mass/m"),
@@ -433,7 +441,7 @@ def _line_type(e, deck, folder=Path(".")):
         viv=tuple(e.number_at(i, n) for i, n in zip(range(10, len(e.words)),
                                                     ("Cl", "dF", "cF"))),
         EA_curve=curve, EA_file=curve_file, EA_visco=visco, BA_dynamic=BA_dynamic,
-        where=e.number)
+        syrope=syrope, where=e.number)
     for column, value in (("Diam", lt.diameter), ("Mass/m", lt.mass), ("EA", lt.EA)):
         if value <= 0:
             raise e.error(f"{column}: must be positive, got {value:g}")
@@ -471,6 +479,46 @@ def _axial_stiffness(e, folder):
         raise e.error(f"EA: EA_d = EA_s = {EA:g} N: the dynamic stiffness must differ from the "
                       "static one (MoorDyn refuses it too)")
     return EA, (), "", tuple(visco)
+
+
+def _syrope_stiffness(e, folder):
+    """(EA N, syrope, (alphaMBL, beta)) of a LINE TYPES EA column SYROPE:file|EA_Dc|EA_D_Lm."""
+    from .syrope import read_owc, read_syrope_file
+
+    parts = e.words[3].split("|")
+    if len(parts) != 3:
+        raise e.error(f"EA: {e.words[3]!r}: a Syrope EA is SYROPE:file|EA_Dc|EA_D_Lm "
+                      f"(3 '|'-separated values), got {len(parts)}")
+    visco = []
+    for part, label in zip(parts[1:], ("EA_Dc", "EA_D_Lm")):
+        try:
+            visco.append(float(part))
+        except ValueError:
+            raise e.error(f"EA: Syrope {label} {part!r} is not a number") from None
+        if not (math.isfinite(visco[-1]) and visco[-1] >= 0):
+            raise e.error(f"EA: Syrope {label} must be a finite number >= 0, got {part!r}")
+    name = parts[0][len("SYROPE:"):]
+    where = f"{e.source} line {e.number}: LINE TYPES EA"
+    owc_name, form, k1, k2 = read_syrope_file(folder / name, source=where)
+    owc = read_owc(folder / owc_name, source=f"{where} ({name})")
+    return owc[1][-1] / owc[0][-1], (name, owc, form, k1, k2), tuple(visco)
+
+
+def _syrope_ic(e, deck):
+    """A SYROPE IC entry: Line(s) (a number or a comma-separated list) Tmax0 Tmean0 (N)."""
+    if len(e.words) != 3:
+        raise e.error(f"entry: needs the 3 columns Line(s) Tmax0 Tmean0, got {len(e.words)}")
+    Tmax0, Tmean0 = e.number_at(1, "Tmax0"), e.number_at(2, "Tmean0")
+    if not 0 <= Tmean0 <= Tmax0:
+        raise e.error(f"Tmean0: must be within [0, Tmax0 = {Tmax0:g}] N, got {Tmean0:g}")
+    for word in e.words[0].split(","):
+        try:
+            line = int(word)
+        except ValueError:
+            raise e.error(f"Line(s): {word!r} is not a line number") from None
+        if not any(ln.id == line for ln in deck.lines):
+            raise e.error(f"Line(s): there is no line {line}")
+        deck.syrope_ic[line] = (Tmax0, Tmean0)
 
 
 def _curve_file(e, folder, name):
@@ -698,6 +746,9 @@ def write_deck(deck: Deck, path) -> Path:
     ``NAME_EA.txt``)."""
     path = Path(path)
     for lt in deck.line_types.values():
+        if lt.syrope:
+            raise ValueError(f"write_deck: line type {lt.name}: writing Syrope line types is "
+                             "not supported")
         if lt.EA_curve:
             lt.EA_file = lt.EA_file or f"{lt.name}_EA.txt"
             curve = path.parent / lt.EA_file

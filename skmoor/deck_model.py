@@ -101,7 +101,8 @@ def line_type_of(deck: Deck, line) -> LineType:
     if t.viv and t.viv[0] > 0:
         raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {t.viv[0]:g}: vortex-induced "
                     "vibration is not supported")
-    law, BA = _law(deck, t), _internal_damping(deck, line)
+    law = _syrope_law(deck, t, line) if t.syrope else _law(deck, t)
+    BA = _internal_damping(deck, line)
     if isinstance(law, laws.StaticDynamic):
         BA = t.BA_dynamic or 0.0
     return LineType(EA=t.EA, mass=t.mass, diameter=t.diameter, Cd_n=t.Cd, Cd_t=t.CdAx,
@@ -123,6 +124,20 @@ def _law(deck: Deck, t):
         return laws.StaticDynamic(alpha_MBL=t.EA_visco[0], beta=t.EA_visco[1], static=static)
     except ValueError as err:
         raise ValueError(f"{where}: {err}") from None
+
+
+def _syrope_law(deck: Deck, t, line):
+    """The Syrope law of a deck line (skmoor.syrope): the working curve of the line's
+    SYROPE IC Tmax0, the motion about its Tmean0 with EA_Dc + EA_D_Lm Tmean0."""
+    from .syrope import syrope_law
+
+    name, owc, form, k1, k2 = t.syrope
+    where = f"{deck.source} line {t.where}: LINE TYPES {t.name} EA ({name})"
+    if line.id not in deck.syrope_ic:
+        raise _fail(deck, line.where, f"LINES {line.id}: a Syrope line needs its Tmax0 in a "
+                    "SYROPE IC section")
+    return syrope_law(owc, form, k1, k2, *deck.syrope_ic[line.id][:1], *t.EA_visco,
+                      T_mean=deck.syrope_ic[line.id][1], source=where)
 
 
 def _check_options(deck: Deck):

@@ -44,7 +44,7 @@ class ElementPattern:
         self._pattern = (unique % n, np.searchsorted(unique // n, np.arange(n + 1)))
         self.nnz = len(unique)
         # half-bandwidth, and positions in LAPACK band storage (Fortran order, banded.Band)
-        self.bandwidth = bw = int(np.max(np.abs(rows - cols)[kept]))
+        self.bandwidth = bw = int(np.max(np.abs(rows - cols)[kept], initial=0))
         self._band = np.where(kept, (2 * bw + rows - cols) + cols * Band.rows(bw, bw), -1)
 
     def evaluate(self, add_to, tangent=True, layout="sparse", rate=True):
