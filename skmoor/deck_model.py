@@ -80,6 +80,7 @@ from .deck import Deck, read_deck
 from .hydro import body_hydrodynamics
 from . import laws
 from .line import LineType
+from .motion import Motion
 from .network import Body, MooringLine, Network, Point, moordyn_rotation
 from . import rods
 from .rods import RodLoad, RodType, SpinLoad, spring_weight
@@ -487,9 +488,10 @@ def read_motion(path, n_dofs: int):
     """motion(t) from a time-series file: whitespace- or comma-separated columns, the time
     (s) first, then the coupled DOFs' displacements from the deck's positions in MoorDyn's
     order (6 per coupled body: m, m, m, rad, rad, rad; then 3 per coupled point, m); lines
-    starting with '#' are comments. Linear interpolation between rows, the first and last
-    rows continued along the first / last interval for one interval beyond the table (so
-    that a run ending at its last row sees a smooth velocity), then held."""
+    starting with '#' are comments. A :class:`~skmoor.motion.Motion`: linear
+    interpolation between rows, the first and last rows continued along the first / last
+    interval for one interval beyond the table, then held; its velocity each interval's
+    slope at the interval's middle, linear in between, the end slopes held beyond."""
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"--motion: no such file {path}")
@@ -510,11 +512,19 @@ def read_motion(path, n_dofs: int):
     head = np.vstack([2 * table[0] - table[1], table, 2 * table[-1] - table[-2]]) \
         if len(table) > 1 else table
     t = head[:, 0]
+    # the velocity: each interval's slope at its middle, linear in between, the first and
+    # last slopes held beyond (a run ending at the last row sees no jerk there)
+    middles = 0.5 * (t[1:] + t[:-1]) if len(t) > 1 else t
+    slopes = np.diff(head, axis=0) if len(t) > 1 else np.zeros_like(head)
+    slopes = slopes[:, 1:] / (slopes[:, :1] if len(t) > 1 else 1.0)
 
     def motion(time):
         return np.array([np.interp(time, t, column) for column in head[:, 1:].T])
 
-    return motion
+    def velocity(time):
+        return np.array([np.interp(time, middles, column) for column in slopes.T])
+
+    return Motion(motion, velocity)
 
 
 def default_time_step(model, period=None) -> float:
