@@ -46,7 +46,8 @@ def span_network(elements):
                                 rho_water=RHO, **MORISON)
         lines.append(skmoor.MooringLine(name, cable, points[k].name, points[k + 1].name,
                                         length, max(2, round(elements * length / SPAN))))
-    network = skmoor.Network(points, lines, depth=TOUCHDOWN[2] * -1 + 200.0, rho=RHO, g=G,
+    # deep water and no sea bed: the touchdown is pinned (the script sets the depth so)
+    network = skmoor.Network(points, lines, depth=200.0 - TOUCHDOWN[2], rho=RHO, g=G,
                              hydro=True, strain_law=skmoor.Engineering(tension_only=False))
     network.motion = skmoor.fade_in(
         lambda t: np.array([0.0, 0.0, AMPLITUDE * np.sin(2 * np.pi * t / PERIOD)]), BUILD_UP)
