@@ -94,8 +94,7 @@ def test_static_span_against_orcaflex():
     0.3 % of OrcaFlex's 0.09643 1/m on the same span (measured 0.02 %; from 128 to 512
     elements the mid-point peak rises by 0.14 %, to 0.09655), the hang-off tension within
     0.3 % of OrcaFlex's 9.32 kN of the installed cable (measured 0.14 %: the span ends at
-    that cable's static touchdown; CableDyn finds the two protocols within 0.4 % at
-    80 m). A hinged joint (0.0954 1/m on the installed cable) or an EI 10 % off moves the
+    that cable's static touchdown). A hinged joint (0.0954 1/m on the installed cable) or an EI 10 % off moves the
     peak by about 1 %, a dropped buoyancy the tension by far more."""
     _, tension, peak = static_span(128)
     assert peak == pytest.approx(ORCAFLEX["static_curvature"], rel=3e-3)
