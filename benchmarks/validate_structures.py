@@ -337,3 +337,26 @@ def check_pinned_rods_in_current():
     return Row("pinned rods in a 1.5 m/s current: static angle from the vertical (the worse "
                "rod)", float(theta), "moment balance about the pin: 1/2 rho Cd d (U cos a)^2 "
                "= (rho A - m) g sin a", float(angle), 1e-6, unit="rad")
+
+
+L3_6 = ("OrcaFlex 11.6d (CableDyn's L3-6 reference values, its "
+        "tests/test_l3_lazywave_dynamic.f90)")
+
+
+def check_lazy_wave_dynamics_orcaflex(elements=128, dt=0.05):
+    """The Lozon 80 m lazy wave's suspended span heaved 3 m / 12 s at its hang-off in
+    still water, with drag and added mass, scored over the last three periods
+    (tests/test_lazy_wave_orcaflex.py): peak curvature, its amplification, hang-off
+    tension mean / min / max against OrcaFlex as CableDyn publishes it."""
+    from test_lazy_wave_orcaflex import ORCAFLEX, heave_protocol
+
+    scored = heave_protocol(elements, dt)
+    rows = [("static peak curvature (interior 3-97 % of the arc)", "static_curvature",
+             3e-3, "1/m"),
+            ("dynamic peak curvature", "dynamic_curvature", 1e-2, "1/m"),
+            ("curvature amplification (dynamic / static)", "amplification", 1e-2, ""),
+            ("hang-off tension, mean", "tension_mean", 5e-3, "N"),
+            ("hang-off tension, smallest", "tension_min", 5e-3, "N"),
+            ("hang-off tension, largest", "tension_max", 5e-3, "N")]
+    return [Row(f"lazy-wave span (80 m) heaved 3 m / 12 s: {label}", ORCAFLEX[key], L3_6,
+                scored[key], tolerance, unit=unit) for label, key, tolerance, unit in rows]
