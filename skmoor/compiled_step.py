@@ -146,6 +146,7 @@ class CompiledStep:
         self.prescribed_dofs = np.asarray(system._prescribed_flat, np.int64)
         self.report_dofs = np.concatenate([np.ravel(system.fairlead_dofs),
                                            np.ravel(system.anchor_dofs)]).astype(np.int64)
+        self.held = _held_inertia(system)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
         drag = np.array([0.5 * p.rho * p.CdA for p in system.point_masses])
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
@@ -204,13 +205,13 @@ class CompiledStep:
         pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
         loads = np.zeros((count, nbodies, 6))
         driven = np.zeros((count, 0))  # M_fp a_p of each step (none: lumped P1 lines)
-        pres_a = None  # the prescribed ends' accelerations, when something needs them
+        pres_a = pres_u  # the prescribed ends' accelerations, where something needs them
         if system._has_prescribed:  # the time-only inputs of each step
             needed = system._M_driven is not None or (
-                system._end_mass is not None and report is not None and np.any(report))
+                self.held[2][0].size and report is not None and np.any(report))
             pres_u, pres_v, *pres_a = (np.ascontiguousarray(p, float) for p in
                                        system.prescribed_at(times, accelerations=needed))
-            pres_a = pres_a[0] if pres_a else None
+            pres_a = pres_a[0] if pres_a else pres_u
             if system._M_driven is not None:
                 driven = np.ascontiguousarray((system._M_driven @ pres_a.T).T, float)
         for k, load in enumerate(system.body_loads):
@@ -233,16 +234,12 @@ class CompiledStep:
                  self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
                  self.damped, self.width)
         done, code = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, model,
-                          loads, pres_u, pres_v, driven, self.factors, self.state, self.work,
-                          out, iterations, report, self.report_dofs, lines_out,
-                          ends_out.reshape(count, -1))
+                          loads, pres_u, pres_v, driven, pres_a, self.factors, self.state,
+                          self.work, out, iterations, report, self.report_dofs, self.held,
+                          lines_out, ends_out.reshape(count, -1))
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
-        reported = np.flatnonzero(report[:done] > 0)
-        if system._end_mass is not None and len(reported):  # the held ends' inertia
-            ends_out[reported] -= system.end_inertias(
-                out[2, reported], None if pres_a is None else pres_a[reported])
         return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
                  ((lines_out[0, i], lines_out[1, i]), (ends_out[i, 0], ends_out[i, 1]))
                  if report[i] > 0 else None) for i in range(done)], failure
@@ -250,13 +247,15 @@ class CompiledStep:
 
 @njit(cache=True)
 def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, driven,
-         factors, state, work, out, iterations, report, report_dofs, lines_out, ends_out):
+         pres_a, factors, state, work, out, iterations, report, report_dofs, held, lines_out,
+         ends_out):
     """Steps of h from (x, v, a, force = C v + R) with the inputs of step i in loads[i],
     pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free DOFs, N;
     empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
     iterations into iterations[i]; where report[i], the lines' full displacement and
     velocity into lines_out[:, i] and the end forces (minus the full residual at
-    report_dofs) into ends_out[i] (report[i] set to 0 when a line is at the surface: the
+    report_dofs, minus the held ends' inertia ``held`` with the prescribed ends'
+    accelerations pres_a[i]) into ends_out[i] (report[i] set to 0 when a line is at the surface: the
     caller computes them). Returns (the steps done, the failed step's code: 0 Newton did
     not converge, -1 a correction not finite, -2 a line at the surface, 1 none failed)."""
     am, af, beta, gamma = scheme
@@ -280,8 +279,39 @@ def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, 
         if report[i] > 0:
             report[i] = _report(x1, v1, model, loads[i], pres_u[i], pres_v[i], work,
                                 report_dofs, lines_out[0, i], lines_out[1, i], ends_out[i])
+            if report[i] > 0:
+                _less_held_inertia(held, a1, pres_a[i], ends_out[i])
         x, v, a, force = x1, v1, a1, force1
     return out.shape[1], 1
+
+
+def _held_inertia(system):
+    """The held (fixed, prescribed) ends' own inertia M_ef a_f + M_ep a_p that
+    ``System.end_forces`` takes from their reactions, as the compiled report takes it:
+    (the flat slots of the (2, nlines, 3) end forces it lands in, M[e] P0 and M[e, p] in
+    CSR); no slots when the system has none."""
+    if system._end_mass is None:
+        return np.zeros(0, np.int64), _csr(sp.csr_matrix((0, 0))), _csr(sp.csr_matrix((0, 0)))
+    rows, on_free, on_driven = system._end_mass
+    slots = ((rows[:, 0] * len(system.fairlead_dofs) + rows[:, 1])[:, None] * 3
+             + np.arange(3)).ravel().astype(np.int64)
+    shapes = ((len(slots), system.n), (len(slots), len(system._prescribed_flat)))
+    return (slots, *(_csr(sp.csr_matrix(shape) if A is None else A)
+                     for A, shape in zip((on_free, on_driven), shapes)))
+
+
+@njit(cache=True)
+def _less_held_inertia(held, a, driven, ends):
+    """ends[slots] -= M[e] P0 a + M[e, p] driven (N) for held = (slots, M[e] P0, M[e, p])
+    in CSR (a: reduced accelerations, driven: the prescribed ends', m/s2)."""
+    slots, on_free, on_driven = held
+    for j in range(slots.size):
+        s = 0.0
+        for A, y in ((on_free, a), (on_driven, driven)):
+            data, indices, indptr = A
+            for k in range(indptr[j], indptr[j + 1]):
+                s += data[k] * y[indices[k]]
+        ends[slots[j]] -= s
 
 
 @njit(cache=True)

@@ -220,7 +220,7 @@ class LineHydroKernel(Term):
         self.kn, self.kt = c["drag_n"], c["drag_t"]
         self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
         self.h = lines.element_lengths
-        self.wphi = basis.dx[:, None, :] * self.phi  # (nel, 2, nqp) weight x phi_a
+        self.wphi = np.ascontiguousarray(basis.dx[:, None, :] * self.phi)  # (nel, 2, nqp) w phi_a
         self._still = np.zeros((len(self.points), 3))
         self._no_velocity = np.zeros(lines.ndofs)
         self._mass = added_mass_matrix(lines, lumped_mass)
