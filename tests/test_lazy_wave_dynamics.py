@@ -36,13 +36,13 @@ DRAG = {"Cd_n": 1.2, "Cd_t": 0.1, "Ca_n": 1.0}  # CableDyn's L3-6 (its example's
 def skmoor_heave(ex, ramp, duration, drag=False):
     """Hang-off tension (N) every step of the example's cable heaved from rest (with
     ``drag``: DRAG's Morison coefficients on its line types)."""
-    network = ex.lazy_wave(ELEMENTS)
+    network = ex.lazy_wave(ex.SITES["80m"], ELEMENTS)
     if drag:
         for line in network.lines:
             for name, value in DRAG.items():
                 setattr(line.line_type, name, value)
         network.hydro = True
-    network.points[0] = skmoor.Point("hang_off", "coupled", ex.HANG_OFF)
+    network.points[0] = skmoor.Point("hang_off", "coupled", ex.SITES["80m"].hang_off)
     network.motion = skmoor.fade_in(
         lambda t: np.array([0.0, 0.0, AMPLITUDE * np.sin(2 * np.pi * t / PERIOD)]), ramp)
     model = skmoor.from_network(network)
@@ -106,8 +106,8 @@ def test_a_motion_that_starts_with_a_jump_is_noted_with_its_shock(monkeypatch, t
     2 pi A / T and the shock v sqrt(EA m) of the bare cable (EA = 4.69e8 N, 36.70 kg/m)
     against the static 9.32 kN; the faded-in motion is not noted."""
     ex = load_example(monkeypatch, tmp_path, ELEMENTS)
-    network = ex.lazy_wave(ELEMENTS)
-    network.points[0] = skmoor.Point("hang_off", "coupled", ex.HANG_OFF)
+    network = ex.lazy_wave(ex.SITES["80m"], ELEMENTS)
+    network.points[0] = skmoor.Point("hang_off", "coupled", ex.SITES["80m"].hang_off)
     network.motion = lambda t: np.array([0.0, 0.0, AMPLITUDE * np.sin(2 * np.pi * t / PERIOD)])
     model = skmoor.from_network(network)
     speed = 2 * math.pi * AMPLITUDE / PERIOD
