@@ -47,14 +47,16 @@ def cabledyn_deck(ex, elements, workdir, options=OPTIONS, coefficients="0 0 0 0"
     sections = [f"1 {types[(ln.line_type.diameter, ln.line_type.mass)]} {ln.length} {ln.n_elements}"
                 for ln in network.lines]
     deck = "\n".join([
-        "--- CableDyn Input File ---", f"skmoor side-by-side: the Lozon {site.title} lazy-wave cable",
+        "--- CableDyn Input File ---",
+        f"skmoor side-by-side: the Lozon {site.title} lazy-wave cable",
         "--- LINE TYPES ---", "TypeName Diam MassDenInAir EA BA EI Cd_n Cd_t Ca_n Ca_t",
         "(-) (m) (kg/m) (N) (-) (N-m2) (-) (-) (-) (-)", *rows,
         "--- POINTS ---", "ID Type X Y Z", "(-) (-) (m) (m) (m)",
         "1 Coupled {} {} {}".format(*site.hang_off), "2 Fixed {} {} {}".format(*site.anchor),
         "--- LINES ---", "ID NodeA NodeB Outputs", "(-) (-) (-) (-)", "1 1 2 -",
         "--- SECTIONS ---", "LineID LineType Length NumSegs", "(-) (-) (m) (-)", *sections,
-        "--- OPTIONS ---", options.format(depth=site.depth).rstrip(), "--- OUTPUTS ---", '"FairTen1"',
+        "--- OPTIONS ---", options.format(depth=site.depth).rstrip(),
+        "--- OUTPUTS ---", '"FairTen1"',
         "--- need this line ---", ""])
     path = workdir / "lazy_wave_cabledyn.dat"
     path.write_text(deck)
