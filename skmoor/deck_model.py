@@ -71,6 +71,7 @@ WaterKin file.
 """
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -228,12 +229,15 @@ def _body_rigid(deck: Deck, body, position, R0, com, inertia, body_rods, rotatio
     held = None
     if mass <= 0 or lowest[0] <= 1e-12 * scale:
         axis = np.round(axes[:, 0], 12) + 0.0
-        held = None if mass <= 0 else _held_axis(deck, body, position, R0, centre, axis)
+        line = mass > 0 and lowest[1] > 1e-12 * scale  # one axis without inertia, not two
+        held = _held_axis(deck, body, position, R0, centre, axis) if line else None
         if held is None:
             raise _fail(deck, body.where, f"BODIES {body.id}: a free body's mass matrix (its "
                         f"own {body.mass:g} kg, {inertia.diagonal().tolist()} kg m2, plus "
                         f"{len(points)} point mass(es) and {len(body_rods)} rod(s) on it) is "
                         "singular: " + ("no mass" if mass <= 0 else
+                                        "no inertia about two axes (all its mass at one "
+                                        "point)" if lowest[1] <= 1e-12 * scale else
                                         f"no inertia about the axis {axis.tolist()} through "
                                         f"its centre of mass {centre.tolist()} (all its "
                                         "masses on that line), and a load that can turn it "
@@ -262,12 +266,10 @@ def _held_axis(deck: Deck, body, position, R0, centre, axis):
     rotation about the line (every force on it passes through it: no moment), which
     MoorDyn's QR solve of M a = F leaves at zero; skmoor holds it with a torsional spring,
     as a free rod's spin (:class:`~skmoor.rods.SpinLoad`), and says so."""
-    import warnings
-
     if body.volume or any(_six(body.CdA, "CdA")):
         return None
     places = [position + R0 @ np.array(p.position, float) for p in deck.points
-              if p.kind == "body" and p.body == body.id]
+              if p.kind == "body" and p.body == body.id] or [centre]
     along = [float((r - centre) @ axis) for r in places]
     off = [np.linalg.norm(r - centre - s * axis) for r, s in zip(places, along)]
     extent = max(along) - min(along)

@@ -443,12 +443,11 @@ def coupled_reaction(model, x, v, t, body, a=None):
     The lines' end forces and clamp moments on its points less their end nodes' inertia
     (:meth:`~skmoor.coupling.System.end_forces`, ``end_moments`` with a: M_ef a_f +
     M_ep a_p, the mass the ends share with the free nodes included on consistent-mass
-    and bending lines) and,
-    on a Coupled rod, its RodLoad (weight, buoyancy, drag, fluid inertia, bed at its
-    pose) less its own inertia, m a_c at the centre, I alpha + omega x I omega about it,
-    and its added mass on its points' accelerations. A body pinned on 3 coupled DOFs (a
-    CoupledPinned rod or body) passes its pin's force (the -f of its :class:`PinLoad`)
-    and no moment."""
+    and bending lines) and, on a Coupled rod, its RodLoad (weight, buoyancy, drag, fluid
+    inertia, bed at its pose) less its own inertia, m a_c at the centre, I alpha +
+    omega x I omega about it, and its added mass on its points' accelerations. A body
+    pinned on 3 coupled DOFs (a CoupledPinned rod or body) passes its pin's force (the
+    -f of its :class:`PinLoad`) and no moment."""
     network, system = model.network, model.system
     coupled = network.body(body)
     if coupled.kind == "dynamic" and coupled.pin == "coupled":
