@@ -459,6 +459,9 @@ class RigidBody:
     hull             (n, 3, 3) closed hull as outward triangles relative to the
                      reference point at q = 0 (m): the geometry 'exact' clips at z = 0
                      (set by :meth:`box` and :meth:`from_hull`)
+    line_of_masses   True: the inertia may be zero about one axis (all the body's mass on
+                     one line; a term must hold its rotation about it, as the deck reader's
+                     spring does), else it must be positive definite
     """
 
     mass: float
@@ -474,6 +477,7 @@ class RigidBody:
     box_center: np.ndarray | None = None
     rotations: str = "small"
     hull: np.ndarray | None = None
+    line_of_masses: bool = False
 
     def __post_init__(self):
         self.mass = _positive("mass", self.mass)
@@ -485,7 +489,12 @@ class RigidBody:
         inertia = _finite_array("inertia", self.inertia, (3, 3))
         if not np.allclose(inertia, inertia.T, rtol=1e-10, atol=0.0):
             raise ValueError("inertia: must be symmetric")
-        if np.linalg.eigvalsh(inertia).min() <= 0.0:
+        principal = np.linalg.eigvalsh(inertia)
+        if self.line_of_masses:  # one principal inertia zero (to round-off), no more
+            if principal[0] < -1e-12 * principal[-1] or principal[1] <= 0.0:
+                raise ValueError("inertia: must be positive semi-definite with one zero "
+                                 "principal inertia at most (line_of_masses)")
+        elif principal[0] <= 0.0:
             raise ValueError("inertia: must be positive definite")
         self.inertia = inertia
         for name in ("added_mass", "linear_damping"):

@@ -440,8 +440,10 @@ class System:
         """The mass the held (fixed and prescribed) ends share with the rest, kg:
         ``_M_driven`` = P0^T M[:, p], whose product with the prescribed ends' accelerations
         joins the free DOFs' balance (M_fp a_p), and ``_end_mass`` = (M[e] P0, M[e, p]) of
-        the held ends' rows e, their own inertia in the reactions (M_ef a_f + M_ep a_p); each
-        None when zero (lumped P1 lines: no M_fp; fixed ends only: no acceleration)."""
+        the held ends' rows e, their own inertia in the reactions (M_ef a_f + M_ep a_p), and
+        ``_end_slope_mass`` the same of their tangent rows (bending lines: the inertia in
+        the clamp moments); each None when zero (lumped P1 lines: no M_fp; fixed ends
+        only: no acceleration)."""
         M_lines = sp.csr_matrix(M_lines)
         P0 = self.P(np.zeros(self.n))
         driven = self._prescribed_flat
@@ -452,14 +454,24 @@ class System:
             self._M_driven = coupling if coupling.nnz else None
         rows = [(side, k) for side, ends in enumerate((self.ends.b, self.ends.a))
                 for k, end in enumerate(ends) if end[0] in ("fixed", "prescribed")]
-        self._end_mass = None
-        if rows:
-            dofs = np.array([(self.fairlead_dofs, self.anchor_dofs)[side][k]
-                             for side, k in rows]).ravel()
+        self._end_mass = self._end_slope_mass = None
+        if not rows:
+            return
+
+        def shares(dofs):  # (rows, M[e] P0, M[e, p]) of the rows e, or None when zero
             on_free, on_driven = (_compact(A) for A in (M_lines[dofs] @ P0,
                                                         M_lines[dofs][:, driven]))
-            if on_free is not None or on_driven is not None:
-                self._end_mass = (np.array(rows, int), on_free, on_driven)
+            if on_free is None and on_driven is None:
+                return None
+            return np.array(rows, int), on_free, on_driven
+
+        self._end_mass = shares(np.array([(self.fairlead_dofs, self.anchor_dofs)[side][k]
+                                          for side, k in rows]).ravel())
+        slopes = self.lines.slope_dofs
+        if slopes is not None:
+            nodes = [(self.lines.fairlead_nodes, self.lines.anchor_nodes)[side][k]
+                     for side, k in rows]
+            self._end_slope_mass = shares(slopes[nodes].ravel())
 
     def commit(self, t, x, v):
         """An accepted time level (t, s; x, v reduced): passed to the terms that keep a
@@ -646,11 +658,12 @@ class System:
         out = self.end_inertias(np.asarray(a)[None], None if driven is None else driven[None])
         return out[0, 0], out[0, 1]
 
-    def end_inertias(self, a, driven):
+    def end_inertias(self, a, driven, slopes=False):
         """(m, 2, nlines, 3) :meth:`end_inertia` (N; B ends, then A ends) at m states: a
         (m, n) reduced accelerations, driven (m, 3 n_prescribed) the prescribed ends'
-        (m/s2; None without prescribed ends)."""
-        rows, on_free, on_driven = self._end_mass
+        (m/s2; None without prescribed ends); with ``slopes`` that of the ends' tangent
+        rows instead (N m per unit of tangent, bending lines)."""
+        rows, on_free, on_driven = self._end_slope_mass if slopes else self._end_mass
         values = np.zeros((len(a), 3 * len(rows)))
         if on_free is not None:
             values += (on_free @ a.T).T
@@ -1107,20 +1120,27 @@ class System:
             return forces
         return forces[0] - inertia[0], forces[1] - inertia[1]
 
-    def end_moments(self, u, ud, t=0.0):
+    def end_moments(self, u, ud, t=0.0, a=None):
         """(nlines, 3) moments (N m) the lines exert on their B ends and (nlines, 3) on
         their A ends at the full displacement u (m) and velocity ud (m/s, None: at rest):
         r' x g, g = -R at the end's tangent DOFs (the generalized force on r'), r' the end
-        tangent; zeros on cables, and on pinned ends in equilibrium."""
+        tangent, and with the reduced accelerations ``a`` (m/s2) g less the tangent rows'
+        inertia on the held ends (M_sf a_f + M_sp a_p); zeros on cables, and on pinned
+        ends in equilibrium."""
         slopes = self.lines.slope_dofs
         if slopes is None:
             zero = np.zeros((len(self.lines.lines), 3))
             return zero, zero.copy()
         R_full, _, _ = self.line_residual(u, ud if self._needs_velocity else None, t,
                                           tangent=False)
+        inertia = np.zeros((2, len(self.lines.lines), 3))
+        if a is not None and self._end_slope_mass is not None:
+            driven = self.prescribed_acceleration(t).ravel() if self._has_prescribed else None
+            inertia = self.end_inertias(np.asarray(a)[None], None if driven is None
+                                        else driven[None], slopes=True)[0]
         r = self.lines.reference_dofs + u
         out = []
-        for nodes in (self.lines.fairlead_nodes, self.lines.anchor_nodes):
+        for side, nodes in enumerate((self.lines.fairlead_nodes, self.lines.anchor_nodes)):
             dofs = slopes[nodes]
-            out.append(np.cross(r[dofs], -R_full[dofs]))
+            out.append(np.cross(r[dofs], -R_full[dofs] - inertia[side]))
         return tuple(out)

@@ -71,6 +71,7 @@ WaterKin file.
 """
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -181,8 +182,11 @@ def _deck_body(deck: Deck, body, sea, bed=None, rotations="small") -> Body:
     rods = [r for r in deck.rods if r.kind == "body" and r.body == body.id and not r.pinned]
     com = position + R0 @ cg
     rotated = R0 @ np.diag(inertia) @ R0.T
-    rigid = _body_rigid(deck, body, position, R0, com, rotated, rods, rotations)
+    rigid, held = _body_rigid(deck, body, position, R0, com, rotated, rods, rotations)
     terms = []
+    if held is not None:  # no inertia about a line of masses: its rotation about it held
+        a, b, extent = held
+        terms.append(SpinLoad(a, b, spring_weight(rigid.mass, deck.g) * extent))
     cda = _six(body.CdA, "CdA")
     if any(cda) and deck.rho > 0:  # in air (rho = 0) nothing drags
         terms.append(body_hydrodynamics(drag_coefficients=np.ones(6), drag_areas=cda, sea=sea,
@@ -205,10 +209,14 @@ def _massive_points(deck: Deck, body):
 
 
 def _body_rigid(deck: Deck, body, position, R0, com, inertia, body_rods, rotations):
-    """The RigidBody of a free deck body: its own mass and inertia (about com, global
+    """(RigidBody, held) of a free deck body: its own mass and inertia (about com, global
     axes), plus the masses, volumes and added masses of its points and the masses of its
     rods, as MoorDyn sums them into the body's 6x6 mass matrix (Body.cpp, Point.cpp's
-    getNetForceAndMass); a point's volume is buoyant at the point, the body's at com."""
+    getNetForceAndMass); a point's volume is buoyant at the point, the body's at com.
+    held: None, or (a, b, extent m) of a body whose masses and points all lie on one
+    line (no inertia about it, and no load with a moment about it): two points on that
+    line (from the reference point, global axes) and its masses' extent along it, for
+    the spring that holds its rotation about the line (:func:`_held_axis`)."""
     points = _massive_points(deck, body)
     offsets = [R0 @ np.array(p.position, float) for p in points]
     parts = [(body.mass, com, inertia)]
@@ -218,15 +226,24 @@ def _body_rigid(deck: Deck, body, position, R0, com, inertia, body_rods, rotatio
     mass, centre, total = combined_mass(parts)
     scale = max(mass * 1.0, np.trace(total), 1e-300)
     lowest, axes = np.linalg.eigh(total)
+    held = None
     if mass <= 0 or lowest[0] <= 1e-12 * scale:
         axis = np.round(axes[:, 0], 12) + 0.0
-        raise _fail(deck, body.where, f"BODIES {body.id}: a free body's mass matrix (its own "
-                    f"{body.mass:g} kg, {inertia.diagonal().tolist()} kg m2, plus {len(points)} "
-                    f"point mass(es) and {len(body_rods)} rod(s) on it) is singular: "
-                    + ("no mass" if mass <= 0 else
-                       f"no inertia about the axis {axis.tolist()} through its centre of mass "
-                       f"{centre.tolist()} (all its masses on that line)")
-                    + ": give the body a Mass and an inertia I")
+        line = mass > 0 and lowest[1] > 1e-12 * scale  # one axis without inertia, not two
+        held = _held_axis(deck, body, position, R0, centre, axis) if line else None
+        if held is None:
+            raise _fail(deck, body.where, f"BODIES {body.id}: a free body's mass matrix (its "
+                        f"own {body.mass:g} kg, {inertia.diagonal().tolist()} kg m2, plus "
+                        f"{len(points)} point mass(es) and {len(body_rods)} rod(s) on it) is "
+                        "singular: " + ("no mass" if mass <= 0 else
+                                        "no inertia about two axes (all its mass at one "
+                                        "point)" if lowest[1] <= 1e-12 * scale else
+                                        f"no inertia about the axis {axis.tolist()} through "
+                                        f"its centre of mass {centre.tolist()} (all its "
+                                        "masses on that line), and a load that can turn it "
+                                        "about that line (a point off it, a volume or a "
+                                        "drag area)")
+                        + ": give the body a Mass and an inertia I")
     volumes = [(body.volume, com)] + [(p.volume, position + r) for p, r in zip(points, offsets)]
     volume = sum(v for v, _ in volumes)
     hydro = None
@@ -237,7 +254,34 @@ def _body_rigid(deck: Deck, body, position, R0, com, inertia, body_rods, rotatio
     for p, r in zip(points, offsets):  # Point.cpp: Ca rho V E at the point
         added = added + point_mass_matrix(deck.rho * p.volume * p.Ca, r)
     return RigidBody(mass, centre, total, reference_point=position, hydrostatics=hydro,
-                     added_mass=added, rho=deck.rho, g=deck.g, rotations=rotations)
+                     added_mass=added, rho=deck.rho, g=deck.g, rotations=rotations,
+                     line_of_masses=held is not None), held
+
+
+def _held_axis(deck: Deck, body, position, R0, centre, axis):
+    """(a, b, extent) for :func:`_body_rigid` of a body with no inertia about ``axis``
+    through ``centre`` (global, at the deck's attitude), or None when a load could turn
+    it about that line: a body volume or drag area, or a point of the body off the line
+    (its weight, buoyancy, drag and lines act at its points). Nothing then drives the
+    rotation about the line (every force on it passes through it: no moment), which
+    MoorDyn's QR solve of M a = F leaves at zero; skmoor holds it with a torsional spring,
+    as a free rod's spin (:class:`~skmoor.rods.SpinLoad`), and says so."""
+    if body.volume or any(_six(body.CdA, "CdA")):
+        return None
+    places = [position + R0 @ np.array(p.position, float) for p in deck.points
+              if p.kind == "body" and p.body == body.id] or [centre]
+    along = [float((r - centre) @ axis) for r in places]
+    off = [np.linalg.norm(r - centre - s * axis) for r, s in zip(places, along)]
+    extent = max(along) - min(along)
+    if max(off) > 1e-9 * max(extent, 1.0):
+        return None
+    warnings.warn(f"{deck.source} line {body.where}: BODIES {body.id}: no inertia about the "
+                  f"axis {axis.tolist()} through its centre of mass {centre.tolist()} (all "
+                  "its masses and points on that line, so nothing turns it about it either): "
+                  "its rotation about that line is held by a torsional spring (MoorDyn "
+                  "leaves it at zero); give the body an inertia I to free it", stacklevel=3)
+    a = centre - position
+    return a, a + axis, max(extent, 1.0)
 
 
 def _spins_freely(deck: Deck, body, cg, rod) -> bool:

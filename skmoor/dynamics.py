@@ -194,13 +194,18 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         R, _, _ = system.residual(x, v, t, tangent=False)
         force = C @ v + loads(R, t)
         mass = _IterationMatrix(layout)
+
+        def balance(A, b):  # A a = b; least squares (MoorDyn's QR) when A is singular
+            mass.update(A)  # (a body's masses on one line: its spin held by a spring)
+            a = mass.solve(b)
+            if np.all(np.isfinite(a)):
+                return a
+            return np.linalg.lstsq(A.toarray() if sp.issparse(A) else A, b, rcond=None)[0]
         if not nonlinear:
-            mass.update(M)
-            return mass.solve(-force), force, None
+            return balance(M, -force), force, None
         # G is affine in a: (M + dG/da) a = -(C v + R + G(x, v, 0))
         G0, d_acc, _, _ = system.inertia(x, v, np.zeros_like(v), tangent=True, layout=layout)
-        mass.update(M + d_acc)
-        a = mass.solve(-(force + G0))
+        a = balance(M + d_acc, -(force + G0))
         return a, force, system.inertia(x, v, a)[0]
 
     a, force_old, G = start(x, v, t)

@@ -436,16 +436,18 @@ def _exact_motion(q, qdot=None):
     return BodyMotion(q, qdot, exact=True)
 
 
-def coupled_reaction(model, x, v, t, body):
+def coupled_reaction(model, x, v, t, body, a=None):
     """(force (3,) N, moment (3,) N m about the reference point, global axes) that coupled
     body ``body`` (a name; a Coupled rod's: end A) passes to the caller at the reduced
-    state (x, v) at time t: MoorDyn's getFnet. The lines' end forces and clamp moments
-    on its points less their end nodes' inertia (lumped mass times the points'
-    accelerations) and, on a Coupled rod, its RodLoad (weight, buoyancy, drag, fluid
+    state (x, v) and accelerations a (m/s2; None: zero) at time t: MoorDyn's getFnet.
+    The lines' end forces and clamp moments on its points less their end nodes' inertia
+    (:meth:`~skmoor.coupling.System.end_forces`, ``end_moments`` with a: M_ef a_f +
+    M_ep a_p, the mass the ends share with the free nodes included on consistent-mass
+    and bending lines) and, on a Coupled rod, its RodLoad (weight, buoyancy, drag, fluid
     inertia, bed at its pose) less its own inertia, m a_c at the centre, I alpha +
     omega x I omega about it, and its added mass on its points' accelerations. A body
-    pinned on 3 coupled DOFs (a CoupledPinned rod or body) passes its pin's force
-    (the -f of its :class:`PinLoad`) and no moment."""
+    pinned on 3 coupled DOFs (a CoupledPinned rod or body) passes its pin's force (the
+    -f of its :class:`PinLoad`) and no moment."""
     network, system = model.network, model.system
     coupled = network.body(body)
     if coupled.kind == "dynamic" and coupled.pin == "coupled":
@@ -461,12 +463,7 @@ def coupled_reaction(model, x, v, t, body):
         y = _coupled_vector(network, time)[where]
         return coupled.position + y[:3], coupled.rotation_matrix(coupled.attitude + y[3:])
 
-    h = COUPLED_STEP
-    (A0, R0), (A, R), (A1, R1) = pose(t - h), pose(t), pose(t + h)
-
-    def moving(r):  # velocity and acceleration (m/s, m/s2) of body point r (body frame)
-        p0, p, p1 = A0 + R0 @ r, A + R @ r, A1 + R1 @ r
-        return (p1 - p0) / (2 * h), (p1 - 2 * p + p0) / h ** 2
+    R = pose(t)[1]
 
     F, M = np.zeros(3), np.zeros(3)
     ends = [(k, side, network.point(end)) for k, line in enumerate(network.lines)
@@ -474,16 +471,15 @@ def coupled_reaction(model, x, v, t, body):
             if network.point(end).kind == "body" and network.point(end).body == body]
     if ends:  # the lines' loads on it, less their end nodes' inertia
         u, ud = system.full_state(x, v, t)
-        forces, moments = system.end_forces(u, ud, t), system.end_moments(u, ud, t)
-        end_mass = system.M_lines.diagonal()
+        a = np.zeros(system.n) if a is None else a
+        forces, moments = system.end_forces(u, ud, t, a), system.end_moments(u, ud, t, a)
         for k, side, point in ends:
-            dofs = (system.fairlead_dofs, system.anchor_dofs)[side][k]
-            f = forces[side][k] - end_mass[dofs] * moving(point.position)[1]
+            f = forces[side][k]
             F += f
             M += np.cross(R @ point.position, f) + moments[side][k]
     loads = [term for term in coupled.terms if isinstance(term, RodLoad)]
     for load in loads:
-        rod_F, rod_M = _rod_reaction(load, pose, R, t, h)
+        rod_F, rod_M = _rod_reaction(load, pose, R, t, COUPLED_STEP)
         F, M = F + rod_F, M + rod_M
     return F, M
 

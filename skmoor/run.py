@@ -25,6 +25,7 @@ from .model import Model, build
 from .modes import Modes, eigenmodes
 from .network import coupled_size
 from .results import BODY_DOFS, Results
+from .rods import coupled_reaction
 from .statics import ConvergenceError, solve_static
 
 
@@ -604,10 +605,8 @@ class _Recorder:
         coupled = np.zeros((len(network.bodies), 6))  # what the coupled bodies pass on
         for k, body in enumerate(network.bodies):
             if body.kind == "coupled" or body.pin == "coupled":
-                from .rods import coupled_reaction
-
                 coupled[k] = np.concatenate(coupled_reaction(self.model, state.x, state.v,
-                                                             state.t, body.name))
+                                                             state.t, body.name, state.a))
         self.rows["coupled"].append(coupled)
         if lines.hermite:  # bending lines: curvature and moment at the element mid-points
             curvature = lines.curvature(u)

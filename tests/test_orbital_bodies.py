@@ -8,12 +8,17 @@ hand and MoorDyn v2 run side by side.
                                    with 2 x 20 kg points, one with
                                    a 40 kg rod, both 10 m off the
                                    reference point): 6x6 matrices
-    collinear_point_masses_refused orbitalBody as given: body 1's    the error names the
-                                   masses on one line (z)            axis
     orbit_without_forces           orbitalBody (body 1 given 1 kg    radius 3e-6 m, rate
                                    m2), MoorDyn's tests/bodies.cpp   4e-7 rad/s at dt
                                    start: spin 0.2 rad/s about the   0.025 s over 2.5 s,
                                    common centre of mass             2nd order (ratio 4.0)
+    orbit_as_given                 orbitalBody as given (body 1: no  the same errors, 2nd
+                                   inertia about its line of masses: order; the held spin
+                                   that spin held, with a warning)   stays 0 exactly
+    off_line_point_refused         body 1 with a point off its line  the error names the
+                                   of masses (a moment about it)     axis
+    orbit_as_given_10s (slow)      MoorDyn's own test: 10 s, radius  radius 7e-6 m, rate
+                                   within 1e-6 R, rate 1e-6 omega    1e-7 rad/s (dt 12.5 ms)
     buoyant_point_pendulum         3 point masses, one buoyant, in   COM fall 2e-6 m of
                                    water: the COM falls at F/m, the  3.9, angle 1e-5 rad
                                    body swings about it (by hand)    (by hand), points
@@ -80,24 +85,39 @@ def test_point_and_rod_mass_matrices(tmp_path):
     assert not model.network.bodies[0].terms  # nothing but its mass: no load of its own
 
 
+def as_given(folder):
+    """orbitalBody as given, built with exact rotations: body 1's spin about its line of
+    masses (the z axis through (0, 0, 20)) held, with a warning naming the axis."""
+    with pytest.warns(UserWarning, match=r"line 10: BODIES 1: no inertia about the axis "
+                      r"\[0\.0, 0\.0, 1\.0\].*held by a torsional spring"):
+        return skmoor.build(orbital_deck(folder, inertia=False), rotations="exact")
+
+
 @needs_mirror
-def test_collinear_point_masses_refused(tmp_path):
-    """orbitalBody as given: body 1 (no mass or inertia of its own) has its mass in two
-    points on one vertical line, so no inertia about that line (MoorDyn's QR solve
-    passes over it; skmoor's implicit step cannot): refused, naming the axis."""
+def test_off_line_point_refused(tmp_path):
+    """Body 1 of orbitalBody with a third (massless) point off its line of masses: a
+    line there could turn it about that line, which has no inertia: refused, naming the
+    axis (the spin is held only where nothing can drive it)."""
+    path = orbital_deck(tmp_path, inertia=False)
+    text = path.read_text()
+    second = "2         Body1      0.0       -10        2        20.0     0          0      0"
+    assert second in text
+    path.write_text(text.replace(second, second + "\n3         Body1      1.0       -10        "
+                                 "0        0.0      0          0      0"))
     with pytest.raises(ValueError, match=r"line 10: BODIES 1: .*singular.*"
-                       r"axis \[0\.0, 0\.0, 1\.0\]"):
-        skmoor.build(orbital_deck(tmp_path, inertia=False))
+                       r"axis \[0\.0, 0\.0, 1\.0\].*a point off it"):
+        skmoor.build(path, rotations="exact")
 
 
 def orbit_errors(model, dt, duration=2.5, omega=0.2, radius=10.0):
     """Largest errors of the two bodies' reference points over the run: |r - r0| - 10 m
     (m) and the angle of r - r0 about x over t minus omega (rad/s), r0 = (0, 0, 20) the
     bodies' common centre of mass, started as MoorDyn's tests/bodies.cpp starts them:
-    w = (omega, 0, 0), the reference point at radius * omega along z."""
+    w = (omega, 0, 0), the reference point at radius * omega along z; and the largest
+    motion out of that orbit (body 1's x, rotations about y and z: m, rad)."""
     system = model.system
     v0 = np.tile([0.0, 0.0, radius * omega, omega, 0.0, 0.0], 2)
-    r_err = w_err = 0.0
+    r_err = w_err = off = 0.0
     for state in integrate(system, np.zeros(12), v0, dt, duration, tol=1e-10):
         if state.t == 0:
             continue
@@ -105,7 +125,30 @@ def orbit_errors(model, dt, duration=2.5, omega=0.2, radius=10.0):
             d = np.array([0.0, 10.0, 0.0]) + state.x[6 * k: 6 * k + 3]
             r_err = max(r_err, abs(np.linalg.norm(d) - radius))
             w_err = max(w_err, abs(np.arctan2(d[2], d[1]) / state.t - omega))
-    return r_err, w_err
+        off = max(off, np.abs(state.x[[0, 4, 5]]).max())
+    return r_err, w_err, off
+
+
+@needs_mirror
+def test_orbit_as_given(tmp_path):
+    """orbitalBody as given: body 1 has no inertia about its line of masses and nothing
+    turns it about it; its spin held, both bodies orbit as with the 1 kg m2 of
+    test_orbit_without_forces (the same errors and order), body 1 not leaving its
+    orbit's plane nor spinning (fails on a spin left free: a singular step, NaN)."""
+    model = as_given(tmp_path)
+    coarse, fine = orbit_errors(model, 0.05), orbit_errors(model, 0.025)
+    assert fine[0] < 3e-6 and fine[1] < 5e-7 and fine[2] < 1e-12
+    assert coarse[0] / fine[0] == pytest.approx(4.0, rel=0.05)
+    assert coarse[1] / fine[1] == pytest.approx(4.0, rel=0.05)
+
+
+@pytest.mark.slow
+@needs_mirror
+def test_orbit_as_given_10s(tmp_path):
+    """MoorDyn's own check of orbitalBody (tests/bodies.cpp): over 10 s both bodies
+    orbit within 1e-6 of the 10 m radius and of the 0.2 rad/s rate."""
+    radius, rate, off = orbit_errors(as_given(tmp_path), 0.0125, duration=10.0)
+    assert radius < 1e-6 * 10.0 and rate < 1e-6 * 0.2 and off < 1e-12
 
 
 @needs_mirror
