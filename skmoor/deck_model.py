@@ -10,10 +10,12 @@ coupled ones follow the motion, fixed ones stay. Each line's reference state is 
 elastic catenary between its ends (after the free points are settled on catenaries), on
 NumSegs elements with MoorDyn's strain law: tension = EA x engineering strain, or the
 deck's tension-strain curve (:class:`skmoor.laws.Curve`), tension-only as in MoorDyn; a
-viscoelastic ``EA_s|EA_d`` or ``EA_s|alphaMBL|beta`` line is a
-:class:`skmoor.laws.StaticDynamic` (static state with EA_s, motion about it with the
-dynamic stiffness; its internal damping is BA_D of ``BA|BA_D``, the damper beside the
-dynamic spring, MoorDyn's BA being the creep damper that this limit holds locked).
+viscoelastic ``EA_s|EA_d`` or ``EA_s|alphaMBL|beta`` line with ``BA|BA_D`` is a
+:class:`skmoor.laws.Viscoelastic` (static state with EA_s, MoorDyn's creep state
+integrated in time by :mod:`skmoor.creep`, started as MoorDyn starts it:
+:func:`initial_creep_time`), without ``BA_D`` a :class:`skmoor.laws.StaticDynamic`
+(the motion about the static state with the dynamic stiffness); a Syrope line with
+``BA|BA_D`` a :class:`skmoor.syrope.SyropeCreep` from its SYROPE IC.
 MoorDyn's coefficient conventions carry over: Cd -> Cd_n, CdAx -> Cd_t, Ca -> Ca_n,
 CaAx -> Ca_t; the submerged weight is (Mass/m - rho pi d^2/4) g; the internal damping
 BA (N s, or -zeta: BA = zeta (L / NumSegs) sqrt(EA Mass/m) as MoorDyn sets it) damps the
