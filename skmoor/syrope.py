@@ -28,6 +28,7 @@ The working curve is sampled at ``points`` strains as MoorDyn does (30), linear 
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -207,6 +208,7 @@ class SyropeCreep(laws.Viscoelastic):
                                  "(the dynamic stiffness EA_Dc + EA_D_Lm T is too soft for "
                                  "it; MoorDyn refuses it too)")
 
+    @functools.lru_cache(maxsize=256)
     def _tables(self, T_max):
         """(strain, tension, creep strain) of the working curve of T_max (N)."""
         wc = self.static
@@ -216,7 +218,7 @@ class SyropeCreep(laws.Viscoelastic):
     def _each(self, z, memory, fn):
         out = np.empty((2,) + np.shape(z))
         for i, (zi, T_max) in enumerate(zip(np.atleast_1d(z), memory)):
-            out[:, i] = fn(zi, *self._tables(T_max))
+            out[:, i] = fn(zi, *self._tables(float(T_max)))
         return out
 
     def creep_spring(self, z, EA, memory=None):

@@ -12,15 +12,14 @@
    RMS 0.5 %, and within 0.2 % of the range after (a stiffness 1 % off would leave 1 %).
 2. MoorDyn's viscoelastic polyester (``EA_s|EA_d``, ``BA|BA_D``: a static spring with a
    creep damper BA in series with the dynamic spring EA_d and its damper BA_D) against
-   skmoor's :class:`~skmoor.laws.StaticDynamic` read from the same deck: a taut 199 m
-   line (10 segments) driven 0.5 m sin(2 t) along its chord. With a creep time
-   tau = (BA + BA_D) / (EA_1 + EA_d) = 10 s, omega tau = 20: MoorDyn's creep holds the
-   mean stretch (its dynamic stiffness is then within 0.1 % of EA_d), the regime the
-   static-dynamic law stands for. Static tension (EA_s) within 0.1 %; peak, mean and
-   first harmonic of the fairlead tension within 1 % (measured 0.15 %); with the static
-   EA alone the first harmonic would be 2.5 times smaller. The same with MoorDyn's
-   load-dependent ``EA_s|alphaMBL|beta`` (EA_d = alphaMBL + beta T_mean, T_mean the
-   static tension in skmoor, the creep spring's in MoorDyn).
+   skmoor's :class:`~skmoor.laws.Viscoelastic` read from the same deck (the same creep
+   state, integrated: skmoor.creep): a taut 199 m line (10 segments) driven 0.5 m
+   sin(2 t) along its chord. With a creep time tau = (BA + BA_D) / (EA_1 + EA_d) = 10 s,
+   omega tau = 20: the creep holds the mean stretch (the dynamic stiffness is then within
+   0.1 % of EA_d). Static tension (EA_s) within 0.1 %; peak, mean and first harmonic of
+   the fairlead tension within 1 % (measured 0.15 %); with the static EA alone the first
+   harmonic would be 2.5 times smaller. The same with MoorDyn's load-dependent
+   ``EA_s|alphaMBL|beta`` (EA_d = alphaMBL + beta T_1, T_1 the creep spring's tension).
 3. MoorDyn's viscoelastic test deck ``visco.txt`` (``EA_s|alphaMBL|beta``, ``BA|BA_D``: a
    1 m rope of one segment held stretched to 2 m, then pulled to 11 m in 200 s): read into
    a :class:`~skmoor.laws.Viscoelastic` law (its water density given twice: the later
@@ -214,7 +213,7 @@ def test_viscoelastic_polyester_against_moordyn(tmp_path, monkeypatch, EA_column
 AREA = np.pi * 0.1438**2 / 4  # m2, visco.txt's rope, as MoorDyn's test takes the stress
 
 
-def visco_deck(tmp_path):
+def mirror_visco_deck(tmp_path):
     """visco.txt from the mirror, its repeated water density (WtrDnsty) left out."""
     deck = mirror_file("visco.txt", tmp_path)
     text = deck.read_text(encoding="utf-8", errors="replace").splitlines()
@@ -231,7 +230,7 @@ def test_moordyn_visco_deck_is_read(tmp_path):
     with pytest.warns(UserWarning, match=r"^visco.txt line 27: OPTIONS WtrDnsty: given "
                       r"twice \(line 26: 1025, and here: 0.0\); the later value is used"):
         assert skmoor.read_deck(deck).rho == 0.0
-    deck = visco_deck(tmp_path)
+    deck = mirror_visco_deck(tmp_path)
     lt = skmoor.read_deck(deck).line_types["rope"]
     assert lt.EA == 1.424e8 and lt.EA_visco == (1.586e8, 0.4)
     assert lt.BA == 4e9 and lt.BA_dynamic == 11e6
@@ -247,7 +246,7 @@ def test_moordyn_visco_deck_is_read(tmp_path):
 def visco_both(tmp_path, duration):
     """(t, skmoor's, MoorDyn's and MoorDyn's expected tension N) of visco.txt driven by
     the strain record of MoorDyn's expected stress_strain_curve.csv (0.01 s rows)."""
-    deck = visco_deck(tmp_path)
+    deck = mirror_visco_deck(tmp_path)
     expected = np.loadtxt(mirror_file("viscoelastic/stress_strain_curve.csv", tmp_path),
                           delimiter=",", skiprows=1)
     n = int(round(duration / 0.01))
