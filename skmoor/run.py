@@ -627,7 +627,8 @@ class _Recorder:
         """A DivergenceError when a line stretches beyond BLOWN_UP_STRAIN or its state is
         not finite: Newton can converge on every step of a run that has blown up. A rope
         law made for large strains (``checks.carries_strain``) is checked for finiteness."""
-        strain = np.where(self._rope_cells & np.isfinite(strain), 0.0, strain)
+        if self._rope_cells.any():
+            strain = np.where(self._rope_cells & np.isfinite(strain), 0.0, strain)
         if not len(strain) or strain.max() <= BLOWN_UP_STRAIN:  # (False for a NaN too)
             return
         worst = int(np.argmax(strain))
