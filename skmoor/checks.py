@@ -1,7 +1,8 @@
 """Physically impossible or suspicious input, found before anything is solved.
 
 :func:`check_network` raises ValueError for what cannot be (a point below the sea bed, a
-line far too short for its span) and returns warnings, with the numbers, for what is
+line far too short for its span, unless its law is made for such strains: a polyester
+rope's, or a curve that reaches them) and returns warnings, with the numbers, for what is
 probably a mistake (a fixed point, an anchor, above the water or above the fairlead of
 its line; a line that must stretch a few percent to reach; a current or waves with
 nothing to act on).
@@ -12,9 +13,11 @@ import os
 
 import numpy as np
 
+from . import laws
+
 BYTES_PER_DOF = 4096  # what a model needs per unknown through its statics and a run (4x measured)
 STRAIN_WARNING = 0.03  # a span needing more strain than this is warned about
-STRAIN_LIMIT = 0.25  # ... and more than this refused
+STRAIN_LIMIT = 0.25  # ... and more than this refused (warned for a rope law made for it)
 BED_TOLERANCE = 1e-3  # m below the bed still taken as on it
 
 
@@ -62,7 +65,7 @@ def check_network(network) -> list:
         span = float(np.linalg.norm(where[b.name] - where[a.name]))
         # a free end is a first guess that the build settles: only held ends have a span
         strain = -1.0 if "free" in (a.kind, b.kind) else span / line.length - 1.0
-        if strain > STRAIN_LIMIT:
+        if strain > STRAIN_LIMIT and not carries_strain(line.line_type, strain):
             raise ValueError(f"line {line.name}: its ends are {span:.6g} m apart, "
                              f"{100 * strain:.0f} % more than its length {line.length:g} m "
                              "(a cable that short cannot reach)")
@@ -79,6 +82,16 @@ def check_network(network) -> list:
                                 f"above its fairlead {other.name} (z = {top:.6g} m)")
     warnings += _sea_without_coefficients(network)
     return warnings
+
+
+def carries_strain(line_type, strain) -> bool:
+    """True when the line type's law is made for strains this large: a polyester rope's
+    (StaticDynamic: static / dynamic stiffness, viscoelastic, Syrope) or a tension-strain
+    curve that reaches the strain (-)."""
+    law = line_type.law
+    if isinstance(law, laws.StaticDynamic):
+        return True
+    return isinstance(law, laws.Curve) and law.strain[-1] >= strain
 
 
 def _sea_without_coefficients(network) -> list:

@@ -10,10 +10,12 @@ coupled ones follow the motion, fixed ones stay. Each line's reference state is 
 elastic catenary between its ends (after the free points are settled on catenaries), on
 NumSegs elements with MoorDyn's strain law: tension = EA x engineering strain, or the
 deck's tension-strain curve (:class:`skmoor.laws.Curve`), tension-only as in MoorDyn; a
-viscoelastic ``EA_s|EA_d`` or ``EA_s|alphaMBL|beta`` line is a
-:class:`skmoor.laws.StaticDynamic` (static state with EA_s, motion about it with the
-dynamic stiffness; its internal damping is BA_D of ``BA|BA_D``, the damper beside the
-dynamic spring, MoorDyn's BA being the creep damper that this limit holds locked).
+viscoelastic ``EA_s|EA_d`` or ``EA_s|alphaMBL|beta`` line with ``BA|BA_D`` is a
+:class:`skmoor.laws.Viscoelastic` (static state with EA_s, MoorDyn's creep state
+integrated in time by :mod:`skmoor.creep`, started as MoorDyn starts it:
+:func:`initial_creep_time`), without ``BA_D`` a :class:`skmoor.laws.StaticDynamic`
+(the motion about the static state with the dynamic stiffness); a Syrope line with
+``BA|BA_D`` a :class:`skmoor.syrope.SyropeCreep` from its SYROPE IC.
 MoorDyn's coefficient conventions carry over: Cd -> Cd_n, CdAx -> Cd_t, Ca -> Ca_n,
 CaAx -> Ca_t; the submerged weight is (Mass/m - rho pi d^2/4) g; the internal damping
 BA (N s, or -zeta: BA = zeta (L / NumSegs) sqrt(EA Mass/m) as MoorDyn sets it) damps the
@@ -103,29 +105,51 @@ def line_type_of(deck: Deck, line) -> LineType:
     if t.viv and t.viv[0] > 0:
         raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {t.viv[0]:g}: vortex-induced "
                     "vibration is not supported")
-    law = _syrope_law(deck, t, line) if t.syrope else _law(deck, t)
+    law = _syrope_law(deck, t, line) if t.syrope else _law(deck, t, line)
     BA = _internal_damping(deck, line)
     if isinstance(law, laws.StaticDynamic):
         BA = t.BA_dynamic or 0.0
+    if isinstance(law, laws.Viscoelastic):
+        BA = 0.0  # both dampers are the law's (skmoor.creep)
     return LineType(EA=t.EA, mass=t.mass, diameter=t.diameter, Cd_n=t.Cd, Cd_t=t.CdAx,
                     Ca_n=t.Ca, Ca_t=t.CaAx, BA=BA, rho_water=deck.rho, g=deck.g, law=law,
                     EI=t.EI)
 
 
-def _law(deck: Deck, t):
-    """The strain law of a deck line type: None (EA x strain, the network's), a Curve or
-    a StaticDynamic law."""
+def _law(deck: Deck, t, line):
+    """The strain law of a deck line type: None (EA x strain, the network's), a Curve, a
+    StaticDynamic law (EA_s|... without BA|BA_D) or a Viscoelastic one (with it)."""
     where = f"{deck.source} line {t.where}: LINE TYPES {t.name} EA"
     static = laws.Curve(*t.EA_curve, source=f"{where} ({t.EA_file})") if t.EA_curve else None
     if not t.EA_visco:
         return static
     static = static or laws.Engineering()
+    stiffness = (dict(EA_dynamic=t.EA_visco[0]) if len(t.EA_visco) == 1
+                 else dict(alpha_MBL=t.EA_visco[0], beta=t.EA_visco[1]))
     try:
-        if len(t.EA_visco) == 1:
-            return laws.StaticDynamic(EA_dynamic=t.EA_visco[0], static=static)
-        return laws.StaticDynamic(alpha_MBL=t.EA_visco[0], beta=t.EA_visco[1], static=static)
+        if t.BA_dynamic is None:  # no creep damper pair: the fast limit
+            return laws.StaticDynamic(**stiffness, static=static)
+        return laws.Viscoelastic(**stiffness, static=static, creep_damping=t.BA,
+                                 dynamic_damping=t.BA_dynamic,
+                                 relax=initial_creep_time(deck, line))
     except ValueError as err:
         raise ValueError(f"{where}: {err}") from None
+
+
+def initial_creep_time(deck: Deck, line):
+    """How long (s) MoorDyn's initial-condition stage lets a deck line's creep state relax
+    from its start (MoorDyn's z = e, or Syrope's Tmean0) with the ends held: to the
+    stage's first convergence check, min(dtIC, TmaxIC), for a line of one segment between
+    held points (nothing moves, the stage stops there); None for a line with free nodes
+    (the stage runs until they stop, the creep settled: skmoor relaxes it fully)."""
+    if "TmaxIC" in deck.options and deck.option("TmaxIC") == 0:
+        return 0.0  # MoorDyn: no IC stage
+    points = {p.id: p for p in deck.points}
+    held = all(isinstance(end, int) and points[end].kind in ("fixed", "coupled")
+               for end in (line.a, line.b))
+    if line.n_segments == 1 and held:
+        return min(deck.option("dtIC", 1.0), deck.option("TmaxIC", 120.0))
+    return None
 
 
 def _syrope_law(deck: Deck, t, line):
@@ -139,7 +163,8 @@ def _syrope_law(deck: Deck, t, line):
         raise _fail(deck, line.where, f"LINES {line.id}: a Syrope line needs its Tmax0 in a "
                     "SYROPE IC section")
     return syrope_law(owc, form, k1, k2, *deck.syrope_ic[line.id][:1], *t.EA_visco,
-                      T_mean=deck.syrope_ic[line.id][1], source=where)
+                      T_mean=deck.syrope_ic[line.id][1], source=where, creep_damping=t.BA,
+                      dynamic_damping=t.BA_dynamic, relax=initial_creep_time(deck, line))
 
 
 def _check_options(deck: Deck):

@@ -42,7 +42,8 @@ import numpy as np
 
 from . import ops
 
-__all__ = ["Law", "Paper", "Engineering", "Curve", "StaticDynamic", "as_law", "LAWS",
+__all__ = ["Law", "Paper", "Engineering", "Curve", "StaticDynamic", "Viscoelastic", "as_law",
+           "LAWS",
            "axial_force", "stress_resultant", "read_curve"]
 
 
@@ -276,6 +277,89 @@ class StaticDynamic(Law):
         p.update(T0=np.asarray(T, float) * 1.0, e0=e_ref * np.ones_like(T),
                  k=self.dynamic_EA(T) * np.ones_like(T))
         return p, None
+
+
+@dataclass(frozen=True)
+class Viscoelastic(StaticDynamic):
+    """MoorDyn's viscoelastic polyester (``EA_s|EA_d`` or ``EA_s|alphaMBL|beta`` with
+    ``BA|BA_D``): a creep element, spring EA_1 = EA_d EA_s / (EA_d - EA_s) and damper
+    ``creep_damping`` BA (N s), in series with the dynamic element, spring EA_d and damper
+    ``dynamic_damping`` BA_D (N s). With z the creep element's strain (its creep state):
+
+        tension = EA_1 z + BA dz/dt = EA_d (e - z) + BA_D (de/dt - dz/dt)
+
+    so that a slow stretch sees EA_s, a fast one EA_d. EA_d = alphaMBL + beta T_1 with
+    T_1 = EA_1 z the creep spring's tension (MoorDyn's closed form of it). The static
+    state is solved with ``static`` (EA_s); in time the cable kernel keeps each element's
+    mean tension T_mean along it and :class:`skmoor.creep.CreepTerm` adds the rest of the
+    axial force, N - T_mean, integrating z.
+    ``relax``: the creep state at t = 0: None, relaxed at the static strain (tension
+    EA_s e); a time (s), MoorDyn's start, z = e, relaxed that long with the ends held
+    (MoorDyn's initial-condition stage)."""
+
+    creep_damping: float = 0.0
+    dynamic_damping: float = 0.0
+    relax: float | None = None
+    name = "viscoelastic"
+
+    def __post_init__(self):
+        super().__post_init__()
+        for name in ("creep_damping", "dynamic_damping"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"Viscoelastic.{name}: must be a finite number >= 0 N s, "
+                                 f"got {value!r}")
+        if not self.creep_damping + self.dynamic_damping > 0:
+            raise ValueError("Viscoelastic: creep_damping + dynamic_damping must be > 0 N s "
+                             "(the creep rate divides by it)")
+        if self.relax is not None and not (math.isfinite(self.relax) and self.relax >= 0):
+            raise ValueError(f"Viscoelastic.relax: must be None or a time >= 0 s, got "
+                             f"{self.relax!r}")
+
+    def parameters(self, EA, T, e_ref, static=False):
+        if static:
+            return super().parameters(EA, T, e_ref, static)
+        # the cable kernel keeps the mean tension T along the line (its reference part
+        # balanced); skmoor.creep.CreepTerm adds the rest of the axial force
+        p, _ = Law.parameters(self, EA, T, e_ref)
+        p.update(T0=np.asarray(T, float) * 1.0, e0=e_ref * np.ones_like(T), k=0.0 * p["k"])
+        return p, None
+
+    # --- the creep element, for skmoor.creep.CreepTerm (arrays of the elements)
+    def stiffnesses(self, z, EA):
+        """(EA_1, EA_d), N, at creep strain z (-); EA: the line type's EA (EA_s)."""
+        EA_s = self.static.nominal_EA(EA)
+        z = np.asarray(z, float)
+        if self.EA_dynamic is not None:
+            EA_d = self.EA_dynamic + 0.0 * z
+        else:  # MoorDyn's Line.cpp: EA_d = alpha + beta EA_1 z solved with EA_1 of EA_d
+            a, b = self.alpha_MBL, self.beta * np.maximum(z, 0.0) * EA_s
+            EA_d = 0.5 * (a + b + EA_s + np.sqrt(a * a + 2 * a * (b - EA_s)
+                                                  + (b + EA_s) ** 2))
+        if np.any(EA_d <= EA_s):
+            raise ValueError(f"Viscoelastic: the dynamic stiffness {np.min(EA_d):g} N must "
+                             f"exceed the static one EA_s = {EA_s:g} N")
+        return EA_d * EA_s / (EA_d - EA_s), EA_d
+
+    def creep_spring(self, z, EA, memory=None):
+        """The creep spring's tension EA_1 z (N) at creep strain z."""
+        return self.stiffnesses(z, EA)[0] * z
+
+    def creep_drive(self, z, EA, memory=None):
+        """(a, b), N: the dynamic spring's tension less the creep spring's is a e - b at
+        strain e, so that dz/dt = (a e - b + BA_D de/dt) / (BA + BA_D)."""
+        EA_1, EA_d = self.stiffnesses(z, EA)
+        return EA_d, (EA_1 + EA_d) * z
+
+    def creep_start(self, e, T, EA):
+        """(creep strain z, memory) at t = 0 before any relaxation, for the static strain
+        e (-) and tension T (N): MoorDyn's z = e when ``relax`` is a time, else None
+        (relaxed: the creep term solves a e = b)."""
+        return (None if self.relax is None else np.array(e, float)), None
+
+    def creep_update(self, z, EA, memory):
+        """The memory after an accepted step (none here; Syrope's highest tension)."""
+        return memory
 
 
 LAWS = {"paper": Paper, "engineering": Engineering}

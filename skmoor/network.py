@@ -32,7 +32,9 @@ import numpy as np
 
 from .body import RigidBody
 from .catenary import solve_catenary
+from .checks import carries_strain
 from .coupling import Ends, PointMass, System
+from .creep import CreepTerm, has_creep
 from .hydro import line_terms
 from .surface import SurfaceTerm
 from .laws import Engineering
@@ -316,7 +318,7 @@ def reference_line(name, line_type: LineType, length, n_elements, a, b, seabed_z
         raise ValueError(f"line {name}: both ends at the same place {a}")
     if chord >= length:  # straight and taut, tension of the strain (stretch - 1)
         stretch = chord / length
-        if stretch > 1.5:
+        if stretch > 1.5 and not carries_strain(line_type, stretch - 1.0):
             raise ValueError(f"line {name}: its ends are {chord:.6g} m apart, {100 * (stretch - 1):.3g} % "
                              f"beyond its length {length:.6g} m")
         s = np.linspace(0.0, chord, n_elements + 1)
@@ -542,6 +544,8 @@ def build_system(network: Network, positions: dict | None = None):
     if network.surface and lines:
         terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,
                                  path=network.form_path))
+    if lines and any(has_creep(law) for law in lineset.laws):  # viscoelastic, Syrope ropes
+        terms.append(CreepTerm(lineset))
     for k, body in enumerate(dynamic):
         for term in body.terms:
             term = copy.copy(term)

@@ -9,6 +9,7 @@ are returned (and written) with ``meta["stopped"]`` saying why.
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import math
 import os
@@ -613,9 +614,20 @@ class _Recorder:
             self.rows["curvature"].append(curvature)
             self.rows["moment"].append(lines.fields["EI"][:, 0] * curvature)
 
+    @functools.cached_property
+    def _rope_cells(self):
+        from .checks import carries_strain
+
+        lines = self.model.lines
+        ropes = [carries_strain(line.line_type, np.inf) for line in lines.lines]
+        return np.array(ropes, bool)[lines.line_of_cell] if ropes else np.zeros(0, bool)
+
     def _check_blow_up(self, state, strain):
         """A DivergenceError when a line stretches beyond BLOWN_UP_STRAIN or its state is
-        not finite: Newton can converge on every step of a run that has blown up."""
+        not finite: Newton can converge on every step of a run that has blown up. A rope
+        law made for large strains (``checks.carries_strain``) is checked for finiteness."""
+        if self._rope_cells.any():
+            strain = np.where(self._rope_cells & np.isfinite(strain), 0.0, strain)
         if not len(strain) or strain.max() <= BLOWN_UP_STRAIN:  # (False for a NaN too)
             return
         worst = int(np.argmax(strain))

@@ -28,6 +28,7 @@ The working curve is sampled at ``points`` strains as MoorDyn does (30), linear 
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -37,7 +38,7 @@ import numpy as np
 from . import laws
 
 __all__ = ["FORMS", "working_curve_tension", "working_curve", "WorkingCurve", "Syrope",
-           "syrope_law", "read_syrope_file", "read_owc"]
+           "SyropeCreep", "slow_strain", "syrope_law", "read_syrope_file", "read_owc"]
 
 FORMS = ("linear", "quadratic", "exp")
 
@@ -166,20 +167,103 @@ class Syrope(laws.StaticDynamic):
         return p, None
 
 
+def slow_strain(strain, tension, alpha_MBL, beta):
+    """The creep (slow) strain z (-) of a point (strain, tension N) of a working curve: the
+    strain less the dynamic spring's, int_0^T dT / (alpha_MBL + beta T) (MoorDyn's
+    Line::setWorkingCurve: z = e - ln(1 + beta T / alpha_MBL) / beta)."""
+    tension = np.asarray(tension, float)
+    if beta == 0:
+        return np.asarray(strain, float) - tension / alpha_MBL
+    return np.asarray(strain, float) - np.log1p(beta * tension / alpha_MBL) / beta
+
+
+@dataclass(frozen=True)
+class SyropeCreep(laws.Viscoelastic):
+    """MoorDyn's Syrope model in full (``SYROPE:`` with ``BA|BA_D``): a creep element,
+    the working curve's tension T(z) at creep strain z and the damper ``creep_damping``
+    BA (N s), in series with the dynamic spring EA_d = alpha_MBL + beta T and the damper
+    ``dynamic_damping`` BA_D (N s) (MoorDyn's Line.cpp, Line::getStateDeriv):
+
+        BA dz/dt = EA_d(T) (e - e_wc(T)) + BA_D (de/dt - dz/dt),   tension T(z) + BA dz/dt
+
+    e_wc(T) the working curve's strain at T. The working curve is that of each element's
+    highest mean tension T_max (``static.T_max`` at the start, raised when T(z) passes
+    it: the rope back on its original working curve). The creep state at t = 0: the
+    slow strain of ``T_mean`` (N, MoorDyn's SYROPE IC Tmean0) on the curve, or relaxed
+    at the static strain when None; then relaxed ``relax`` s with the ends held."""
+
+    T_mean: float | None = None
+    name = "syrope creep"
+
+    def __post_init__(self):
+        super().__post_init__()
+        if not self.alpha_MBL > 0:
+            raise ValueError(f"SyropeCreep: EA_Dc (alpha_MBL) must be > 0 N, got {self.alpha_MBL!r}")
+        for T_max in (self.static.T_max, self.static.owc[1][-1]):
+            strain, tension = self._tables(T_max)[:2]
+            z = slow_strain(strain, tension, self.alpha_MBL, self.beta)
+            if not np.all(np.diff(z) > 0):
+                raise ValueError(f"{self.static.source}: the creep strains of the working "
+                                 f"curve of Tmax {T_max:g} N do not rise with its strain "
+                                 "(the dynamic stiffness EA_Dc + EA_D_Lm T is too soft for "
+                                 "it; MoorDyn refuses it too)")
+
+    @functools.lru_cache(maxsize=256)
+    def _tables(self, T_max):
+        """(strain, tension, creep strain) of the working curve of T_max (N)."""
+        wc = self.static
+        strain, tension = working_curve(*wc.owc, wc.form, wc.k1, wc.k2, float(T_max), wc.points)
+        return strain, tension, slow_strain(strain, tension, self.alpha_MBL, self.beta)
+
+    def _each(self, z, memory, fn):
+        out = np.empty((2,) + np.shape(z))
+        for i, (zi, T_max) in enumerate(zip(np.atleast_1d(z), memory)):
+            out[:, i] = fn(zi, *self._tables(float(T_max)))
+        return out
+
+    def creep_spring(self, z, EA, memory=None):
+        return self._each(z, memory, lambda zi, e, T, zs: (np.interp(zi, zs, T), 0.0))[0]
+
+    def creep_drive(self, z, EA, memory=None):
+        def drive(zi, e, T, zs):
+            tension = np.interp(zi, zs, T)
+            a = self.alpha_MBL + self.beta * tension
+            return a, a * np.interp(tension, T, e)  # EA_d (e - e_wc(T)) = a e - b
+
+        return tuple(self._each(z, memory, drive))
+
+    def creep_start(self, e, T, EA):
+        memory = np.full(np.shape(e), float(self.static.T_max))
+        if self.T_mean is None:
+            return None, memory
+        _, tension, zs = self._tables(self.static.T_max)
+        return np.full(np.shape(e), np.interp(self.T_mean, tension, zs)), memory
+
+    def creep_update(self, z, EA, memory):
+        return np.maximum(memory, self.creep_spring(z, EA, memory))
+
+
 def syrope_law(owc, form, k1, k2, T_max, alpha_MBL, beta, T_mean=None, points=30,
-               source="Syrope"):
-    """The law of a Syrope line: static state on the working curve of T_max (N), motion
-    about T_mean (N, or the static tension) with EA_d = alpha_MBL (N) + beta T_mean
-    (MoorDyn's SYROPE:file|EA_Dc|EA_D_Lm and SYROPE IC Tmax0, Tmean0)."""
+               source="Syrope", creep_damping=None, dynamic_damping=None, relax=None):
+    """The law of a Syrope line: static state on the working curve of T_max (N); in time
+    a :class:`SyropeCreep` with its creep state from T_mean (N) when the dampers are
+    given (BA ``creep_damping``, BA_D ``dynamic_damping``, N s; ``relax`` s), else the
+    fast limit :class:`Syrope`, motion about T_mean (N, or the static tension) with
+    EA_d = alpha_MBL (N) + beta T_mean (MoorDyn's SYROPE:file|EA_Dc|EA_D_Lm, BA|BA_D and
+    SYROPE IC Tmax0, Tmean0)."""
     static = WorkingCurve(owc=tuple(tuple(map(float, v)) for v in owc), form=form.lower(),
                           k1=float(k1), k2=float(k2), T_max=float(T_max), points=points,
                           source=source)
     if T_mean is not None and not 0 <= T_mean <= T_max:
         raise ValueError(f"{source}: Tmean0 must be within [0, Tmax0 = {T_max:g}] N, "
                          f"got {T_mean:g}")
+    T_mean = None if T_mean is None else float(T_mean)
     try:
-        return Syrope(alpha_MBL=alpha_MBL, beta=beta, static=static,
-                      T_mean=None if T_mean is None else float(T_mean))
+        if dynamic_damping is not None:
+            return SyropeCreep(alpha_MBL=alpha_MBL, beta=beta, static=static, T_mean=T_mean,
+                               creep_damping=float(creep_damping),
+                               dynamic_damping=float(dynamic_damping), relax=relax)
+        return Syrope(alpha_MBL=alpha_MBL, beta=beta, static=static, T_mean=T_mean)
     except ValueError as err:
         raise ValueError(f"{source}: {err}") from None
 

@@ -65,12 +65,6 @@ KNOWN_DIFFERENCES = {
     "hangs between two fixed points 5 m apart vertically at exactly its length, in air: "
     "skmoor's exact catenary hangs it from the top (end A 1716 N = its weight, end B 0); "
     "MoorDyn's one segment lumps half the weight on each end node (858 N at both)",
-    **{f"tests/Mooring/syrope/{name}/line.txt": "its SYROPE IC mean tension Tmean0 lies off "
-       "the working curve at the deck's strain: MoorDyn starts from it (the t = 0 tension) "
-       "and creeps onto the curve, skmoor's static state is on the curve (MoorDyn's tension "
-       f"after the creep, {after}; tests/test_syrope.py)"
-       for name, after in (("quadratic_wc", "367.27 kN, not 322.40 kN"),
-                           ("exp_wc", "312.41 kN, not 153.78 kN"))},
 }
 
 
