@@ -36,8 +36,9 @@ def check_curve_catenary():
 
 def check_viscoelastic_polyester():
     """A taut 199 m polyester line (10 segments) with MoorDyn's EA_s|EA_d (creep time
-    10 s) driven 0.5 m sin(2 t) along its chord for six periods: skmoor's static-dynamic
-    law against MoorDyn's viscoelastic line, fairlead tension over the last 3 periods."""
+    10 s) driven 0.5 m sin(2 t) along its chord for six periods: skmoor's viscoelastic law
+    (its creep state integrated in time) against MoorDyn's, fairlead tension over the last
+    3 periods."""
     from test_polyester_moordyn import (EA_D, EA_S, FAIRLEAD, PERIOD, chord_motion, measures,
                                         run_moordyn, run_skmoor, visco_deck)
 
