@@ -412,7 +412,8 @@ def _coupled_kinds(deck: Deck) -> list:
 def _rod_clamp(deck: Deck, end, side):
     """The clamp of a bending line's end ``side`` ('a' or 'b') on a rod's end: the line
     leaves the rod along its axis (global, at the deck's state), as MoorDyn attaches it,
-    and turns with the rod (False on a point or a zero-length rod: pinned)."""
+    and turns with the rod (False on a point: pinned; and on a zero-length rod, which
+    joins its lines itself: :func:`_joins_smoothly`)."""
     if isinstance(end, int):
         return False
     rod = next(r for r in deck.rods if r.id == int(end[1:-1]))

@@ -22,9 +22,10 @@ subdivision).
 
 Compared (slow test, ~3 min on two shared cores): the means over 15-20 s of the body's
 position and of every line's end tensions. Measured: the body 7 cm apart in x, 2 cm in
-z; the tensions 2.3 - 5.5 % apart, skmoor's above MoorDyn's on every line (MoorDyn's
-lumped segments on the near-taut chain; its doubled NumSegs moves its tensions towards
-skmoor's).
+z; the tensions 2.3 - 5.5 % apart, skmoor's above MoorDyn's on every line. That offset
+is not MoorDyn's segmentation (twice its NumSegs moves its tensions by 0.5 % at most,
+line 6's end A by 1.5 %) nor the lines' weights (MoorDyn's w to 3e-4); the settled
+rods lie within 0.35 m of MoorDyn's. Its cause is not found yet.
 """
 import re
 import sys

@@ -34,7 +34,8 @@ def moment(x):
 
 
 @pytest.mark.filterwarnings("ignore:point rod1")
-def test_cantilever_across_a_zero_length_rod_bends_as_one_beam():
+@pytest.mark.parametrize("wiring", ["A to B", "B to A"])
+def test_cantilever_across_a_zero_length_rod_bends_as_one_beam(wiring, tmp_path):
     """Two 5 m bending lines (4 elements each) clamped on a fixed rod, joined at mid-span
     by a zero-length Free rod, a 50 kg tip mass, in air: the tip and the joint sag as
     one Euler-Bernoulli beam's w x^2 (6L^2 - 4Lx + x^2) / 24EI + P x^2 (3L - x) / 6EI
@@ -42,8 +43,18 @@ def test_cantilever_across_a_zero_length_rod_bends_as_one_beam():
     clamp's moment w L^2/2 + P L and the joint's w (L/2)^2/2 + P L/2, each line's moment
     on the joint equal and opposite, within 1e-4; the first bending frequency (in and
     out of plane) that of a cantilever with a tip mass, 1 + cos bL cosh bL + (M / mL) bL
-    (cos bL sinh bL - sin bL cosh bL) = 0, within 3e-4."""
-    model = skmoor.build(DECK)
+    (cos bL sinh bL - sin bL cosh bL) = 0, within 3e-4. Wired either way through the
+    rod: the first line onto its end A and the second off its end B (both along the
+    rod's direction q in MoorDyn), or onto B and off A (both along -q)."""
+    deck = DECK
+    if wiring == "B to A":
+        deck = tmp_path / DECK.name
+        text = DECK.read_text()
+        for old, new in (("R1B      R2A", "R1B      R2B"), ("R2B      1 ", "R2A      1 ")):
+            assert old in text
+            text = text.replace(old, new)
+        deck.write_text(text)
+    model = skmoor.build(deck)
     assert {p.name: p.smooth for p in model.network.points}["rod2"]
     eq = equilibrium(model, n_modes=2)
     system, lines = model.system, model.lines
