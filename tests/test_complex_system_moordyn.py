@@ -23,9 +23,9 @@ subdivision).
 Compared (slow test, ~3 min on two shared cores): the means over 15-20 s of the body's
 position and of every line's end tensions. Measured: the body 7 cm apart in x, 2 cm in
 z; the tensions 2.3 - 5.5 % apart, skmoor's above MoorDyn's on every line. That offset
-is not MoorDyn's segmentation (twice its NumSegs moves its tensions by 0.5 % at most,
-line 6's end A by 1.5 %) nor the lines' weights (MoorDyn's w to 3e-4); the settled
-rods lie within 0.35 m of MoorDyn's. Its cause is not found yet.
+is skmoor's mesh: twice the deck's NumSegs in skmoor halves it (1.4 - 3.1 %, line 6's
+end A 4.2 %, the body 2 cm), twice MoorDyn's moves MoorDyn's tensions by 0.5 % at most
+(line 6's end A by 1.5 %).
 """
 import re
 import sys
