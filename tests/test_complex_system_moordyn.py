@@ -20,8 +20,8 @@ the 563 % stretch that skmoor.dynamics stops on: the step is longer than the
 stiffeners' 2.6 ms axial period at 44 MN; 5 ms steps go through without a
 subdivision).
 
-Compared (slow test: 40 s, 4.6 min with the two cores shared): the means over 15-20 s of the body's
-position and of every line's end tensions. Measured: the body 7 cm apart in x, 2 cm in
+Compared (slow test: 40 s, 4.6 min with the two cores shared): the means over 15-20 s
+of the body's position and of every line's end tensions. Measured: the body 7 cm apart in x, 2 cm in
 z; the tensions 2.3 - 5.5 % apart, skmoor's above MoorDyn's on every line. That offset
 is skmoor's mesh: twice the deck's NumSegs in skmoor halves it (1.4 - 3.1 %, line 6's
 end A 4.2 %, the body 2 cm), twice MoorDyn's moves MoorDyn's tensions by 0.5 % at most
