@@ -60,8 +60,11 @@ on a rod: there it is clamped along the rod's axis (as MoorDyn attaches it), its
 tangent turning with the rod.
 
 A zero-length Free rod (NumSegs 0, MoorDyn's 6-DOF connection node) is a massless free
-point ``rodN`` joining the lines on its two ends; they are pinned there (MoorDyn clamps
-them to the node, which turns: the bending moment is carried across it).
+point ``rodN`` joining the lines on its two ends. MoorDyn clamps bending lines to the
+node's direction, which turns to balance their end moments: where one bending line ends
+on it and the next starts from its other end, the point is a smooth joint of the two
+(``Point.smooth``: one shared end tangent, the bending moment carried across); any other
+set of lines is pinned there.
 
 A Coupled rod is a coupled body ``rodN`` at end A (its 6 coupled DOFs: end A's
 position and MoorDyn's angles Rx Ry Rz turning the deck's axis), carrying its RodLoad
@@ -347,7 +350,7 @@ def _deck_rod(deck: Deck, rod, bodies, sea, bed=None, rotations="small"):
     name = f"rod{rod.id}"
     a, b = np.array(rod.a, float), np.array(rod.b, float)
     if rod.n_segments == 0:  # a zero-length Free rod: a massless junction of its lines
-        return [Point(name, "free", a)], None
+        return [Point(name, "free", a, smooth=_joins_smoothly(deck, rod))], None
     if rod.kind == "body":
         carrier = bodies[rod.body - 1]
         if not rod.pinned:
@@ -478,7 +481,8 @@ def _coupled_kinds(deck: Deck) -> list:
 def _rod_clamp(deck: Deck, end, side):
     """The clamp of a bending line's end ``side`` ('a' or 'b') on a rod's end: the line
     leaves the rod along its axis (global, at the deck's state), as MoorDyn attaches it,
-    and turns with the rod (False on a point or a zero-length rod: pinned)."""
+    and turns with the rod (False on a point: pinned; and on a zero-length rod, which
+    joins its lines itself: :func:`_joins_smoothly`)."""
     if isinstance(end, int):
         return False
     rod = next(r for r in deck.rods if r.id == int(end[1:-1]))
@@ -490,6 +494,21 @@ def _rod_clamp(deck: Deck, end, side):
         axis = moordyn_rotation(np.radians(np.asarray(carrier.r6[3:], float))) @ axis
     outward = axis if end[-1] == "B" else -axis  # out of the rod at that end
     return outward if side == "a" else -outward  # the line's tangent runs a -> b
+
+
+def _joins_smoothly(deck: Deck, rod) -> bool:
+    """Whether a zero-length rod is a smooth joint (``Point.smooth``) of its lines: two
+    bending lines, one ending on it and one starting from it, on its two different ends.
+    MoorDyn clamps both to the rod's direction q there (Line.cpp's setEndOrientation:
+    both then run along q, or both along -q) and turns q to balance their end moments
+    (Rod.cpp's setDependentStates): one shared end tangent, the moment carried across.
+    Any other set of lines on it is pinned there (a hinge)."""
+    tag = f"R{rod.id}"
+    ending = [(ln, ln.b[-1]) for ln in deck.lines if isinstance(ln.b, str) and ln.b[:-1] == tag]
+    starting = [(ln, ln.a[-1]) for ln in deck.lines if isinstance(ln.a, str) and ln.a[:-1] == tag]
+    if len(ending) != 1 or len(starting) != 1 or ending[0][1] == starting[0][1]:
+        return False
+    return all(line_type_of(deck, ln).EI > 0 for ln, _ in ending + starting)
 
 
 def _end_name(deck: Deck, end) -> str:

@@ -127,7 +127,10 @@ class _IterationMatrix:
         elif self.layout == "band":
             self.factor = A.factorize()
         else:
-            self.factor = spla.splu(sp.csc_matrix(A))
+            try:
+                self.factor = spla.splu(sp.csc_matrix(A))
+            except RuntimeError:  # exactly singular, or not finite (a blown-up iterate)
+                self.factor = None
 
     def solve(self, b):
         """A^-1 b, NaN (caught by the caller) when A is singular."""

@@ -615,8 +615,10 @@ def _coupled_vector(network: Network, t) -> np.ndarray:
 
 def _smooth_joint(network: Network, point: Point, lines) -> tuple:
     """(k, j) of the smooth joint at ``point``: line k ends there (b), line j starts
-    there (a); both reference Lines get the mean of their tangents there as their end
-    tangent, so that the C1 reference geometry is smooth across the joint."""
+    there (a); both reference Lines get one end tangent there, so that the C1 reference
+    geometry is smooth across the joint: the mean of their unit tangents weighted by each
+    end element's bending stiffness EI / h, the direction that balances their end moments
+    (MoorDyn's zero-length rod: Rod.cpp's setDependentStates)."""
     ending = [k for k, ln in enumerate(network.lines) if ln.b == point.name]
     starting = [k for k, ln in enumerate(network.lines) if ln.a == point.name]
     if len(ending) != 1 or len(starting) != 1:
@@ -633,7 +635,9 @@ def _smooth_joint(network: Network, point: Point, lines) -> tuple:
     t_b = before.tangent(np.array([before.s[-1]]))[0] if t_b is None else t_b
     t_a = after.end_tangents[0]
     t_a = after.tangent(np.array([after.s[0]]))[0] if t_a is None else t_a
-    mean = t_b / np.linalg.norm(t_b) + t_a / np.linalg.norm(t_a)
+    stiffness = [network.lines[m].line_type.EI / np.diff(line.s)[end]
+                 for m, line, end in ((k, before, -1), (j, after, 0))]
+    mean = stiffness[0] * t_b / np.linalg.norm(t_b) + stiffness[1] * t_a / np.linalg.norm(t_a)
     if not np.linalg.norm(mean) > 1e-6:
         raise ValueError(f"point {point.name} smooth: lines {network.lines[k].name} and "
                          f"{network.lines[j].name} leave it in opposite directions")
