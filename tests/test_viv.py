@@ -2,12 +2,26 @@
 against its closed forms: the lift per length, the phase rate, the phase of a harmonic
 motion, and the nodal loads and phase update of the term on a straight line in a current.
 """
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
+import skmoor
 from skmoor.line import Line, LineSet, LineType
 from skmoor.viv import VortexLift, lift_per_length, motion_phase, phase_rate
 from skmoor.waves import Current, Sea
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import moordyn_decks as md  # noqa: E402
+
+try:
+    MIRROR, NO_MIRROR = md.Mirror(md.mirror_path()), ""
+except md.MirrorMissing as err:
+    MIRROR, NO_MIRROR = None, str(err)
+needs_mirror = pytest.mark.skipif(MIRROR is None, reason=NO_MIRROR)
 
 RHO, D, CL, U = 1000.0, 0.024, 0.7, 0.2
 
@@ -107,3 +121,27 @@ def test_dry_nodes_carry_no_lift():
 def test_bad_lift_coefficient_is_refused():
     with pytest.raises(ValueError, match="LineType.Cl"):
         LineType(EA=1e5, mass=0.69, diameter=D, Cl=-0.1)
+
+
+def deck_copy(folder, path, *extra):
+    """MoorDyn's deck ``path`` (and the files ``extra`` of its folder) copied to folder."""
+    for name in (path,) + extra:
+        out = folder / Path(name).name
+        out.write_bytes(MIRROR.read(str(Path(path).parent / Path(name).name)))
+    return folder / Path(path).name
+
+
+@needs_mirror
+@pytest.mark.filterwarnings("ignore")
+def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
+    """rotatingBody.txt's eleventh line-type column is Cl = 0.05 alone: dF and cF take
+    MoorDyn's documented defaults 0.08 and 0.18 (docs/inputs.rst), and the deck runs."""
+    from skmoor.run import simulate
+
+    model = skmoor.build(deck_copy(tmp_path, "tests/Mooring/body_tests/rotatingBody.txt"),
+                         rotations="exact")
+    types = {(ln.line_type.Cl, ln.line_type.viv_dF, ln.line_type.viv_cF)
+             for ln in model.network.lines}
+    assert types == {(0.05, 0.08, 0.18)}
+    results = simulate(model, duration=0.2, dt=0.01, progress=False, start="given")
+    assert results.t[-1] == pytest.approx(0.2) and np.isfinite(results.displacement).all()
