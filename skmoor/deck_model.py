@@ -65,9 +65,9 @@ A Coupled rod is a coupled body ``rodN`` at end A (its 6 coupled DOFs: end A's
 position and MoorDyn's angles Rx Ry Rz turning the deck's axis), carrying its RodLoad
 for :func:`skmoor.rods.coupled_reaction`.
 
-Refused, with the deck line and the reason: mass or volume on a point of a fixed or
-coupled body, a free body whose summed mass matrix is singular, VIV (Cl > 0), MoorDyn-F's
-WaterKin file.
+A line type's Cl > 0 (with dF, cF) adds the VIV lift (:mod:`skmoor.viv`). Refused, with
+the deck line and the reason: mass or volume on a point of a fixed or coupled body, a free
+body whose summed mass matrix is singular, MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
 
@@ -99,16 +99,17 @@ def line_type_of(deck: Deck, line) -> LineType:
     its internal damping BA, which MoorDyn sets per line from -zeta)."""
     name = line.type
     t = deck.line_types[name]
-    if t.viv and t.viv[0] > 0:
-        raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {t.viv[0]:g}: vortex-induced "
-                    "vibration is not supported")
+    Cl, dF, cF = (t.viv + (0.08, 0.18))[:3] if t.viv else (0.0, 0.08, 0.18)  # MoorDyn's defaults
+    if Cl < 0:
+        raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {Cl:g}: the VIV lift "
+                    "coefficient must be >= 0")
     law = _syrope_law(deck, t, line) if t.syrope else _law(deck, t)
     BA = _internal_damping(deck, line)
     if isinstance(law, laws.StaticDynamic):
         BA = t.BA_dynamic or 0.0
     return LineType(EA=t.EA, mass=t.mass, diameter=t.diameter, Cd_n=t.Cd, Cd_t=t.CdAx,
                     Ca_n=t.Ca, Ca_t=t.CaAx, BA=BA, rho_water=deck.rho, g=deck.g, law=law,
-                    EI=t.EI)
+                    EI=t.EI, Cl=Cl, viv_dF=dF, viv_cF=cF)
 
 
 def _law(deck: Deck, t):

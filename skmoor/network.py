@@ -34,6 +34,7 @@ from .body import RigidBody
 from .catenary import solve_catenary
 from .coupling import Ends, PointMass, System
 from .hydro import line_terms
+from .viv import VortexLift
 from .surface import SurfaceTerm
 from .laws import Engineering
 from .line import Line, LineSet, LineType
@@ -539,6 +540,8 @@ def build_system(network: Network, positions: dict | None = None):
     if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
         terms += line_terms(lineset, network.sea, path=network.form_path)
+    if network.hydro and any(ln.line_type.Cl > 0 for ln in network.lines):
+        terms.append(VortexLift(lineset, network.sea))
     if network.surface and lines:
         terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,
                                  path=network.form_path))

@@ -1,0 +1,147 @@
+"""The VIV lift (skmoor.viv, MoorDyn's cross-flow model with Thorsen's synchronization)
+against its closed forms: the lift per length, the phase rate, the phase of a harmonic
+motion, and the nodal loads and phase update of the term on a straight line in a current.
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import skmoor
+from skmoor.line import Line, LineSet, LineType
+from skmoor.viv import VortexLift, lift_per_length, motion_phase, phase_rate
+from skmoor.waves import Current, Sea
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import moordyn_decks as md  # noqa: E402
+
+try:
+    MIRROR, NO_MIRROR = md.Mirror(md.mirror_path()), ""
+except md.MirrorMissing as err:
+    MIRROR, NO_MIRROR = None, str(err)
+needs_mirror = pytest.mark.skipif(MIRROR is None, reason=NO_MIRROR)
+
+RHO, D, CL, U = 1000.0, 0.024, 0.7, 0.2
+
+
+def test_lift_per_length_is_half_rho_d_cl_u_squared_across_the_flow():
+    """A vertical line in a flow along x: the lift is along z x x = +y, of size 1/2 rho d Cl
+    U^2 cos(phi) (a swapped cross product flips it, |v| v in place of |v| (q x v) or a lost
+    1/2 scales it)."""
+    q, flow = np.array([[0.0, 0.0, 1.0]] * 3), np.array([[U, 0.0, 0.0]] * 3)
+    phase = np.array([0.0, np.pi / 3, np.pi])
+    force = lift_per_length(RHO, D, CL, flow, q, phase)
+    size = 0.5 * RHO * D * CL * U**2 * np.cos(phase)
+    assert force == pytest.approx(np.c_[np.zeros(3), size, np.zeros(3)], abs=1e-12)
+    # the lift turns with the flow: a flow along y lifts along z x y = -x
+    turned = lift_per_length(RHO, D, CL, np.array([[0.0, U, 0.0]]), q[:1], np.zeros(1))
+    assert turned[0] == pytest.approx([-0.5 * RHO * D * CL * U**2, 0.0, 0.0])
+
+
+def test_phase_rate_spans_the_synchronization_range():
+    """In step with the motion the lift runs at the Strouhal rate 2 pi cF U / d; a quarter
+    period behind (phi_y - phi = pi/2) at 2 pi (cF + dF) U / d, ahead at (cF - dF)."""
+    cF, dF = 0.18, 0.08
+    rate = phase_rate(np.array([1.0, 1.0, 1.0]), np.array([1.0, 1.0 + np.pi / 2, 1.0 - np.pi / 2]),
+                      U, D, cF, dF)
+    assert rate == pytest.approx(2 * np.pi * np.array([cF, cF + dF, cF - dF]) * U / D)
+
+
+def test_motion_phase_of_a_harmonic_motion_is_its_argument():
+    """y = A sin(w t): yd = A w cos, ydd = -A w^2 sin, rms A w / sqrt 2 and A w^2 / sqrt 2,
+    so phi_y = w t (mod 2 pi) for any amplitude and frequency (a sign error on ydd gives
+    -w t, the rms normalization missing gives the wrong angle for w != 1)."""
+    A, w = 0.03, 6.5
+    t = np.linspace(0.05, 2.0, 9)
+    yd, ydd = A * w * np.cos(w * t), -A * w**2 * np.sin(w * t)
+    phase = motion_phase(yd, ydd, np.full(t.size, A * w / np.sqrt(2)),
+                         np.full(t.size, A * w**2 / np.sqrt(2)))
+    assert phase == pytest.approx(np.mod(w * t, 2 * np.pi), abs=1e-12)
+
+
+def vertical_line(n=4, stretch=1.0):
+    """A straight vertical line from z = -10 to -2 m on n elements, its reference state
+    stretched by ``stretch`` (8 m / stretch unstretched)."""
+    line_type = LineType(EA=1e5, mass=0.69, diameter=D, rho_water=RHO, Cl=CL)
+    points = np.c_[np.zeros(n + 1), np.zeros(n + 1), np.linspace(-10.0, -2.0, n + 1)]
+    line = Line.from_polyline(points, line_type)
+    line.stretch = lambda s: np.full(np.shape(s), stretch)
+    return LineSet([line])
+
+
+def test_nodal_lift_on_a_line_in_a_current_and_its_phase_update():
+    """At rest in a uniform current U along x: no lift before the first commit (statics);
+    then internal node i (of n) carries 1/2 rho d Cl U^2 cos(2 pi i / n) times its
+    unstretched length (8 m / n / stretch) along +y, the end nodes none. After a step h
+    at rest (yd = ydd = 0, phi_y = 0) the phase is 2 pi i / n + 2 pi (cF - dF sin phi) U / d h."""
+    n, stretch = 4, 1.1
+    lines = vertical_line(n, stretch)
+    sea = Sea(depth=50.0, rho=RHO, current=Current(speed=U))
+    term = VortexLift(lines, sea)
+    u, v = np.zeros(lines.ndofs), np.zeros(lines.ndofs)
+    R = np.zeros(lines.ndofs)
+    term.add_to(u, v, 0.0, R)
+    assert not R.any()
+
+    term.commit(0.0, u, v)
+    phase0 = 2 * np.pi * np.arange(1, n) / n
+    length = 8.0 / n / stretch
+    expected = np.zeros((n + 1, 3))
+    expected[1:n, 1] = 0.5 * RHO * D * CL * U**2 * np.cos(phase0) * length
+    R = np.zeros(lines.ndofs)
+    term.add_to(u, v, 0.0, R)
+    assert -R[lines.nodal_dofs] == pytest.approx(expected, abs=1e-12)
+
+    h = 0.01
+    rate = 2 * np.pi * (0.18 - 0.08 * np.sin(phase0)) * U / D
+    R = np.zeros(lines.ndofs)
+    term.add_to(u, v, h, R)  # within the step: the phase extrapolated to t = h
+    phase1 = phase0 + rate * h
+    assert -R[lines.nodal_dofs[1:n, 1]] == pytest.approx(
+        0.5 * RHO * D * CL * U**2 * np.cos(phase1) * length, rel=1e-10)
+    term.commit(h, u, v)
+    assert term._phase == pytest.approx(np.mod(phase1, 2 * np.pi), abs=1e-12)
+
+
+def test_dry_nodes_carry_no_lift():
+    """A line lifted 20 m (above the still surface): its nodes are dry, no lift."""
+    lines = vertical_line()
+    term = VortexLift(lines, Sea(depth=50.0, rho=RHO, current=Current(speed=U)))
+    u = np.zeros(lines.ndofs)
+    u[lines.nodal_dofs[:, 2]] = 20.0
+    v = np.zeros(lines.ndofs)
+    term.commit(0.0, u, v)
+    R = np.zeros(lines.ndofs)
+    term.add_to(u, v, 0.0, R)
+    assert not R.any()
+
+
+def test_bad_lift_coefficient_is_refused():
+    with pytest.raises(ValueError, match="LineType.Cl"):
+        LineType(EA=1e5, mass=0.69, diameter=D, Cl=-0.1)
+
+
+def deck_copy(folder, path, *extra):
+    """MoorDyn's deck ``path`` (and the files ``extra`` of its folder) copied to folder."""
+    for name in (path,) + extra:
+        out = folder / Path(name).name
+        out.write_bytes(MIRROR.read(str(Path(path).parent / Path(name).name)))
+    return folder / Path(path).name
+
+
+@needs_mirror
+@pytest.mark.filterwarnings("ignore")
+def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
+    """rotatingBody.txt's eleventh line-type column is Cl = 0.05 alone: dF and cF take
+    MoorDyn's documented defaults 0.08 and 0.18 (docs/inputs.rst), and the deck runs."""
+    from skmoor.run import simulate
+
+    model = skmoor.build(deck_copy(tmp_path, "tests/Mooring/body_tests/rotatingBody.txt"),
+                         rotations="exact")
+    types = {(ln.line_type.Cl, ln.line_type.viv_dF, ln.line_type.viv_cF)
+             for ln in model.network.lines}
+    assert types == {(0.05, 0.08, 0.18)}
+    results = simulate(model, duration=0.2, dt=0.01, progress=False, start="given")
+    assert results.t[-1] == pytest.approx(0.2) and np.isfinite(results.displacement).all()
