@@ -274,12 +274,13 @@ def test_viv_deck_against_moordyn(tmp_path, monkeypatch):
     IC solve sees no current) with the current on from t = 0, over 8 to 12 s: the
     fairlead tension's period within 0.01 s of MoorDyn's and of MoorDyn's own test's
     target 1 / (2 x 1.04 Hz) = 0.4808 s (tests/viv.cpp, which checks 0.01 s after 10 s),
-    the largest cross-flow amplitude within 10 % of MoorDyn's, the mean tension within
-    1 %. Measured: 0.478 s against 0.481 s, 0.33 d against 0.35 d. The lift does not lock
+    the largest cross-flow amplitude within 5 % of MoorDyn's and every node's within
+    0.03 d, the mean tension within 1 %. Measured: 0.4801 s against 0.4806 s, 0.342 d
+    against 0.350 d (nodes within 0.013 d), 69.87 N against 69.68 N. The lift does not lock
     at the Strouhal frequency cF U / d = 1.5 Hz (a tension period of 0.333 s) but at a
     riser mode of 1.04 Hz inside the synchronization band (cF -+ dF) U / d = 0.83 to
     2.17 Hz: the motion's frequency is checked in that band, off the Strouhal one.
-    About 4 min (skmoor ~2.5 min, MoorDyn ~1.5 min)."""
+    About 5 min (skmoor's 2400 steps at 8 to 60 ms: see docs/api/hydro.md; MoorDyn 1 min)."""
     from skmoor.deck import read_deck
     from skmoor.deck_model import deck_network
     from skmoor.model import from_network
@@ -311,7 +312,8 @@ def test_viv_deck_against_moordyn(tmp_path, monkeypatch):
     assert (cF - dF) * speed / D < 1 / (2 * period) < (cF + dF) * speed / D
     assert abs(1 / (2 * period) - cF * speed / D) > 0.3  # not at the Strouhal frequency
     assert tension.mean() == pytest.approx(tension_md[late_md].mean(), rel=0.01)
-    crossflow = 0.5 * np.ptp(results.displacement[late, :, 1], axis=0).max()
-    crossflow_md = 0.5 * np.ptp(nodes_md[late_md, :, 1], axis=0).max()
-    assert crossflow == pytest.approx(crossflow_md, rel=0.1)
-    assert crossflow_md > 0.2 * D  # the riser does vibrate
+    crossflow = 0.5 * np.ptp(results.displacement[late, :, 1], axis=0)  # per node, m
+    crossflow_md = 0.5 * np.ptp(nodes_md[late_md, :, 1], axis=0)
+    assert crossflow.max() == pytest.approx(crossflow_md.max(), rel=0.05)
+    assert np.abs(crossflow - crossflow_md).max() < 0.03 * D
+    assert crossflow_md.max() > 0.2 * D  # the riser does vibrate
