@@ -85,6 +85,7 @@ from .network import Body, MooringLine, Network, Point, moordyn_rotation
 from . import rods
 from .rods import RodLoad, RodType, SpinLoad, spring_weight
 from .sea_files import deck_bathymetry, deck_sea
+from .viv import RMS_STEPS
 from .seabed import Seabed
 
 __all__ = ["deck_network", "heave_motion", "read_motion", "default_time_step"]
@@ -372,6 +373,8 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
                           motion=_network_motion(deck, motion), surface=True)
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
+    if "dtM" in deck.options:  # MoorDyn's VIV rms runs over 500 of its steps dtM
+        network.viv_rms_time = RMS_STEPS * deck.option("dtM")
     if seabed and lines:  # the lines' bed (the rods' is their own, above)
         network.seabed = _seabed(deck, network, bathymetry)
     dt_out = deck.option("dtOut") or None

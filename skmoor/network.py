@@ -170,7 +170,9 @@ class Network:
     ~30 s each, cached on disk: for time integration). P1 lines have compiled kernels.
     surface: the lines' parts above the free surface lose their buoyancy and drag
     (:mod:`skmoor.surface`, on ``form_path``; MoorDyn's decks have it); off by default:
-    the lines are taken as submerged.
+    the lines are taken as submerged. viv_rms_time: the time constant (s) of the VIV
+    lift's running mean squares (:class:`~skmoor.viv.VortexLift`; None: its default; a
+    MoorDyn deck sets 500 of its steps dtM).
     """
 
     points: list
@@ -186,6 +188,7 @@ class Network:
     motion: object = None
     form_path: str = "auto"
     surface: bool = False
+    viv_rms_time: float | None = None
     notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
 
     def __post_init__(self):
@@ -541,7 +544,8 @@ def build_system(network: Network, positions: dict | None = None):
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
         terms += line_terms(lineset, network.sea, path=network.form_path)
     if network.hydro and any(ln.line_type.Cl > 0 for ln in network.lines):
-        terms.append(VortexLift(lineset, network.sea))
+        terms.append(VortexLift(lineset, network.sea, **(
+            {} if network.viv_rms_time is None else {"rms_time": network.viv_rms_time})))
     if network.surface and lines:
         terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,
                                  path=network.form_path))

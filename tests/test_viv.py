@@ -135,7 +135,8 @@ def deck_copy(folder, path, *extra):
 @pytest.mark.filterwarnings("ignore")
 def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
     """rotatingBody.txt's eleventh line-type column is Cl = 0.05 alone: dF and cF take
-    MoorDyn's documented defaults 0.08 and 0.18 (docs/inputs.rst), and the deck runs."""
+    MoorDyn's documented defaults 0.08 and 0.18 (docs/inputs.rst), the running mean
+    squares its 500 steps of dtM = 0.5 ms, and the deck runs."""
     from skmoor.run import simulate
 
     model = skmoor.build(deck_copy(tmp_path, "tests/Mooring/body_tests/rotatingBody.txt"),
@@ -143,6 +144,8 @@ def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
     types = {(ln.line_type.Cl, ln.line_type.viv_dF, ln.line_type.viv_cF)
              for ln in model.network.lines}
     assert types == {(0.05, 0.08, 0.18)}
+    lift = next(t for t in model.system.line_terms if isinstance(t, VortexLift))
+    assert lift.rms_time == pytest.approx(500 * 5e-4)  # MoorDyn's 500 steps of its dtM
     results = simulate(model, duration=0.2, dt=0.01, progress=False, start="given")
     assert results.t[-1] == pytest.approx(0.2) and np.isfinite(results.displacement).all()
 
@@ -280,7 +283,8 @@ def test_viv_deck_against_moordyn(tmp_path, monkeypatch):
     at the Strouhal frequency cF U / d = 1.5 Hz (a tension period of 0.333 s) but at a
     riser mode of 1.04 Hz inside the synchronization band (cF -+ dF) U / d = 0.83 to
     2.17 Hz: the motion's frequency is checked in that band, off the Strouhal one.
-    About 5 min (skmoor's 2400 steps at 8 to 60 ms: see docs/api/hydro.md; MoorDyn 1 min)."""
+    3 to 8 min (skmoor's 2400 steps, the later ones 4 to 8 times the cost of the first:
+    see docs/api/hydro.md; MoorDyn about 1/3 of it)."""
     from skmoor.deck import read_deck
     from skmoor.deck_model import deck_network
     from skmoor.model import from_network
