@@ -70,9 +70,9 @@ A Coupled rod is a coupled body ``rodN`` at end A (its 6 coupled DOFs: end A's
 position and MoorDyn's angles Rx Ry Rz turning the deck's axis), carrying its RodLoad
 for :func:`skmoor.rods.coupled_reaction`.
 
-Refused, with the deck line and the reason: mass or volume on a point of a fixed or
-coupled body, a free body whose summed mass matrix is singular, VIV (Cl > 0), MoorDyn-F's
-WaterKin file.
+A line type's Cl > 0 (with dF, cF) adds the VIV lift (:mod:`skmoor.viv`). Refused, with
+the deck line and the reason: mass or volume on a point of a fixed or coupled body, a free
+body whose summed mass matrix is singular, MoorDyn-F's WaterKin file.
 """
 from __future__ import annotations
 
@@ -91,6 +91,7 @@ from .network import Body, MooringLine, Network, Point, moordyn_rotation
 from . import rods
 from .rods import RodLoad, RodType, SpinLoad, spring_weight
 from .sea_files import deck_bathymetry, deck_sea
+from .viv import RMS_STEPS
 from .seabed import Seabed
 
 __all__ = ["deck_network", "heave_motion", "read_motion", "default_time_step"]
@@ -105,9 +106,10 @@ def line_type_of(deck: Deck, line) -> LineType:
     its internal damping BA, which MoorDyn sets per line from -zeta)."""
     name = line.type
     t = deck.line_types[name]
-    if t.viv and t.viv[0] > 0:
-        raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {t.viv[0]:g}: vortex-induced "
-                    "vibration is not supported")
+    Cl, dF, cF = (t.viv + (0.08, 0.18))[:3] if t.viv else (0.0, 0.08, 0.18)  # MoorDyn's defaults
+    if Cl < 0:
+        raise _fail(deck, t.where, f"LINE TYPES {name}: Cl = {Cl:g}: the VIV lift "
+                    "coefficient must be >= 0")
     law = _syrope_law(deck, t, line) if t.syrope else _law(deck, t, line)
     BA = _internal_damping(deck, line)
     if isinstance(law, laws.StaticDynamic):
@@ -116,7 +118,7 @@ def line_type_of(deck: Deck, line) -> LineType:
         BA = 0.0  # both dampers are the law's (skmoor.creep)
     return LineType(EA=t.EA, mass=t.mass, diameter=t.diameter, Cd_n=t.Cd, Cd_t=t.CdAx,
                     Ca_n=t.Ca, Ca_t=t.CaAx, BA=BA, rho_water=deck.rho, g=deck.g, law=law,
-                    EI=t.EI)
+                    EI=t.EI, Cl=Cl, viv_dF=dF, viv_cF=cF)
 
 
 def _law(deck: Deck, t, line):
@@ -443,6 +445,8 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
                           motion=_network_motion(deck, motion), surface=True)
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
+    if "dtM" in deck.options:  # MoorDyn's VIV rms runs over 500 of its steps dtM
+        network.viv_rms_time = RMS_STEPS * deck.option("dtM")
     if seabed and lines:  # the lines' bed (the rods' is their own, above)
         network.seabed = _seabed(deck, network, bathymetry)
     dt_out = deck.option("dtOut") or None

@@ -39,6 +39,8 @@ class LineType:
     secant (MoorDyn's EA of a curve), which stands for the law where one number is needed.
     EI: bending stiffness, N m2 (MoorDyn's EI; 0: a cable on P1 elements, > 0: the line
     goes on the C1 Hermite element with the bending form, :mod:`skmoor.bending`).
+    Cl, viv_dF, viv_cF: the cross-flow VIV lift coefficient and the synchronization
+    range and centre (MoorDyn's Cl, dF, cF; Cl = 0: no VIV, see :mod:`skmoor.viv`).
     """
 
     EA: float | None
@@ -54,6 +56,9 @@ class LineType:
     g: float = G
     law: object = None
     EI: float = 0.0
+    Cl: float = 0.0
+    viv_dF: float = 0.08
+    viv_cF: float = 0.18
 
     def __post_init__(self):
         if self.law is not None:
@@ -65,12 +70,15 @@ class LineType:
                                  "whose last secant stands for it")
         for name in ("EA", "mass", "diameter"):
             check_positive(f"LineType.{name}", getattr(self, name))
-        for name in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "rho_water", "g", "EI"):
+        for name in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "rho_water", "g", "EI", "Cl",
+                     "viv_dF", "viv_cF"):
             check_finite(f"LineType.{name}", getattr(self, name))
         if self.BA < 0:
             raise ValueError(f"LineType.BA: internal damping must be >= 0 N s, got {self.BA}")
         if self.EI < 0:
             raise ValueError(f"LineType.EI: bending stiffness must be >= 0 N m2, got {self.EI}")
+        if self.Cl < 0:
+            raise ValueError(f"LineType.Cl: the VIV lift coefficient must be >= 0, got {self.Cl}")
         if self.weight is None:
             self.weight = (self.mass - self.rho_water * self.area) * self.g
         check_finite("LineType.weight", self.weight)

@@ -36,6 +36,7 @@ from .checks import carries_strain
 from .coupling import Ends, PointMass, System
 from .creep import CreepTerm, has_creep
 from .hydro import line_terms
+from .viv import VortexLift
 from .surface import SurfaceTerm
 from .laws import Engineering
 from .line import Line, LineSet, LineType
@@ -171,7 +172,9 @@ class Network:
     ~30 s each, cached on disk: for time integration). P1 lines have compiled kernels.
     surface: the lines' parts above the free surface lose their buoyancy and drag
     (:mod:`skmoor.surface`, on ``form_path``; MoorDyn's decks have it); off by default:
-    the lines are taken as submerged.
+    the lines are taken as submerged. viv_rms_time: the time constant (s) of the VIV
+    lift's running mean squares (:class:`~skmoor.viv.VortexLift`; None: its default; a
+    MoorDyn deck sets 500 of its steps dtM).
     """
 
     points: list
@@ -187,6 +190,7 @@ class Network:
     motion: object = None
     form_path: str = "auto"
     surface: bool = False
+    viv_rms_time: float | None = None
     notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
 
     def __post_init__(self):
@@ -541,6 +545,9 @@ def build_system(network: Network, positions: dict | None = None):
     if network.hydro and any(getattr(ln.line_type, c) for ln in network.lines
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
         terms += line_terms(lineset, network.sea, path=network.form_path)
+    if network.hydro and any(ln.line_type.Cl > 0 for ln in network.lines):
+        terms.append(VortexLift(lineset, network.sea, **(
+            {} if network.viv_rms_time is None else {"rms_time": network.viv_rms_time})))
     if network.surface and lines:
         terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,
                                  path=network.form_path))

@@ -3,10 +3,11 @@ rotations='exact' and MoorDyn v2 side by side while a line drags a body point ov
 (pitch -90 deg, the gimbal lock of skmoor's angles), then sideways and back.
 
 The deck is read from the local mirror of MoorDyn's repository (skipped without it) and
-changed, the same for both codes, in its line type only: its eleventh column (MoorDyn
-reads it as the VIV lift coefficient Cl; skmoor has no VIV) dropped, and its drag and
-added-mass coefficients set to 0 (everything sits at z = 5 m, above the water, where
-MoorDyn's lines have no hydrodynamics and skmoor's would). Its body: 10 kg, inertia 5 kg m2,
+changed, the same for both codes, in its line type only: its drag and added-mass
+coefficients set to 0 (everything sits at z = 5 m, above the water, where MoorDyn's lines
+have no hydrodynamics and skmoor's dry lines keep their added mass: with them the two
+part by 0.2 m and 157 deg). Its eleventh column, the VIV lift coefficient Cl = 0.05, is
+kept: both codes read it and give the dry lines no lift (skmoor.viv). Its body: 10 kg, inertia 5 kg m2,
 held at its centre by six taut lines; line 7 (13.76 kg/m, 1 m) from the body point 8 at
 (1, 0, 0) to the coupled point 9.
 
@@ -50,7 +51,8 @@ pytestmark = pytest.mark.skipif(MIRROR is None, reason=NO_MIRROR)
 DECK = "tests/Mooring/body_tests/rotatingBody.txt"
 LINE_TYPE = ("nylon      0.124      13.76    25152.0     -0.4      0.0   0.0   1.0   0.0  1.6"
              "   0.05")
-NO_HYDRO = "nylon      0.124      13.76    25152.0     -0.4      0.0   0.0   0.0   0.0  0.0"
+NO_HYDRO = ("nylon      0.124      13.76    25152.0     -0.4      0.0   0.0   0.0   0.0  0.0"
+            "   0.05")
 CENTER, RADIUS = np.array([0.0, 0.0, 5.0]), 2.0
 QUARTER, HOLD = 2.0, 0.5
 T_END = 3 * (QUARTER + HOLD)
