@@ -11,7 +11,7 @@ sea input and VolturnUS-S in validate_sea.py. A check whose input is not on the 
 (MoorDyn's or the IEA repository's mirror) is listed as not run.
 
 Run: ``python benchmarks/validate.py [--quick] [--out docs/validation.md]``
-(--quick leaves out the slow checks: about 12 s instead of about 60 s on 2 cores). Exit
+(--quick leaves out the slow checks: about 12 s instead of about 4.5 min on 2 cores). Exit
 status 1 if a check fails.
 """
 from __future__ import annotations
