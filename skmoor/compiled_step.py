@@ -264,8 +264,7 @@ def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, 
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         it = _advance(x, v, a, force, h, scheme, tol, maxiter, model,
-                      (loads[i], pres_u[i], pres_v[i], driven[i]), factors, state, work,
-                      x1)
+                      (loads[i], pres_u[i], pres_v[i]), driven[i], factors, state, work, x1)
         if it <= 0:
             return i, it
         iterations[i] = it
@@ -584,7 +583,7 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
     am, af, beta, gamma = scheme
     (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
      products, M, C, damped, width) = model
-    loads, pres_u, pres_v, driven = inputs
+    loads, pres_u, pres_v = inputs
     R, a1, v1, Ma, Cv = work[7], work[9], work[10], work[11], work[12]
     for i in range(y.size):
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
@@ -592,8 +591,6 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
     if not _residual(y, v1, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
                      bodies, loads, prescribed_dofs, pres_u, pres_v, tangent, work, R):
         return SURFACE
-    for i in range(driven.size):  # M_fp a_p: a load given in time, like the bodies' loads
-        R[i] += driven[i]
     _product(products[0], a1, Ma)
     if damped:
         _product(products[1], v1, Cv)
@@ -628,9 +625,10 @@ def _solve(B, factors, width):
 
 
 @njit(cache=True)
-def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, factors, state,
-             work, x1):
-    """One step of ``dynamics.integrate`` (its ``advance``), x1 the solution: modified
+def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driven, factors,
+             state, work, x1):
+    """One step of ``dynamics.integrate`` (its ``advance``) with the prescribed ends'
+    inertia on the free DOFs ``driven`` (M_fp a_p, N; empty: none), x1 the solution: modified
     Newton from constant acceleration, and when that fails full Newton with the
     backtracking line search from constant velocity. Returns the iterations used, 0 when
     Newton does not converge in maxiter, -1 when a correction is not finite."""
@@ -642,6 +640,8 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, fact
     B, Ma = work[8], work[11]
     _product(model[10][0], a0, Ma)
     inertia_old = am * Ma + af * force_old
+    for i in range(driven.size):  # M_fp a_p at t1: a load given in time, at the alpha_f
+        inertia_old[i] += (1 - af) * driven[i]  # level as R (constant over the iterations)
     if state[1] != h:  # a factorization of another step's matrix: make a new one
         state[0] = 0.0
         state[1] = h
