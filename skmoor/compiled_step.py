@@ -303,13 +303,13 @@ def _held_inertia(system):
 def _less_held_inertia(held, a, driven, ends):
     """ends[slots] -= M[e] P0 a + M[e, p] driven (N) for held = (slots, M[e] P0, M[e, p])
     in CSR (a: reduced accelerations, driven: the prescribed ends', m/s2)."""
-    slots, on_free, on_driven = held
+    slots, (free, free_columns, free_rows), (held_on, held_columns, held_rows) = held
     for j in range(slots.size):
         s = 0.0
-        for A, y in ((on_free, a), (on_driven, driven)):
-            data, indices, indptr = A
-            for k in range(indptr[j], indptr[j + 1]):
-                s += data[k] * y[indices[k]]
+        for k in range(free_rows[j], free_rows[j + 1]):
+            s += free[k] * a[free_columns[k]]
+        for k in range(held_rows[j], held_rows[j + 1]):
+            s += held_on[k] * driven[held_columns[k]]
         ends[slots[j]] -= s
 
 
