@@ -60,9 +60,11 @@ class Equilibrium:
 
 def static_state(system, x0=None, held=None):
     """The static solution of a System: Newton from the reference state, then with load
-    continuation, then also with a vanishing tension stiffness (for slack lines). held:
+    continuation, then also with a vanishing tension stiffness (for slack lines), then as
+    a pseudo-transient march on the mass matrix (networks whose Newton wanders). held:
     reduced DOFs kept where x0 has them."""
-    attempts = [dict(), dict(steps=8), dict(steps=8, pretension=_pretension(system))]
+    attempts = [dict(), dict(steps=8), dict(steps=8, pretension=_pretension(system)),
+                dict(relax=True, maxiter=300)]
     error = None
     for options in attempts:
         try:

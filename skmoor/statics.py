@@ -23,14 +23,19 @@ class StaticSolution:
 
 
 def newton(residual, x0, *, xtol=1e-9, maxiter=60, shift=None, shift_matrix=None,
-           where="static solve"):
+           relax_matrix=None, where="static solve"):
     """Solve residual(x) = (R, K) = 0 from x0 with a backtracking line search.
 
     shift_matrix (sparse, n x n) times ``shift`` is added to the tangent, cut tenfold
     each iteration and gone after six: with the
     geometric stiffness of a unit tension and a shift of the order of the expected
     tension, Newton starts from a slack, stress-free line whose own tangent is singular.
-    Converged when max |dx| < xtol (m or rad) in a step without shift.
+    relax_matrix (sparse, n x n: the mass matrix): pseudo-transient continuation, the
+    tangent K + c M with c (1/s^2) first a hundredth of K's over M's largest diagonal and
+    then scaled by each iteration's residual ratio |R_k| / |R_k-1| (switched evolution
+    relaxation, Mulder & van Leer 1985) until it is 1e-8 of its start and dropped: a
+    damped march towards the equilibrium far from it, Newton near it.
+    Converged when max |dx| < xtol (m or rad) in a step without shift or relaxation.
     """
     x = np.array(x0, float)
     if x.size == 0:  # nothing free (a network of coupled objects alone)
@@ -38,8 +43,15 @@ def newton(residual, x0, *, xtol=1e-9, maxiter=60, shift=None, shift_matrix=None
     R, K = residual(x)
     shift = float(shift or 0.0)
     floor = shift * 1e-6
+    relax = relax_floor = 0.0
+    if relax_matrix is not None:
+        ratio = np.abs(K.diagonal()).max() / max(np.abs(relax_matrix.diagonal()).max(), 1e-300)
+        relax, relax_floor = 1e-2 * ratio, 1e-10 * ratio
+    norm = np.linalg.norm(R)
     for it in range(1, maxiter + 1):
         A = K + shift * shift_matrix if shift > 0 else K
+        if relax > 0:
+            A = A + relax * relax_matrix
         with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore", spla.MatrixRankWarning)
             try:
@@ -51,9 +63,13 @@ def newton(residual, x0, *, xtol=1e-9, maxiter=60, shift=None, shift_matrix=None
                                    "slack and weightless, or a DOF unrestrained? (a static "
                                    "solve from a slack line takes pretension=...)")
         _step, (x_try, R_try, K_try) = line_search(residual, x, R, dx)
-        converged = shift == 0 and np.max(np.abs(dx)) < xtol
+        converged = shift == 0 and relax == 0 and np.max(np.abs(dx)) < xtol
         x, R, K = x_try, R_try, K_try
         shift = shift * 0.1 if shift * 0.1 >= floor else 0.0
+        if relax > 0:
+            norm, previous = np.linalg.norm(R), norm
+            relax = relax * norm / previous if np.isfinite(norm) else relax
+            relax = relax if relax >= relax_floor else 0.0
         if converged:
             return StaticSolution(x, it, float(np.max(np.abs(R))))
     raise ConvergenceError(f"{where}: no convergence in {maxiter} iterations "
@@ -86,7 +102,7 @@ def line_search(residual, x, R, dx, maxeval=10):
 
 
 def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
-                 pretension=None, held=None):
+                 pretension=None, held=None, relax=False):
     """Static equilibrium of a :class:`~skmoor.coupling.System` at time t.
 
     steps > 1 ramps the weight and the body's static load in equal increments (load
@@ -94,7 +110,9 @@ def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
     tension stiffness that lets Newton start from a slack, stress-free line (use about
     the line's weight); it is removed before convergence, so it does not change the
     answer. held: indices of reduced DOFs kept at their x0 values (e.g. free points held
-    where they are given, to release them from there).
+    where they are given, to release them from there). relax: pseudo-transient
+    continuation on the system's mass matrix (see :func:`newton`), for networks whose
+    plain Newton wanders; it too is gone before convergence.
 
     The lines' static laws act here (:class:`skmoor.laws.StaticDynamic`: the static
     stiffness); the solution (without held DOFs: the equilibrium of the whole network)
@@ -107,7 +125,8 @@ def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
     lines.use_static_laws(True)
     try:
         try:
-            solution = _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held)
+            solution = _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held,
+                                     relax)
         except ConvergenceError:
             if not lines.tension_only:
                 raise
@@ -144,13 +163,14 @@ def _soft_compression(system, x0, steps, t, xtol, maxiter, pretension, held):
     return solution
 
 
-def _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held):
+def _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held, relax=False):
     x = np.zeros(system.n) if x0 is None else np.array(x0, float)
     keep = np.setdiff1d(np.arange(system.n), [] if held is None else held)
     G = None
     if pretension:
         P = system.P(x)
         G = (P.T @ system.lines.unit_tension_stiffness() @ P).tocsr()[keep][:, keep]
+    M = system.M.tocsr()[keep][:, keep] if relax else None
     total = 0
     for k in range(1, steps + 1):
         factor = k / steps
@@ -162,7 +182,8 @@ def _solve_static(system, x0, steps, t, xtol, maxiter, pretension, held):
             return R[keep], K.tocsr()[keep][:, keep]
 
         sol = newton(residual, x[keep], xtol=xtol, maxiter=maxiter, shift=pretension,
-                     shift_matrix=G, where=f"static solve, load step {k}/{steps}")
+                     shift_matrix=G, relax_matrix=M,
+                     where=f"static solve, load step {k}/{steps}")
         x = x.copy()
         x[keep] = sol.x
         total += sol.iterations

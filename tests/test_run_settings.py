@@ -3,7 +3,6 @@ silent, nothing lost): bad settings refused by name, a coarse step warned about 
 numbers, the folder checked before the solve, a crash or Ctrl-C keeps the rows computed."""
 import json
 import math
-import time
 from pathlib import Path
 
 import numpy as np
@@ -32,13 +31,15 @@ def test_bad_run_settings_are_refused_by_name(paper, name, value):
 @pytest.mark.parametrize("flag, value", [("--duration", "0"), ("--duration", "-5"),
                                          ("--duration", "inf"), ("--dt", "0"),
                                          ("--dt", "nan"), ("--output-interval", "0")])
-def test_bad_run_settings_on_the_command_line(tmp_path, capsys, flag, value):
-    started = time.perf_counter()
+def test_bad_run_settings_on_the_command_line(tmp_path, capsys, monkeypatch, flag, value):
+    def no_run(*args, **kwargs):
+        raise AssertionError("ran before refusing the setting")
+
+    monkeypatch.setattr("skmoor.run._starting_equilibrium", no_run)
     code = cli.main(["run", "--out", str(tmp_path / "out"), flag, value, "--quiet"])
     assert code == 2
     err = capsys.readouterr().err
     assert flag.lstrip("-").replace("-", "_") in err and "must be a finite number" in err
-    assert time.perf_counter() - started < 20  # refused before the run, not after it
     assert not (tmp_path / "out" / "summary.json").exists()
 
 
@@ -69,16 +70,19 @@ class warnings_as_errors:
         return self._catch.__exit__(*exc)
 
 
-def test_output_folder_is_checked_before_the_solve(tmp_path):
+def test_output_folder_is_checked_before_the_solve(tmp_path, monkeypatch):
     a_file = tmp_path / "taken"
     a_file.write_text("not a folder")
     for out, why in ((a_file, "is a file"), (a_file / "below", "is a file"),
                      ("/proc/skmoor-cannot-be-here", "cannot write there")):
         with pytest.raises(ValueError, match=why):
             prepare_output(out)
-    started = time.perf_counter()
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("ran before refusing the output folder")
+
+    monkeypatch.setattr("skmoor.run._starting_equilibrium", no_run)
     assert cli.main(["run", "--out", str(a_file), "--quiet"]) == 2
-    assert time.perf_counter() - started < 20
 
 
 def test_a_reused_folder_is_left_clean(tmp_path):
