@@ -214,3 +214,17 @@ def test_hull_mesh_is_read_for_the_draft(tmp_path):
     missing = base.replace("body.hull", str(tmp_path / "none.stl"))
     with pytest.raises(ValueError, match="body.hull: no such mesh file"):
         skmoor.build(missing)
+
+
+def test_relaxed_static_solve_reaches_the_networks_equilibrium():
+    """Pseudo-transient continuation from the given positions of the two-buoy network
+    (where plain Newton wanders): the residual vanishes, the static tangent there is
+    positive definite (a stable equilibrium, not a saddle Newton may land on)."""
+    model = skmoor.from_network(network_two_bodies())
+    system = model.system
+    from skmoor.statics import solve_static
+
+    static = solve_static(system, relax=True, maxiter=300)
+    R, K, _ = system.residual(static.x, layout="dense")
+    assert np.max(np.abs(R)) < 1e-3
+    assert np.linalg.eigvalsh(0.5 * (K + K.T)).min() > 0
