@@ -25,8 +25,8 @@ for _path in (ROOT, ROOT / "tests"):  # skmoor from the source tree, the peers' 
     if str(_path) not in sys.path:
         sys.path.insert(0, str(_path))
 
-from skmoor.catenary import solve_catenary  # noqa: E402
-from skmoor.line import LineType  # noqa: E402
+from skmoor.lines.catenary import solve_catenary
+from skmoor.lines.line import LineType
 
 CHAIN = dict(diameter=0.252, mass=390.0, EA=1.674e9)
 HYDRO = dict(Cd_n=1.37, Ca_n=1.0, Cd_t=0.64, Ca_t=0.0)  # MoorDyn's Cd, Ca, CdAx, CaAx

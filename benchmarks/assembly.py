@@ -12,9 +12,9 @@ import timeit
 
 import numpy as np
 
-from skmoor.catenary import solve_catenary
-from skmoor.kernels import CableKernel
-from skmoor.line import Line, LineSet, LineType
+from skmoor.lines.catenary import solve_catenary
+from skmoor.lines.cable_kernel import CableKernel
+from skmoor.lines.line import Line, LineSet, LineType
 
 ELEMENTS = (11, 100, 1_000, 10_000)
 

@@ -23,7 +23,7 @@ if not os.environ.get("PYTHONPATH"):  # skmoor from this source tree
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import skmoor  # noqa: E402
-from skmoor.case import paper_case  # noqa: E402
+from skmoor.io.case import paper_case
 
 
 def timed_run(rotations: str, duration: float) -> float:

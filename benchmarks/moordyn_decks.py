@@ -624,7 +624,7 @@ def skmoor_worker(deck: Path) -> dict:
     started = time.perf_counter()
     try:
         import skmoor
-        from skmoor.sea_files import deck_bathymetry, still_water
+        from skmoor.io.sea_files import deck_bathymetry, still_water
 
         parsed, sea = skmoor.read_deck(deck), None  # None: the deck's own water
         if parsed.option("Currents", 0):  # still water, as MoorDyn's IC solve has it
@@ -1089,7 +1089,7 @@ def markdown(outcomes, info) -> str:
         f"(mean acceleration per state) is at most {SETTLED:g} m/s2. "
         "skmoor: its static equilibrium with the coupled objects at the same positions, "
         "in still water for a deck with Currents (MoorDyn 2.7.2's IC solve runs without "
-        "them: `skmoor.sea_files.still_water`). "
+        "them: `skmoor.io.sea_files.still_water`). "
         "Tension at end B (the deck's AttachB) per line, kN, `line: skmoor / MoorDyn`; "
         "MoorDyn's value is the end node's net force `|GetLineNodeForce(line, N)|`, the "
         "line's pull on its end point (last segment's tension plus the end node's "

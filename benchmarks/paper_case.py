@@ -54,7 +54,7 @@ import moordyn  # noqa: E402
 from peers import chain_length_for, condensed_line_stiffness  # noqa: E402
 
 import skmoor  # noqa: E402
-from skmoor.model import line_type  # noqa: E402
+from skmoor.model.model import line_type
 
 TOLERANCE = 0.01  # of the reference's fairlead tension range
 SAMPLE = 0.1  # s, comparison grid
@@ -140,7 +140,7 @@ class CoupledBody:
 
     def fairleads(self, q, qdot):
         """Fairlead positions (4, 3) and velocities, m and m/s, and the Jacobians."""
-        R, dR = skmoor.body.rotation_and_slopes(q[3:])
+        R, dR = skmoor.bodies.body.rotation_and_slopes(q[3:])
         J = np.zeros((len(self.r_local), 3, 6))
         J[:, :, :3] = np.eye(3)
         J[:, :, 3:] = np.einsum("akl,nl->nka", dR, self.r_local)

@@ -52,13 +52,14 @@ import numpy as np  # noqa: E402
 from _cases import (CBOT, CHAIN, DEPTH, KBOT, ROOT, chain_catenary, chain_type,  # noqa: E402
                     heave, heave_at, inside, line_deck, quiet)
 import steps  # noqa: E402
-from skmoor.coupling import System  # noqa: E402
-from skmoor.dynamics import DivergenceError, Scheme, integrate  # noqa: E402
-from skmoor.hydro import line_hydrodynamics  # noqa: E402
-from skmoor.line import Line, LineSet  # noqa: E402
-from skmoor.motion import Motion  # noqa: E402
-from skmoor.seabed import Seabed, seabed_term  # noqa: E402
-from skmoor.statics import solve_static  # noqa: E402
+from skmoor.coupling.system import System
+from skmoor.solvers.newton import DivergenceError
+from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.sea.hydro import line_hydrodynamics
+from skmoor.lines.line import Line, LineSet
+from skmoor.bodies.motion import Motion
+from skmoor.sea.seabed import Seabed, seabed_term
+from skmoor.solvers.statics import solve_static
 
 SEGMENTS = (10, 20, 50, 100, 200)
 DURATION = 20.0  # s

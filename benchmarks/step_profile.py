@@ -2,7 +2,7 @@
 grouped into the compiled element kernels, the linear algebra (factorizations and solves),
 the Python glue of the residual and of Newton, and the recording of the outputs.
 
-Each with the Python step and with the compiled Newton step (``skmoor.compiled_step``,
+Each with the Python step and with the compiled Newton step (``skmoor.solvers.compiled_step``,
 the default where it covers the system). Two systems: the paper's case (4 lines x 11 elements and the box: 126 unknowns, dense LU)
 and the VolturnUS-S chain mooring of benchmarks/volturnus.py (3 x 50 segments, prescribed
 fairleads, banded LU) at the paper's default step (50 ms) and at the step 1 % accuracy

@@ -2,11 +2,11 @@
 
 The term: Morison drag on a line in still water, the true follower drag on the CURRENT
 unit tangent tau = (X' + u') / |X' + u'|, normal and tangential (MoorDyn's conventions,
-as skmoor.hydro has them): per unit unstretched length
+as skmoor.sea.hydro has them): per unit unstretched length
 
     f = -1/2 rho Cd_n d |v_n| v_n - 1/2 rho Cd_t (pi d) |v_t| v_t,   v = udot,
 
-written below as a plain scikit-fem ``LinearForm`` with ``skmoor.ops`` (its residual
+written below as a plain scikit-fem ``LinearForm`` with ``skmoor.fem.ops`` (its residual
 alone; per unit reference length, so times w.m / mass, the reference stretch's inverse,
 as hydro.coefficients does). It is evaluated (residual + d/du + d/dudot, into the element
 blocks, ``term.add_to``) on
@@ -16,7 +16,7 @@ blocks, ``term.add_to``) on
 - 'autodiff': scikit-fem's skfem.autodiff (JAX linearization on its assembly);
 - 'compiled': the integrand traced by JAX, written out and compiled by numba,
 
-against the built-in numba kernel (skmoor.hydro.LineHydroKernel, same Cd_n, Cd_t, the
+against the built-in numba kernel (skmoor.sea.hydro.LineHydroKernel, same Cd_n, Cd_t, the
 same Gauss points) on the paper's steel line (analytic catenary, d/l = 1/60) cut into
 11 ... 10,000 elements, at a random state (u ~ 1 mm, udot ~ 0.5 m/s). Times are the best
 of nine rounds (timeit), the paths and the built-in alternated in each round, after a
@@ -54,12 +54,12 @@ import scipy.sparse as sp  # noqa: E402
 from skfem import BilinearForm, LinearForm  # noqa: E402
 
 import skmoor  # noqa: E402
-from skmoor import ops  # noqa: E402
-from skmoor.catenary import solve_catenary  # noqa: E402
-from skmoor.hydro import LineHydroKernel  # noqa: E402
-from skmoor.line import Line, LineSet, LineType  # noqa: E402
-from skmoor.ops import d_ds, dot  # noqa: E402
-from skmoor.terms import LineForm  # noqa: E402
+from skmoor.fem import ops
+from skmoor.lines.catenary import solve_catenary
+from skmoor.sea.hydro import LineHydroKernel
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.fem.ops import d_ds, dot
+from skmoor.fem.terms import LineForm
 
 ROOT = Path(__file__).resolve().parents[1]
 ELEMENTS = (11, 100, 1_000, 10_000)

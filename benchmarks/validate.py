@@ -130,8 +130,8 @@ def check_paper_draft():
     """The paper's draft from Eq. 1 (weight, buoyancy, four lines' pull)."""
     from test_catenary import G, RHO_WATER, paper_line
 
-    from skmoor.case import paper_case
-    from skmoor.model import build
+    from skmoor.io.case import paper_case
+    from skmoor.model.model import build
 
     draft = build(paper_case()).draft
 
@@ -151,7 +151,7 @@ def check_taut_string():
     """Weightless string (50 elements), T = 1e5 N, m = 10 kg/m, L = 100 m, askew."""
     from test_string_modes import modes_about_reference
 
-    from skmoor.line import Line, LineType
+    from skmoor.lines.line import Line, LineType
 
     T, m, L = 1e5, 10.0, 100.0
     string = LineType(EA=1e9, mass=m, diameter=0.05, weight=0.0)
@@ -173,8 +173,8 @@ def check_sagging_cable():
     first out-of-plane, antisymmetric and symmetric in-plane frequencies."""
     from test_string_modes import irvine_lambda2, modes_about_reference
 
-    from skmoor.catenary import solve_catenary
-    from skmoor.line import Line, LineType
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.lines.line import Line, LineType
 
     rope, span = LineType(EA=4e8, mass=50.0, diameter=0.1), 200.0
     cable = solve_catenary([0.0, 0.0, 0.0], [span, 0.0, 0.0], rope.weight, rope.EA,
@@ -291,9 +291,9 @@ def check_energy_conservation():
     periods with Newmark's average acceleration: largest energy drift / vibration energy."""
     from test_dynamics import paper_line, potential_energy
 
-    from skmoor.coupling import System
-    from skmoor.dynamics import Scheme, integrate
-    from skmoor.modes import eigenmodes
+    from skmoor.coupling.system import System
+    from skmoor.solvers.dynamics import Scheme, integrate
+    from skmoor.solvers.modes import eigenmodes
 
     lines = paper_line()
     system = System(lines, fairleads="fixed")
@@ -319,8 +319,8 @@ def check_energy_conservation():
 def check_time_order():
     """Fairlead of the paper's line driven smoothly for 4 s: observed order of the
     error against a 0.004 s reference, dt = 0.08, 0.04, 0.02 s."""
-    from skmoor.coupling import System
-    from skmoor.dynamics import Scheme, integrate
+    from skmoor.coupling.system import System
+    from skmoor.solvers.dynamics import Scheme, integrate
     from test_dynamics import paper_line
 
     def final_state(dt, scheme):
@@ -385,11 +385,11 @@ def check_orcaflex_chain():
     tensions against OrcaFlex's and against the analytic catenary with touchdown."""
     from test_chain_statics import CASES, CHAIN, l_shaped
 
-    from skmoor.catenary import solve_catenary
-    from skmoor.coupling import System
-    from skmoor.line import Line, LineSet
-    from skmoor.seabed import Seabed, seabed_term
-    from skmoor.statics import solve_static
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.coupling.system import System
+    from skmoor.lines.line import Line, LineSet
+    from skmoor.sea.seabed import Seabed, seabed_term
+    from skmoor.solvers.statics import solve_static
 
     rows = []
     for depth, span, length, fair_kN, anchor_kN in CASES.values():
@@ -428,9 +428,9 @@ def check_chain_dynamics():
 
 
 def check_airy_dispersion():
-    """skmoor.waves.wavenumber against the root of omega^2 = g k tanh(k h) found by brentq,
+    """skmoor.sea.waves.wavenumber against the root of omega^2 = g k tanh(k h) found by brentq,
     a 10 s wave in shallow, intermediate and deep water."""
-    from skmoor.waves import G, wavenumber
+    from skmoor.sea.waves import G, wavenumber
 
     omega = 2 * np.pi / 10.0
     rows = []
@@ -445,7 +445,7 @@ def check_airy_dispersion():
 
 def _string(lt, tension=1e5, length=100.0, n=50):
     """A straight horizontal string along x at 50 m depth with fixed ends, tension T (N)."""
-    from skmoor.line import Line
+    from skmoor.lines.line import Line
 
     return Line.from_polyline(np.linspace([0.0, 0.0, -50.0], [length, 0.0, -50.0], n + 1), lt,
                               tension=tension)
@@ -456,11 +456,11 @@ def check_string_in_current():
     50 elements) across a uniform 1 m/s current: its mid-span deflection against the
     flat-sag string under the drag load q = 1/2 rho Cd d U^2: d = q L^2 / (8 H), its
     stretch (8/3)(d/L)^2 raising the tension to H = T0 + EA (8/3)(d/L)^2 (+12 % here)."""
-    from skmoor.coupling import System
-    from skmoor.hydro import line_hydrodynamics
-    from skmoor.line import LineSet, LineType
-    from skmoor.statics import solve_static
-    from skmoor.waves import Current, Sea
+    from skmoor.coupling.system import System
+    from skmoor.sea.hydro import line_hydrodynamics
+    from skmoor.lines.line import LineSet, LineType
+    from skmoor.solvers.statics import solve_static
+    from skmoor.sea.waves import Current, Sea
 
     T0, EA, L, U = 1e5, 1e8, 100.0, 1.0
     lt = LineType(EA=EA, mass=10.0, diameter=0.1, weight=0.0, Cd_n=1.2)
@@ -478,10 +478,10 @@ def check_string_in_current():
 def check_added_mass_frequency():
     """The taut string (T = 1e5 N, L = 100 m, m = 10 kg/m, d = 0.1 m) with Ca = 1:
     first transverse frequency pi / L sqrt(T / (m + Ca rho pi d^2 / 4))."""
-    from skmoor.coupling import System
-    from skmoor.hydro import line_hydrodynamics
-    from skmoor.line import LineSet, LineType
-    from skmoor.modes import eigenmodes
+    from skmoor.coupling.system import System
+    from skmoor.sea.hydro import line_hydrodynamics
+    from skmoor.lines.line import LineSet, LineType
+    from skmoor.solvers.modes import eigenmodes
 
     T, L = 1e5, 100.0
     lt = LineType(EA=1e12, mass=10.0, diameter=0.1, weight=0.0, Ca_n=1.0)

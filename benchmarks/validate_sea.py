@@ -21,7 +21,7 @@ CAPYTAINE = "Capytaine (BEM), the paper's box on 0.5-1 m panels (meshes/box_hull
 def check_retardation_kernel():
     """The retardation kernel of a damping B(omega) shaped as a triangle of height 2 on
     [0, 2.6] rad/s, at t = 0.1, 1, 7.3 and 40 s."""
-    from skmoor.radiation import retardation_kernel
+    from skmoor.bodies.radiation import retardation_kernel
 
     W, b = 1.3, 2.0
     B = np.zeros((3, 6, 6))
@@ -39,8 +39,8 @@ def check_radiation_memory():
     -A_inf zddot - int K zdot ds over one period against -A(omega) zddot - B(omega) zdot."""
     from test_radiation import DATA
 
-    from skmoor.bem import Hydrodynamics
-    from skmoor.radiation import PotentialFlow
+    from skmoor.bodies.bem import Hydrodynamics
+    from skmoor.bodies.radiation import PotentialFlow
 
     box, dt, Z, heave = Hydrodynamics.load(DATA), 0.05, 0.1, 2
     e = np.eye(6)[heave]
@@ -69,7 +69,7 @@ def check_box_in_regular_waves():
     frequency-domain response of the same linearized network."""
     from test_radiation import DATA, box_in_waves
 
-    from skmoor.bem import Hydrodynamics
+    from skmoor.bodies.bem import Hydrodynamics
 
     with quiet():
         time_domain, frequency_domain, _ = box_in_waves(Hydrodynamics.load(DATA), 1.6,
@@ -88,7 +88,7 @@ def check_capytaine_long_waves():
     from test_bem import CENTRE, DRAFT
 
     from skmoor import bem
-    from skmoor.waves import wavenumber
+    from skmoor.sea.waves import wavenumber
 
     rho, g, omega = 1025.0, 9.81, 0.05
     mesh = cpt.mesh_parallelepiped(size=(26.0, 10.0, 5.0), resolution=(13, 5, 3))
@@ -111,7 +111,7 @@ def check_wavekin3_record():
     folder, read back as the water velocity and acceleration 30 m away, 2-40 m deep."""
     from test_sea_files import GRID, airy, deck_folder, stretched_points
 
-    from skmoor.sea_files import deck_sea
+    from skmoor.io.sea_files import deck_sea
 
     a, period, dt = 0.6, 8.0, 0.25
     omega = 2 * np.pi / period
@@ -226,7 +226,7 @@ def check_paper_case_against_moordyn():
     from test_paper_case_moordyn import DT_SKMOOR, DURATION, SAMPLE, difference, run_moordyn
 
     import skmoor
-    from skmoor.results import BODY_DOFS
+    from skmoor.post.results import BODY_DOFS
 
     with tempfile.TemporaryDirectory() as tmp, inside(tmp), quiet():
         scenario = paper_case.Scenario("moordyn-damping")

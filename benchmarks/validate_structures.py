@@ -34,9 +34,9 @@ def check_beams_euler_bernoulli():
     from test_bending import (EI, L, NodeLoad, P, W, beam_modes, beam_type, cantilever,
                               straight)
 
-    from skmoor.coupling import System
-    from skmoor.line import LineSet
-    from skmoor.statics import solve_static
+    from skmoor.coupling.system import System
+    from skmoor.lines.line import LineSet
+    from skmoor.solvers.statics import solve_static
 
     lines, u = cantilever(8, tip=P)
     tip = -u[lines.nodal_dofs[-1]][2]
@@ -69,7 +69,7 @@ def check_moordyn_beam_decks():
     Mass/m g as in MoorDyn's own check): largest moment and tip sag."""
     from test_bending_decks import deck_file, static_state
 
-    from skmoor.deck import read_deck
+    from skmoor.io.deck import read_deck
 
     _moordyn_mirror()
     EI, EA, L = 1e7, 1.5e9, 10.0
@@ -102,7 +102,7 @@ def check_lowe_langley_jumper():
     lowe_and_langley_2006 deck, static: its end forces against the paper's."""
     from test_bending_decks import JUMPER, deck_file, static_state
 
-    from skmoor.deck import read_deck
+    from skmoor.io.deck import read_deck
 
     _moordyn_mirror()
     with tempfile.TemporaryDirectory() as tmp:
@@ -184,7 +184,7 @@ def check_squat_spar_periods():
     from test_large_rotations import (lone_body_system, spar_periods, squat_spar,
                                       zero_up_periods)
 
-    from skmoor.dynamics import integrate
+    from skmoor.solvers.dynamics import integrate
 
     body, *numbers = squat_spar("exact")
     periods = spar_periods(*numbers)
@@ -225,7 +225,7 @@ def check_symmetric_top():
     10 s at 0.04 s: the rate its axis circles the angular momentum H."""
     from test_large_rotations import free_spin
 
-    from skmoor.body import rotation_matrix
+    from skmoor.bodies.body import rotation_matrix
 
     inertia, omega0 = np.diag([2.0, 2.0, 1.0]), np.array([0.1, 0.0, 2.0])
     _, states = free_spin(inertia, omega0, 0.04, 10.0)
@@ -245,8 +245,8 @@ def check_large_roll():
     from test_large_rotations import (DRAFT, HEIGHT, LENGTH, RHO, WIDTH, G, lone_body_system,
                                       roll_reference)
 
-    from skmoor.body import RigidBody
-    from skmoor.dynamics import integrate
+    from skmoor.bodies.body import RigidBody
+    from skmoor.solvers.dynamics import integrate
 
     roll0 = np.radians(30.0)
     mass, reference = roll_reference(roll0, 12.0)
@@ -308,7 +308,7 @@ def check_lazy_wave(elements=(("80m", 256), ("200m", 476))):
 
 def check_pendulum_on_a_free_body():
     """tests/decks/rods/pendulum_on_a_free_body.dat: a buoyant rod pinned to a free body
-    (skmoor.joints.BodyPin), 2 deg off the vertical: the swing's period with the
+    (skmoor.coupling.joints.BodyPin), 2 deg off the vertical: the swing's period with the
     carrier's recoil."""
     import skmoor
 

@@ -65,7 +65,7 @@ import steps  # noqa: E402
 from _cases import quiet  # noqa: E402
 
 import skmoor  # noqa: E402
-from skmoor.dynamics import DivergenceError  # noqa: E402
+from skmoor.solvers.newton import DivergenceError
 
 DECK_PATH = "OpenFAST/IEA-15-240-RWT-UMaineSemi/IEA-15-240-RWT-UMaineSemi_MoorDyn.dat"
 DEPTH = 200.0  # m
@@ -91,7 +91,7 @@ def mirror_path() -> Path:
 
 @functools.cache
 def iea_deck():
-    """The IEA deck as skmoor reads it (a skmoor.deck.Deck)."""
+    """The IEA deck as skmoor reads it (a skmoor.io.deck.Deck)."""
     text = subprocess.run(["git", "-C", str(mirror_path()), "show", f"HEAD:{DECK_PATH}"],
                           capture_output=True, text=True, check=False)
     if text.returncode:

@@ -6,7 +6,7 @@ Run: python examples/02_paper_case.py   (writes paper-case/ with Fig. 6 as a PNG
 import os
 
 import skmoor
-from skmoor.plots import plot_time_histories
+from skmoor.post.plots import plot_time_histories
 
 DURATION = float(os.environ.get("SKMOOR_EXAMPLE_DURATION", 200.0))
 

@@ -5,14 +5,14 @@ A line moving with velocity udot through still water feels, per unit unstretched
 f = -1/2 rho Cd d |v_n| v_n, with v_n = udot - (udot . tau) tau the velocity normal to
 the line's CURRENT unit tangent tau = (X' + u') / |X' + u'|: a follower load that turns
 with the line. As a residual (internal - external forces) it is the LinearForm below,
-written with skmoor.ops so that JAX can trace it. Nothing else is written: skmoor
+written with skmoor.fem.ops so that JAX can trace it. Nothing else is written: skmoor
 differentiates it (d/du through tau, d/dudot) and compiles the integrand and its
 derivatives into an element kernel (``path='compiled'``; needs ``pip install
 "skmoor[autodiff]"``; ``path='fd'`` is the fallback without JAX).
 
 skmoor integrates over the reference (static) arclength, so a load per unstretched
 length is scaled by w.m / mass (the reference stretch's inverse, 1 - 2e-4 here), as the
-built-in drag does. That built-in drag (skmoor.hydro, a hand-written numba kernel, on when
+built-in drag does. That built-in drag (skmoor.sea.hydro, a hand-written numba kernel, on when
 a line type has Cd_n) is an independent implementation of the same physics: the script
 runs both and prints how far apart they are, their speed ratio and the Taylor test of the
 user form's automatic tangents.
@@ -27,8 +27,8 @@ import numpy as np
 from skfem import LinearForm
 
 import skmoor
-from skmoor import ops
-from skmoor.ops import d_ds, dot
+from skmoor.fem import ops
+from skmoor.fem.ops import d_ds, dot
 
 DURATION = float(os.environ.get("SKMOOR_EXAMPLE_DURATION", 60.0))
 CD = 1.2  # normal drag coefficient (MoorDyn's Cd)
@@ -68,7 +68,7 @@ drag_term = user_model.add(skmoor.LineForm(morison_drag, fields={"k": k, "mass":
 tangent = skmoor.check_tangent(user_model, drag_term)
 
 builtin_model = skmoor.build(case.replace("line_types.steel.Cd_n", CD))
-builtin_term, = builtin_model.system.terms  # the built-in drag: skmoor.hydro.LineHydroKernel
+builtin_term, = builtin_model.system.terms  # the built-in drag: skmoor.sea.hydro.LineHydroKernel
 
 plain_run, _ = run(skmoor.build(case))
 builtin_run, builtin_wall = run(builtin_model)

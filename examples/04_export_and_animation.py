@@ -10,8 +10,8 @@ import os
 from pathlib import Path
 
 import skmoor
-from skmoor.export import export, write_mode_series
-from skmoor.render import animate, animate_mode, default_scale, snapshot
+from skmoor.post.export import export, write_mode_series
+from skmoor.post.render import animate, animate_mode, default_scale, snapshot
 
 DURATION = float(os.environ.get("SKMOOR_EXAMPLE_DURATION", 40.0))
 OUT = Path(os.environ.get("SKMOOR_EXAMPLE_OUT", "paraview-demo"))

@@ -9,7 +9,7 @@ Run: python examples/05_parameter_studies.py   (writes studies/sweep.csv and two
 """
 import os
 
-from skmoor.sweep import paper_studies, run_sweep
+from skmoor.run.sweep import paper_studies, run_sweep
 
 N_POINTS = int(os.environ.get("SKMOOR_EXAMPLE_POINTS", 8))
 DURATION = float(os.environ.get("SKMOOR_EXAMPLE_DURATION", 200.0))

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import skmoor  # noqa: E402
-from skmoor.deck_model import heave_motion  # noqa: E402
+from skmoor.model.from_deck import heave_motion
 
 DURATION = float(os.environ.get("SKMOOR_EXAMPLE_DURATION", 40.0))  # s
 OUT = Path(os.environ.get("SKMOOR_EXAMPLE_OUT", "."))

@@ -18,9 +18,9 @@ import imageio.v3 as iio
 import numpy as np
 
 import skmoor
-from skmoor.export import export
-from skmoor.plots import plot_body_and_tensions
-from skmoor.render import animate, snapshot
+from skmoor.post.export import export
+from skmoor.post.plots import plot_body_and_tensions
+from skmoor.post.render import animate, snapshot
 
 DURATION = float(os.environ.get("SKMOOR_EXAMPLE_DURATION", 300.0))  # s
 OUT = Path(os.environ.get("SKMOOR_EXAMPLE_OUT", "network-out"))

@@ -2,7 +2,7 @@
 
 The body's wave loads come from potential flow (Capytaine's coefficients of
 meshes/box_hull.stl, in meshes/box_hull_bem.npz: meshes/make_box_bem.py writes them, or
-``skmoor.bem.from_mesh`` computes and caches them), through Cummins' equation in the
+``skmoor.bodies.bem.from_mesh`` computes and caches them), through Cummins' equation in the
 same implicit step as the lines. Shown: body motions, fairlead tension statistics and
 spectra, and an animation with the free surface; the surge, heave and pitch records
 against the linear frequency-domain response of the whole linearized network to the same
@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import skmoor
-from skmoor.render import animate
+from skmoor.post.render import animate
 
 DURATION = float(sys.argv[1]) if len(sys.argv) > 1 and __name__ == "__main__" else float(
     os.environ.get("SKMOOR_EXAMPLE_DURATION", "150"))

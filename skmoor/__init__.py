@@ -19,31 +19,40 @@ from threadpoolctl import threadpool_limits as _threadpool_limits
 # unless SKMOOR_BLAS_THREADS says otherwise (this applies to the whole process).
 _threadpool_limits(int(_os.environ.get("SKMOOR_BLAS_THREADS", 1)), user_api="blas")
 
-from .body import RigidBody  # noqa: E402
-from .case import Case, paper_case
-from .catenary import Catenary, solve_catenary
-from .coupling import Ends, PointMass, System
-from .deck import read_deck, write_deck
-from .deck_model import heave_motion, read_motion
-from .dynamics import DivergenceError, Scheme, integrate
-from .hydro import body_hydrodynamics, line_hydrodynamics
-from .line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
-from .model import Model, build, from_network
-from .network import Body, MooringLine, Network, Point
-from .modes import eigenmodes
-from .motion import Motion, fade_in
-from . import bem
-from .bem import Hydrodynamics
-from .radiation import PotentialFlow
-from .results import Results
-from .run import (equilibrium, mooring_stiffness, run_case, simulate, static_results, summary,
-                  write_outputs)
-from .seabed import Seabed, seabed_term
-from .statics import ConvergenceError, solve_static
-from . import laws, rods
-from .laws import Curve, Engineering, Paper, StaticDynamic
-from .terms import BodyLoad, LineForm, PointLoad, Term, TangentCheck, check_tangent
-from .waves import AiryWave, Current, JonswapWave, Sea
+from .bodies.body import RigidBody  # noqa: E402
+from .io.case import Case, paper_case
+from .lines.catenary import Catenary, solve_catenary
+from .coupling.system import Ends, PointMass, System
+from .io.deck import read_deck, write_deck
+from .model.from_deck import heave_motion, read_motion
+from .solvers.newton import DivergenceError
+from .solvers.dynamics import Scheme, integrate
+from .sea.hydro import body_hydrodynamics, line_hydrodynamics
+from .lines.line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
+from .model.model import Model, build, from_network
+from .coupling.network import Body, MooringLine, Network, Point
+from .solvers.modes import eigenmodes
+from .bodies.motion import Motion, fade_in
+from .bodies import bem
+from .bodies.bem import Hydrodynamics
+from .bodies.radiation import PotentialFlow
+from .post.results import Results
+from .run.simulate import (equilibrium,
+    mooring_stiffness,
+    run_case,
+    simulate,
+    static_results,
+    summary,
+    write_outputs)
+from .sea.seabed import Seabed, seabed_term
+from .solvers.newton import ConvergenceError
+from .solvers.statics import solve_static
+from .lines import laws
+from .coupling import rods
+from .lines.laws import Curve, Engineering, Paper, StaticDynamic
+from .bodies.loads import BodyLoad, PointLoad
+from .fem.terms import LineForm, Term, TangentCheck, check_tangent
+from .sea.waves import AiryWave, Current, JonswapWave, Sea
 
 __version__ = "0.1.0"
 

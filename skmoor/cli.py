@@ -12,7 +12,7 @@ DEFAULT_OUT = "skmoor-out"
 def _source(path):
     """The paper's case (no path), a case file or a MoorDyn deck."""
     from . import Case, paper_case
-    from .deck import is_deck, read_deck
+    from .io.deck import is_deck, read_deck
 
     if path is None:
         return paper_case()
@@ -23,8 +23,8 @@ def _source(path):
 
 def _motion(args, source):
     """The coupled objects' motion of a deck run: --motion FILE or --heave AMP --period T."""
-    from .deck import Deck
-    from .deck_model import heave_motion, read_motion
+    from .io.deck import Deck
+    from .model.from_deck import heave_motion, read_motion
 
     if args.motion is None and args.heave is None:
         return None
@@ -43,7 +43,7 @@ def _motion(args, source):
 
 def cmd_run(args) -> int:
     from . import build, simulate, summary
-    from .run import prepare_output
+    from .run.simulate import prepare_output
 
     out = prepare_output(args.out)  # before any solve
     source = _source(args.case)
@@ -73,7 +73,7 @@ def _finish(results, info, out, args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from .sweep import paper_studies, run_sweep, studies_from_args
+    from .run.sweep import paper_studies, run_sweep, studies_from_args
 
     studies = studies_from_args(args.param, args.study_file, args.case) if (
         args.param or args.study_file) else paper_studies(args.points)
@@ -102,7 +102,7 @@ def cmd_render(args) -> int:
 
 def _plots(results, out):
     """Fig. 6 of the paper for a model with a body; the lines' end tensions without."""
-    from .plots import plot_line_tensions, plot_time_histories
+    from .post.plots import plot_line_tensions, plot_time_histories
 
     if results.body_names:
         plot_time_histories(results, out / "time_histories.png")
@@ -111,7 +111,7 @@ def _plots(results, out):
 
 
 def _export(results, out, max_frames):
-    from .export import export
+    from .post.export import export
 
     for path in export(results, out, max_frames=max_frames or None):
         print(f"exported {path}" if path is not None else
@@ -119,7 +119,7 @@ def _export(results, out, max_frames):
 
 
 def _animate(results, out, quiet, scale=None, camera="iso"):
-    from .render import animate, default_scale, snapshot
+    from .post.render import animate, default_scale, snapshot
 
     scale = default_scale(results) if scale is None else scale
     snapshot(results, len(results.t) - 1, out / "snapshot.png", scale=scale, camera=camera)

@@ -1,4 +1,4 @@
-"""A small synthetic :class:`skmoor.results.Results` for the output tests.
+"""A small synthetic :class:`skmoor.post.results.Results` for the output tests.
 
 A 26 x 10 x 5 m box moored by 4 lines of 11 elements from its bottom corners to a sea
 bed at -100 m. The body surges, heaves and pitches harmonically; each line follows its
@@ -7,7 +7,7 @@ a different phase on each line.
 """
 import numpy as np
 
-from skmoor.results import Results
+from skmoor.post.results import Results
 
 DEPTH = 100.0
 DRAFT = 0.9

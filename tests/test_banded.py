@@ -1,16 +1,16 @@
-"""Band storage (skmoor.banded) against dense numpy, and the time loop's three matrix
+"""Band storage (skmoor.numerics.banded) against dense numpy, and the time loop's three matrix
 layouts against each other on a line without a body."""
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from skmoor import dynamics
-from skmoor.banded import Band, as_layout
-from skmoor.coupling import System
-from skmoor.dynamics import Scheme, integrate
-from skmoor.hydro import line_hydrodynamics
-from skmoor.line import Line, LineSet, LineType
-from skmoor.seabed import Seabed, seabed_term
+from skmoor.solvers import dynamics
+from skmoor.numerics.banded import Band, as_layout
+from skmoor.coupling.system import System
+from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.sea.hydro import line_hydrodynamics
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea.seabed import Seabed, seabed_term
 
 
 def banded_matrix(n, kl, ku, seed=0):

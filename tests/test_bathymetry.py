@@ -1,12 +1,12 @@
-"""A sea bed z_b(x, y) (skmoor.seabed.Bathymetry): its bilinear heights and normals,
+"""A sea bed z_b(x, y) (skmoor.sea.seabed.Bathymetry): its bilinear heights and normals,
 contact along the local normal against the analytic equilibrium on an inclined plane, and
 the same kernel numbers as the plane bed of the same slope."""
 import numpy as np
 import pytest
 from test_seabed import line_along_slope
 
-from skmoor.line import Line, LineSet, LineType
-from skmoor.seabed import Bathymetry, Seabed, seabed_term
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea.seabed import Bathymetry, Seabed, seabed_term
 
 CHAIN = LineType(EA=6e8, mass=150.0, diameter=0.15)  # w = 1294 N/m
 DEPTH = 100.0

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.case import Case, paper_case
-from skmoor.schema import validate_case
+from skmoor.io.case import Case, paper_case
+from skmoor.io.schema import validate_case
 
 SLOPE_DEG, DEPTH = 4.0, 100.0
 RISE = float(np.tan(np.radians(SLOPE_DEG)))  # the bed rises towards +x

@@ -53,7 +53,7 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
                               "lumped-mass dynamic peer")
 
 import skmoor  # noqa: E402
-from skmoor.dynamics import Scheme, integrate  # noqa: E402
+from skmoor.solvers.dynamics import Scheme, integrate
 
 DECK = Path(__file__).parent / "decks" / "seabed" / "bed_drop.dat"
 G0, RHO = 9.80665, 1025.0

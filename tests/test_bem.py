@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from skmoor import bem
-from skmoor.waves import wavenumber
+from skmoor.sea.waves import wavenumber
 
 cpt = pytest.importorskip("capytaine")
 

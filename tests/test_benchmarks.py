@@ -115,7 +115,6 @@ def test_user_forms_benchmark_sets_up_the_drag_on_every_path():
     tangents pass the Taylor test, and the paper's case with the form added runs the same
     history as with the built-in drag; the report formats."""
     pytest.importorskip("jax", reason="the benchmark's compiled path needs JAX")
-    import skmoor
     import user_forms
 
     row = user_forms.per_term(11, paths=("assembly", "fd", "compiled"), budget=1e-3)

@@ -1,4 +1,4 @@
-"""Bending stiffness on the Hermite line element (skmoor.bending) against Euler-Bernoulli:
+"""Bending stiffness on the Hermite line element (skmoor.lines.bending) against Euler-Bernoulli:
 cantilever and simply supported beams under their weight and a point load (deflection,
 bending moment, observed orders of convergence), the modes of a pinned-pinned beam and
 of a tensioned beam-string against the analytic frequencies, and the kernel against the
@@ -6,12 +6,13 @@ forms' assembly."""
 import numpy as np
 import pytest
 
-from skmoor.coupling import Ends, PointMass, System
-from skmoor.laws import Engineering
-from skmoor.line import Line, LineSet, LineType
-from skmoor.modes import eigenmodes
-from skmoor.statics import solve_static
-from skmoor.terms import PointLoad, Term
+from skmoor.coupling.system import Ends, PointMass, System
+from skmoor.lines.laws import Engineering
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.solvers.modes import eigenmodes
+from skmoor.solvers.statics import solve_static
+from skmoor.bodies.loads import PointLoad
+from skmoor.fem.terms import Term
 
 L, EI, EA = 10.0, 1e8, 1e10  # m, N m2, N: a stiff beam, deflections ~1e-4 L (linear theory)
 W, P = 100.0, 500.0  # weight per length N/m, point load N
@@ -71,7 +72,7 @@ def test_cantilever_tip_deflection_and_root_moment():
 
 
 def _hermite_mid(lines):
-    from skmoor.bending import hermite_shapes
+    from skmoor.fem.hermite import hermite_shapes
     N, _, _ = hermite_shapes(np.array([0.5]), lines.element_lengths)
     return N[:, 0]
 
@@ -146,8 +147,8 @@ def test_kernel_equals_the_forms():
     lines = LineSet([Line.from_polyline(points, line_type, tension=1e4)])
     from skfem import asm
 
-    from skmoor import forms
-    from skmoor.bending import HermiteKernel
+    from skmoor.lines import cable_forms as forms
+    from skmoor.lines.bending import HermiteKernel
     kernel = HermiteKernel(lines)
     rng = np.random.default_rng(3)
     u, ud = 0.05 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
@@ -189,10 +190,10 @@ def test_outputs_carry_curvature_and_moment(tmp_path):
 
     import meshio
 
-    from skmoor.export import write_vtu_series
-    from skmoor.model import from_network
-    from skmoor.network import MooringLine, Network, Point
-    from skmoor.run import equilibrium, static_results, write_outputs
+    from skmoor.post.export import write_vtu_series
+    from skmoor.model.model import from_network
+    from skmoor.coupling.network import MooringLine, Network, Point
+    from skmoor.run.simulate import equilibrium, static_results, write_outputs
 
     n = 8
     points = [Point("a", "fixed", [0.0, 0.0, -5.0]), Point("b", "fixed", [L, 0.0, -5.0])]
@@ -221,7 +222,7 @@ def test_seabed_kernel_on_bending_lines_equals_the_form():
     """On a Hermite set the compiled contact (node positions) gives the seabed form's
     normal force and damping (nodal quadrature: the same points), here for a line that
     dips 5 cm into the bed over part of its length."""
-    from skmoor.seabed import Seabed, SeabedKernel, form_term
+    from skmoor.sea.seabed import Seabed, SeabedKernel, form_term
     line_type = LineType(EA=1e7, mass=20.0, diameter=0.1, EI=3e4)
     x = np.linspace(0.0, 10.0, 11)
     points = np.c_[x, np.zeros(11), -30.0 + 0.01 * (x - 5.0) ** 2 - 0.05]
@@ -241,7 +242,7 @@ def _user_form_case():
     """A Hermite set, a state and a small user integrand in u, u' and the velocity."""
     from skfem import LinearForm
 
-    from skmoor.ops import d_ds, dot
+    from skmoor.fem.ops import d_ds, dot
 
     @LinearForm
     def springy(v, w):
@@ -258,8 +259,8 @@ def test_user_form_on_bending_lines():
     derivative forms assembled."""
     from skfem import BilinearForm, asm
 
-    from skmoor.ops import d_ds, dot
-    from skmoor.terms import LineForm
+    from skmoor.fem.ops import d_ds, dot
+    from skmoor.fem.terms import LineForm
 
     springy, lines, u, v = _user_form_case()
 
@@ -282,7 +283,7 @@ def test_user_form_on_bending_lines():
 def test_user_form_compiled_on_bending_lines():
     """The same form on the compiled path: the generated numba kernel's Hermite element
     loop against the NumPy path (20 s cold: JAX's trace and numba's compile)."""
-    from skmoor.terms import LineForm
+    from skmoor.fem.terms import LineForm
 
     springy, lines, u, v = _user_form_case()
     compiled = LineForm(springy, path="compiled", lines=lines)
@@ -299,8 +300,8 @@ def test_case_file_line_type_takes_EI():
     then runs on the Hermite element; a negative EI is refused by the schema."""
     from pathlib import Path
 
-    from skmoor.case import Case
-    from skmoor.model import line_type
+    from skmoor.io.case import Case
+    from skmoor.model.model import line_type
 
     path = Path(__file__).resolve().parents[1] / "examples" / "paper_case.toml"
     case = Case.from_toml(path).replace("line_types.steel.EI", 2.5e5)

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.deck import read_deck
-from skmoor.run import equilibrium
+from skmoor.io.deck import read_deck
+from skmoor.run.simulate import equilibrium
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
@@ -49,7 +49,7 @@ def test_simply_supported_beam_deck(tmp_path):
     largest; the largest moment w L^2 / 8 - N a within 0.2 %. The membrane tension of a
     half-sine sag a: N = EA a^2 pi^2 / 4 L^2, and it shortens the sag by the factor
     1 / (1 + N L^2 / pi^2 EI) (6 kN and 0.6 % here). The beam hangs 10 m above the water:
-    w is its dry weight Mass/m g = 981 N/m (skmoor.surface), as in MoorDyn's own check of
+    w is its dry weight Mass/m g = 981 N/m (skmoor.sea.surface), as in MoorDyn's own check of
     the deck (beam.cpp); a beam weighed as submerged (487 N/m) sags half as much."""
     model, _, u = static_state(read_deck(deck_file(tmp_path, "tests/Mooring/BeamSimplySupported.txt")))
     lines = model.lines
@@ -110,10 +110,10 @@ def test_lowe_langley_jumper_top_tension_under_motion(tmp_path, case):
     the digitised series shipped with the deck, within 1 kN (MoorDyn's own tolerance).
     About a minute per case. In case 3 the top rises 5 m out of the water: weighed as
     submerged there, the jumper's top tension falls 6.2 kN below the series
-    (skmoor.surface takes the dry part's buoyancy back)."""
-    from skmoor.deck_model import deck_network
-    from skmoor.model import from_network
-    from skmoor.run import simulate
+    (skmoor.sea.surface takes the dry part's buoyancy back)."""
+    from skmoor.model.from_deck import deck_network
+    from skmoor.model.model import from_network
+    from skmoor.run.simulate import simulate
 
     amplitude, period = 10.0, 27.0
 
@@ -168,10 +168,10 @@ def test_lowe_langley_jumper_top_tension_in_waves(tmp_path, case, heading, phase
     against the digitised series within 1 kN (MoorDyn's own tolerance; MoorDyn itself is
     0.82, 0.97 and 0.46 kN off, skmoor 0.79, 0.98, 0.52), and against MoorDyn run side by
     side with the same wave within 0.25 kN (0.11 kN measured). About 40 s per case."""
-    from skmoor.deck_model import deck_network
-    from skmoor.model import from_network
-    from skmoor.run import simulate
-    from skmoor.waves import AiryWave, Sea
+    from skmoor.model.from_deck import deck_network
+    from skmoor.model.model import from_network
+    from skmoor.run.simulate import simulate
+    from skmoor.sea.waves import AiryWave, Sea
 
     path = deck_file(tmp_path, JUMPER + "line.txt")
     deck = read_deck(path)
@@ -200,7 +200,7 @@ def test_cantilevered_beam_deck_on_a_turned_coupled_rod(tmp_path):
     tip L sin(a) off that line); the rod passes the beam's and its own weight, and
     their moment about end A (the beam's centre 15 m out along the axis, the rod's 5 m:
     small sag), to the caller (its coupled_loads)."""
-    from skmoor.rods import coupled_reaction
+    from skmoor.coupling.rods import coupled_reaction
 
     text = MIRROR.read("tests/Mooring/BeamCantilevered.txt").decode()
     path = tmp_path / "BeamOnCoupledRod.txt"

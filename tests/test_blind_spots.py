@@ -26,11 +26,11 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from skmoor.dynamics import rayleigh_coefficients
-from skmoor.hydro import line_hydrodynamics
-from skmoor.line import Line, LineSet, LineType
-from skmoor.results import Results
-from skmoor.waves import AiryWave, Sea, jonswap_spectrum
+from skmoor.solvers.dynamics import rayleigh_coefficients
+from skmoor.sea.hydro import line_hydrodynamics
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.post.results import Results
+from skmoor.sea.waves import AiryWave, Sea, jonswap_spectrum
 
 
 # ------------------------------------------------------------------ Rayleigh damping
@@ -63,8 +63,8 @@ def test_rayleigh_damping_of_the_paper_model():
     and the third one more (omega3 > omega2). Fails if the run path passes the wrong
     modes, periods or Hz, or builds C from another K."""
     from skmoor import build
-    from skmoor.case import paper_case
-    from skmoor.run import equilibrium
+    from skmoor.io.case import paper_case
+    from skmoor.run.simulate import equilibrium
 
     model = build(paper_case())
     eq = equilibrium(model)

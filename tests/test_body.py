@@ -1,4 +1,4 @@
-"""Tests of skmoor.body against analytic numbers and finite differences of exact loads."""
+"""Tests of skmoor.bodies.body against analytic numbers and finite differences of exact loads."""
 from pathlib import Path
 
 import meshio
@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 
-from skmoor.body import (
-    Hydrostatics,
+from skmoor.bodies.body import (Hydrostatics,
     RigidBody,
     attachment_displacement,
     attachment_hessian,
@@ -15,8 +14,7 @@ from skmoor.body import (
     box_hydrostatics,
     hull_hydrostatics,
     rotation_matrix,
-    uniform_box_inertia,
-)
+    uniform_box_inertia)
 
 HULL = Path(__file__).resolve().parents[1] / "meshes" / "box_hull.stl"
 L, W, H = 26.0, 10.0, 5.0
@@ -311,7 +309,7 @@ def test_from_hull_equals_box():
 def test_fast_rotation_and_slopes_match_the_product_and_finite_differences():
     """rotation_and_slopes (the time loop's closed form): R equals Rz Ry Rx built from
     the axis rotations, and dR/dangle matches central differences (1e-8)."""
-    from skmoor.body import _axis_rotation, rotation_and_slopes
+    from skmoor.bodies.body import _axis_rotation, rotation_and_slopes
 
     rng = np.random.default_rng(3)
     for angles in rng.normal(scale=0.7, size=(5, 3)):
@@ -328,7 +326,9 @@ def test_fast_rotation_and_slopes_match_the_product_and_finite_differences():
 def test_fast_attachment_state_matches_the_checked_functions():
     """attachment_state (the time loop's compiled path) gives attachment_displacement and
     attachment_jacobian for several points at once."""
-    from skmoor.body import attachment_displacement, attachment_jacobian, attachment_state
+    from skmoor.bodies.body import (attachment_displacement,
+        attachment_jacobian,
+        attachment_state)
 
     rng = np.random.default_rng(4)
     r = rng.normal(scale=20.0, size=(4, 3))

@@ -1,4 +1,4 @@
-"""A pin joining two dynamic bodies (skmoor.joints.BodyPin, MoorDyn's Body<N>Pinned rod
+"""A pin joining two dynamic bodies (skmoor.coupling.joints.BodyPin, MoorDyn's Body<N>Pinned rod
 on a free body) against analytic numbers.
 
     test                              compared with                          measured
@@ -19,10 +19,10 @@ import pytest
 from scipy.special import ellipk
 
 import skmoor
-from skmoor.joints import BodyPin
-from skmoor.network import Body, MooringLine, Network, Point
-from skmoor.rods import RodType, rod
-from skmoor.terms import check_tangent
+from skmoor.coupling.joints import BodyPin
+from skmoor.coupling.network import Body, MooringLine, Network, Point
+from skmoor.coupling.rods import RodType, rod
+from skmoor.fem.terms import check_tangent
 
 DECKS = Path(__file__).parent / "decks" / "rods"
 G, RHO = 9.80665, 1025.0

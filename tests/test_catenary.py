@@ -6,7 +6,7 @@ import pytest
 from moorpy.Catenary import catenary as moorpy_catenary
 from scipy.optimize import brentq
 
-from skmoor.catenary import solve_catenary
+from skmoor.lines.catenary import solve_catenary
 
 # The paper's case (design.md section 4): steel line, D = 0.1 m, in water.
 G = 9.81

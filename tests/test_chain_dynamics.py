@@ -36,9 +36,9 @@ import pytest
 moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) is the "
                               "lumped-mass dynamic peer")
 
-from skmoor.deck import read_deck, write_deck  # noqa: E402
+from skmoor.io.deck import read_deck, write_deck
 from skmoor import build, simulate  # noqa: E402
-from skmoor.deck_model import heave_motion  # noqa: E402
+from skmoor.model.from_deck import heave_motion
 
 DECKS = Path(__file__).parents[1] / "examples" / "decks"
 PERIOD = 10.0  # s

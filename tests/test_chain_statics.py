@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from skmoor.catenary import solve_catenary
-from skmoor.coupling import System
-from skmoor.line import Line, LineSet, LineType
-from skmoor.seabed import Seabed, seabed_term
-from skmoor.statics import solve_static
+from skmoor.lines.catenary import solve_catenary
+from skmoor.coupling.system import System
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea.seabed import Seabed, seabed_term
+from skmoor.solvers.statics import solve_static
 
 CHAIN = LineType(EA=1.674e9, mass=390.0, diameter=0.252, rho_water=1025.0, g=9.80665)
 # depth (m), anchor distance (m), length (m), OrcaFlex static fairlead / anchor tension (kN)

@@ -1,13 +1,13 @@
 """Physically impossible input refused and suspicious input warned about, with the
-numbers, before anything is solved (skmoor.checks), for networks, cases and decks."""
+numbers, before anything is solved (skmoor.coupling.checks), for networks, cases and decks."""
 import re
 from pathlib import Path
 
 import pytest
 
 import skmoor
-from skmoor.checks import check_network
-from skmoor.line import LineType
+from skmoor.coupling.checks import check_network
+from skmoor.lines.line import LineType
 
 CHAIN = LineType(EA=5e8, mass=100.0, diameter=0.1)
 
@@ -66,7 +66,7 @@ def test_a_deck_line_too_short_is_refused_at_its_deck_line(tmp_path):
 
 def test_a_case_with_an_anchor_above_the_water_warns(tmp_path):
     """The case's network tables are checked (the build would go on to its statics)."""
-    from skmoor.model import explicit_network
+    from skmoor.model.model import explicit_network
 
     text = Path("examples/network_buoy.toml").read_text().replace(
         "position = [560.0, 0.0, -160.0]", "position = [60.0, 0.0, 20.0]")
@@ -78,7 +78,7 @@ def test_a_case_with_an_anchor_above_the_water_warns(tmp_path):
 
 
 def test_a_model_too_big_for_memory_is_refused_before_allocating(monkeypatch):
-    from skmoor import checks
+    from skmoor.coupling import checks
 
     monkeypatch.setattr(checks, "available_memory", lambda: 8 * 2**30)
     net = network()

@@ -17,13 +17,13 @@
 import numpy as np
 import pytest
 
-from skmoor.body import RigidBody
-from skmoor.laws import Engineering
-from skmoor.line import LineType
-from skmoor.network import Body, MooringLine, Network, Point, build_system
-from skmoor.rods import coupled_reaction
-from skmoor.statics import solve_static
-from skmoor.terms import BodyLoad
+from skmoor.bodies.body import RigidBody
+from skmoor.lines.laws import Engineering
+from skmoor.lines.line import LineType
+from skmoor.coupling.network import Body, MooringLine, Network, Point, build_system
+from skmoor.coupling.rods import coupled_reaction
+from skmoor.solvers.statics import solve_static
+from skmoor.bodies.loads import BodyLoad
 
 L, EI, EA, W = 10.0, 1e8, 1e10, 100.0  # m, N m2, N, N/m: a stiff beam (deflection ~1e-4 L)
 ROOT = np.array([0.0, 0.0, -5.0])
@@ -135,7 +135,7 @@ def test_body_swinging_a_clamped_beam_keeps_the_compound_pendulum_period():
     the tangent leaves the body to spin alone at its own small inertia)."""
     from scipy.special import ellipk
 
-    from skmoor.dynamics import integrate
+    from skmoor.solvers.dynamics import integrate
 
     model = pinned_hub(np.radians(80.0), EI=1e8)
     system = model.system
@@ -165,7 +165,7 @@ def test_body_swinging_a_clamped_beam_keeps_the_compound_pendulum_period():
 
 
 def test_bad_clamps_are_refused_by_name():
-    from skmoor.coupling import Ends
+    from skmoor.coupling.system import Ends
 
     points = [Point("a", "fixed", ROOT), Point("mid", "free", ROOT + [L, 0.0, 0.0]),
               Point("b", "fixed", ROOT + [2 * L, 0.0, 0.0])]

@@ -1,4 +1,4 @@
-"""The compiled Newton step (skmoor.compiled_step) against the Python step it stands for.
+"""The compiled Newton step (skmoor.solvers.compiled_step) against the Python step it stands for.
 
 Independent numbers: the Python iteration of ``dynamics.integrate`` on
 ``coupling.System.residual`` (whose tangents are held to central differences and whose
@@ -15,8 +15,9 @@ import scipy.sparse as sp
 from test_network import network_two_bodies
 
 import skmoor
-from skmoor import bordered, compiled_step
-from skmoor.dynamics import Scheme, integrate
+from skmoor.numerics import bordered
+from skmoor.solvers import compiled_step
+from skmoor.solvers.dynamics import Scheme, integrate
 
 TOL = 1e-10  # Newton's tolerance in both runs: its stopping decisions then agree too
 
@@ -71,10 +72,10 @@ def test_chain_on_the_bed_with_drag_steps_as_the_python_newton(friction, surface
     on a sea bed with drag and added mass: a System without bodies (a pure band); with bed
     friction (different axial and lateral coefficients); and with the dry part of the line
     (SurfaceTerm), whose steps with the fairlead near the surface go to Python."""
-    from skmoor.catenary import solve_catenary
-    from skmoor.hydro import line_hydrodynamics
-    from skmoor.seabed import Seabed, seabed_term
-    from skmoor.surface import SurfaceTerm
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea.hydro import line_hydrodynamics
+    from skmoor.sea.seabed import Seabed, seabed_term
+    from skmoor.sea.surface import SurfaceTerm
 
     chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, BA=7.5e4, Cd_n=2.4,
                             Ca_n=1.0)
@@ -146,9 +147,9 @@ def test_what_the_compiled_step_leaves_to_python_is_named():
 def _chain_on_the_bed(motion):
     """A 12-element chain on a sea bed with drag and added mass, its fairlead moved by
     ``motion``, and its static state."""
-    from skmoor.catenary import solve_catenary
-    from skmoor.hydro import line_hydrodynamics
-    from skmoor.seabed import Seabed, seabed_term
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea.hydro import line_hydrodynamics
+    from skmoor.sea.seabed import Seabed, seabed_term
 
     chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, BA=7.5e4, Cd_n=2.4,
                             Ca_n=1.0)

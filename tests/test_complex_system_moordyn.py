@@ -16,7 +16,7 @@ ends in NaN node positions within 9 ms of the given state; RK4 at cfl 0.01 gives
 same run to 2 mm). skmoor starts from its reference state (the deck's positions,
 start='reference') with generalized-alpha (rho_inf 0.5): 5 ms steps over the snap, 50
 ms after it (a first 10 ms step from the given state converges on a folded stiffener,
-the 563 % stretch that skmoor.dynamics stops on: the step is longer than the
+the 563 % stretch that skmoor.solvers.dynamics stops on: the step is longer than the
 stiffeners' 2.6 ms axial period at 44 MN; 5 ms steps go through without a
 subdivision).
 
@@ -37,11 +37,10 @@ import pytest
 moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) is the "
                               "lumped-mass dynamic peer")
 
-import skmoor  # noqa: E402
-from skmoor.deck_model import deck_network  # noqa: E402
-from skmoor.dynamics import Scheme, integrate  # noqa: E402
-from skmoor.model import from_network  # noqa: E402
-from skmoor.run import reference_state  # noqa: E402
+from skmoor.model.from_deck import deck_network
+from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.model.model import from_network
+from skmoor.run.simulate import reference_state
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import moordyn_decks as md  # noqa: E402

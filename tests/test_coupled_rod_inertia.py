@@ -1,4 +1,4 @@
-"""The inertia a Coupled rod's bending line passes to it (skmoor.rods.coupled_reaction
+"""The inertia a Coupled rod's bending line passes to it (skmoor.coupling.rods.coupled_reaction
 with the state's accelerations: System.end_forces / end_moments less M_ef a_f + M_ep a_p).
 
 A stiff beam (EI = 1e7 N m2, 10 kg/m, 4 Hermite elements, consistent mass) clamped on a

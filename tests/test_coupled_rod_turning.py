@@ -1,6 +1,6 @@
 """A Coupled rod turned in pitch and yaw together (MoorDyn's 6 coupled DOFs: end A's
 position, then the angles of R = Rx Ry Rz applied to the deck's axis, Rod.cpp's
-fromVec6 / Euler2Quat), its reaction (skmoor.rods.coupled_reaction) in dynamics.
+fromVec6 / Euler2Quat), its reaction (skmoor.coupling.rods.coupled_reaction) in dynamics.
 
 - fast: the rod alone (g = 0, no lines), horizontal, pitched and yawed by sines: its
   reaction is minus the rate of its momentum, F = -m (alpha x r_c + omega x (omega x
@@ -30,7 +30,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import skmoor
-from skmoor.rods import coupled_reaction
+from skmoor.coupling.rods import coupled_reaction
 
 ROD = """---------------------- ROD TYPES -----------------------------------------------
 TypeName      Diam     Mass/m    Cd     Ca      CdEnd    CaEnd

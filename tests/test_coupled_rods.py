@@ -1,6 +1,6 @@
 """Coupled rods (MoorDyn v2's rod type Coupled): a coupled body at end A on 6 coupled
 DOFs, end A's position and MoorDyn's angles Rx Ry Rz turning the deck's axis; its
-reaction (skmoor.rods.coupled_reaction, MoorDyn's getFnet) is the lines' loads on it
+reaction (skmoor.coupling.rods.coupled_reaction, MoorDyn's getFnet) is the lines' loads on it
 plus its own weight, buoyancy and hydrodynamics less its inertia.
 
 - statics, a rod turned by 40 deg about y by the coupled motion: the reaction less the
@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.rods import coupled_reaction
+from skmoor.coupling.rods import coupled_reaction
 
 DECK = """--------------------- MoorDyn Input File ---------------------------------------
 A coupled rod carrying one chain to an anchor (skmoor's coupled-rod test)

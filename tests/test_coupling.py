@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.body import rotation_matrix
+from skmoor.bodies.body import rotation_matrix
 
 
 @pytest.fixture(scope="module")

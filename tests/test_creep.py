@@ -1,4 +1,4 @@
-"""The creep state of viscoelastic ropes (skmoor.creep, laws.Viscoelastic) against the
+"""The creep state of viscoelastic ropes (skmoor.lines.creep, laws.Viscoelastic) against the
 standard linear solid's closed forms.
 
 MoorDyn's viscoelastic element is a creep element (spring EA_1, damper BA) in series with
@@ -23,8 +23,9 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor import creep, laws
-from skmoor.terms import check_tangent
+from skmoor import laws
+from skmoor.lines import creep
+from skmoor.fem.terms import check_tangent
 
 EA_S, EA_D = 1.0e8, 3.0e8  # N
 EA_1 = EA_D * EA_S / (EA_D - EA_S)

@@ -21,7 +21,7 @@ from scipy.optimize import fsolve
 
 import skmoor
 from skmoor import laws
-from skmoor.line import Line, LineSet, LineType
+from skmoor.lines.line import Line, LineSet, LineType
 
 STRAIN = [0.01, 0.02, 0.03, 0.05]
 TENSION = [1.0e5, 2.5e5, 4.5e5, 1.4e6]  # N: slopes 1e7, 1.5e7, 2e7, 4.75e7 N (stiffening)

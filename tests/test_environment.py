@@ -7,8 +7,8 @@ import pytest
 from peers import condensed_line_stiffness
 
 import skmoor
-from skmoor.hydro import LineHydroKernel
-from skmoor.seabed import SeabedKernel
+from skmoor.sea.hydro import LineHydroKernel
+from skmoor.sea.seabed import SeabedKernel
 
 
 @pytest.mark.parametrize("change, message", [

@@ -4,8 +4,8 @@ a re-based frame), and the body that carries its line ends' lumped masses agains
 kinetic energy of the body plus those point masses moving with it."""
 import numpy as np
 
-from skmoor.body import Hydrostatics, RigidBody, rotation_matrix
-from skmoor.large_rotations import rate_matrix
+from skmoor.bodies.body import Hydrostatics, RigidBody, rotation_matrix
+from skmoor.bodies.large_rotations import rate_matrix
 
 from test_gimbal_lock import tethered_body
 

@@ -27,7 +27,7 @@ def test_static_line_converges_to_catenary_at_second_order():
 def test_drag_form_damps_the_coupled_response(monkeypatch):
     """Example 03 (20 s): the user's follower drag form, residual alone, lowers surge and
     fairlead tension amplitudes; its histories are those of the built-in drag kernel
-    (skmoor.hydro, hand-written, the same Cd) to 1e-8 (the same drag on the reference
+    (skmoor.sea.hydro, hand-written, the same Cd) to 1e-8 (the same drag on the reference
     tangent is 5e-5 away: the follower part is what is checked); its automatic tangents
     pass the Taylor test (slopes 2)."""
     pytest.importorskip("jax", reason="the example's form uses the automatic tangents")

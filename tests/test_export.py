@@ -6,8 +6,11 @@ import numpy as np
 import pytest
 from _synthetic import synthetic_results
 
-from skmoor.export import (box_points, export, write_mode_series, write_vtu_series,
-                           write_xdmf)
+from skmoor.post.export import (box_points,
+    export,
+    write_mode_series,
+    write_vtu_series,
+    write_xdmf)
 
 
 @pytest.fixture(scope="module")
@@ -125,7 +128,7 @@ def test_a_network_without_lines_exports_no_empty_line_file(tmp_path):
     """A coupled body with a point and no line: the VTU series is written, lines.xdmf
     (which would hold no mesh) is not, and export says so with None."""
     import skmoor
-    from skmoor.network import Body, Network, Point
+    from skmoor.coupling.network import Body, Network, Point
 
     network = Network([Point("p", "body", [1.0, 0.0, 0.0], body="b")], [],
                       [Body("b", "coupled", np.zeros(3))], depth=50.0,

@@ -1,16 +1,16 @@
-"""The cable's weak forms (skmoor.forms through LineSet) against exact derivatives, the
+"""The cable's weak forms (skmoor.lines.cable_forms through LineSet) against exact derivatives, the
 fast kernel, closed-form mass matrices and the analytic elastic catenary."""
 import numpy as np
 import pytest
 from skfem import BilinearForm, LinearForm
 from skfem.helpers import dot
 
-from skmoor.catenary import solve_catenary
-from skmoor.coupling import System
-from skmoor.terms import LineForm
-from skmoor.kernels import CableKernel
-from skmoor.laws import Engineering, Paper
-from skmoor.line import Line, LineSet, LineType
+from skmoor.lines.catenary import solve_catenary
+from skmoor.coupling.system import System
+from skmoor.fem.terms import LineForm
+from skmoor.lines.cable_kernel import CableKernel
+from skmoor.lines.laws import Engineering, Paper
+from skmoor.lines.line import Line, LineSet, LineType
 
 # A soft rope (T/EA up to 0.06), so that the two strain laws differ visibly.
 ROPE = LineType(EA=2e6, mass=50.0, diameter=0.1)
@@ -194,7 +194,7 @@ def test_axial_damping_kernel_forms_and_derivatives(rope):
 def asm_form(name, lines, u, ud):
     from skfem import asm
 
-    from skmoor import forms
+    from skmoor.lines import cable_forms as forms
     return asm(getattr(forms, name), lines.cable_basis, u=u, du=ud, **lines.cable_fields)
 
 

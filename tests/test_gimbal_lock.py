@@ -4,12 +4,12 @@ closed-form motion of a torque-free symmetric top."""
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from skmoor.body import RigidBody
-from skmoor.coupling import Ends, System
-from skmoor.line import Line, LineSet, LineType
-from skmoor.dynamics import integrate
-from skmoor.large_rotations import rate_matrix, zyx_angles
-from skmoor.terms import BodyLoad
+from skmoor.bodies.body import RigidBody
+from skmoor.coupling.system import Ends, System
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.solvers.dynamics import integrate
+from skmoor.bodies.large_rotations import rate_matrix, zyx_angles
+from skmoor.bodies.loads import BodyLoad
 
 from test_large_rotations import ASYMMETRIC, lone_body_system, weightless
 

@@ -7,11 +7,14 @@ import pytest
 import pyvista as pv
 from scipy.integrate import solve_ivp
 
-from skmoor.body import Hydrostatics, RigidBody, attachment_displacement, hull_hydrostatics
-from skmoor.body import rotation_matrix
-from skmoor.coupling import Ends, System
-from skmoor.dynamics import integrate
-from skmoor.line import Line, LineSet, LineType
+from skmoor.bodies.body import (Hydrostatics,
+    RigidBody,
+    attachment_displacement,
+    hull_hydrostatics)
+from skmoor.bodies.body import rotation_matrix
+from skmoor.coupling.system import Ends, System
+from skmoor.solvers.dynamics import integrate
+from skmoor.lines.line import Line, LineSet, LineType
 
 RHO, G = 1025.0, 9.81
 

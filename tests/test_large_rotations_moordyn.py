@@ -8,7 +8,7 @@ y), each with a cosine ramp (no jerk at the ends), then holds for 2 s; the body 
 the body point (0, 1, 0) after it; the six taut lines at the centre hold the centre in
 place and take no moment. What is compared: the body's orientation (the angle of
 R_skmoor^T R_MoorDyn) and the dragged body point over the run. MoorDyn's body state is
-read as its own attitude (R = Rx Ry Rz, :func:`skmoor.network.moordyn_rotation`), checked
+read as its own attitude (R = Rx Ry Rz, :func:`skmoor.coupling.network.moordyn_rotation`), checked
 against its position of point 8.
 
 Measured: the dragged point within 1.2 cm, the orientation within 4.9 deg (at the end,
@@ -33,8 +33,8 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
                               "lumped-mass dynamic peer")
 
 import skmoor  # noqa: E402
-from skmoor.body import rotation_matrix  # noqa: E402
-from skmoor.network import moordyn_rotation  # noqa: E402
+from skmoor.bodies.body import rotation_matrix
+from skmoor.coupling.network import moordyn_rotation
 
 DECK = Path(__file__).parent / "decks" / "bodies" / "turning_body.dat"
 CENTER = np.array([0.0, 0.0, -20.0])

@@ -1,4 +1,4 @@
-"""Constitutive laws (skmoor.laws) against hand numbers and closed-form dynamics.
+"""Constitutive laws (skmoor.lines.laws) against hand numbers and closed-form dynamics.
 
 - each law's tension on a straight element stretched by hand (independent arithmetic:
   np.interp for a curve, EA x strain, the paper's EA eps lambda) and a slack element's
@@ -20,9 +20,9 @@ from scipy.optimize import brentq
 
 import skmoor
 from skmoor import laws
-from skmoor.kernels import CableKernel
-from skmoor.line import Line, LineSet, LineType
-from skmoor.network import MooringLine, Network, Point
+from skmoor.lines.cable_kernel import CableKernel
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.coupling.network import MooringLine, Network, Point
 
 EA = 1e6  # N
 CURVE_E = [0.01, 0.02, 0.05]
@@ -122,7 +122,7 @@ def test_kernel_equals_forms_for_every_law_with_slack_elements():
     assert np.abs(tension - tension_forms).max() < 1e-12 * np.abs(tension_forms).max()
     assert np.abs(strain - strain_forms).max() < 1e-15
     from skfem import asm
-    from skmoor import forms
+    from skmoor.lines import cable_forms as forms
     f = lines.cable_fields
     R_forms = lines.internal_force(u) + lines.damping_force(u, ud)
     K_forms = lines.tangent_stiffness(u) + asm(forms.axial_damping_tangent, lines.cable_basis,
@@ -310,7 +310,7 @@ print(np.abs(np.asarray(grad) - slope).max() / np.abs(slope).max())
 
 
 def test_laws_trace_under_jax_and_their_slopes_are_the_derivatives():
-    """The pointwise law (skmoor.ops) traces under JAX: jax.grad of S(eps) equals the
+    """The pointwise law (skmoor.fem.ops) traces under JAX: jax.grad of S(eps) equals the
     hand slope dS/deps for every law, slack, taut and beyond a curve's knots. (In a
     subprocess: JAX's threads in the test process would make later forks unsafe.)"""
     pytest.importorskip("jax", reason="JAX traces the forms (skmoor[autodiff])")
@@ -340,8 +340,8 @@ def test_case_key_tension_only():
 def test_the_network_layout_reads_tension_only():
     """[mooring] tension_only = false in a case with network tables gives a law that can
     push (the default is tension-only)."""
-    from skmoor.laws import as_law
-    from skmoor.model import explicit_network
+    from skmoor.lines.laws import as_law
+    from skmoor.model.model import explicit_network
 
     case = skmoor.Case.from_toml("examples/network_buoy.toml")
     assert as_law(explicit_network(case).strain_law).tension_only

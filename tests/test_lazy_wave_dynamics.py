@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.motion import quintic_ramp
-from skmoor.run import ResolutionWarning
+from skmoor.bodies.motion import quintic_ramp
+from skmoor.run.simulate import ResolutionWarning
 from test_lazy_wave import cabledyn_deck, load_example
 
 AMPLITUDE, PERIOD, DT, RHO_INF = 3.0, 12.0, 0.05, 0.9  # m, s, s, -

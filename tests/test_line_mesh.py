@@ -1,4 +1,4 @@
-"""Reading and writing line meshes (skmoor.line.read_line_mesh / write_line_mesh) against the
+"""Reading and writing line meshes (skmoor.lines.line.read_line_mesh / write_line_mesh) against the
 points of meshes/make_line_meshes.py, and the errors of bad meshes and bad line input."""
 import importlib.util
 from pathlib import Path
@@ -7,8 +7,8 @@ import meshio
 import numpy as np
 import pytest
 
-from skmoor.catenary import solve_catenary
-from skmoor.line import Line, LineType, read_line_mesh, write_line_mesh
+from skmoor.lines.catenary import solve_catenary
+from skmoor.lines.line import Line, LineType, read_line_mesh, write_line_mesh
 
 MESHES = Path(__file__).resolve().parents[1] / "meshes"
 ROPE = LineType(EA=1e8, mass=50.0, diameter=0.1)

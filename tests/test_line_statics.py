@@ -1,15 +1,15 @@
 """Static FE solve of a line from its unstretched, stress-free shape, against Irvine's elastic
-catenary (skmoor.catenary) and the exact equilibrium of the discrete chain of links."""
+catenary (skmoor.lines.catenary) and the exact equilibrium of the discrete chain of links."""
 from functools import cache
 
 import numpy as np
 import pytest
 from scipy.optimize import brentq, fsolve
 
-from skmoor.catenary import solve_catenary
-from skmoor.coupling import System
-from skmoor.line import Line, LineSet, LineType
-from skmoor.statics import solve_static
+from skmoor.lines.catenary import solve_catenary
+from skmoor.coupling.system import System
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.solvers.statics import solve_static
 
 # The paper's steel line (design.md section 4): E = 2e11 Pa, D = 0.1 m, 8000 kg/m3 in water;
 # 100 m deep, chord at 50 deg. No seabed: the line hangs free between its ends.

@@ -14,11 +14,11 @@ import numpy as np
 import pytest
 
 from skmoor.cli import main
-from skmoor.deck import is_deck, read_deck, write_deck
+from skmoor.io.deck import is_deck, read_deck, write_deck
 import skmoor
 from skmoor import build
-from skmoor.deck_model import heave_motion
-from skmoor.statics import solve_static
+from skmoor.model.from_deck import heave_motion
+from skmoor.solvers.statics import solve_static
 
 DECKS = Path(__file__).parents[1] / "examples" / "decks"
 ORCAFLEX = {"50": (991.6e3, 826.2e3), "200": (2065.4e3, 1402.2e3), "600": (5232.6e3, 3244.2e3)}

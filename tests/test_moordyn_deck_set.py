@@ -15,7 +15,7 @@ it the tests are skipped. One test per deck:
   leaves settled (see moordyn_decks.SETTLED), the static tension at each line's end B is
   within 2 % of MoorDyn's (same segment counts: ~0.5 % expected); decks with Currents
   in still water on both sides (MoorDyn's IC solve has no currents:
-  skmoor.sea_files.still_water); the decks of KNOWN_DIFFERENCES are expected failures,
+  skmoor.io.sea_files.still_water); the decks of KNOWN_DIFFERENCES are expected failures,
   with the reason.
 - test_census_counts_match_moordyn (slow): the survey's own reading of each deck counts
   the lines, points, bodies and rods MoorDyn counts.

@@ -1,4 +1,4 @@
-"""Prescribed motions (skmoor.motion.Motion): the exact velocity and batched evaluation.
+"""Prescribed motions (skmoor.bodies.motion.Motion): the exact velocity and batched evaluation.
 
 Independent numbers: the same motion as a plain function, whose velocity System takes by
 central differences; the motion's own derivative written by hand.
@@ -8,7 +8,7 @@ import pytest
 from test_compiled_step import _chain_on_the_bed
 
 import skmoor
-from skmoor.dynamics import Scheme, integrate
+from skmoor.solvers.dynamics import Scheme, integrate
 
 OMEGA, AMPLITUDE = 0.6, 1.0  # rad/s, m
 

@@ -9,9 +9,9 @@ import pytest
 
 import skmoor
 from skmoor import Body, MooringLine, Network, Point
-from skmoor.body import RigidBody
-from skmoor.catenary import solve_catenary
-from skmoor.waves import Current, Sea
+from skmoor.bodies.body import RigidBody
+from skmoor.lines.catenary import solve_catenary
+from skmoor.sea.waves import Current, Sea
 
 CHAIN = skmoor.LineType(EA=5e8, mass=120.0, diameter=0.12, BA=2e5)
 ROPE = skmoor.LineType(EA=8e7, mass=20.0, diameter=0.15)
@@ -22,7 +22,7 @@ def buoy(name, position, mass=4e4, volume=60.0):
     position = np.asarray(position, float)
     rigid = RigidBody(mass, position + [0, 0, -1.0], np.diag([3e5, 3e5, 2e5]),
                       reference_point=position,
-                      hydrostatics=skmoor.body.Hydrostatics.submerged(volume, position, position))
+                      hydrostatics=skmoor.bodies.body.Hydrostatics.submerged(volume, position, position))
     return Body(name, "dynamic", position, rigid=rigid)
 
 
@@ -200,16 +200,16 @@ def test_hull_mesh_is_read_for_the_draft(tmp_path):
     pv = pytest.importorskip("pyvista")
     mesh = pv.read(str(skmoor.__path__[0] + "/../meshes/box_hull.stl"))
     base = skmoor.paper_case()
-    box = skmoor.model.equilibrium_draft(base)
+    box = skmoor.model.model.equilibrium_draft(base)
     path = tmp_path / "box.stl"
     mesh.save(path)
-    hull = skmoor.model.equilibrium_draft(base.replace("body.hull", str(path)))
+    hull = skmoor.model.model.equilibrium_draft(base.replace("body.hull", str(path)))
     assert hull == pytest.approx(box, abs=1e-9)
     wide = mesh.copy()
     wide.points = wide.points * [1.0, 1.2, 1.0]
     wide.save(tmp_path / "wide.stl")
-    draft = skmoor.model.equilibrium_draft(base.replace("body.hull", str(tmp_path / "wide.stl")))
-    wide_box = skmoor.model.equilibrium_draft(base.replace("body.size", [26.0, 12.0, 5.0]))
+    draft = skmoor.model.model.equilibrium_draft(base.replace("body.hull", str(tmp_path / "wide.stl")))
+    wide_box = skmoor.model.model.equilibrium_draft(base.replace("body.size", [26.0, 12.0, 5.0]))
     assert draft == pytest.approx(wide_box, abs=1e-9) and abs(draft - box) > 0.05
     missing = base.replace("body.hull", str(tmp_path / "none.stl"))
     with pytest.raises(ValueError, match="body.hull: no such mesh file"):
@@ -222,7 +222,7 @@ def test_relaxed_static_solve_reaches_the_networks_equilibrium():
     positive definite (a stable equilibrium, not a saddle Newton may land on)."""
     model = skmoor.from_network(network_two_bodies())
     system = model.system
-    from skmoor.statics import solve_static
+    from skmoor.solvers.statics import solve_static
 
     static = solve_static(system, relax=True, maxiter=300)
     R, K, _ = system.residual(static.x, layout="dense")

@@ -1,7 +1,7 @@
 """A Newton iterate that leaves the residual's domain (NaN forces, as a line folded by a
 step far longer than its axial period) on the sparse iteration matrix: SuperLU finds
 the NaN matrix singular, which is a failed Newton as on the dense layout, so the step is
-subdivided (skmoor.dynamics.integrate), not a RuntimeError out of the run.
+subdivided (skmoor.solvers.dynamics.integrate), not a RuntimeError out of the run.
 
 Independent number: the static root of the hardening spring the system settles on.
 """
@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from skmoor.dynamics import DENSE_BELOW, integrate
+from skmoor.solvers.newton import DENSE_BELOW
+from skmoor.solvers.dynamics import integrate
 
 N, K, K3, F, DAMPING = DENSE_BELOW, 1.0, 100.0, 20.0, 5.0  # N / m, N / m3, N, N s / m
 

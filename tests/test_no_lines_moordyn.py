@@ -69,7 +69,7 @@ def pinned_rods_in_current(workdir):
         ("2    rod       Pinned      0     0     -5    0     1     -5   1 ",
          "2    rod       Pinned      0     0     -5    0     0.6   -4.2 20")])
     d, mu, rho, g, U, Cd = 0.25, 10.0, 1000.0, 9.80665, 1.5, 1.2
-    sea = skmoor.Sea(10.0, rho=rho, g=g, current=skmoor.waves.Current(U))
+    sea = skmoor.Sea(10.0, rho=rho, g=g, current=skmoor.sea.waves.Current(U))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         model = skmoor.build(path, sea=sea)

@@ -127,7 +127,7 @@ def test_body_motion_agrees(side_by_side, dof, tolerance):
     """Surge (range ~1.3 m; measured 2.2 %), pitch (~0.06 rad; 3.1 %) and heave (~0.08 m;
     4.8 %) histories of the body within the module's tolerances of MoorDyn's range."""
     results, (t_md, _, q_md) = side_by_side
-    i = skmoor.results.BODY_DOFS.index(dof)
+    i = skmoor.post.results.BODY_DOFS.index(dof)
     error = difference(results.t, results.bodies[:, 0, i], t_md, q_md[:, i])
     assert error < tolerance, f"{dof}: {error:.2%} of MoorDyn's range {np.ptp(q_md[:, i]):.3g}"
     if dof == "surge":

@@ -38,12 +38,12 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
 
 from peers import amplitude, chain_fairlead_force, chain_length_for, moordyn_deck  # noqa: E402
 
-from skmoor.case import paper_case  # noqa: E402
-from skmoor.coupling import System  # noqa: E402
-from skmoor.dynamics import Scheme, integrate  # noqa: E402
-from skmoor.line import Line, LineSet  # noqa: E402
-from skmoor.model import build, line_type  # noqa: E402
-from skmoor.statics import solve_static  # noqa: E402
+from skmoor.io.case import paper_case
+from skmoor.coupling.system import System
+from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.lines.line import Line, LineSet
+from skmoor.model.model import build, line_type
+from skmoor.solvers.statics import solve_static
 
 AMPLITUDE, OMEGA = 0.05, 1.6  # fairlead motion along x, m and rad/s
 DURATION = 30.0  # s

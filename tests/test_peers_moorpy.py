@@ -17,12 +17,12 @@ mp = pytest.importorskip("moorpy", reason="MoorPy (pip install moorpy) is the qu
 
 from peers import condensed_fairlead_stiffness, condensed_line_stiffness, moorpy_system  # noqa: E402
 
-from skmoor.case import paper_case  # noqa: E402
-from skmoor.catenary import solve_catenary  # noqa: E402
-from skmoor.coupling import System  # noqa: E402
-from skmoor.line import Line, LineSet, LineType  # noqa: E402
-from skmoor.model import build, line_type  # noqa: E402
-from skmoor.statics import solve_static  # noqa: E402
+from skmoor.io.case import paper_case
+from skmoor.lines.catenary import solve_catenary
+from skmoor.coupling.system import System
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.model.model import build, line_type
+from skmoor.solvers.statics import solve_static
 
 # the entries that carry the mooring stiffness of this symmetric layout
 SIGNIFICANT = [(0, 0), (1, 1), (2, 2), (3, 3), (4, 4), (5, 5), (0, 4), (4, 0), (1, 3), (3, 1)]

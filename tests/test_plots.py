@@ -5,7 +5,7 @@ import imageio.v3 as iio
 import pytest
 from _synthetic import synthetic_results
 
-from skmoor.plots import plot_study, plot_time_histories
+from skmoor.post.plots import plot_study, plot_time_histories
 
 ROWS = [dict(value=1 / n, surge=1.0 + 0.01 * n, heave=0.1 - 0.0005 * n, pitch=0.002 * n,
              max_tension_steady=6e5 + 1e3 * n) for n in (80, 45, 60)]
@@ -46,7 +46,7 @@ def test_a_network_without_bodies_plots_its_line_tensions(tmp_path):
     """A deck of lines and points only: the CLI's plot shows each line's end tensions
     (the body panels would be empty), written as a PNG of a real size."""
     import skmoor
-    from skmoor.plots import plot_line_tensions
+    from skmoor.post.plots import plot_line_tensions
 
     model = skmoor.build(Path(__file__).parent / "decks" / "network" / "clump_weight.dat")
     results = skmoor.simulate(model, duration=1.0, progress=False)

@@ -12,8 +12,8 @@
    RMS 0.5 %, and within 0.2 % of the range after (a stiffness 1 % off would leave 1 %).
 2. MoorDyn's viscoelastic polyester (``EA_s|EA_d``, ``BA|BA_D``: a static spring with a
    creep damper BA in series with the dynamic spring EA_d and its damper BA_D) against
-   skmoor's :class:`~skmoor.laws.Viscoelastic` read from the same deck (the same creep
-   state, integrated: skmoor.creep): a taut 199 m line (10 segments) driven 0.5 m
+   skmoor's :class:`~skmoor.lines.laws.Viscoelastic` read from the same deck (the same creep
+   state, integrated: skmoor.lines.creep): a taut 199 m line (10 segments) driven 0.5 m
    sin(2 t) along its chord. With a creep time tau = (BA + BA_D) / (EA_1 + EA_d) = 10 s,
    omega tau = 20: the creep holds the mean stretch (the dynamic stiffness is then within
    0.1 % of EA_d). Static tension (EA_s) within 0.1 %; peak, mean and first harmonic of
@@ -22,7 +22,7 @@
    ``EA_s|alphaMBL|beta`` (EA_d = alphaMBL + beta T_1, T_1 the creep spring's tension).
 3. MoorDyn's viscoelastic test deck ``visco.txt`` (``EA_s|alphaMBL|beta``, ``BA|BA_D``: a
    1 m rope of one segment held stretched to 2 m, then pulled to 11 m in 200 s): read into
-   a :class:`~skmoor.laws.Viscoelastic` law (its water density given twice: the later
+   a :class:`~skmoor.lines.laws.Viscoelastic` law (its water density given twice: the later
    value, with a warning), it runs, warned for its 100 % stretch. Its creep state starts
    as MoorDyn's (the whole stretch in the creep spring, relaxed for the IC stage's 5 s with
    the ends held). The fairlead moved as MoorDyn's test moves it (the strain column of
@@ -47,7 +47,7 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
 
 import skmoor  # noqa: E402
 from skmoor import laws  # noqa: E402
-from skmoor.motion import Motion  # noqa: E402
+from skmoor.bodies.motion import Motion
 from peers import faded_sine  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.catenary import solve_catenary
-from skmoor.coupling import Ends
-from skmoor.dynamics import Scheme, integrate
+from skmoor.lines.catenary import solve_catenary
+from skmoor.coupling.system import Ends
+from skmoor.solvers.dynamics import Scheme, integrate
 
 SPAN, LENGTH, ELEMENTS = 40.0, 50.0, 10  # m, m, -
 MASS, EA, DIAMETER = 80.0, 5e7, 0.1  # kg/m, N, m
@@ -171,7 +171,7 @@ ARM = np.array([10.0, 0.0, -5.0])  # m: the fairlead on the coupled body (body f
 
 
 def network_on_a_turning_ship(motion):
-    from skmoor.network import Body, MooringLine, Network, Point
+    from skmoor.coupling.network import Body, MooringLine, Network, Point
 
     chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09)
     points = [Point("anchor", "fixed", [-290.0, 0.0, -100.0]),
@@ -201,7 +201,7 @@ def test_a_network_honours_its_motions_velocity_and_acceleration(with_accelerati
     tangential speed and centripetal acceleration), from a Motion's velocity (and
     acceleration, or differences of the velocity); a velocity given with a wrong factor
     is the one used (not a difference of the positions)."""
-    from skmoor.network import build_system
+    from skmoor.coupling.network import build_system
 
     motion = skmoor.Motion(ship, ship_rate, ship_acceleration if with_acceleration else None)
     system = build_system(network_on_a_turning_ship(motion))[0]

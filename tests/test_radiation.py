@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skmoor.bem import Hydrodynamics
-from skmoor.radiation import PotentialFlow, retardation_kernel
+from skmoor.bodies.bem import Hydrodynamics
+from skmoor.bodies.radiation import PotentialFlow, retardation_kernel
 
 DATA = Path(__file__).parents[1] / "meshes" / "box_hull_bem.npz"  # by meshes/make_box_bem.py
 
@@ -85,7 +85,7 @@ def box_in_waves(box, omega, amplitude=0.05, periods=None, steps_per_period=80):
     damping; no water forces on the lines in the paper's case), and of the 6x6 one with
     the lines as a quasi-static stiffness: (time, full, 6x6), each (3,)."""
     import skmoor
-    from skmoor.run import equilibrium, mooring_stiffness
+    from skmoor.run.simulate import equilibrium, mooring_stiffness
 
     period = 2 * np.pi / omega
     model = copy.deepcopy(_paper_model())

@@ -1,6 +1,6 @@
 """Exact bodies with terms of their own (drag, rods, pins, spin springs, added mass,
 potential flow) re-based past 60 deg pitch (System.rebase): the terms read the pose from
-one place (skmoor.body_motion), checked against hand-computed drag loads, a spin-down, a
+one place (skmoor.bodies.body_motion), checked against hand-computed drag loads, a spin-down, a
 compound pendulum and a spin with added mass in closed form, the frequency-domain
 response of the box in waves, and the invariance of the loads and of the motion under a
 re-base.
@@ -27,17 +27,19 @@ from scipy.spatial.transform import Rotation
 from scipy.special import ellipk
 
 import skmoor
-from skmoor.bem import Hydrodynamics
-from skmoor.body import RigidBody, rotation_matrix
-from skmoor.coupling import Ends, System
-from skmoor.dynamics import integrate
-from skmoor.hydro import body_hydrodynamics
-from skmoor.large_rotations import (added_mass_load, added_mass_tangents, rate_matrix,
-                                    zyx_angles)
-from skmoor.line import Line, LineSet
-from skmoor.radiation import PotentialFlow
-from skmoor.rods import RodLoad, RodType, SpinLoad
-from skmoor.terms import check_tangent
+from skmoor.bodies.bem import Hydrodynamics
+from skmoor.bodies.body import RigidBody, rotation_matrix
+from skmoor.coupling.system import Ends, System
+from skmoor.solvers.dynamics import integrate
+from skmoor.sea.hydro import body_hydrodynamics
+from skmoor.bodies.large_rotations import (added_mass_load,
+    added_mass_tangents,
+    rate_matrix,
+    zyx_angles)
+from skmoor.lines.line import Line, LineSet
+from skmoor.bodies.radiation import PotentialFlow
+from skmoor.coupling.rods import RodLoad, RodType, SpinLoad
+from skmoor.fem.terms import check_tangent
 
 from test_gimbal_lock import CABLE, tethered_body
 from test_large_rotations import lone_body_system
@@ -379,7 +381,7 @@ def test_a_tilted_rod_rises_along_its_added_mass():
     (I - t t^T) + 2 CaEnd rho (2/3) pi r^3 t t^T with t its axis now (Newmark: exact for
     a constant acceleration). The rod's added mass as built (vertical), which a small
     body keeps, turns it over and misses by metres."""
-    from skmoor.rods import rod_body
+    from skmoor.coupling.rods import rod_body
 
     rod = RodType("r", 0.5, 100.0, Cd=0.0, Ca=1.0, CdEnd=0.0, CaEnd=1.0)
     a, b = np.array([0.0, 0.0, -20.0]), np.array([0.0, 0.0, -18.0])
@@ -405,7 +407,7 @@ def test_a_tilted_rod_rises_along_its_added_mass():
 def test_inertia_tangents_with_added_masses_are_its_derivatives():
     """System.inertia of an exact body with a rod's turning added mass and a constant one:
     d/da, d/dv, d/dx against central differences at a random state."""
-    from skmoor.rods import rod_body
+    from skmoor.coupling.rods import rod_body
 
     rod = RodType("r", 0.5, 100.0, Ca=1.0, CaEnd=1.0)
     a, b = np.array([0.0, 0.0, -20.0]), np.array([1.0, 0.5, -18.0])
@@ -465,8 +467,8 @@ def test_rebase_leaves_the_motion_of_a_body_in_potential_flow(box, monkeypatch):
     The memory on [v, omega] and A_inf on [a, alpha] make the motion independent of the
     angles' frame; the memory lost at the restart after a re-base, or A_inf on the angle
     accelerations, give O(dt) (7e-3 rad) and O(1) (0.13 rad) differences."""
-    from skmoor import coupling
-    from skmoor.body import uniform_box_inertia
+    from skmoor.coupling import system as coupling
+    from skmoor.bodies.body import uniform_box_inertia
 
     def attitudes(pitch, dt):
         monkeypatch.setattr(coupling, "REBASE_PITCH", np.radians(pitch))

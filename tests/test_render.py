@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from _synthetic import synthetic_results
 
-from skmoor import render
+from skmoor.post import render
 
 SIZE = (320, 240)
 
@@ -136,10 +136,10 @@ def test_headless_and_not_imported_by_the_core(tmp_path):
     env["PYTHONPATH"] = os.pathsep.join([str(tests.parent), str(tests)])
     code = (
         "import sys\n"
-        "import skmoor.export, skmoor.plots, skmoor.results\n"
+        "import skmoor.post.export, skmoor.post.plots, skmoor.post.results\n"
         "assert 'pyvista' not in sys.modules\n"
         "from _synthetic import synthetic_results\n"
-        "from skmoor import render\n"
+        "from skmoor.post import render\n"
         f"render.snapshot(synthetic_results(nt=2), 1, {str(tmp_path / 'x.png')!r}, "
         "window_size=(160, 120))\n"
     )

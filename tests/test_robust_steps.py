@@ -1,6 +1,6 @@
 """Large steps through touchdown (issue 16 item 1): the step's full-Newton retry with a
 line search and the automatic subdivision of a step whose Newton fails
-(skmoor.dynamics.integrate), and the count of subdivided steps in the results.
+(skmoor.solvers.dynamics.integrate), and the count of subdivided steps in the results.
 
 The system is tests/decks/seabed/chain_semi.dat, a three-leg chain mooring with the IEA
 15 MW VolturnUS-S's published line properties (850 m chains in 200 m of water, MoorDyn's
@@ -17,8 +17,9 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.dynamics import DivergenceError, integrate
-from skmoor.run import equilibrium, summary
+from skmoor.solvers.newton import DivergenceError
+from skmoor.solvers.dynamics import integrate
+from skmoor.run.simulate import equilibrium, summary
 
 DECK = Path(__file__).parent / "decks" / "seabed" / "chain_semi.dat"
 SEGMENTS = 20
@@ -139,8 +140,8 @@ def test_a_run_whose_lines_blow_up_stops_with_the_line_and_the_time():
     cable heaved without damping: 1e3 m/s and 1e8 N within 3 s): the recorder stops it
     where a line is stretched by more than half its length, naming the line and the time,
     and keeps what came before; a state merely far from rest passes."""
-    from skmoor.dynamics import State
-    from skmoor.run import BLOWN_UP_STRAIN, _Recorder
+    from skmoor.solvers.dynamics import State
+    from skmoor.run.simulate import BLOWN_UP_STRAIN, _Recorder
 
     model = skmoor.build(skmoor.paper_case())
     eq = skmoor.equilibrium(model)

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.catenary import solve_catenary
-from skmoor.deck import read_deck
-from skmoor.run import equilibrium, static_results
+from skmoor.lines.catenary import solve_catenary
+from skmoor.io.deck import read_deck
+from skmoor.run.simulate import equilibrium, static_results
 
 DECKS = Path(__file__).parent / "decks" / "rods"
 G, RHO = 9.80665, 1025.0

@@ -1,4 +1,4 @@
-"""Rods (skmoor.rods, MoorDyn v2's ROD TYPES / RODS) against analytic numbers.
+"""Rods (skmoor.coupling.rods, MoorDyn v2's ROD TYPES / RODS) against analytic numbers.
 
 The decks are in tests/decks/rods/ (each says what it holds). Newmark's period error
 (omega dt)^2 / 12 is the only discretisation error of these rigid-body motions; the
@@ -25,8 +25,8 @@ import pytest
 from scipy.special import ellipk
 
 import skmoor
-from skmoor.deck import read_deck, write_deck
-from skmoor.rods import RodLoad, RodType
+from skmoor.io.deck import read_deck, write_deck
+from skmoor.coupling.rods import RodLoad, RodType
 
 DECKS = Path(__file__).parent / "decks" / "rods"
 G, RHO = 9.80665, 1025.0
@@ -183,7 +183,7 @@ def test_bad_pin_is_refused_by_name():
     for pin, message in (("anchor", "'anchor' is not a coupled point or a point on a coupled"),
                          (3, "is not one of")):
         with pytest.raises(ValueError, match=f"body spar pin: .*{message}"):
-            body, ends = skmoor.rods.rod("spar", spar, [0, 0, -6], [0, 0, 4], pin=pin)
+            body, ends = skmoor.coupling.rods.rod("spar", spar, [0, 0, -6], [0, 0, 4], pin=pin)
             anchor = skmoor.Point("anchor", "fixed", [50.0, 0.0, -20.0])
             skmoor.Network([anchor, *ends], [], [body])
 
@@ -293,7 +293,7 @@ def test_spin_is_the_turn_about_the_axis():
     1.2 rad about an axis across the rod reads 0 (its spring must not hold the swing)."""
     from scipy.spatial.transform import Rotation
 
-    from skmoor.rods import SpinLoad
+    from skmoor.coupling.rods import SpinLoad
 
     axis = np.array([1.0, 0.2, -0.3]) / np.linalg.norm([1.0, 0.2, -0.3])
     spin = SpinLoad(np.zeros(3), axis, stiffness=10.0)

@@ -305,7 +305,7 @@ def test_bodies_and_rods_pinned_can_stands_upright(tmp_path):
         eq = skmoor.equilibrium(model)
     system = model.system
     q_body, q_can = (eq.x[system.nf + 6 * k: system.nf + 6 * k + 6] for k in (0, 1))
-    R = skmoor.body.rotation_matrix(q_can[3:])
+    R = skmoor.bodies.body.rotation_matrix(q_can[3:])
     axis = R @ np.array([3.0, 0.0, 13.0]) / np.hypot(3.0, 13.0)
     assert abs(axis[0]) < 1e-6 and axis[2] > 0  # upright (it started 13 deg off)
     assert abs(q_body[5]) < 1e-9  # the yaw stays

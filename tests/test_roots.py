@@ -1,10 +1,10 @@
-"""skmoor.roots.brent, the bracketed root finder under the catenary solves: roots known in
+"""skmoor.numerics.roots.brent, the bracketed root finder under the catenary solves: roots known in
 closed form, to the requested tolerance, and the errors it owes."""
 import math
 
 import pytest
 
-from skmoor.roots import brent
+from skmoor.numerics.roots import brent
 
 
 @pytest.mark.parametrize("f, a, b, root", [

@@ -7,7 +7,7 @@ changed, the same for both codes, in its line type only: its drag and added-mass
 coefficients set to 0 (everything sits at z = 5 m, above the water, where MoorDyn's lines
 have no hydrodynamics and skmoor's dry lines keep their added mass: with them the two
 part by 0.2 m and 157 deg). Its eleventh column, the VIV lift coefficient Cl = 0.05, is
-kept: both codes read it and give the dry lines no lift (skmoor.viv). Its body: 10 kg, inertia 5 kg m2,
+kept: both codes read it and give the dry lines no lift (skmoor.sea.viv). Its body: 10 kg, inertia 5 kg m2,
 held at its centre by six taut lines; line 7 (13.76 kg/m, 1 m) from the body point 8 at
 (1, 0, 0) to the coupled point 9.
 
@@ -39,8 +39,8 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
                               "lumped-mass dynamic peer")
 
 import skmoor  # noqa: E402
-from skmoor.body import rotation_matrix  # noqa: E402
-from skmoor.network import moordyn_rotation  # noqa: E402
+from skmoor.bodies.body import rotation_matrix
+from skmoor.coupling.network import moordyn_rotation
 
 try:
     MIRROR, NO_MIRROR = md.Mirror(md.mirror_path()), ""

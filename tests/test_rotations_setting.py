@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.case import Case, paper_case
+from skmoor.io.case import Case, paper_case
 from skmoor.cli import main, parser
-from skmoor.schema import validate_case
+from skmoor.io.schema import validate_case
 
 from test_schema import NETWORK_CASE
 

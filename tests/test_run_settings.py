@@ -10,8 +10,8 @@ import pytest
 
 import skmoor
 from skmoor import cli
-from skmoor.export import export
-from skmoor.run import ResolutionWarning, prepare_output
+from skmoor.post.export import export
+from skmoor.run.simulate import ResolutionWarning, prepare_output
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +35,7 @@ def test_bad_run_settings_on_the_command_line(tmp_path, capsys, monkeypatch, fla
     def no_run(*args, **kwargs):
         raise AssertionError("ran before refusing the setting")
 
-    monkeypatch.setattr("skmoor.run._starting_equilibrium", no_run)
+    monkeypatch.setattr("skmoor.run.simulate._starting_equilibrium", no_run)
     code = cli.main(["run", "--out", str(tmp_path / "out"), flag, value, "--quiet"])
     assert code == 2
     err = capsys.readouterr().err
@@ -81,7 +81,7 @@ def test_output_folder_is_checked_before_the_solve(tmp_path, monkeypatch):
     def no_run(*args, **kwargs):
         raise AssertionError("ran before refusing the output folder")
 
-    monkeypatch.setattr("skmoor.run._starting_equilibrium", no_run)
+    monkeypatch.setattr("skmoor.run.simulate._starting_equilibrium", no_run)
     assert cli.main(["run", "--out", str(a_file), "--quiet"]) == 2
 
 
@@ -147,7 +147,7 @@ def test_a_crash_keeps_the_rows_computed_and_reraises(tmp_path):
 def test_paraview_series_have_at_most_a_thousand_frames_by_default(paper, tmp_path):
     from types import SimpleNamespace
 
-    from skmoor.export import frames
+    from skmoor.post.export import frames
 
     long_run = SimpleNamespace(t=np.arange(100_001) * 0.05)  # 5000 s sampled at 0.05 s
     picked = frames(long_run)
@@ -171,7 +171,7 @@ def test_paraview_series_have_at_most_a_thousand_frames_by_default(paper, tmp_pa
 def test_an_interrupted_command_line_run_skips_the_long_exports(tmp_path, capsys, monkeypatch):
     """After Ctrl-C the CLI keeps the results and leaves the ParaView files and the
     animations for `skmoor export` / `skmoor render` (exit status 1: stopped early)."""
-    import skmoor.model as model_module
+    import skmoor.model.model as model_module
 
     paper_load = model_module.body_load
 
@@ -205,7 +205,7 @@ def test_a_step_past_the_bed_contact_period_without_numerical_damping_is_warned(
     eq = skmoor.equilibrium(model)
     d = 0.333
     period = 2 * np.pi * np.sqrt((685.0 + 0.82 * 1025.0 * np.pi * d**2 / 4) / (3e6 * d))
-    assert skmoor.run.bed_contact_period(model) == pytest.approx(period, rel=1e-3)
+    assert skmoor.run.simulate.bed_contact_period(model) == pytest.approx(period, rel=1e-3)
     with pytest.warns(ResolutionWarning, match=rf"sea bed's contact period \({period:.3g} s"):
         skmoor.simulate(model, eq=eq, duration=0.5, dt=0.25, progress=False)
     with warnings_as_errors():

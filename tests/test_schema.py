@@ -1,4 +1,4 @@
-"""The case schema (skmoor/schema.py): every rule gives one line naming the field, every
+"""The case schema (skmoor/io/schema.py): every rule gives one line naming the field, every
 case the project treats as valid passes, and no input raises anything but ValueError."""
 import copy
 import math
@@ -11,8 +11,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from skmoor.case import PAPER_CASE, Case
-from skmoor.schema import MAX_ELEMENTS_PER_LINE, layout, validate_case
+from skmoor.io.case import PAPER_CASE, Case
+from skmoor.io.schema import MAX_ELEMENTS_PER_LINE, layout, validate_case
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -107,8 +107,8 @@ def _readme_network():
 
 
 def _sweep_cases():
-    """Every point of the paper's two studies (skmoor.sweep.paper_studies)."""
-    from skmoor.sweep import paper_studies
+    """Every point of the paper's two studies (skmoor.run.sweep.paper_studies)."""
+    from skmoor.run.sweep import paper_studies
     return [study.case(v).data for study in paper_studies(3) for v in study.values]
 
 

@@ -11,7 +11,7 @@ thinned to every 10 m along the line, y = 0), so that a test takes a few seconds
 Start. MoorDyn's initial-condition (IC) solve has neither waves nor currents (its log:
 "Water kinematics for IC gen: No Waves or Currents"; its IC state is the same to the
 last bit with Currents 0 and 5), so both codes start from their still-water static
-state (skmoor.sea_files.still_water; MoorDyn's IC run until static, threshIC 1e-7: the
+state (skmoor.io.sea_files.still_water; MoorDyn's IC run until static, threshIC 1e-7: the
 decks' own settings leave it ringing by up to 3 kN) and the water comes on at t = 0.
 That, and not the reading of the current, is the 11.8 % of the earlier static survey on
 the two Currents 5 decks: skmoor's static state was in the deck's current at t = 0,
@@ -44,9 +44,9 @@ import moordyn_decks as md  # noqa: E402
 moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) is the peer")
 
 import skmoor  # noqa: E402
-from skmoor.deck import read_deck  # noqa: E402
-from skmoor.sea_files import deck_bathymetry, deck_sea, still_water  # noqa: E402
-from skmoor.waves import AiryWave, Current, Sea  # noqa: E402
+from skmoor.io.deck import read_deck
+from skmoor.io.sea_files import deck_bathymetry, deck_sea, still_water
+from skmoor.sea.waves import AiryWave, Current, Sea
 
 try:
     MIRROR = md.Mirror(md.mirror_path())

@@ -1,4 +1,4 @@
-"""MoorDyn's wave, current and seafloor input (skmoor.sea_files, skmoor.water_grids).
+"""MoorDyn's wave, current and seafloor input (skmoor.io.sea_files, skmoor.sea.water_grids).
 
 Independent numbers: the kinematics of an Airy wave (closed form, Wheeler-stretched as
 MoorDyn stretches them) from the files that describe it (an elevation record, one
@@ -10,10 +10,10 @@ tests/test_sea_moordyn.py.
 import numpy as np
 import pytest
 
-from skmoor.deck import read_deck
-from skmoor.deck_model import deck_network
-from skmoor.sea_files import deck_bathymetry, deck_sea
-from skmoor.waves import wavenumber
+from skmoor.io.deck import read_deck
+from skmoor.model.from_deck import deck_network
+from skmoor.io.sea_files import deck_bathymetry, deck_sea
+from skmoor.sea.waves import wavenumber
 
 DEPTH, G = 50.0, 9.81
 GRID = """--- water grid ---
@@ -201,7 +201,7 @@ def test_unified_current_is_sampled_on_the_wave_grid(tmp_path):
 def test_wavekin1_waves_come_from_the_caller(tmp_path):
     """WaveKin 1: the deck's water has no waves of its own (MoorDyn's nodes before the
     caller sets them); the caller's Sea drives the lines."""
-    from skmoor.waves import AiryWave, Sea
+    from skmoor.sea.waves import AiryWave, Sea
 
     deck = deck_folder(tmp_path, {"WaveKin": 1})
     assert deck_sea(deck).still

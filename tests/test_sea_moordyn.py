@@ -5,7 +5,7 @@ FloatingArrayDesign/MoorDyn (as tests/test_moordyn_deck_set.py; skipped without 
 written, with the folder tree MoorDyn's tests run them in, into a temporary folder.
 
 - Kinematics: the water velocity, acceleration and elevation that skmoor reads from a
-  deck's files (skmoor.sea_files.deck_sea) against MoorDyn's own (moordyn.GetWavesKin
+  deck's files (skmoor.io.sea_files.deck_sea) against MoorDyn's own (moordyn.GetWavesKin
   after stepping MoorDyn to the time), at points along and beside the line, on and off
   the grids, for WaveKin 2, 3, 7 with Currents 1, 2, 5 (unified on the wave grid and
   not) and a SeafloorFile: within 1e-6 m/s, m/s2, m (measured: 1e-9; 5e-7 with WaveKin 3,
@@ -44,9 +44,9 @@ import moordyn_decks as md  # noqa: E402
 moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) is the peer")
 
 import skmoor  # noqa: E402
-from skmoor.deck import read_deck  # noqa: E402
-from skmoor.sea_files import deck_bathymetry, deck_sea  # noqa: E402
-from skmoor.waves import Sea  # noqa: E402
+from skmoor.io.deck import read_deck
+from skmoor.io.sea_files import deck_bathymetry, deck_sea
+from skmoor.sea.waves import Sea
 
 try:
     MIRROR = md.Mirror(md.mirror_path())

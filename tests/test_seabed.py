@@ -1,4 +1,4 @@
-"""Sea-bed contact (skmoor.seabed): the plane's geometry, tangents against central finite
+"""Sea-bed contact (skmoor.sea.seabed): the plane's geometry, tangents against central finite
 differences, the compiled kernel against the scikit-fem forms, the normal force's continuity
 at touchdown (damping onset), the static touchdown against the analytic catenary, a line
 on a slope against the in-plane catenary and w cos(slope), and friction against mu w L of
@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from skmoor.catenary import solve_catenary
-from skmoor.coupling import System
-from skmoor.dynamics import Scheme, integrate
-from skmoor.line import Line, LineSet, LineType
-from skmoor.seabed import DEFAULT_PENETRATION, Seabed, form_term, seabed_term
-from skmoor.statics import solve_static
+from skmoor.lines.catenary import solve_catenary
+from skmoor.coupling.system import System
+from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea.seabed import DEFAULT_PENETRATION, Seabed, form_term, seabed_term
+from skmoor.solvers.statics import solve_static
 
 CHAIN = LineType(EA=6e8, mass=150.0, diameter=0.15)  # w = 1294 N/m
 DEPTH = 100.0
@@ -112,7 +112,7 @@ def test_system_without_body_assembles_the_free_dofs_directly(layout):
     free-DOF matrices (and reduces a form term's matrices): K = dR/dx and Kv = dR/dv match
     central differences of the reduced residual, with the cable's axial damping, the bed,
     the compiled drag and the drag as forms all on."""
-    from skmoor.hydro import form_terms, line_hydrodynamics
+    from skmoor.sea.hydro import form_terms, line_hydrodynamics
 
     damped = dataclasses.replace(CHAIN, BA=1e-3 * CHAIN.EA, Cd_n=1.2, Cd_t=0.4)
     lines, bed, u, ud = contact_state(seed=4, line_type=damped)
@@ -245,7 +245,7 @@ def test_line_across_a_slope_is_an_in_plane_catenary():
     """A line laid along a contour of a frictionless 20 deg slope, both ends held on the
     bed, from a stress-free parabola: the bed carries w cos(slope) per length normal to
     it, the downslope part w sin(slope) makes an in-plane catenary, whose H and sag
-    (skmoor.catenary with weight w sin(slope)) the FE solve matches to 0.2 %."""
+    (skmoor.lines.catenary with weight w sin(slope)) the FE solve matches to 0.2 %."""
     bed = Seabed(DEPTH, slope_deg=20.0, slope_heading_deg=90.0)  # rises towards +y
     position, rest, (fairlead, anchor), planar, a, downslope = line_along_slope(bed, bed.normal)
     assert bed.penetration(position[1:-1]) == pytest.approx(rest, rel=1e-6)

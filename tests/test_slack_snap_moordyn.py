@@ -23,7 +23,7 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
                               "lumped-mass dynamic peer")
 
 import skmoor  # noqa: E402
-from skmoor.model import line_type  # noqa: E402
+from skmoor.model.model import line_type
 from peers import faded_sine  # noqa: E402
 
 AMPLITUDE, OMEGA = 1.0, 1.6  # m, rad/s

@@ -7,12 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skmoor.coupling import Ends
-from skmoor.laws import Engineering
-from skmoor.line import LineType
-from skmoor.model import from_network
-from skmoor.network import MooringLine, Network, Point
-from skmoor.run import equilibrium
+from skmoor.coupling.system import Ends
+from skmoor.lines.laws import Engineering
+from skmoor.lines.line import LineType
+from skmoor.model.model import from_network
+from skmoor.coupling.network import MooringLine, Network, Point
+from skmoor.run.simulate import equilibrium
 
 L, EI, EA, W = 10.0, 1e8, 1e10, 100.0  # m, N m2, N, N/m: deflections ~1e-5 L (linear theory)
 N = 4  # elements per half
@@ -101,7 +101,7 @@ def test_modes_across_a_smooth_joint():
 def beam_case(smooth, anchor=None):
     """The pinned two-line beam as a case file's tables (``smooth`` on the joint, and on
     the fixed end a when ``anchor`` is given)."""
-    from skmoor.case import Case
+    from skmoor.io.case import Case
 
     point = {"name": "mid", "kind": "free", "position": [L / 2, 0.0, -5.0], "smooth": smooth}
     end = {"name": "a", "kind": "fixed", "position": [0.0, 0.0, -5.0]}

@@ -3,7 +3,7 @@ import meshio
 import numpy as np
 
 import skmoor
-from skmoor.export import export
+from skmoor.post.export import export
 
 
 def test_static_state_exports_with_catenary_tensions(tmp_path):

@@ -1,13 +1,13 @@
-"""Natural frequencies of a taut string and of a shallow sagging cable (skmoor.modes on the
+"""Natural frequencies of a taut string and of a shallow sagging cable (skmoor.solvers.modes on the
 System's tangent and mass) against the taut-string formula and Irvine's cable theory."""
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from skmoor.catenary import solve_catenary
-from skmoor.coupling import System
-from skmoor.line import Line, LineSet, LineType
-from skmoor.modes import eigenmodes
+from skmoor.lines.catenary import solve_catenary
+from skmoor.coupling.system import System
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.solvers.modes import eigenmodes
 
 
 def modes_about_reference(line, k):

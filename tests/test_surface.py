@@ -1,4 +1,4 @@
-"""Lines through the free surface (skmoor.surface): the dry part has no buoyancy, no drag.
+"""Lines through the free surface (skmoor.sea.surface): the dry part has no buoyancy, no drag.
 
 Independent numbers: the weight of a vertical hanging line, dry above z = 0 and submerged
 below, in closed form (statics); central differences of the term (its Taylor test).
@@ -10,9 +10,9 @@ import pytest
 
 import skmoor
 from skmoor import MooringLine, Network, Point
-from skmoor.run import equilibrium
-from skmoor.surface import SurfaceTerm
-from skmoor.terms import check_tangent
+from skmoor.run.simulate import equilibrium
+from skmoor.sea.surface import SurfaceTerm
+from skmoor.fem.terms import check_tangent
 
 RHO, G = 1025.0, 9.81
 ROPE = skmoor.LineType(EA=5e8, mass=60.0, diameter=0.2, Cd_n=1.2, Cd_t=0.1,
@@ -96,7 +96,7 @@ def test_buoyancy_sums_are_the_forms(element):
     dry_buoyancy_stiffness on every element, to round-off."""
     from skfem import asm
 
-    from skmoor.surface import dry_buoyancy, dry_buoyancy_stiffness
+    from skmoor.sea.surface import dry_buoyancy, dry_buoyancy_stiffness
 
     model = skmoor.from_network(hanging(True, element, n=8))
     lines = model.lines

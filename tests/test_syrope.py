@@ -1,4 +1,4 @@
-"""The Syrope polyester model (skmoor.syrope) against its formulas and MoorDyn v2.
+"""The Syrope polyester model (skmoor.lines.syrope) against its formulas and MoorDyn v2.
 
 1. The working curve of each shape (LINEAR, QUADRATIC, EXP) against its defining formula,
    written out here by hand: exact at the sampled strains, within the linear-interpolation
@@ -9,7 +9,7 @@
    MoorDyn's repository, held where the deck puts the fairlead: both codes start from the
    deck's creep state (SYROPE IC Tmean0, Tmax0; MoorDyn's IC stage holds it 0.01 s) and
    creep onto the working curve at the deck's strain (time constant 70 s on the linear
-   deck, longer on the softer curves). skmoor's tension history (skmoor.creep's creep
+   deck, longer on the softer curves). skmoor's tension history (skmoor.lines.creep's creep
    state, BA z' = EA_d (e - e_wc(T(z))) + BA_D (e' - z')) is MoorDyn's to 1e-6 over the
    first 60 s (measured 3e-8, 3e-5 at t = 0; the quadratic and exp decks creep by 5 % and
    30 % there);
@@ -40,7 +40,7 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor import laws, syrope
+from skmoor.lines import syrope
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import moordyn_decks as md_decks  # noqa: E402

@@ -6,11 +6,15 @@ import pytest
 from skfem import BilinearForm, LinearForm
 
 import skmoor
-from skmoor import compiled, hydro, ops, terms
-from skmoor.catenary import solve_catenary
-from skmoor.line import Line, LineSet, LineType
-from skmoor.seabed import form_term
-from skmoor.terms import BodyLoad, LineForm, PointLoad, check_tangent
+from skmoor.fem import form_compiler as compiled
+from skmoor.sea import hydro
+from skmoor.fem import ops
+from skmoor.fem import terms
+from skmoor.lines.catenary import solve_catenary
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea.seabed import form_term
+from skmoor.bodies.loads import BodyLoad, PointLoad
+from skmoor.fem.terms import LineForm, check_tangent
 
 pytest.importorskip("jax")
 
@@ -267,7 +271,7 @@ def test_point_load_acts_in_statics():
 def test_model_add_names_must_exist(paper):
     with pytest.raises(ValueError, match="no dynamic body 'hull'"):
         paper.add(BodyLoad(lambda q, qdot, t: np.zeros(6), body="hull"))
-    with pytest.raises(ValueError, match="not a skmoor.terms.Term"):
+    with pytest.raises(ValueError, match="not a skmoor.fem.terms.Term"):
         paper.system.add_term(object())
 
 
@@ -295,7 +299,7 @@ def test_automatic_tangent_of_the_cable_equals_the_hand_tangent(law):
     """The cable forms (Eq. 11 with the law, tension-only with slack elements, and the
     axial damping): d/du and d/dv traced from the residual equal Eq. 17 and the damping's
     hand-written derivatives, and the compiled cable kernel."""
-    from skmoor import forms
+    from skmoor.lines import cable_forms as forms
 
     lines, u, v = cable_lines(law)
     tension, _ = lines.element_tension_and_strain(u)

@@ -1,4 +1,4 @@
-"""The VIV lift (skmoor.viv, MoorDyn's cross-flow model with Thorsen's synchronization)
+"""The VIV lift (skmoor.sea.viv, MoorDyn's cross-flow model with Thorsen's synchronization)
 against its closed forms: the lift per length, the phase rate, the phase of a harmonic
 motion, and the nodal loads and phase update of the term on a straight line in a current.
 """
@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.line import Line, LineSet, LineType
-from skmoor.viv import VortexLift, lift_per_length, motion_phase, phase_rate
-from skmoor.waves import Current, Sea
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea.viv import VortexLift, lift_per_length, motion_phase, phase_rate
+from skmoor.sea.waves import Current, Sea
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
@@ -137,7 +137,7 @@ def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
     """rotatingBody.txt's eleventh line-type column is Cl = 0.05 alone: dF and cF take
     MoorDyn's documented defaults 0.08 and 0.18 (docs/inputs.rst), the running mean
     squares its 500 steps of dtM = 0.5 ms, and the deck runs."""
-    from skmoor.run import simulate
+    from skmoor.run.simulate import simulate
 
     model = skmoor.build(deck_copy(tmp_path, "tests/Mooring/body_tests/rotatingBody.txt"),
                          rotations="exact")
@@ -156,8 +156,8 @@ def lock_in_case(zeta, dF=0.08, cF=0.18):
     damping ratio ``zeta`` from the current's drag, ½ rho d Cd U per length across the
     flow (skmoor integrates the drag at Gauss points: the middle node takes 2/3 of the
     lumped share, int N^2 = 2 h / 3), lift lumped at the node. (model, f_n, m, h)."""
-    from skmoor.model import from_network
-    from skmoor.network import MooringLine, Network, Point
+    from skmoor.model.model import from_network
+    from skmoor.coupling.network import MooringLine, Network, Point
 
     Cd, L = 1.2, 8.0
     f_n = (cF + 0.5 * dF) * U / D
@@ -285,10 +285,10 @@ def test_viv_deck_against_moordyn(tmp_path, monkeypatch):
     2.17 Hz: the motion's frequency is checked in that band, off the Strouhal one.
     3 to 8 min (skmoor's 2400 steps, the later ones 4 to 8 times the cost of the first:
     see docs/api/hydro.md; MoorDyn about 1/3 of it)."""
-    from skmoor.deck import read_deck
-    from skmoor.deck_model import deck_network
-    from skmoor.model import from_network
-    from skmoor.sea_files import still_water
+    from skmoor.io.deck import read_deck
+    from skmoor.model.from_deck import deck_network
+    from skmoor.model.model import from_network
+    from skmoor.io.sea_files import still_water
 
     monkeypatch.chdir(tmp_path)
     path = deck_copy(tmp_path, VIV_DECK, "current_profile.txt")

@@ -1,12 +1,11 @@
-"""Water kinematics (skmoor.waves) against the dispersion relation and its limits, the
+"""Water kinematics (skmoor.sea.waves) against the dispersion relation and its limits, the
 continuity equation, the bed and free-surface boundary conditions, and the JONSWAP
 spectrum's definition."""
 import numpy as np
 import pytest
 from scipy.integrate import trapezoid
 
-from skmoor.waves import (AiryWave, Current, JonswapWave, Sea, jonswap_spectrum,
-                          wavenumber)
+from skmoor.sea.waves import AiryWave, Current, JonswapWave, Sea, jonswap_spectrum, wavenumber
 
 G = 9.81
 

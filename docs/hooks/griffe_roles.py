@@ -1,5 +1,5 @@
 """Griffe extension of skmoor's documentation (mkdocs.yml, mkdocstrings' ``extensions``):
-Sphinx roles in docstrings (:class:`~skmoor.waves.Sea`, :func:`name`, ...) shown as code
+Sphinx roles in docstrings (:class:`~skmoor.sea.waves.Sea`, :func:`name`, ...) shown as code
 and linked where the target is in the API reference. A name is resolved in the scope of
 the docstring's object as Python would (imports included); the link is an optional
 cross-reference, so a target outside the reference is plain code, not a warning."""

@@ -1,0 +1,3 @@
+"""Rigid bodies: mass and hydrostatics, rotations, body motion, prescribed motions, loads,
+wave radiation and BEM coefficients.
+"""

@@ -1,0 +1,3 @@
+"""The network (points, lines, bodies, rods, joints) and the System that couples it into one
+set of equations on reduced DOFs.
+"""

@@ -1,0 +1,3 @@
+"""Finite-element machinery: form operations, element patterns, Hermite shapes, the term
+protocol (Term, LineForm) and the form compiler.
+"""

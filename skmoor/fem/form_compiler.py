@@ -1,0 +1,574 @@
+"""User forms at compiled speed: a residual integrand traced by JAX, written out as
+straight-line scalar code and compiled by numba into an element loop.
+
+A line integrand f(v, w) is linear in the test function, f = a . v + b . v' at each
+quadrature point, with a, b (3 each) functions of the state at that point: u, u', udot,
+udot' (12 numbers) and the fields there. JAX traces a = f(e_c, 0), b = f(0, e_c) and their
+forward-mode derivatives with respect to the 12 state numbers into a jaxpr; this module
+evaluates the jaxpr symbolically on scalars (every array element becomes a named scalar,
+constants folded, unused values dropped) and emits one numba function per form, cached on
+disk (``SKMOOR_CACHE``, default ``~/.cache/skmoor``), that loops over elements and
+quadrature points and adds the residual and the (6, 6) element blocks (on the Hermite
+element of bending lines (12, 12), phi_i its cubics)
+
+    R_i  += dx (a phi_i + b phi_i'),
+    K_ij += dx (da/du phi_i phi_j + da/du' phi_i phi_j' + db/du phi_i' phi_j + db/du' phi_i' phi_j'),
+
+(C_ij the same with udot) exactly as the built-in kernels do. A jaxpr with a primitive not
+covered here (loops, sorts, ...) raises :class:`Unsupported`; the caller then keeps JAX's
+own compiler (``jax.jit``).
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import math
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+STATE = 12  # u (3), u' (3), udot (3), udot' (3)
+
+
+class Unsupported(NotImplementedError):
+    """A jaxpr primitive the scalar code generator does not cover."""
+
+
+def cache_directory() -> Path:
+    """Where generated kernels live: $SKMOOR_CACHE/forms (default ~/.cache/skmoor/forms),
+    or the temporary directory where that cannot be written."""
+    path = Path(os.environ.get("SKMOOR_CACHE", Path.home() / ".cache" / "skmoor")) / "forms"
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        return path
+    except OSError:
+        fallback = Path(tempfile.gettempdir()) / "skmoor-forms"
+        fallback.mkdir(parents=True, exist_ok=True)
+        return fallback
+
+
+# --- symbolic scalar evaluation of a jaxpr
+
+class _Code:
+    """Straight-line scalar code: lines ``name = expression`` with their operands."""
+
+    def __init__(self):
+        self.lines = []  # (name, expression, operand names)
+        self.names = {}  # expression -> name: one line per distinct value
+
+    def emit(self, expression, operands):
+        name = self.names.get(expression)
+        if name is None:
+            name = self.names[expression] = f"v{len(self.lines)}"
+            self.lines.append((name, expression, [o for o in operands if isinstance(o, str)]))
+        return name
+
+    def used(self, outputs):
+        """The lines the outputs need, in order (dead code dropped)."""
+        needed = {o for o in outputs if isinstance(o, str)}
+        keep = []
+        for name, expression, operands in reversed(self.lines):
+            if name in needed:
+                keep.append((name, expression))
+                needed.update(operands)
+        return keep[::-1]
+
+
+def _literal(x):
+    """Source text of a number."""
+    if isinstance(x, (bool, np.bool_)):
+        return "True" if x else "False"
+    x = float(x)
+    if math.isnan(x):
+        return "math.nan"
+    if math.isinf(x):
+        return "math.inf" if x > 0 else "-math.inf"
+    return repr(x)
+
+
+def _text(x):
+    return x if isinstance(x, str) else _literal(x)
+
+
+def _number(x):
+    return not isinstance(x, str)
+
+
+_UNARY = {
+    "neg": ("(-{0})", lambda a: -a),
+    "sqrt": ("math.sqrt({0})", lambda a: math.sqrt(a) if a >= 0 else math.nan),
+    "rsqrt": ("(1.0 / math.sqrt({0}))", lambda a: 1 / math.sqrt(a)),
+    "exp": ("math.exp({0})", math.exp),
+    "log": ("math.log({0})", math.log),
+    "log1p": ("math.log1p({0})", math.log1p),
+    "expm1": ("math.expm1({0})", math.expm1),
+    "tanh": ("math.tanh({0})", math.tanh),
+    "sin": ("math.sin({0})", math.sin),
+    "cos": ("math.cos({0})", math.cos),
+    "tan": ("math.tan({0})", math.tan),
+    "asinh": ("math.asinh({0})", math.asinh),
+    "acosh": ("math.acosh({0})", math.acosh),
+    "atanh": ("math.atanh({0})", math.atanh),
+    "asin": ("math.asin({0})", math.asin),
+    "acos": ("math.acos({0})", math.acos),
+    "atan": ("math.atan({0})", math.atan),
+    "sinh": ("math.sinh({0})", math.sinh),
+    "cosh": ("math.cosh({0})", math.cosh),
+    "erf": ("math.erf({0})", math.erf),
+    "abs": ("abs({0})", abs),
+    "sign": ("(1.0 if {0} > 0 else (-1.0 if {0} < 0 else 0.0 * {0}))", lambda a: float(np.sign(a))),
+    "floor": ("np.floor({0})", math.floor),
+    "ceil": ("np.ceil({0})", math.ceil),
+    "not": ("(not {0})", lambda a: not a),
+    "is_finite": ("math.isfinite({0})", math.isfinite),
+    "logistic": ("(1.0 / (1.0 + math.exp(-{0})))", lambda a: 1 / (1 + math.exp(-a))),
+    "square": ("({0} * {0})", lambda a: a * a),
+    "copy": ("{0}", lambda a: a),
+    "copy_p": ("{0}", lambda a: a),
+    "stop_gradient": ("{0}", lambda a: a),
+    "real": ("{0}", lambda a: a),
+}
+
+_BINARY = {
+    "add": ("({0} + {1})", lambda a, b: a + b),
+    "add_any": ("({0} + {1})", lambda a, b: a + b),
+    "sub": ("({0} - {1})", lambda a, b: a - b),
+    "mul": ("({0} * {1})", lambda a, b: a * b),
+    "div": ("({0} / {1})", lambda a, b: a / b if b != 0 else math.copysign(math.inf, a) * math.copysign(1, b) if a != 0 else math.nan),
+    "max": ("max({0}, {1})", max),
+    "min": ("min({0}, {1})", min),
+    "pow": ("({0} ** {1})", lambda a, b: a ** b),
+    "atan2": ("math.atan2({0}, {1})", math.atan2),
+    "rem": ("math.fmod({0}, {1})", math.fmod),
+    "gt": ("({0} > {1})", lambda a, b: a > b),
+    "lt": ("({0} < {1})", lambda a, b: a < b),
+    "ge": ("({0} >= {1})", lambda a, b: a >= b),
+    "le": ("({0} <= {1})", lambda a, b: a <= b),
+    "eq": ("({0} == {1})", lambda a, b: a == b),
+    "ne": ("({0} != {1})", lambda a, b: a != b),
+    "and": ("({0} and {1})", lambda a, b: a and b),
+    "or": ("({0} or {1})", lambda a, b: a or b),
+    "nextafter": ("np.nextafter({0}, {1})", np.nextafter),
+}
+
+
+class _Evaluator:
+    """Evaluates jaxprs on object arrays of scalars (names or numbers), writing _Code."""
+
+    def __init__(self, code):
+        self.code = code
+
+    # elementwise, with constant folding and the identities x + 0, x * 1, x * 0
+    def unary(self, op, a):
+        template, fold = _UNARY[op]
+        if _number(a):
+            try:
+                return fold(a)
+            except (ValueError, OverflowError, ZeroDivisionError):
+                pass
+        if template == "{0}":
+            return a
+        return self.code.emit(template.format(_text(a)), [a])
+
+    def binary(self, op, a, b):
+        template, fold = _BINARY[op]
+        if _number(a) and _number(b):
+            try:
+                return fold(a, b)
+            except (ValueError, OverflowError, ZeroDivisionError):
+                pass
+        if op in ("add", "add_any"):
+            if _number(a) and a == 0 and not isinstance(a, bool):
+                return b
+            if _number(b) and b == 0 and not isinstance(b, bool):
+                return a
+        elif op == "sub" and _number(b) and b == 0:
+            return a
+        elif op == "mul":
+            for x, y in ((a, b), (b, a)):
+                if _number(x) and not isinstance(x, bool):
+                    if x == 0:
+                        return 0.0
+                    if x == 1:
+                        return y
+        elif op == "div" and _number(b) and b == 1:
+            return a
+        elif op == "pow" and _number(b) and b == 2:
+            return self.code.emit(f"({_text(a)} * {_text(a)})", [a])
+        return self.code.emit(template.format(_text(a), _text(b)), [a, b])
+
+    def select(self, predicate, cases):
+        if _number(predicate):
+            return cases[int(predicate)]
+        if len(cases) != 2:
+            raise Unsupported("select_n with more than two cases")
+        if cases[0] == cases[1] and not isinstance(cases[0], float) or (
+                _number(cases[0]) and _number(cases[1]) and cases[0] == cases[1]):
+            return cases[0]
+        return self.code.emit(f"({_text(cases[1])} if {_text(predicate)} else "
+                              f"{_text(cases[0])})", [predicate, *cases])
+
+    def convert(self, a, dtype, source):
+        kind = np.dtype(dtype).kind
+        if kind == "f" and np.dtype(source).kind == "b" and not _number(a):
+            return self.code.emit(f"(1.0 if {a} else 0.0)", [a])
+        if kind == "b":
+            return bool(a) if _number(a) else self.code.emit(f"({a} != 0)", [a])
+        if kind in "iu":
+            return int(a) if _number(a) else self.code.emit(f"int({a})", [a])
+        if _number(a):
+            return float(a)
+        return self.code.emit(f"float({a})", [a])
+
+    def total(self, terms, op="add"):
+        out = 0.0 if op == "add" else None
+        for x in terms:
+            out = x if out is None else self.binary(op, out, x)
+        return out
+
+    # jaxprs
+    def run(self, jaxpr, consts, args):
+        env = {}
+
+        def read(v):
+            if hasattr(v, "val"):  # a Literal
+                return np.asarray(v.val, dtype=object) if np.ndim(v.val) else \
+                    np.array(_scalar(v.val), dtype=object)
+            return env[v]
+
+        for v, c in zip(jaxpr.constvars, consts):
+            env[v] = _constant(c)
+        for v, a in zip(jaxpr.invars, args):
+            env[v] = a
+        for eqn in jaxpr.eqns:
+            inputs = [read(v) for v in eqn.invars]
+            outputs = self.primitive(eqn.primitive.name, inputs, eqn.params, eqn)
+            for v, out in zip(eqn.outvars, outputs):
+                env[v] = out
+        return [read(v) for v in jaxpr.outvars]
+
+    def call(self, closed, inputs):
+        inner = getattr(closed, "jaxpr", closed)
+        consts = getattr(closed, "consts", ())
+        return self.run(inner, consts, inputs)
+
+    def elementwise(self, f, *arrays):
+        arrays = np.broadcast_arrays(*[np.asarray(a, dtype=object) for a in arrays])
+        out = np.empty(arrays[0].shape, dtype=object)
+        for index in np.ndindex(out.shape):
+            out[index] = f(*[a[index] for a in arrays])
+        return out
+
+    def primitive(self, name, x, p, eqn):
+        if name in _UNARY:
+            return [self.elementwise(lambda a: self.unary(name, a), x[0])]
+        if name == "integer_pow":
+            y = p["y"]
+
+            def power(a):
+                if _number(a):
+                    return a ** y
+                if y == 2:
+                    return self.code.emit(f"({a} * {a})", [a])
+                return self.code.emit(f"({a} ** {y})", [a])
+            return [self.elementwise(power, x[0])]
+        if name in _BINARY:
+            return [self.elementwise(lambda a, b: self.binary(name, a, b), x[0], x[1])]
+        if name == "select_n":
+            return [self.elementwise(lambda c, *cases: self.select(c, cases), *x)]
+        if name == "clamp":
+            return [self.elementwise(lambda lo, a, hi: self.binary(
+                "min", self.binary("max", a, lo), hi), *x)]
+        if name == "convert_element_type":
+            source = eqn.invars[0].aval.dtype
+            return [self.elementwise(lambda a: self.convert(a, p["new_dtype"], source), x[0])]
+        if name == "broadcast_in_dim":
+            shape, dims = tuple(p["shape"]), p["broadcast_dimensions"]
+            tmp = [1] * len(shape)
+            for i, d in enumerate(dims):
+                tmp[d] = x[0].shape[i]
+            return [np.broadcast_to(x[0].reshape(tmp), shape).copy()]
+        if name == "reshape":
+            return [x[0].reshape(tuple(p["new_sizes"]))]
+        if name == "squeeze":
+            return [np.squeeze(x[0], axis=tuple(p["dimensions"]))]
+        if name == "expand_dims":
+            return [np.expand_dims(x[0], tuple(p["dimensions"]))]
+        if name == "transpose":
+            return [x[0].transpose(p["permutation"])]
+        if name == "rev":
+            return [np.flip(x[0], tuple(p["dimensions"]))]
+        if name == "slice":
+            strides = p["strides"] or [1] * x[0].ndim
+            index = tuple(slice(s, e, k) for s, e, k in
+                          zip(p["start_indices"], p["limit_indices"], strides))
+            return [x[0][index].copy()]
+        if name == "dynamic_slice":
+            starts = [_static_index(s, "dynamic_slice") for s in x[1:]]
+            index = tuple(slice(s, s + n) for s, n in zip(starts, p["slice_sizes"]))
+            return [x[0][index].copy()]
+        if name == "dynamic_update_slice":
+            out = x[0].copy()
+            starts = [_static_index(s, "dynamic_update_slice") for s in x[2:]]
+            out[tuple(slice(s, s + n) for s, n in zip(starts, x[1].shape))] = x[1]
+            return [out]
+        if name == "concatenate":
+            return [np.concatenate(x, axis=p["dimension"])]
+        if name == "stack":
+            return [np.stack(x, axis=p["axis"])]
+        if name == "split":
+            edges = np.cumsum(p["sizes"])[:-1]
+            return [part.copy() for part in np.split(x[0], edges, axis=p["axis"])]
+        if name == "pad":
+            return [self.pad(x[0], x[1], p["padding_config"])]
+        if name == "iota":
+            shape, dim = tuple(p["shape"]), p["dimension"]
+            return [np.indices(shape)[dim].astype(object)]
+        if name in ("reduce_sum", "reduce_max", "reduce_min", "reduce_and", "reduce_or"):
+            op = {"reduce_sum": "add", "reduce_max": "max", "reduce_min": "min",
+                  "reduce_and": "and", "reduce_or": "or"}[name]
+            return [self.reduce(x[0], tuple(p["axes"]), op)]
+        if name == "dot_general":
+            return [self.dot_general(x[0], x[1], p["dimension_numbers"])]
+        if name in ("pjit", "jit", "closed_call", "core_call", "remat", "checkpoint",
+                    "custom_jvp_call", "custom_vjp_call", "custom_vjp_call_jaxpr"):
+            closed = (p.get("jaxpr") or p.get("call_jaxpr") or p.get("fun_jaxpr"))
+            if closed is None:
+                raise Unsupported(f"{name} without a jaxpr")
+            return self.call(closed, x[: len(getattr(closed, "jaxpr", closed).invars)])
+        raise Unsupported(name)
+
+    def pad(self, a, value, config):
+        out = a
+        for axis, (low, high, interior) in enumerate(config):
+            if interior:
+                raise Unsupported("pad with interior padding")
+            if low < 0:
+                out = np.take(out, range(-low, out.shape[axis]), axis=axis)
+                low = 0
+            if high < 0:
+                out = np.take(out, range(out.shape[axis] + high), axis=axis)
+                high = 0
+            shape = list(out.shape)
+            shape[axis] = low
+            before = np.full(shape, value.item(), dtype=object)
+            shape[axis] = high
+            after = np.full(shape, value.item(), dtype=object)
+            out = np.concatenate([before, out, after], axis=axis)
+        return out
+
+    def reduce(self, a, axes, op):
+        kept = [i for i in range(a.ndim) if i not in axes]
+        moved = a.transpose(kept + list(axes))
+        shape = moved.shape[: len(kept)]
+        flat = moved.reshape(shape + (-1,))
+        out = np.empty(shape, dtype=object)
+        for index in np.ndindex(shape):
+            out[index] = self.total(list(flat[index]), op)
+        return out
+
+    def dot_general(self, lhs, rhs, numbers):
+        (lc, rc), (lb, rb) = numbers
+        lf = [i for i in range(lhs.ndim) if i not in lc and i not in lb]
+        rf = [i for i in range(rhs.ndim) if i not in rc and i not in rb]
+        L = lhs.transpose(list(lb) + lf + list(lc))
+        R = rhs.transpose(list(rb) + rf + list(rc))
+        nb = len(lb)
+        batch = L.shape[:nb]
+        lfree, rfree = L.shape[nb: nb + len(lf)], R.shape[nb: nb + len(rf)]
+        k = int(np.prod(L.shape[nb + len(lf):], dtype=int))
+        L = L.reshape(batch + lfree + (k,))
+        R = R.reshape(batch + rfree + (k,))
+        out = np.empty(batch + lfree + rfree, dtype=object)
+        for b in np.ndindex(batch):
+            for i in np.ndindex(lfree):
+                for j in np.ndindex(rfree):
+                    products = [self.binary("mul", L[b + i + (m,)], R[b + j + (m,)])
+                                for m in range(k)]
+                    out[b + i + j] = self.total(products)
+        return out
+
+
+def _scalar(x):
+    x = np.asarray(x).item()
+    return bool(x) if isinstance(x, (bool, np.bool_)) else x
+
+
+def _constant(c):
+    arr = np.asarray(c)
+    out = np.empty(arr.shape, dtype=object)
+    for index in np.ndindex(arr.shape):
+        out[index] = _scalar(arr[index])
+    return out
+
+
+def _static_index(s, what):
+    value = s.item() if isinstance(s, np.ndarray) else s
+    if not _number(value):
+        raise Unsupported(f"{what} with an index that depends on the state")
+    return int(value)
+
+
+def scalar_function(jaxpr, consts, n_inputs, name):
+    """Source of ``def name(z, out)``: the jaxpr's outputs (flattened) from z (n_inputs,)."""
+    code = _Code()
+    if len(jaxpr.invars) != 1:
+        raise Unsupported("a jaxpr of one input vector z was expected")
+    args = [np.array([f"z{k}" for k in range(n_inputs)], dtype=object)]
+    outputs = _Evaluator(code).run(jaxpr, consts, args)
+    flat = np.concatenate([np.asarray(o, dtype=object).ravel() for o in outputs])
+    body = [f"    z{k} = z[{k}]" for k in range(n_inputs)]
+    body += [f"    {n} = {e}" for n, e in code.used(list(flat))]
+    body += [f"    out[{k}] = {_text(v)}" for k, v in enumerate(flat)]
+    return "\n".join(["@njit(cache=True, error_model='numpy')", f"def {name}(z, out):"]
+                     + body), flat.size
+
+
+_LOOP = '''
+
+@njit(cache=True, error_model="numpy")
+def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
+    """Adds the form's residual into R and, with ``tangent``, its element blocks."""
+    nel, nqp = dx.shape
+    NP, ND = P.shape[2], D.shape[0]
+    z = np.empty({n_inputs})
+    out = np.empty({n_outputs})
+    for e in range(nel):
+        he = h[e]
+        for q in range(nqp):
+            for c in range(3):
+                a, b = u[edofs[e, c]], u[edofs[e, 3 + c]]
+                z[c] = phi[0, q] * a + phi[1, q] * b
+                z[3 + c] = (b - a) / he
+                a, b = ud[edofs[e, c]], ud[edofs[e, 3 + c]]
+                z[6 + c] = phi[0, q] * a + phi[1, q] * b
+                z[9 + c] = (b - a) / he
+            z[12] = t
+            z[13] = x[e, q]
+            for k in range(NP):
+                z[14 + k] = P[e, q, k]
+            for m in range(ND):
+                for c in range(3):
+                    a, b = D[m, edofs[e, c]], D[m, edofs[e, 3 + c]]
+                    z[14 + NP + 6 * m + c] = phi[0, q] * a + phi[1, q] * b
+                    z[17 + NP + 6 * m + c] = (b - a) / he
+            if tangent:
+                point_tangent(z, out)
+            else:
+                point(z, out)
+            w = dx[e, q]
+            for i in range(2):
+                si = (-1.0 if i == 0 else 1.0) / he
+                for c in range(3):
+                    R[edofs[e, 3 * i + c]] += w * (out[c] * phi[i, q] + out[3 + c] * si)
+            if not tangent:
+                continue
+            for i in range(2):
+                si = (-1.0 if i == 0 else 1.0) / he
+                for j in range(2):
+                    sj = (-1.0 if j == 0 else 1.0) / he
+                    pp, ps, sp_, ss = (phi[i, q] * phi[j, q], phi[i, q] * sj,
+                                       si * phi[j, q], si * sj)
+                    for c in range(3):
+                        for d in range(3):
+                            # out[6 + 12 r + s]: d(a, b)_r / d(state)_s
+                            ra = 6 + 12 * c
+                            rb = 6 + 12 * (3 + c)
+                            Ke[e, 3 * i + c, 3 * j + d] += w * (
+                                out[ra + d] * pp + out[ra + 3 + d] * ps
+                                + out[rb + d] * sp_ + out[rb + 3 + d] * ss)
+                            Ce[e, 3 * i + c, 3 * j + d] += w * (
+                                out[ra + 6 + d] * pp + out[ra + 9 + d] * ps
+                                + out[rb + 6 + d] * sp_ + out[rb + 9 + d] * ss)
+'''
+
+# the same on the Hermite element: phi (2, nel, nqp, 4) holds each element's cubics and
+# their d/ds for the DOFs [u_i, u_i', u_j, u_j'], local DOF 3 b + c of cubic b, component c
+_HERMITE_LOOP = '''
+
+@njit(cache=True, error_model="numpy")
+def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
+    """Adds the form's residual into R and, with ``tangent``, its element blocks."""
+    nel, nqp = dx.shape
+    NP, ND = P.shape[2], D.shape[0]
+    z = np.empty({n_inputs})
+    out = np.empty({n_outputs})
+    for e in range(nel):
+        for q in range(nqp):
+            for c in range(3):
+                z[c] = z[3 + c] = z[6 + c] = z[9 + c] = 0.0
+                for b in range(4):
+                    k = edofs[e, 3 * b + c]
+                    z[c] += phi[0, e, q, b] * u[k]
+                    z[3 + c] += phi[1, e, q, b] * u[k]
+                    z[6 + c] += phi[0, e, q, b] * ud[k]
+                    z[9 + c] += phi[1, e, q, b] * ud[k]
+            z[12] = t
+            z[13] = x[e, q]
+            for k in range(NP):
+                z[14 + k] = P[e, q, k]
+            for m in range(ND):
+                for c in range(3):
+                    z[14 + NP + 6 * m + c] = z[17 + NP + 6 * m + c] = 0.0
+                    for b in range(4):
+                        k = edofs[e, 3 * b + c]
+                        z[14 + NP + 6 * m + c] += phi[0, e, q, b] * D[m, k]
+                        z[17 + NP + 6 * m + c] += phi[1, e, q, b] * D[m, k]
+            if tangent:
+                point_tangent(z, out)
+            else:
+                point(z, out)
+            w = dx[e, q]
+            for i in range(4):
+                for c in range(3):
+                    R[edofs[e, 3 * i + c]] += w * (out[c] * phi[0, e, q, i]
+                                                   + out[3 + c] * phi[1, e, q, i])
+            if not tangent:
+                continue
+            for i in range(4):
+                for j in range(4):
+                    pp = phi[0, e, q, i] * phi[0, e, q, j]
+                    ps = phi[0, e, q, i] * phi[1, e, q, j]
+                    sp_ = phi[1, e, q, i] * phi[0, e, q, j]
+                    ss = phi[1, e, q, i] * phi[1, e, q, j]
+                    for c in range(3):
+                        ra = 6 + 12 * c
+                        rb = 6 + 12 * (3 + c)
+                        for d in range(3):
+                            Ke[e, 3 * i + c, 3 * j + d] += w * (
+                                out[ra + d] * pp + out[ra + 3 + d] * ps
+                                + out[rb + d] * sp_ + out[rb + 3 + d] * ss)
+                            Ce[e, 3 * i + c, 3 * j + d] += w * (
+                                out[ra + 6 + d] * pp + out[ra + 9 + d] * ps
+                                + out[rb + 6 + d] * sp_ + out[rb + 9 + d] * ss)
+'''
+
+
+def build_kernel(residual_jaxpr, tangent_jaxpr, n_inputs, hermite=False):
+    """Writes (once) and imports the numba module of a form; returns its ``kernel``
+    (element loop of the P1 line element, or with ``hermite`` of the Hermite one)."""
+    point, n_point = scalar_function(*residual_jaxpr, n_inputs, "point")
+    tangent, n_tangent = scalar_function(*tangent_jaxpr, n_inputs, "point_tangent")
+    if n_point != 6 or n_tangent != 6 + 6 * STATE:
+        raise Unsupported(f"unexpected output sizes {n_point}, {n_tangent}")
+    source = "\n".join(['"""Generated by skmoor.fem.form_compiler: one user form (do not edit)."""',
+                        "import math", "", "import numpy as np", "from numba import njit",
+                        "", "", point, "", "", tangent,
+                        (_HERMITE_LOOP if hermite else _LOOP).format(
+                            n_inputs=n_inputs, n_outputs=n_tangent)])
+    digest = hashlib.sha256(source.encode()).hexdigest()[:20]
+    path = cache_directory() / f"form_{digest}.py"
+    if not path.exists():
+        temporary = path.with_suffix(f".{os.getpid()}.tmp")
+        temporary.write_text(source)
+        temporary.replace(path)
+    name = f"skmoor_form_{digest}"
+    if name not in sys.modules:  # numba's disk cache finds the module again by its name
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name].kernel, path

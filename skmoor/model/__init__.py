@@ -1,0 +1,2 @@
+"""From a case, a MoorDyn deck or a network to one Model.
+"""

@@ -1,0 +1,2 @@
+"""Numerical building blocks with no physics: roots, input validation, band and bordered LU.
+"""

@@ -1,0 +1,2 @@
+"""Running a model: simulate (statics, modes, damping, time loop, outputs) and sweeps.
+"""

@@ -1,0 +1,491 @@
+"""Hydrodynamic loads: Morison drag on the velocity relative to the water, fluid inertia
+and added mass on the lines; quadratic drag and added mass on a rigid body.
+
+Conventions are MoorDyn v2's, so a MoorDyn line type maps one to one
+(MoorDyn source/Line.cpp, ``Line::getStateDeriv``, tags v2.7.1 and later; docs/inputs.rst,
+"Line Types"): with d the line type's diameter (constant, no contraction), A = pi d^2 / 4,
+per unit UNSTRETCHED length, the relative flow v = u_water - rdot split along the line's
+current unit tangent q into v_q = (v.q) q and v_p = v - v_q:
+
+- transverse drag  1/2 rho Cd    d      |v_p| v_p   (Cd: "w.r.t. frontal area d l")
+- tangential drag  1/2 rho CdAx (pi d)  |v_q| v_q   (CdAx: "w.r.t. surface area pi d l")
+- fluid inertia    rho A [(1 + Ca) a_p + (1 + CaAx) a_q], a the water acceleration
+  (Froude-Krylov plus the added-mass part of the water's acceleration)
+- added mass       rho A [Ca (I - q q^T) + CaAx q q^T]
+
+LineType's Cd_n, Cd_t, Ca_n, Ca_t are MoorDyn's Cd, CdAx, Ca, CaAx. skmoor integrates over
+s, the REFERENCE arclength (line.py): a load per unstretched length is divided by the
+reference stretch, as LineSet does for ``m`` and ``w`` (the factor is read off as
+m / LineType.mass). Differences from MoorDyn: the loads are integrated with Gauss points
+over each element (MoorDyn lumps them at the nodes with the nodal tangent); the added mass
+is a constant matrix on the reference tangent X' (MoorDyn uses the current tangent);
+the line is taken as fully submerged here (:mod:`skmoor.sea.surface` takes the buoyancy and
+the drag of a line's dry part back; MoorDyn's decks have it).
+
+The water velocity and acceleration are evaluated at the displaced nodes X + u at time t
+(as MoorDyn does) and interpolated linearly along each element; their spatial gradient is
+neglected in the tangent d/du, which differentiates only the current tangent
+tau = (X' + u') / |X' + u'|.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import BilinearForm, LinearForm, asm
+from numba import njit
+
+from ..fem import ops
+from ..fem.ops import d_ds, dot
+from ..fem.patterns import NO_BLOCKS
+from ..bodies.loads import BodyLoad
+from ..fem.terms import LineForm, Term
+from ..numerics.validation import check_finite, check_positive
+from .waves import Sea
+
+
+# --- the forms. Fields (nel, nqp), per unit reference length: drag_n = 1/2 rho Cd_n d,
+# drag_t = 1/2 rho Cd_t pi d, inertia_n/t = (1 + Ca_n/t) rho A, added_n/t = Ca_n/t rho A;
+# uw, aw: P1 fields of the water velocity and acceleration (nodal_water).
+
+def _tangent(w):
+    """tau = r' / |r'| and |r'|, r' = X' + u' (the current unit tangent and stretch)."""
+    rp = w.Xp + d_ds(w.u)
+    length = ops.sqrt(dot(rp, rp))
+    return rp / length, length
+
+
+def _split(vec, tau):
+    """(vec . tau, vec - (vec . tau) tau): axial component and normal part."""
+    along = dot(vec, tau)
+    return along, vec - along * tau
+
+
+def _nonzero(x):
+    """x with zeros replaced by 1, for quotients that vanish with their numerator."""
+    return ops.where(x > 0, x, 1.0)
+
+
+@LinearForm
+def morison_drag(v, w):
+    # -int [drag_n |v_n| v_n + drag_t |v_t| v_t] . du ds,  v = u_w - udot split along tau
+    tau, _ = _tangent(w)
+    a, vn = _split(w.uw - w.du, tau)
+    speed = ops.norm(vn)
+    return -(w.drag_n * speed * dot(vn, v) + w.drag_t * ops.abs(a) * a * dot(tau, v))
+
+
+@BilinearForm
+def morison_drag_rate(dv, v, w):
+    # d/d(udot): int [drag_n (|v_n| P + v_n v_n^T / |v_n|) + 2 drag_t |v.tau| tau tau^T] dv . du ds
+    tau, _ = _tangent(w)
+    a, vn = _split(w.uw - w.du, tau)
+    speed = ops.norm(vn)
+    _, dvn = _split(dv, tau)
+    return (w.drag_n * (speed * dot(dvn, v) + dot(vn, dv) * dot(vn, v) / _nonzero(speed))
+            + 2.0 * w.drag_t * ops.abs(a) * dot(tau, dv) * dot(tau, v))
+
+
+@BilinearForm
+def morison_drag_stiffness(du, v, w):
+    # d/du via tau only (dtau = P du'/|r'|): -int [drag_n d(|v_n| v_n) + drag_t d(|v_t| v_t)].du ds
+    tau, length = _tangent(w)
+    a, vn = _split(w.uw - w.du, tau)
+    speed = ops.norm(vn)
+    _, dtau = _split(d_ds(du), tau)
+    dtau = dtau / length
+    vd = dot(vn, dtau)
+    d_normal = -(speed * a * dtau + speed * vd * tau + a * vd * vn / _nonzero(speed))
+    d_axial = 2.0 * ops.abs(a) * vd * tau + ops.abs(a) * a * dtau
+    return -dot(w.drag_n * d_normal + w.drag_t * d_axial, v)
+
+
+@LinearForm
+def fluid_inertia(v, w):
+    # -int [inertia_n a_n + inertia_t a_t] . du ds,  a = water acceleration split along tau
+    tau, _ = _tangent(w)
+    a, an = _split(w.aw, tau)
+    return -(w.inertia_n * dot(an, v) + w.inertia_t * a * dot(tau, v))
+
+
+@BilinearForm
+def fluid_inertia_stiffness(du, v, w):
+    # d/du via tau: -int (inertia_t - inertia_n) d(a_t).du ds, d(a_t) = (a_n.dtau) tau + (a.tau) dtau
+    tau, length = _tangent(w)
+    a, an = _split(w.aw, tau)
+    _, dtau = _split(d_ds(du), tau)
+    dtau = dtau / length
+    return -(w.inertia_t - w.inertia_n) * dot(dot(an, dtau) * tau + a * dtau, v)
+
+
+@BilinearForm
+def added_mass(du, v, w):
+    # int [added_n (I - X' X'^T) + added_t X' X'^T] dudd . du ds, on the reference tangent X'
+    along = dot(w.Xp, du) * dot(w.Xp, v)
+    return w.added_n * (dot(du, v) - along) + w.added_t * along
+
+
+# --- line terms
+
+def coefficients(lines):
+    """The coefficient fields of the forms above, (nel, nqp) each at the Gauss points
+    (``lines.basis``), from each cell's LineType, per unit reference length."""
+    fields = lines.fields
+    types = [line.line_type for line in lines.lines]
+
+    def per_cell(name):
+        return np.array([getattr(lt, name) for lt in types])[lines.line_of_cell][:, None]
+
+    per_reference = fields["m"] / per_cell("mass")  # 1 / stretch, as m = mass / stretch
+    rho, d, area = per_cell("rho_water"), per_cell("diameter"), per_cell("area")
+    out = dict(drag_n=0.5 * rho * per_cell("Cd_n") * d,
+               drag_t=0.5 * rho * per_cell("Cd_t") * np.pi * d,
+               inertia_n=(1.0 + per_cell("Ca_n")) * rho * area,
+               inertia_t=(1.0 + per_cell("Ca_t")) * rho * area,
+               added_n=per_cell("Ca_n") * rho * area,
+               added_t=per_cell("Ca_t") * rho * area)
+    return {name: value * per_reference for name, value in out.items()}
+
+
+def nodal_water(lines, sea, u, t, kind="velocity"):
+    """(ndofs,) water velocity (m/s) or, for kind='acceleration', acceleration (m/s2)
+    at the displaced nodes X + u, as a P1 field (the forms see its interpolation)."""
+    out = np.zeros(lines.ndofs)
+    if sea is None or (sea.still if kind == "velocity" else not sea.has_waves):
+        return out
+    x = lines.points + u[lines.nodal_dofs]
+    out[lines.nodal_dofs] = sea.velocity(x, t) if kind == "velocity" else sea.acceleration(x, t)
+    return out
+
+
+def lump_blocks(M, nodal_dofs):
+    """Row-sum lumping by 3 x 3 nodal blocks: node i keeps sum_j M_ij (Eq. 20 for a
+    direction-dependent mass), sparse."""
+    M = M.tocoo()
+    node = np.empty(M.shape[0], int)
+    component = np.empty(M.shape[0], int)
+    node[nodal_dofs] = np.arange(len(nodal_dofs))[:, None]
+    component[nodal_dofs] = np.arange(3)
+    cols = nodal_dofs[node[M.row], component[M.col]]
+    return sp.csr_matrix((M.data, (M.row, cols)), shape=M.shape)
+
+
+def added_mass_matrix(lines, lumped=True):
+    """The lines' added mass (sparse, kg), block-lumped when ``lumped``; None when every
+    Ca_n and Ca_t is zero."""
+    c = coefficients(lines)
+    if not (np.any(c["added_n"]) or np.any(c["added_t"])):
+        return None
+    M = asm(added_mass, lines.basis, **lines.fields, **c)
+    return lump_blocks(M, lines.nodal_dofs) if lumped else M.tocsr()
+
+
+class SeaTerm(LineForm):
+    """A :class:`~skmoor.fem.terms.LineForm` with the water's velocity (field ``uw``) or
+    acceleration (``aw``, when ``water='acceleration'``) from :func:`nodal_water` at the
+    displaced nodes at time t; its mass (the added mass) is block-lumped when ``lumped``."""
+
+    def __init__(self, residual, *, sea=None, water="velocity", lumped=True, **kw):
+        super().__init__(residual, **kw)
+        self.sea, self.water, self.lumped = sea, water, lumped
+
+    def add_to(self, u, v, t, R, K=None, C=None):
+        if self.water == "velocity" and (self.sea is None or self.sea.still) and not np.any(v):
+            return  # drag and its derivatives vanish with the relative velocity
+        super().add_to(u, v, t, R, K, C)
+
+    def fields_at(self, t, u):
+        name = "uw" if self.water == "velocity" else "aw"
+        return dict(self.fields, **{name: nodal_water(self.lines, self.sea, u, t, self.water)})
+
+    def mass_matrix(self):
+        return None if self.mass is None else added_mass_matrix(self.lines, self.lumped)
+
+
+class LineHydroKernel(Term):
+    """The forms above (drag, fluid inertia, added mass) as a compiled kernel (see
+    :mod:`skmoor.lines.cable_kernel`), a line :class:`~skmoor.fem.terms.Term`: the same Gauss points,
+    element by element."""
+
+    def __init__(self, lines, sea=None, lumped_mass=True):
+        basis = lines.basis
+        self.lines, self.sea = lines, sea
+        self.moving_water = sea is not None and not sea.still
+        self.has_waves = sea is not None and sea.has_waves
+        self.Xp = np.ascontiguousarray(np.moveaxis(lines.fields["Xp"], 0, -1))  # (nel, nqp, 3)
+        self.points, self.nodal_dofs = lines.points, lines.nodal_dofs
+        self.enodes = np.ascontiguousarray(lines.mesh.t.T)  # (nel, 2)
+        self.edofs = self.nodal_dofs[self.enodes].reshape(-1, 6)  # (nel, 6)
+        xi = basis.X[0]
+        self.phi = np.stack([1.0 - xi, xi])  # (2, nqp) P1 shape functions
+        c = coefficients(lines)
+        self.kn, self.kt = c["drag_n"], c["drag_t"]
+        self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
+        self.h = lines.element_lengths
+        self.wphi = np.ascontiguousarray(basis.dx[:, None, :] * self.phi)  # (nel, 2, nqp) w phi_a
+        self._still = np.zeros((len(self.points), 3))
+        self._no_velocity = np.zeros(lines.ndofs)
+        self._mass = added_mass_matrix(lines, lumped_mass)
+
+    def add_to(self, u, ud, t, R, Ke=None, Ce=None):
+        """Adds the residual into R and, with Ke, Ce, its derivatives into the element
+        blocks (the term protocol, :mod:`skmoor.fem.terms`)."""
+        water = acceleration = self._still
+        if self.moving_water:
+            water, acceleration = self.sea.kinematics(self.points + u[self.nodal_dofs], t)
+        _morison(self.Xp, self.h, self.phi, self.wphi, self.kn, self.kt, self.mn, self.dm,
+                 self.edofs, self.enodes, u, self._no_velocity if ud is None else ud,
+                 water, acceleration, self.has_waves, R,
+                 NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
+
+    def mass_matrix(self):
+        """The added mass (sparse, kg), or None when every Ca is zero."""
+        return self._mass
+
+
+@njit(cache=True)
+def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acceleration,
+             has_waves, R, Ke, Ce):
+    """Adds morison_drag (+ fluid_inertia with waves) into R and their derivatives
+    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce.
+    An element's nodal values are read once into scalars (the Gauss-point loop runs in
+    registers: twice as fast as with 3-vectors)."""
+    tangent = Ke.shape[0] > 0
+    tau, vn, an, y = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force (tangent)
+    ax = ay = az = bx = by = bz = 0.0  # the water's acceleration at the nodes (waves)
+    for e in range(h.size):
+        i0, i1, i2 = edofs[e, 0], edofs[e, 1], edofs[e, 2]
+        j0, j1, j2 = edofs[e, 3], edofs[e, 4], edofs[e, 5]
+        na, nb = enodes[e, 0], enodes[e, 1]
+        he = h[e]
+        sx, sy, sz = (u[j0] - u[i0]) / he, (u[j1] - u[i1]) / he, (u[j2] - u[i2]) / he
+        # v = u_w - udot at the two nodes
+        wx, wy, wz = water[na, 0] - ud[i0], water[na, 1] - ud[i1], water[na, 2] - ud[i2]
+        qx, qy, qz = water[nb, 0] - ud[j0], water[nb, 1] - ud[j1], water[nb, 2] - ud[j2]
+        if has_waves:
+            ax, ay, az = acceleration[na, 0], acceleration[na, 1], acceleration[na, 2]
+            bx, by, bz = acceleration[nb, 0], acceleration[nb, 1], acceleration[nb, 2]
+        for q in range(phi.shape[1]):
+            pa, pb = phi[0, q], phi[1, q]
+            rx, ry, rz = Xp[e, q, 0] + sx, Xp[e, q, 1] + sy, Xp[e, q, 2] + sz
+            length = np.sqrt(rx * rx + ry * ry + rz * rz)
+            tx, ty, tz = rx / length, ry / length, rz / length
+            vx, vy, vz = pa * wx + pb * qx, pa * wy + pb * qy, pa * wz + pb * qz
+            a = vx * tx + vy * ty + vz * tz  # along tau
+            nx, ny, nz = vx - a * tx, vy - a * ty, vz - a * tz
+            speed = np.sqrt(nx * nx + ny * ny + nz * nz)
+            # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
+            cn, ct = kn[e, q] * speed, kt[e, q] * abs(a) * a
+            fx, fy, fz = cn * nx + ct * tx, cn * ny + ct * ty, cn * nz + ct * tz
+            aa = 0.0  # the water's acceleration along tau
+            if has_waves:
+                cx, cy, cz = pa * ax + pb * bx, pa * ay + pb * by, pa * az + pb * bz
+                aa = cx * tx + cy * ty + cz * tz
+                an[0], an[1], an[2] = cx - aa * tx, cy - aa * ty, cz - aa * tz
+                m, mt = mn[e, q], (mn[e, q] + dm[e, q]) * aa
+                fx += m * an[0] + mt * tx
+                fy += m * an[1] + mt * ty
+                fz += m * an[2] + mt * tz
+            wa, wb = wphi[e, 0, q], wphi[e, 1, q]
+            R[i0] -= wa * fx
+            R[i1] -= wa * fy
+            R[i2] -= wa * fz
+            R[j0] -= wb * fx
+            R[j1] -= wb * fy
+            R[j2] -= wb * fz
+            if not tangent:
+                continue
+            tau[0], tau[1], tau[2] = tx, ty, tz
+            vn[0], vn[1], vn[2] = nx, ny, nz
+            # d/dudot: alpha I + beta tau tau^T + gamma v_n v_n^T, alpha = drag_n |v_n|
+            beta = 2.0 * kt[e, q] * abs(a) - cn
+            gamma = kn[e, q] / speed if speed > 0 else kn[e, q]
+            # d/du' |r'|: c1 I + tau y^T - gamma a v_n v_n^T, y = beta v_n - c1 tau (+ dm a_n)
+            c1 = (kt[e, q] * abs(a) - cn) * a + (dm[e, q] * aa if has_waves else 0.0)
+            for c in range(3):
+                y[c] = beta * vn[c] - c1 * tau[c] + (dm[e, q] * an[c] if has_waves else 0.0)
+            for p in range(3):
+                for s in range(3):
+                    B[p, s] = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]
+                    G[p, s] = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
+                B[p, p] += cn
+                G[p, p] += c1
+            for i in range(2):
+                for j in range(2):
+                    rate_weight = wphi[e, i, q] * phi[j, q]
+                    # K_e[i, j] = -w phi_i dphi_j/ds dF/du', dphi_j/ds = -+1/h
+                    slope_weight = (wphi[e, i, q] / (length * he)) * (1.0 if j == 0 else -1.0)
+                    for p in range(3):
+                        for s in range(3):
+                            Ce[e, 3 * i + p, 3 * j + s] += rate_weight * B[p, s]
+                            Ke[e, 3 * i + p, 3 * j + s] += slope_weight * G[p, s]
+
+
+def _check_sea(lines, sea):
+    if sea is None:
+        return
+    if not isinstance(sea, Sea):
+        raise ValueError(f"line_hydrodynamics sea: expected a skmoor.sea.waves.Sea or None, "
+                         f"got {type(sea).__name__}")
+    for line in lines.lines:
+        if not np.isclose(line.line_type.rho_water, sea.rho, rtol=1e-12, atol=0.0):
+            raise ValueError(f"line_hydrodynamics sea: rho {sea.rho} kg/m3 differs from line "
+                             f"{line.name!r}'s LineType.rho_water {line.line_type.rho_water}")
+
+
+def line_hydrodynamics(lines, sea=None, *, lumped_mass=True):
+    """The line term for a System on ``lines`` (a LineSet): Morison drag on the relative
+    velocity, fluid inertia (when ``sea`` has waves) and added mass, coefficients from each
+    line's LineType (MoorDyn v2 conventions, see the module docstring), as one compiled
+    :class:`LineHydroKernel`. sea=None: still water. lumped_mass: block-lump the added
+    mass as the System lumps the line's mass (keep the two alike). P1 lines only (see
+    :func:`line_terms` for bending lines)."""
+    _check_sea(lines, sea)
+    if lines.hermite:
+        raise ValueError("line_hydrodynamics: the compiled kernel is for P1 lines; bending "
+                         "(Hermite) lines take skmoor.sea.hydro.line_terms")
+    return LineHydroKernel(lines, sea, lumped_mass)
+
+
+def line_terms(lines, sea=None, *, lumped_mass=True, path="auto") -> list:
+    """The hydrodynamic line terms of a System on ``lines``: the compiled kernel
+    (:func:`line_hydrodynamics`) on P1; on a bending (Hermite) LineSet the forms
+    (:func:`form_terms` on ``path``), with the consistent added mass (as the Hermite
+    line mass)."""
+    if lines.hermite:
+        return form_terms(lines, sea, lumped_mass=False, path=path)
+    return [line_hydrodynamics(lines, sea, lumped_mass=lumped_mass)]
+
+
+def form_terms(lines, sea=None, *, lumped_mass=True, path="auto"):
+    """The same physics as :func:`line_hydrodynamics` as :class:`SeaTerm` forms (the
+    definition): drag (+ fluid inertia with waves); ``path`` as :class:`LineForm` ('auto':
+    scikit-fem's assembly with the hand-written tangents)."""
+    _check_sea(lines, sea)
+    c = coefficients(lines)
+    has_mass = np.any(c["added_n"]) or np.any(c["added_t"])
+    hand = path in ("auto", "assembly")
+    terms = [SeaTerm(morison_drag, stiffness=morison_drag_stiffness if hand else None,
+                     damping=morison_drag_rate if hand else None,
+                     mass=added_mass if has_mass else None, fields=c, sea=sea,
+                     lumped=lumped_mass, path=path, lines=lines)]
+    if sea is not None and sea.has_waves:
+        terms.append(SeaTerm(fluid_inertia, stiffness=fluid_inertia_stiffness if hand else None,
+                             fields=c, sea=sea, water="acceleration", path=path, lines=lines))
+    return terms
+
+
+# --- body
+
+def _six(name, value):
+    """A (6,) array from 3 (translational, rotational zero) or 6 finite values."""
+    arr = np.asarray(value, float).ravel()
+    if arr.shape not in ((3,), (6,)):
+        raise ValueError(f"body_hydrodynamics {name}: need 3 or 6 values, got {arr.shape}")
+    check_finite(f"body_hydrodynamics {name}", arr)
+    if np.any(arr < 0):
+        raise ValueError(f"body_hydrodynamics {name}: must be >= 0, got {arr}")
+    return np.concatenate([arr, np.zeros(6 - arr.size)])
+
+
+def body_hydrodynamics(*, drag_coefficients=None, drag_areas=None, added_mass=None, sea=None,
+                       reference_point=(0.0, 0.0, 0.0), rho=1025.0, axes=None) -> BodyDrag:
+    """A :class:`BodyDrag`: quadratic drag on the body's velocity relative to the water and
+    a constant added mass, MoorDyn v2's body convention (source/Body.cpp).
+
+    drag_coefficients (-), drag_areas (m2 translational; m5 rotational): 3 or 6 values
+    each, multiplied, along / about the body's axes; added_mass: (6, 6) about the
+    reference point (kg, kg m, kg m2); reference_point (m): where q is measured and the
+    water velocity taken; axes (3, 3): the body's axes (columns, global) at q = 0 (a deck
+    body's start attitude; None: the global axes).
+    """
+    check_positive("body_hydrodynamics rho", rho)
+    point = np.asarray(reference_point, float)
+    if point.shape != (3,):
+        raise ValueError(f"body_hydrodynamics reference_point: need 3 values, got {point.shape}")
+    check_finite("body_hydrodynamics reference_point", point)
+    if (drag_coefficients is None) != (drag_areas is None):
+        raise ValueError("body_hydrodynamics drag_coefficients, drag_areas: give both or neither")
+    if sea is not None:
+        if not isinstance(sea, Sea):
+            raise ValueError(f"body_hydrodynamics sea: expected a Sea or None, "
+                             f"got {type(sea).__name__}")
+        if not np.isclose(sea.rho, rho, rtol=1e-12, atol=0.0):
+            raise ValueError(f"body_hydrodynamics rho: {rho} kg/m3 differs from sea.rho {sea.rho}")
+    cda = (np.zeros(6) if drag_coefficients is None
+           else _six("drag_coefficients", drag_coefficients) * _six("drag_areas", drag_areas))
+    if added_mass is not None:
+        added_mass = np.asarray(added_mass, float)
+        if added_mass.shape != (6, 6):
+            raise ValueError(f"body_hydrodynamics added_mass: need a (6, 6) matrix, "
+                             f"got {added_mass.shape}")
+        check_finite("body_hydrodynamics added_mass", added_mass)
+    if axes is not None:
+        axes = np.asarray(axes, float)
+        if axes.shape != (3, 3) or not np.allclose(axes.T @ axes, np.eye(3), atol=1e-9):
+            raise ValueError("body_hydrodynamics axes: need a (3, 3) rotation matrix (the "
+                             f"body's axes as columns), got {axes.tolist()}")
+    return BodyDrag(cda, sea, point, float(rho), added_mass, axes=axes)
+
+
+class BodyDrag(BodyLoad):
+    """Quadratic drag on a body (:func:`body_hydrodynamics`), MoorDyn v2's Body.cpp: with
+    v_r = u_w(x_ref + q[:3], t) - v the relative velocity of the reference point and
+    w_r = -omega,
+
+        F = 1/2 rho D(CdA[:3]) |v_r| v_r,   M = 1/2 rho D(CdA[3:]) |w_r| w_r
+
+    (|.| the norm of the 3-vector), applied as [F, E^T M]. The drag areas are along the
+    body's axes: D(c) = R A diag(c) A^T R^T, A the body's axes at q = 0 (``axes``), R its
+    rotation (MoorDyn's OrMat diag(CdA) OrMat^T), with omega = E qdot[3:] the angular
+    velocity; a 'small' body keeps the linear model (R = I, omega = qdot[3:], E = I).
+    The pose comes from :meth:`body_motion` (re-based frames included). Tangents: dF/dqdot
+    exact; dF/dq without the water velocity's gradient (zero on a small body, central
+    differences in the angles on an exact one)."""
+
+    frame_aware = True
+
+    def __init__(self, cda, sea, reference_point, rho, added_mass=None, body=0, axes=None):
+        self.cda, self.sea, self.point, self.rho = cda, sea, reference_point, rho
+        self.axes = np.eye(3) if axes is None else axes
+        self._moving_water = sea is not None and not sea.still
+        super().__init__(self.forces, body=body, added_mass=added_mass, tangent=self.tangents)
+
+    def _drag(self, motion, t):
+        """(F, M, D_F, D_M, v_r, w_r): the drag force and moment (global, N, N m), the
+        drag matrices 1/2 rho D(CdA) (3, 3 each) and the relative velocities."""
+        vr = -motion.velocity
+        if self._moving_water:
+            vr = vr + self.sea.velocity(self.point + motion.q[:3], t)
+        wr = -motion.angular_velocity
+        half = 0.5 * self.rho * self.cda
+        axes = motion.rotation @ self.axes if motion.exact else self.axes
+        D_F, D_M = (axes * half[:3]) @ axes.T, (axes * half[3:]) @ axes.T  # R diag(c) R^T
+        return (np.linalg.norm(vr) * (D_F @ vr), np.linalg.norm(wr) * (D_M @ wr),
+                D_F, D_M, vr, wr)
+
+    def forces(self, q, qdot, t):
+        """The load conjugate to q (6,), N and N m."""
+        motion = self.body_motion(q, qdot)
+        F, M = self._drag(motion, t)[:2]
+        return motion.generalized(F, M)
+
+    def tangents(self, q, qdot, t):
+        """(dQ/dq or None, dQ/dqdot) (6, 6 each)."""
+        motion = self.body_motion(q, qdot)
+        _, _, D_F, D_M, vr, wr = self._drag(motion, t)
+        E = motion.rate_map
+        dQ_dv = np.zeros((6, 6))
+        # d(|w| D w)/dw = D (|w| I + w w^T / |w|); dv_r/dv = -I, dw_r/dqdot[3:] = -E
+        for block, D, w, T in ((slice(0, 3), D_F, vr, np.eye(3)), (slice(3, 6), D_M, wr, E)):
+            speed = np.linalg.norm(w)
+            dQ_dv[block, block] = -T.T @ D @ (speed * np.eye(3) + np.outer(w, w) / (speed or 1.0)) @ T
+        if not motion.exact:
+            return None, dQ_dv
+        step = 1e-6
+        dQ_dq = np.zeros((6, 6))
+        for k in range(3, 6):
+            e = np.zeros(6)
+            e[k] = step
+            dQ_dq[:, k] = (self.forces(q + e, qdot, t) - self.forces(q - e, qdot, t)) / (2 * step)
+        return dQ_dq, dQ_dv

@@ -1,0 +1,528 @@
+"""Sea-bed contact: a penalty spring-damper normal to a flat or sloped plane and
+regularised Coulomb friction, as scikit-fem forms and as a compiled kernel.
+
+The bed is the plane through (0, 0, -depth) rising at ``slope_deg`` towards
+``slope_heading_deg``, with upward unit normal n, or a :class:`Bathymetry` z_b(x, y),
+whose tangent plane under each node (normal n, point P0 = (x, y, z_b)) stands in for
+the plane there (the compiled kernel only; the tangents neglect the bed's curvature).
+At a point x = X + u of the line (X reference position, u displacement, m) the
+penetration is g = n.(P0 - x) (m, > 0 in contact). While g > 0 the bed pushes along n with k g - c (n.udot) Hc(g) per unit
+length (k in N/m2, c in N s/m2; MoorDyn-C's linear spring-damper, which, as there, may
+pull while the line lifts off quickly), its damping faded in over the first
+``damping_onset`` m of penetration: Hc(g) = clip(g / onset, 0, 1). MoorDyn's damping
+(Hc = H, onset 0) jumps by c |n.udot| where a moving node touches the bed: an explicit
+code steps over the jump, but the implicit step's equations then have no root and
+Newton cycles between its two sides; with the fade-in the force is continuous.
+Friction takes the spring part N = k g as its normal force and opposes the slip
+velocity v_t = P udot (P = I - n n^T) along the line's current tangent projected on
+the bed, a = P r' / |P r'| (r' = X' + u'), and across it:
+
+    f = -N [mu_a phi(v_a) a + mu_l v_l / sqrt(|v_l|^2 + v0^2)],  phi(s) = s / sqrt(s^2 + v0^2),
+    v_a = a.v_t,  v_l = v_t - v_a a.
+
+The square-root regularisation (rather than MoorDyn's linear ramp with a kink where it
+saturates) keeps the residual smooth, so Newton keeps converging quadratically in the
+implicit integrator; the force is 99.5 % of mu N at a slip of 10 v0. Friction acts on
+velocities only: a static solve (udot = 0) sees none.
+
+Quadrature is nodal (Gauss-Lobatto: points 0 and 1 of each element, weights 1/2), i.e.
+lumped contact as MoorDyn's: each node is one spring-damper carrying its share of the
+two elements' lengths, as the lumped mass. With Gauss points a P1 element that is partly
+on the bed couples its nodes, giving pulling (negative) nodal reactions next to the
+touchdown and a contact status that switches inside elements; nodal points give pushing
+nodal reactions, one contact decision per node and a node-diagonal normal tangent.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from skfem import BilinearForm, LinearForm
+from numba import njit
+
+from ..fem import ops
+from ..fem.patterns import NO_BLOCKS
+from ..fem.ops import d_ds, dot
+from ..fem.terms import LineForm, Term
+from ..numerics.validation import check_finite, check_positive
+
+DEFAULT_PENETRATION = 1e-3  # m: the default stiffness lets the heaviest line sink this far
+_VERTICAL = 1e-12  # |P r'| below which an element stands on the bed: no axial direction
+
+
+class Bathymetry:
+    """A sea bed of heights z_b(x, y) (m, up) on a rectilinear grid: increasing x (nx,)
+    and y (ny,) in m, heights (nx, ny); bilinear in each cell and held at the edge values
+    beyond the grid (MoorDyn's seafloor file, source/Seafloor.cpp). Its normal at (x, y)
+    is (-dz_b/dx, -dz_b/dy, 1) normalised, of the cell's bilinear patch (slopes zero
+    along an axis beyond the grid's ends)."""
+
+    def __init__(self, x, y, heights, source="Bathymetry"):
+        self.x, self.y = np.asarray(x, float), np.asarray(y, float)
+        self.heights = np.asarray(heights, float)
+        for name, axis in (("x", self.x), ("y", self.y)):
+            if axis.ndim != 1 or axis.size < 1:
+                raise ValueError(f"{source}: {name} must be a list of coordinates")
+            check_finite(f"{source} {name}", axis)
+            if np.any(np.diff(axis) <= 0):
+                raise ValueError(f"{source}: the {name} coordinates must increase strictly, "
+                                 f"got {axis.tolist()}")
+        if self.heights.shape != (self.x.size, self.y.size):
+            raise ValueError(f"{source}: heights of shape {self.heights.shape}, expected "
+                             f"({self.x.size}, {self.y.size})")
+        check_finite(f"{source} heights", self.heights)
+        if np.any(self.heights >= 0):
+            raise ValueError(f"{source}: the bed must lie below the still water line (z < 0)")
+        self.mean_height = float(self.heights.mean())
+
+    def _cells(self, xy):
+        from .water_grids import interpolation
+
+        xy = np.asarray(xy, float)
+        return interpolation(self.x, xy[..., 0]), interpolation(self.y, xy[..., 1]), xy
+
+    def height(self, xy) -> np.ndarray:
+        """z_b (m) at horizontal positions xy (..., 2 or 3)."""
+        (i0, i1, fx), (j0, j1, fy), _ = self._cells(xy)
+        z = self.heights
+        return ((1 - fx) * ((1 - fy) * z[i0, j0] + fy * z[i0, j1])
+                + fx * ((1 - fy) * z[i1, j0] + fy * z[i1, j1]))
+
+    def slopes(self, xy) -> np.ndarray:
+        """(..., 2) dz_b/dx, dz_b/dy of the bilinear patch under xy."""
+        (i0, i1, fx), (j0, j1, fy), xy = self._cells(xy)
+        z = self.heights
+        out = np.zeros(xy.shape[:-1] + (2,))
+        if self.x.size > 1:
+            inside = (xy[..., 0] > self.x[0]) & (xy[..., 0] < self.x[-1])
+            out[..., 0] = inside * ((1 - fy) * (z[i1, j0] - z[i0, j0]) + fy * (
+                z[i1, j1] - z[i0, j1])) / (self.x[i1] - self.x[i0])
+        if self.y.size > 1:
+            inside = (xy[..., 1] > self.y[0]) & (xy[..., 1] < self.y[-1])
+            out[..., 1] = inside * ((1 - fx) * (z[i0, j1] - z[i0, j0]) + fx * (
+                z[i1, j1] - z[i1, j0])) / (self.y[j1] - self.y[j0])
+        return out
+
+    def normal(self, xy) -> np.ndarray:
+        """(..., 3) upward unit normal under xy."""
+        s = self.slopes(xy)
+        n = np.concatenate([-s, np.ones(s.shape[:-1] + (1,))], axis=-1)
+        return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+    def plane(self, points):
+        """The bed's tangent plane under points (..., 3): its normal n (..., 3) and n.P
+        (...), P = (x, y, z_b(x, y)): the penetration is n.P - n.x = n_z (z_b - z)."""
+        points = np.asarray(points, float)
+        n = self.normal(points)
+        offset = (n[..., 0] * points[..., 0] + n[..., 1] * points[..., 1]
+                  + n[..., 2] * self.height(points))
+        return np.ascontiguousarray(n), np.ascontiguousarray(offset)
+
+
+@dataclass
+class Seabed:
+    """A plane sea bed with penalty contact and friction.
+
+    depth: m below z = 0 at x = y = 0. stiffness: normal force per unit line length (of
+    the reference arclength s) per metre of penetration, N/m2 (default: the heaviest line's submerged weight per length
+    over 1 mm). damping: N s/m2 per unit length (default: critical, 2 sqrt(k m) with the
+    heaviest line's mass per length). mu_axial, mu_lateral: friction coefficients along
+    and across the line. slope_deg: rise of the plane, degrees, towards the horizontal
+    heading slope_heading_deg (degrees from +x towards +y). friction_velocity: slip
+    velocity v0 of the regularisation, m/s. damping_onset: penetration over which the
+    damping fades in, m (default: a tenth of the largest static penetration w / k;
+    0: MoorDyn's jump at touchdown). per_diameter: stiffness and damping are pressures
+    (Pa/m, Pa s/m) on each line's diameter, as MoorDyn's kBot and cBot.
+    """
+
+    depth: float
+    stiffness: float | None = None
+    damping: float | None = None
+    mu_axial: float = 0.0
+    mu_lateral: float = 0.0
+    slope_deg: float = 0.0
+    slope_heading_deg: float = 0.0
+    friction_velocity: float = 1e-3
+    damping_onset: float | None = None
+    per_diameter: bool = False
+    bathymetry: Bathymetry | None = None
+
+    def __post_init__(self):
+        check_positive("Seabed.depth", self.depth)
+        if self.bathymetry is not None:
+            if not isinstance(self.bathymetry, Bathymetry):
+                raise ValueError(f"Seabed.bathymetry: expected a Bathymetry or None, got "
+                                 f"{type(self.bathymetry).__name__}")
+            if self.slope_deg != 0:
+                raise ValueError("Seabed.slope_deg: give a slope or a bathymetry, not both")
+        if self.stiffness is not None:
+            check_positive("Seabed.stiffness", self.stiffness)
+        for name in ("damping", "mu_axial", "mu_lateral", "damping_onset"):
+            value = getattr(self, name)
+            if value is not None:
+                check_finite(f"Seabed.{name}", value)
+                if value < 0:
+                    raise ValueError(f"Seabed.{name}: must not be negative, got {value!r}")
+        check_finite("Seabed.slope_heading_deg", self.slope_heading_deg)
+        check_finite("Seabed.slope_deg", self.slope_deg)
+        if not 0.0 <= self.slope_deg < 90.0:
+            raise ValueError(f"Seabed.slope_deg: must lie in [0, 90), got {self.slope_deg!r}")
+        check_positive("Seabed.friction_velocity", self.friction_velocity)
+
+    @classmethod
+    def from_moordyn(cls, depth, diameter, kBot=3.0e6, cBot=3.0e5, FrictionCoefficient=0.0,
+                     **kw):
+        """MoorDyn v2's bottom: pressures kBot (Pa/m) and cBot (Pa s/m) on the area d l of
+        each node in contact (MoorDyn-C source/Line.cpp: B_z = ((depth - z) kBot - z' cBot)
+        d l; defaults 3e6 and 3e5), i.e. stiffness kBot d (N/m2) and damping cBot d
+        (N s/m2) for a line of diameter d (m); FrictionCoefficient in both directions
+        (MoorDyn-F's MU_KA and MU_KT are mu_axial and mu_lateral)."""
+        check_positive("Seabed.from_moordyn.diameter", diameter)
+        return cls(depth, stiffness=kBot * diameter, damping=cBot * diameter,
+                   mu_axial=FrictionCoefficient, mu_lateral=FrictionCoefficient, **kw)
+
+    def cell_coefficients(self, lines):
+        """(nel,) stiffness (N/m2) and damping (N s/m2) of each element of a LineSet."""
+        k, c = self.coefficients(lines)
+        if not self.per_diameter:
+            return np.full(len(lines.line_of_cell), k), np.full(len(lines.line_of_cell), c)
+        d = np.array([line.line_type.diameter for line in lines.lines])[lines.line_of_cell]
+        return k * d, c * d
+
+    @property
+    def normal(self) -> np.ndarray:
+        """(3,) upward unit normal of the plane bed."""
+        if self.bathymetry is not None:
+            raise ValueError("Seabed.normal: a bathymetry bed has a normal per point "
+                             "(Bathymetry.normal)")
+        a, h = np.radians(self.slope_deg), np.radians(self.slope_heading_deg)
+        return np.array([-np.sin(a) * np.cos(h), -np.sin(a) * np.sin(h), np.cos(a)])
+
+    @property
+    def offset(self) -> float:
+        """n.P0 (m), P0 = (0, 0, -depth) a point of the bed: penetration g = offset - n.x."""
+        return -self.depth * self.normal[2]
+
+    def height(self, xy) -> np.ndarray:
+        """z of the bed (m) at horizontal positions xy (..., 2), m."""
+        xy = np.asarray(xy, float)
+        if self.bathymetry is not None:
+            return self.bathymetry.height(xy)
+        a, h = np.radians(self.slope_deg), np.radians(self.slope_heading_deg)
+        return -self.depth + np.tan(a) * (xy[..., 0] * np.cos(h) + xy[..., 1] * np.sin(h))
+
+    def penetration(self, points) -> np.ndarray:
+        """Depth of points (..., 3) below the bed, normal to it, m (negative above; on a
+        bathymetry n_z (z_b - z), the distance to the bed's tangent plane)."""
+        points = np.asarray(points, float)
+        if self.bathymetry is not None:
+            n, offset = self.bathymetry.plane(points)
+            return offset - np.sum(n * points, axis=-1)
+        return self.offset - points @ self.normal
+
+    def coefficients(self, lines):
+        """(stiffness N/m2, damping N s/m2) with the defaults resolved for a LineSet."""
+        k = self.stiffness
+        if k is None:
+            weight = max(abs(line.line_type.weight) for line in lines.lines)
+            if weight == 0:
+                raise ValueError("Seabed.stiffness: the lines are weightless; give a stiffness")
+            k = weight / DEFAULT_PENETRATION
+        c = self.damping
+        if c is None:
+            c = 2.0 * np.sqrt(k * max(line.line_type.mass for line in lines.lines))
+        return float(k), float(c)
+
+    def onset(self, lines) -> float:
+        """The damping onset (m) with the default resolved for a LineSet: a tenth of the
+        largest static penetration w / k of its lines."""
+        if self.damping_onset is not None:
+            return float(self.damping_onset)
+        k, _ = self.cell_coefficients(lines)
+        w = np.array([abs(line.line_type.weight) for line in lines.lines])[lines.line_of_cell]
+        return float(0.1 * np.max(w / k))
+
+
+# --- the pointwise physics, component axis first: x, rp, ud (3, ...), n (3, 1, ...)
+def _slip(rp, ud, n, v0):
+    """Axial direction a, 1/|P r'| (0 for an element standing on the bed), axial slip v_a,
+    lateral slip v_l and the regularisation roots sqrt(v_a^2 + v0^2), sqrt(|v_l|^2 + v0^2)."""
+    b = rp - dot(n, rp) * n
+    length = ops.norm(b)
+    inv = ops.where(length > _VERTICAL, 1.0 / ops.maximum(length, _VERTICAL), 0.0)
+    a = b * inv
+    vt = ud - dot(n, ud) * n
+    va = dot(a, vt)
+    vl = vt - va * a
+    return a, inv, va, vl, ops.sqrt(va**2 + v0**2), ops.sqrt(dot(vl, vl) + v0**2)
+
+
+def _state(w):
+    """Penetration g (m), contact indicator H(g), current tangent r' = X' + u' (the P1
+    chord) and velocity udot (m/s) at the quadrature points of a form."""
+    x = w.X + w.u
+    g = w.bed_offset - dot(w.bed_n, x)
+    return g, (g > 0).astype(float), d_ds(w.X) + d_ds(w.u), w.du
+
+
+def _fade(g, onset):
+    """Hc(g) = clip(g / onset, 0, 1), the damping's share (H(g) for onset 0), and dHc/dg
+    (1/m, 0 outside 0 < g < onset)."""
+    if onset == 0:
+        return (g > 0).astype(float), 0.0 * g
+    return ops.clip(g / onset, 0.0, 1.0), ((g > 0) & (g < onset)) / onset
+
+
+def _friction_direction(a, va, vl, ra, rho, mu_a, mu_l):
+    """F = mu_a phi(v_a) a + mu_l v_l / rho: friction per unit normal force, against slip."""
+    return mu_a * (va / ra) * a + mu_l * vl / rho
+
+
+def normal_residual(v, w):
+    # contact: int -(k g H(g) - c (n.udot) Hc(g)) n.du ds, g = n.(P0 - X - u)
+    g, H, _, ud = _state(w)
+    Hc, _ = _fade(g, w.bed_onset)
+    return -(w.k_bed * g * H - w.c_bed * dot(w.bed_n, ud) * Hc) * dot(w.bed_n, v)
+
+
+def friction_residual(v, w):
+    # friction: int k g H [mu_a phi(v_a) a + mu_l v_l / sqrt(|v_l|^2 + v0^2)].du ds
+    g, H, rp, ud = _state(w)
+    a, _, va, vl, ra, rho = _slip(rp, ud, w.bed_n, w.v0)
+    return w.k_bed * g * H * dot(_friction_direction(a, va, vl, ra, rho, w.mu_a, w.mu_l), v)
+
+
+def normal_stiffness(du, v, w):
+    # d(contact)/du: int (k H - c (n.udot) dHc/dg) (n.du)(n.v) ds
+    g, H, _, ud = _state(w)
+    _, dHc = _fade(g, w.bed_onset)
+    return (w.k_bed * H - w.c_bed * dot(w.bed_n, ud) * dHc) * dot(w.bed_n, du) * dot(w.bed_n, v)
+
+
+def normal_damping(du, v, w):
+    # d(contact)/dudot: int c Hc (n.du)(n.v) ds
+    g, _, _, _ = _state(w)
+    Hc, _ = _fade(g, w.bed_onset)
+    return w.c_bed * Hc * dot(w.bed_n, du) * dot(w.bed_n, v)
+
+
+def friction_stiffness(du, v, w):
+    # d(friction)/du: through N = k g (dg = -n.du) and a (da = Q du' / |P r'|, Q = P - a a^T)
+    g, H, rp, ud = _state(w)
+    n = w.bed_n
+    a, inv, va, vl, ra, rho = _slip(rp, ud, n, w.v0)
+    F = _friction_direction(a, va, vl, ra, rho, w.mu_a, w.mu_l)
+    N = w.k_bed * g * H
+    dup = d_ds(du)
+    Qdup_v = dot(dup, v) - dot(n, dup) * dot(n, v) - dot(a, dup) * dot(a, v)
+    vl_dup, a_v, vl_v = dot(vl, dup), dot(a, v), dot(vl, v)
+    axial = w.mu_a * (w.v0**2 / ra**3 * vl_dup * a_v + va / ra * Qdup_v)
+    lateral = w.mu_l * (-(vl_dup * a_v + va * Qdup_v) / rho + va * vl_dup * vl_v / rho**3)
+    return -w.k_bed * H * dot(n, du) * dot(F, v) + N * inv * (axial + lateral)
+
+
+def friction_damping(du, v, w):
+    # d(friction)/dudot: int N [mu_a phi'(v_a) (a.du)(a.v)
+    #                            + mu_l ((Q du).v / rho - (v_l.du)(v_l.v) / rho^3)] ds
+    g, H, rp, ud = _state(w)
+    n = w.bed_n
+    a, _, _va, vl, ra, rho = _slip(rp, ud, n, w.v0)
+    Qdu_v = dot(du, v) - dot(n, du) * dot(n, v) - dot(a, du) * dot(a, v)
+    axial = w.mu_a * w.v0**2 / ra**3 * dot(a, du) * dot(a, v)
+    lateral = w.mu_l * (Qdu_v / rho - dot(vl, du) * dot(vl, v) / rho**3)
+    return w.k_bed * g * H * (axial + lateral)
+
+
+@LinearForm
+def seabed_residual(v, w):
+    # bed reaction and friction as internal - external: int -(f_n + f_f).du ds
+    return normal_residual(v, w) + friction_residual(v, w)
+
+
+@BilinearForm
+def seabed_stiffness(du, v, w):
+    # d(seabed_residual)/du
+    return normal_stiffness(du, v, w) + friction_stiffness(du, v, w)
+
+
+@BilinearForm
+def seabed_damping(du, v, w):
+    # d(seabed_residual)/dudot
+    return normal_damping(du, v, w) + friction_damping(du, v, w)
+
+
+def _reference_positions(lines):
+    """(ndofs,) reference geometry as a DOF vector: node positions, m (and on Hermite
+    the nodal tangents)."""
+    return lines.reference_dofs.copy()
+
+
+def seabed_term(lines, seabed, *, path="auto"):
+    """The sea bed as a line term of a System: the compiled :class:`SeabedKernel`; on a
+    bending (Hermite) LineSet with ``path`` other than 'auto', :func:`form_term` on it."""
+    if lines.hermite and path != "auto":
+        return form_term(lines, seabed, path=path)
+    return SeabedKernel(lines, seabed)
+
+
+def form_term(lines, seabed, *, path="auto"):
+    """The sea bed as a :class:`~skmoor.fem.terms.LineForm` on the forms above with nodal
+    quadrature (the definition; the same numbers as the kernel to round-off). path:
+    'auto' uses the hand-written tangents on scikit-fem's assembly."""
+    if seabed.bathymetry is not None:
+        raise ValueError("seabed form_term: a bathymetry bed is the compiled kernel only "
+                         "(seabed_term); the forms take a plane bed")
+    k, c = seabed.cell_coefficients(lines)
+    nqp = lines.nodal_basis.X.shape[1]
+    fields = dict(X=_reference_positions(lines), bed_n=seabed.normal[:, None, None],
+                  bed_offset=seabed.offset, k_bed=np.repeat(k[:, None], nqp, axis=1),
+                  c_bed=np.repeat(c[:, None], nqp, axis=1), bed_onset=seabed.onset(lines),
+                  mu_a=float(seabed.mu_axial), mu_l=float(seabed.mu_lateral),
+                  v0=float(seabed.friction_velocity))
+    hand = path in ("auto", "assembly")
+    moving = np.any(c > 0) or seabed.mu_axial > 0 or seabed.mu_lateral > 0
+    return SeabedForm(seabed, seabed_residual, stiffness=seabed_stiffness if hand else None,
+                      damping=seabed_damping if hand and moving else None, fields=fields,
+                      quadrature="nodal", path=path, lines=lines, name="seabed")
+
+
+class SeabedForm(LineForm):
+    """The seabed's LineForm, skipped while no node touches the bed (every term of the
+    forms carries the contact H(g) or the normal force, so all are zero there)."""
+
+    def __init__(self, seabed, residual, **kw):
+        super().__init__(residual, **kw)
+        self.seabed = seabed
+
+    def add_to(self, u, v, t, R, K=None, C=None):
+        if np.any(self.seabed.penetration(self.lines.points + u[self.lines.nodal_dofs]) > 0):
+            super().add_to(u, v, t, R, K, C)
+
+
+class SeabedKernel(Term):
+    """Compiled fast path of the seabed forms (see :mod:`skmoor.lines.cable_kernel`), a line
+    :class:`~skmoor.fem.terms.Term`, at the nodal quadrature points (2 per element: node i of
+    element e with weight h_e / 2). On a bending (Hermite) LineSet it acts on the node
+    positions with each element's chord as the tangent of the friction (MoorDyn's lumped
+    contact; :func:`form_term` takes the C1 tangent), its blocks placed on the position
+    DOFs of the 12 x 12 element blocks."""
+
+    def __init__(self, lines, seabed):
+        self.lines = lines
+        self.k, self.c = seabed.cell_coefficients(lines)
+        self.onset = seabed.onset(lines)
+        self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
+        self.v0 = float(seabed.friction_velocity)
+        t = lines.mesh.t  # (2, nel)
+        self.h = lines.element_lengths
+        self.ends = np.ascontiguousarray(lines.nodal_dofs[t])  # (2, nel, 3) DOFs of each end
+        self.X = np.ascontiguousarray(lines.points[t])  # (2, nel, 3)
+        self.bathymetry = seabed.bathymetry
+        self.n = self.offset = None  # a bathymetry's follow the nodes
+        if self.bathymetry is None:  # a plane: one normal and offset for every node
+            self.n = np.ascontiguousarray(np.broadcast_to(seabed.normal, self.X.shape))
+            self.offset = np.full(self.X.shape[:2], float(seabed.offset))
+        self.friction = self.mu_a > 0 or self.mu_l > 0
+        self.moving = bool(np.any(self.c > 0)) or self.friction
+        self._no_velocity = np.zeros(lines.ndofs)
+        # Hermite: the position DOFs [node i x, y, z, node j x, y, z] in the element blocks
+        self._positions = np.array([0, 1, 2, 6, 7, 8]) if lines.hermite else None
+
+    def add_to(self, u, ud, t, R, Ke=None, Ce=None):
+        """Adds the residual into R and, with Ke, Ce, its derivatives into the element
+        blocks (the term protocol, :mod:`skmoor.fem.terms`)."""
+        if self._positions is not None and Ke is not None:
+            ke, ce = np.zeros((len(self.h), 6, 6)), np.zeros((len(self.h), 6, 6))
+            self._run(u, ud, R, ke, ce)
+            p = self._positions
+            Ke[:, p[:, None], p] += ke
+            if Ce is not None:
+                Ce[:, p[:, None], p] += ce
+            return
+        self._run(u, ud, R, NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
+
+    def _run(self, u, ud, R, Ke, Ce):
+        n, offset = self.n, self.offset
+        if self.bathymetry is not None:  # the bed's normal and height under each node
+            n, offset = self.bathymetry.plane(self.X + u[self.ends])
+        _seabed(self.X, self.ends, self.h, n, offset, self.k, self.c, self.onset,
+                self.mu_a, self.mu_l, self.v0, self.friction, u,
+                self._no_velocity if ud is None else ud, R, Ke, Ce)
+
+
+@njit(cache=True)
+def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction, u, ud, R, Ke, Ce):
+    """Adds seabed_residual into R and seabed_stiffness / seabed_damping into Ke, Ce at
+    the two ends of each element (weights h / 2), the bed's upward unit normal and n.P
+    (P a point of the bed) at each end in normals (2, nel, 3) and offsets (2, nel)."""
+    tangent = Ke.shape[0] > 0
+    vel, rp = np.zeros(3), np.zeros(3)
+    a, vl, F = np.zeros(3), np.zeros(3), np.zeros(3)
+    for e in range(h.size):
+        W = 0.5 * h[e]
+        for end in range(2):
+            g = offsets[end, e]
+            for i in range(3):
+                g -= normals[end, e, i] * (X[end, e, i] + u[ends[end, e, i]])
+            if g <= 0.0:  # off the bed: no force, no derivative
+                continue
+            n = normals[end, e]
+            vn = 0.0
+            for i in range(3):
+                vel[i] = ud[ends[end, e, i]]
+                vn += n[i] * vel[i]
+            if onset == 0:  # the damping's share Hc(g) and dHc/dg (_fade)
+                Hc, dHc = 1.0, 0.0
+            else:
+                Hc = min(g / onset, 1.0)
+                dHc = 1.0 / onset if g < onset else 0.0
+            push = -(k[e] * g - c[e] * vn * Hc)
+            N = k[e] * g
+            if friction:  # _slip and _friction_direction
+                for i in range(3):
+                    rp[i] = (X[1, e, i] + u[ends[1, e, i]] - X[0, e, i] - u[ends[0, e, i]]) / h[e]
+                n_rp = n[0] * rp[0] + n[1] * rp[1] + n[2] * rp[2]
+                length = 0.0
+                for i in range(3):
+                    a[i] = rp[i] - n_rp * n[i]
+                    length += a[i] ** 2
+                length = np.sqrt(length)
+                inv = 1.0 / length if length > _VERTICAL else 0.0
+                va = 0.0
+                for i in range(3):
+                    a[i] *= inv
+                    va += a[i] * (vel[i] - vn * n[i])
+                rho = 0.0
+                for i in range(3):
+                    vl[i] = vel[i] - vn * n[i] - va * a[i]
+                    rho += vl[i] ** 2
+                ra, rho = np.sqrt(va**2 + v0**2), np.sqrt(rho + v0**2)
+                for i in range(3):
+                    F[i] = mu_a * va / ra * a[i] + mu_l * vl[i] / rho
+            else:
+                F[:] = 0.0
+            for i in range(3):
+                R[ends[end, e, i]] += W * (push * n[i] + N * F[i])
+            if not tangent:
+                continue
+            o = 3 * end
+            for p in range(3):
+                for q in range(3):
+                    # through the penetration: the spring, the damping's fade-in, the
+                    # friction's normal force; the damping's rate
+                    Ke[e, o + p, o + q] += W * ((k[e] - c[e] * vn * dHc) * n[p] * n[q]
+                                                - k[e] * F[p] * n[q])
+                    Ce[e, o + p, o + q] += W * c[e] * Hc * n[p] * n[q]
+            if not friction:
+                continue
+            # d/du through a, per unit change of the chord (du_1 - du_0) / h, and d/dudot
+            scale = W * N * inv / h[e]
+            for p in range(3):
+                for q in range(3):
+                    Q = (1.0 if p == q else 0.0) - n[p] * n[q] - a[p] * a[q]
+                    G = (mu_a * (v0**2 / ra**3 * a[p] * vl[q] + va / ra * Q)
+                         + mu_l * (-(a[p] * vl[q] + va * Q) / rho + va / rho**3 * vl[p] * vl[q]))
+                    Ke[e, o + p, q] -= scale * G
+                    Ke[e, o + p, 3 + q] += scale * G
+                    Ce[e, o + p, o + q] += W * N * (mu_a * v0**2 / ra**3 * a[p] * a[q]
+                                                    + mu_l * (Q / rho - vl[p] * vl[q] / rho**3))

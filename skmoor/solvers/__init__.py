@@ -1,0 +1,3 @@
+"""Solvers that know nothing of the model: Newton, statics, modes, time integration and
+the compiled step.
+"""

@@ -1,0 +1,732 @@
+"""A whole time step's Newton iteration in compiled code, for the systems it covers.
+
+:func:`skmoor.solvers.dynamics.integrate` solves each step's alpha-level balance by modified
+Newton; written in Python around compiled element kernels, an iteration of a small system
+costs ~0.1 ms of Python glue against a few us of kernels. Here the same iteration -- the
+cable kernel and the line terms, the reduction to the bodies and free points (Eq. 35's
+coupling), the Newton matrix, its factorization (:mod:`skmoor.numerics.bordered`) and the solve --
+is one numba function, so that a step costs what its arithmetic costs.
+
+It covers P1 lines with any built-in strain law, MoorDyn-style or skmoor's Morison terms in
+still water, a plane sea bed, the dry part of the lines in still water (``SurfaceTerm``:
+zero while every node stays half a diameter deep; a step that brings one up is handed to
+the Python step), fixed, prescribed and free points (buoyancy, drag in still water) and
+small-rotation rigid bodies whose applied load depends on time only
+(``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
+loads in one call). :func:`build` returns None, with the reason in
+:data:`last_refusal`, for anything else (bending lines, user forms, waves or currents, a
+bathymetry, terms on points or bodies, radiation memory, exact rotations), and the step
+then runs in Python. When modified Newton does not converge the step falls back to the
+Python step (full Newton with a line search, then subdivision), so robustness is the
+Python path's; results are the same to round-off as long as neither path falls back.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.sparse as sp
+from numba import njit
+
+from ..numerics import bordered
+from ..bodies.body import rotation_and_slopes
+from .newton import CONTRACTION, LINE_SEARCH
+from ..sea.hydro import LineHydroKernel, _morison
+from ..lines.cable_kernel import CableKernel, _cable
+from ..fem.patterns import ElementPattern
+from ..sea.seabed import SeabedKernel, _seabed
+
+last_refusal = ""  # why the last build() returned None
+TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
+SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
+
+# stand-ins for an absent term (the compiled loop gets the same argument types)
+NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 1)),
+            np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)),
+            np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64))
+NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.zeros((2, 0, 3)),
+          np.zeros((2, 0)), np.zeros(0), np.zeros(0), 0.0, 0.0, 0.0, 0.0, False)
+
+
+def _refuse(why):
+    global last_refusal
+    last_refusal = why
+
+
+def build(system, C, scheme, tol, maxiter):
+    """A :class:`CompiledStep` for ``system`` (C: its constant damping matrix, sparse, or
+    None; scheme: a :class:`~skmoor.solvers.dynamics.Scheme`; tol, maxiter: Newton's), or
+    None when the system has something the compiled step does not cover (reason in
+    :data:`last_refusal`)."""
+    lines = system.lines
+    if lines.hermite or not isinstance(system.kernel, CableKernel):
+        return _refuse("bending (Hermite) lines")
+    from ..sea.surface import SurfaceTerm
+
+    hydro = bed = surface = None
+    for term in system.line_terms:
+        if isinstance(term, LineHydroKernel) and not term.moving_water and hydro is None:
+            hydro = term
+        elif isinstance(term, SurfaceTerm) and term._flat and surface is None:
+            surface = term  # zero while the lines stay deep (checked at every residual)
+        elif (isinstance(term, SeabedKernel) and term.bathymetry is None
+              and term._positions is None and bed is None):
+            bed = term
+        else:
+            return _refuse(f"line term {type(term).__name__} (moving water, a bathymetry "
+                           "or a user form)")
+    if system.point_terms or system.body_terms or system._committing:
+        return _refuse("terms on points or bodies, or with a memory")
+    if system.nonlinear_inertia:
+        return _refuse("a body with rotations='exact'")
+    if any(p.CdA for p in system.point_masses) and system.sea is not None \
+            and not system.sea.still:
+        return _refuse("free points dragged by moving water")
+    for load in system.body_loads:
+        if load is not None and not getattr(load, "time_only", False):
+            return _refuse("a body load that depends on the body's state")
+    width = ElementPattern(lines, position=system._position).bandwidth if system.nf else 0
+    width = max(width, 1)
+    try:
+        M = bordered.split(system.M, system.nf, width)
+        Cs = bordered.split(C if C is not None else sp.csr_matrix(system.M.shape),
+                            system.nf, width)
+    except ValueError:
+        return _refuse("mass or damping coupling line DOFs beyond the lines' band")
+    damped = C is not None and C.count_nonzero() > 0
+    C_matrix = C if C is not None else sp.csr_matrix(system.M.shape)
+    return CompiledStep(system, hydro, bed, surface, M, Cs, C_matrix, damped, width, scheme,
+                        tol, maxiter)
+
+
+def _contiguous(arrays):
+    """The tuple with every array C-contiguous and integers int64: one compiled
+    signature for all systems."""
+    return tuple(np.ascontiguousarray(a, np.int64 if a.dtype.kind in "iu" else None)
+                 if isinstance(a, np.ndarray) else a for a in arrays)
+
+
+def _csr(A):
+    """(data, indices, indptr) of a sparse matrix, int64 indices."""
+    A = sp.csr_matrix(A)
+    A.eliminate_zeros()
+    return (np.ascontiguousarray(A.data, float), A.indices.astype(np.int64),
+            A.indptr.astype(np.int64))
+
+
+class CompiledStep:
+    """The arrays of a System the compiled step reads, and its Newton matrix's factors
+    (kept across steps: modified Newton)."""
+
+    handed_back = TO_PYTHON  # the failure of a step that is the Python step's to take
+
+    def __init__(self, system, hydro, bed, surface, M, C, C_matrix, damped, width, scheme,
+                 tol, maxiter):
+        self.system, self.hydro, self.bed = system, hydro, bed
+        self.M, self.C, self.damped, self.width = M, C, damped, width
+        self.products = (_csr(system.M), _csr(C_matrix))
+        self.scheme = (scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma)
+        self.tol, self.maxiter = float(tol), int(maxiter)
+        lines, n = system.lines, system.n
+        ndofs = lines.ndofs
+        end_row = np.full(ndofs, -1, np.int64)
+        end_row[system._body_flat] = np.arange(len(system._body_flat))
+        r_local = (np.concatenate([r for r in system._r_local]) if system.bodies
+                   else np.zeros((0, 3)))
+        self.topology = (np.asarray(system._position, np.int64), end_row,
+                         np.asarray(system._body_of_end, np.int64),
+                         np.asarray(system.body_end_dofs, np.int64).reshape(-1, 3),
+                         np.ascontiguousarray(r_local, float),
+                         np.ascontiguousarray(lines.element_dofs, np.int64), system.nf,
+                         # the nodes' z DOFs, reference heights (m) and the depth (m) a
+                         # SurfaceTerm needs them below (none: no term)
+                         np.zeros(0, np.int64) if surface is None
+                         else np.asarray(surface._z_dofs, np.int64),
+                         np.zeros(0) if surface is None else np.asarray(surface._z, float),
+                         0.0 if surface is None else float(surface._deepest_reach))
+        self.prescribed_dofs = np.asarray(system._prescribed_flat, np.int64)
+        self.report_dofs = np.concatenate([np.ravel(system.fairlead_dofs),
+                                           np.ravel(system.anchor_dofs)]).astype(np.int64)
+        self.held = _held_inertia(system)
+        lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
+        drag = np.array([0.5 * p.rho * p.CdA for p in system.point_masses])
+        self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
+                       lift.reshape(-1), drag.reshape(-1))
+        nbodies = len(system.bodies)
+        self.bodies = (np.array(system.K_bodies).reshape(nbodies, 6, 6),
+                       np.array(system.F_bodies0).reshape(nbodies, 6),
+                       np.array([b.linear_damping for b in system.bodies]).reshape(nbodies, 6, 6))
+        nf, nb, nel = system.nf, system.nb, len(lines.element_dofs)
+        self.factors = (bordered.band_storage(width, nf), np.zeros((nf, nb)),
+                        np.zeros((nb, nf)), np.zeros((nb, nb)), np.zeros(nf, np.int64),
+                        np.zeros(nb, np.int64))
+        self.work = (np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs), np.zeros((nel, 6, 6)),
+                     np.zeros((nel, 6, 6)), np.zeros((len(system._body_flat), 6)),
+                     np.zeros((len(system._body_flat), 6)), np.zeros(n), np.zeros(n),
+                     np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+        self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
+        self._still = np.zeros((len(lines.points), 3))
+        self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
+
+    def _terms(self):
+        """The kernels' current arrays (a strain law may be refreshed between steps)."""
+        k = self.system.kernel
+        cable = (k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h, k.weight, k.dofs_i, k.dofs_j,
+                 bool(self.system._damped), k.constant, self.system.weight)
+        hydro, bed = NO_HYDRO, NO_BED
+        if self.hydro is not None:
+            h = self.hydro
+            hydro = (h.Xp, h.h, h.phi, h.wphi, h.kn, h.kt, h.mn, h.dm, h.edofs, h.enodes)
+        if self.bed is not None:
+            b = self.bed
+            bed = (b.X, b.ends, b.h, b.n, b.offset, b.k, b.c, b.onset, b.mu_a, b.mu_l, b.v0,
+                   b.friction)
+        key = tuple(id(a) for part in (cable, hydro, bed) for a in part)
+        if self._terms_cache[0] != key:
+            arrays = (_contiguous(cable), _contiguous(hydro), _contiguous(bed))
+            # kept while the kernels hold these very arrays, unless a conversion copied a
+            # float one (a change in place would not show in the copy; index arrays are
+            # the mesh's, never changed)
+            same = all(a is b or a.dtype.kind in "iub"
+                       for given, used in zip((cable, hydro, bed), arrays)
+                       for a, b in zip(given, used) if isinstance(a, np.ndarray))
+            self._terms_cache = (key if same else None, arrays)
+        cable, hydro, bed = self._terms_cache[1]
+        return cable, hydro, self.hydro is not None, bed, self.bed is not None
+
+    def steps(self, x, v, a, force_old, times, h, report=None):
+        """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R):
+        (a list of ((x1, v1, a1, C v1 + R1, None), iterations, report), None), or with
+        fewer steps than ``times`` and why Newton failed at the step after the last.
+        report: a bool per step; at those steps the report is ((u, ud), (fairlead forces,
+        anchor forces)) as ``System.full_state`` and ``System.end_forces`` give them (m,
+        m/s; (nlines, 3) N each), computed here; None at the others."""
+        system, count = self.system, len(times)
+        nbodies, m = len(system.bodies), len(self.prescribed_dofs)
+        pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
+        loads = np.zeros((count, nbodies, 6))
+        driven = np.zeros((count, 0))  # M_fp a_p of each step (none: lumped P1 lines)
+        pres_a = pres_u  # the prescribed ends' accelerations, where something needs them
+        if system._has_prescribed:  # the time-only inputs of each step
+            needed = system._M_driven is not None or (
+                self.held[2][0].size and report is not None and np.any(report))
+            pres_u, pres_v, *pres_a = (np.ascontiguousarray(p, float) for p in
+                                       system.prescribed_at(times, accelerations=needed))
+            pres_a = pres_a[0] if pres_a else pres_u
+            if system._M_driven is not None:
+                driven = np.ascontiguousarray((system._M_driven @ pres_a.T).T, float)
+        for k, load in enumerate(system.body_loads):
+            if load is None:
+                continue
+            at_times = getattr(load, "at_times", None)  # all the times in one call
+            if at_times is not None:
+                loads[:, k] = at_times(times)
+                continue
+            block = system._body_block(k)
+            for i, t1 in enumerate(times):
+                loads[i, k] = load(t1, x[block], v[block])
+        out = np.empty((4, count, len(x)))
+        iterations = np.zeros(count, np.int64)
+        report = np.zeros(count, np.int64) if report is None else np.array(report, np.int64)
+        lines_out = np.empty((2, count, system.lines.ndofs))
+        ends_out = np.empty((count, 2, len(system.fairlead_dofs), 3))
+        cable, hydro, has_hydro, bed, has_bed = self._terms()
+        model = (self.topology, cable, hydro, has_hydro, bed, has_bed, self._still,
+                 self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
+                 self.damped, self.width)
+        done, code = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, model,
+                          loads, pres_u, pres_v, driven, pres_a, self.factors, self.state,
+                          self.work, out, iterations, report, self.report_dofs, self.held,
+                          lines_out, ends_out.reshape(count, -1))
+        failure = (None if code == 1 else TO_PYTHON if code == -2 else
+                   f"Newton did not converge in {self.maxiter} iterations" if code == 0
+                   else "the Newton step is not finite")
+        return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
+                 ((lines_out[0, i], lines_out[1, i]), (ends_out[i, 0], ends_out[i, 1]))
+                 if report[i] > 0 else None) for i in range(done)], failure
+
+
+@njit(cache=True)
+def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, driven,
+         pres_a, factors, state, work, out, iterations, report, report_dofs, held, lines_out,
+         ends_out):
+    """Steps of h from (x, v, a, force = C v + R) with the inputs of step i in loads[i],
+    pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free DOFs, N;
+    empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
+    iterations into iterations[i]; where report[i], the lines' full displacement and
+    velocity into lines_out[:, i] and the end forces (minus the full residual at
+    report_dofs, minus the held ends' inertia ``held`` with the prescribed ends'
+    accelerations pres_a[i]) into ends_out[i] (report[i] set to 0 when a line is at the surface: the
+    caller computes them). Returns (the steps done, the failed step's code: 0 Newton did
+    not converge, -1 a correction not finite, -2 a line at the surface, 1 none failed)."""
+    am, af, beta, gamma = scheme
+    Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
+    mass = model[10][0]
+    for i in range(out.shape[1]):
+        x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
+        it = _advance(x, v, a, force, h, scheme, tol, maxiter, model,
+                      (loads[i], pres_u[i], pres_v[i]), driven[i], factors, state, work, x1)
+        if it <= 0:
+            return i, it
+        iterations[i] = it
+        for j in range(x.size):  # the scheme's update, as dynamics.integrate's
+            a1[j] = (x1[j] - (x[j] + h * v[j] + h * h * (0.5 - beta) * a[j])) / (beta * h * h)
+            v1[j] = v[j] + h * (1 - gamma) * a[j] + gamma * h * a1[j]
+        _product(mass, a, Ma0)
+        _product(mass, a1, Ma1)
+        for j in range(x.size):
+            force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
+        if report[i] > 0:
+            report[i] = _report(x1, v1, model, loads[i], pres_u[i], pres_v[i], work,
+                                report_dofs, lines_out[0, i], lines_out[1, i], ends_out[i])
+            if report[i] > 0:
+                _less_held_inertia(held, a1, pres_a[i], ends_out[i])
+        x, v, a, force = x1, v1, a1, force1
+    return out.shape[1], 1
+
+
+def _held_inertia(system):
+    """The held (fixed, prescribed) ends' own inertia M_ef a_f + M_ep a_p that
+    ``System.end_forces`` takes from their reactions, as the compiled report takes it:
+    (the flat slots of the (2, nlines, 3) end forces it lands in, M[e] P0 and M[e, p] in
+    CSR); no slots when the system has none."""
+    if system._end_mass is None:
+        return np.zeros(0, np.int64), _csr(sp.csr_matrix((0, 0))), _csr(sp.csr_matrix((0, 0)))
+    rows, on_free, on_driven = system._end_mass
+    slots = ((rows[:, 0] * len(system.fairlead_dofs) + rows[:, 1])[:, None] * 3
+             + np.arange(3)).ravel().astype(np.int64)
+    shapes = ((len(slots), system.n), (len(slots), len(system._prescribed_flat)))
+    return (slots, *(_csr(sp.csr_matrix(shape) if A is None else A)
+                     for A, shape in zip((on_free, on_driven), shapes)))
+
+
+@njit(cache=True)
+def _less_held_inertia(held, a, driven, ends):
+    """ends[slots] -= M[e] P0 a + M[e, p] driven (N) for held = (slots, M[e] P0, M[e, p])
+    in CSR (a: reduced accelerations, driven: the prescribed ends', m/s2)."""
+    slots, (free, free_columns, free_rows), (held_on, held_columns, held_rows) = held
+    for j in range(slots.size):
+        s = 0.0
+        for k in range(free_rows[j], free_rows[j + 1]):
+            s += free[k] * a[free_columns[k]]
+        for k in range(held_rows[j], held_rows[j + 1]):
+            s += held_on[k] * driven[held_columns[k]]
+        ends[slots[j]] -= s
+
+
+@njit(cache=True)
+def _report(x, v, model, loads, pres_u, pres_v, work, report_dofs, u, ud, ends):
+    """The full line state (u, ud) at (x, v) and the end forces -R_full[report_dofs]
+    (N): 1, or 0 when a line is at the surface (nothing computed)."""
+    (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
+     _, _, _, _, _) = model
+    if not _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
+                     bodies, loads, prescribed_dofs, pres_u, pres_v, False, work, work[7]):
+        return 0
+    u[:] = work[0]
+    ud[:] = work[1]
+    for k in range(report_dofs.size):
+        ends[k] = -work[2][report_dofs[k]]
+    return 1
+
+
+@njit(cache=True)
+def _rotation_second_slopes(angles):
+    """d2R / d angle_a d angle_b (3, 3, 3, 3) of R = Rz Ry Rx (rad)."""
+    axes = np.zeros((3, 3, 3, 3))  # [axis, derivative order, 3, 3]
+    for axis in range(3):
+        c, s = math.cos(angles[axis]), math.sin(angles[axis])
+        i, j = (axis + 1) % 3, (axis + 2) % 3
+        axes[axis, 0, axis, axis] = 1.0
+        for order, (cn, sn) in enumerate(((c, s), (-s, c), (-c, -s))):
+            axes[axis, order, i, i] = cn
+            axes[axis, order, j, j] = cn
+            axes[axis, order, i, j] = -sn
+            axes[axis, order, j, i] = sn
+    out = np.zeros((3, 3, 3, 3))
+    for a in range(3):
+        for b in range(3):
+            nx = (a == 0) + (b == 0)
+            ny = (a == 1) + (b == 1)
+            nz = (a == 2) + (b == 2)
+            for i in range(3):  # Rz^(nz) Ry^(ny) Rx^(nx), written out (no BLAS on 3x3)
+                for j in range(3):
+                    s = 0.0
+                    for k in range(3):
+                        zy = 0.0
+                        for m in range(3):
+                            zy += axes[2, nz, i, m] * axes[1, ny, m, k]
+                        s += zy * axes[0, nx, k, j]
+                    out[a, b, i, j] = s
+    return out
+
+
+@njit(cache=True)
+def _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies,
+              loads, prescribed_dofs, pres_u, pres_v, tangent, work, R):
+    """R(x, v) reduced (N, N m) into R; with ``tangent`` the element blocks d/du, d/dv in
+    work[3], work[4] and the body ends' J, d(J qdot)/dq in work[5], work[6]; the full
+    cable residual in work[2] (``coupling.System.residual``, one body per 6 DOFs). False
+    (nothing computed) when a node of a line with a SurfaceTerm comes within half a
+    diameter of the surface: the step is then Python's."""
+    position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
+    u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
+    u[:] = 0.0
+    ud[:] = 0.0
+    for g in range(u.size):
+        if position[g] >= 0:
+            u[g] = x[position[g]]
+            ud[g] = v[position[g]]
+    nends = r_local.shape[0]
+    last = -1
+    rotation, slopes = np.eye(3), np.zeros((3, 3, 3))
+    for p in range(nends):  # each body end: q[:3] + R r - r and its Jacobian d/dq
+        k = end_body[p]
+        base = nf + 6 * k
+        if k != last:  # ends come body by body
+            rotation, slopes = rotation_and_slopes(x[base + 3: base + 6])
+            last = k
+        for c in range(3):
+            g = end_dofs[p, c]
+            moved = x[base + c] - r_local[p, c]
+            for j in range(6):
+                J[3 * p + c, j] = 0.0
+            J[3 * p + c, c] = 1.0
+            for l in range(3):
+                moved += rotation[c, l] * r_local[p, l]
+                for a in range(3):
+                    J[3 * p + c, 3 + a] += slopes[a, c, l] * r_local[p, l]
+            u[g] = moved
+            s = 0.0
+            for j in range(6):
+                s += J[3 * p + c, j] * v[base + j]
+            ud[g] = s
+    for m in range(prescribed_dofs.size):
+        u[prescribed_dofs[m]] = pres_u[m]
+        ud[prescribed_dofs[m]] = pres_v[m]
+    surface_dofs, surface_z, surface_reach = topology[7], topology[8], topology[9]
+    for i in range(surface_dofs.size):  # SurfaceTerm is zero while the lines stay this deep
+        if surface_z[i] + u[surface_dofs[i]] > surface_reach:
+            return False
+    Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity = cable
+    for g in range(full.size):
+        full[g] = constant[g] - gravity[g]
+    if tangent:
+        Ke[:] = 0.0
+        Ce[:] = 0.0
+        _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
+               Ke, Ce, 1.0)
+    else:
+        none = np.zeros((0, 6, 6))
+        _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
+               none, none, 1.0)
+    blocks_K = Ke if tangent else np.zeros((0, 6, 6))
+    blocks_C = Ce if tangent else np.zeros((0, 6, 6))
+    if has_hydro:
+        hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
+        _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
+                 False, full, blocks_K, blocks_C)
+    if has_bed:
+        X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction = bed
+        _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
+                ud, full, blocks_K, blocks_C)
+    R[:] = 0.0
+    for g in range(full.size):
+        if position[g] >= 0:
+            R[position[g]] += full[g]
+        elif end_row[g] >= 0:
+            p = end_row[g]
+            k = end_body[p // 3]
+            for j in range(6):
+                R[nf + 6 * k + j] += J[p, j] * full[g]
+    columns, lift, drag = points
+    for p in range(columns.shape[0]):
+        R[columns[p, 2]] -= lift[p]
+        if drag[p] > 0.0:
+            speed = 0.0
+            for c in range(3):
+                speed += v[columns[p, c]] ** 2
+            speed = math.sqrt(speed)
+            for c in range(3):
+                R[columns[p, c]] += drag[p] * speed * v[columns[p, c]]
+    K_body, F0, D_body = bodies
+    for k in range(K_body.shape[0]):
+        base = nf + 6 * k
+        for i in range(6):
+            s = -F0[k, i] - loads[k, i]
+            for j in range(6):
+                s += K_body[k, i, j] * x[base + j] + D_body[k, i, j] * v[base + j]
+            R[base + i] += s
+    if tangent and nends:
+        for p in range(nends):
+            k = end_body[p]
+            base = nf + 6 * k
+            d2 = _rotation_second_slopes(x[base + 3: base + 6])
+            for c in range(3):
+                for b in range(3):
+                    s = 0.0
+                    for a in range(3):
+                        for l in range(3):
+                            s += v[base + 3 + a] * d2[a, b, c, l] * r_local[p, l]
+                    S[3 * p + c, 3 + b] = s
+                    S[3 * p + c, b] = 0.0
+    return True
+
+
+@njit(cache=True)
+def _product(matrix, x, out):
+    """out = A x for A = (data, indices, indptr) in CSR."""
+    data, indices, indptr = matrix
+    for i in range(out.size):
+        s = 0.0
+        for k in range(indptr[i], indptr[i + 1]):
+            s += data[k] * x[indices[k]]
+        out[i] = s
+
+
+@njit(cache=True)
+def _combine(out, a, A, b, B):
+    """out = a A + b B (2-D arrays of one shape)."""
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = a * A[i, j] + b * B[i, j]
+
+
+@njit(cache=True)
+def _assemble(x, v, topology, points, bodies, work, cx, cv, af, M, C, damped, width,
+              factors):
+    """The Newton matrix cx M + (1 - af)(cv (C + Kv) + K) into the factor arrays, from
+    the blocks and Jacobians :func:`_residual` left in ``work``."""
+    position, end_row, end_body, end_dofs, r_local, edofs, nf = topology[:7]
+    full, Ke, Ce, J, S = work[2], work[3], work[4], work[5], work[6]
+    ab, E, F, D = factors[0], factors[1], factors[2], factors[3]
+    abM, EM, FM, DM = M
+    abC, EC, FC, DC = C
+    wC = (1 - af) * cv if damped else 0.0
+    _combine(ab, cx, abM, wC, abC)
+    _combine(E, cx, EM, wC, EC)
+    _combine(F, cx, FM, wC, FC)
+    _combine(D, cx, DM, wC, DC)
+    kv = 2 * width
+    wK, wV = 1.0 - af, (1.0 - af) * cv
+    for e in range(edofs.shape[0]):
+        for a in range(6):
+            ga = edofs[e, a]
+            ra, pa = position[ga], end_row[ga]
+            if ra < 0 and pa < 0:
+                continue
+            for b in range(6):
+                gb = edofs[e, b]
+                rb, pb = position[gb], end_row[gb]
+                if rb < 0 and pb < 0:
+                    continue
+                kab = wK * Ke[e, a, b] + wV * Ce[e, a, b]
+                if rb >= 0:
+                    if ra >= 0:
+                        ab[kv + ra - rb, rb] += kab
+                    else:
+                        ka = 6 * end_body[pa // 3]
+                        for i in range(6):
+                            F[ka + i, rb] += J[pa, i] * kab
+                    continue
+                kb = 6 * end_body[pb // 3]
+                slope = wK * Ce[e, a, b]
+                for j in range(6):
+                    value = kab * J[pb, j] + slope * S[pb, j]
+                    if ra >= 0:
+                        E[ra, kb + j] += value
+                    else:
+                        ka = 6 * end_body[pa // 3]
+                        for i in range(6):
+                            D[ka + i, kb + j] += J[pa, i] * value
+    # the bodies: sum f . d2p/dq2 of their line ends, hydrostatics, linear damping
+    K_body, _, D_body = bodies
+    for k in range(K_body.shape[0]):
+        for i in range(6):
+            for j in range(6):
+                D[6 * k + i, 6 * k + j] += wK * K_body[k, i, j] + wV * D_body[k, i, j]
+    for p in range(r_local.shape[0]):
+        k = end_body[p]
+        base = nf + 6 * k
+        d2 = _rotation_second_slopes(x[base + 3: base + 6])
+        f = np.zeros(3)
+        for c in range(3):
+            f[c] = full[end_dofs[p, c]]
+        for a in range(3):
+            for b in range(3):
+                s = 0.0
+                for c in range(3):
+                    for l in range(3):
+                        s += d2[a, b, c, l] * f[c] * r_local[p, l]
+                D[6 * k + 3 + a, 6 * k + 3 + b] += wK * s
+    columns, _, drag = points
+    for p in range(columns.shape[0]):
+        if drag[p] > 0.0:
+            speed = 0.0
+            for c in range(3):
+                speed += v[columns[p, c]] ** 2
+            speed = math.sqrt(speed)
+            if speed > 0.0:
+                for c in range(3):
+                    for d in range(3):
+                        value = drag[p] * (v[columns[p, c]] * v[columns[p, d]] / speed
+                                           + (speed if c == d else 0.0))
+                        rc, rd = columns[p, c], columns[p, d]
+                        ab[kv + rc - rd, rd] += wV * value
+
+
+@njit(cache=True)
+def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, factors,
+             state, work, B):
+    """-(the alpha-level balance at x1 = y) into B (``dynamics.integrate``'s balance), and
+    with ``tangent`` its Newton matrix into ``factors``, factorized. Returns SOLVED,
+    SINGULAR (the matrix) or SURFACE (a line reached the free surface: Python's step)."""
+    am, af, beta, gamma = scheme
+    (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
+     products, M, C, damped, width) = model
+    loads, pres_u, pres_v = inputs
+    R, a1, v1, Ma, Cv = work[7], work[9], work[10], work[11], work[12]
+    for i in range(y.size):
+        a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
+        v1[i] = v_pred[i] + gamma * h * a1[i]
+    if not _residual(y, v1, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
+                     bodies, loads, prescribed_dofs, pres_u, pres_v, tangent, work, R):
+        return SURFACE
+    _product(products[0], a1, Ma)
+    if damped:
+        _product(products[1], v1, Cv)
+    for i in range(y.size):
+        B[i] = -((1 - am) * Ma[i] + (1 - af) * (R[i] + (Cv[i] if damped else 0.0))
+                 + inertia_old[i])
+    if not tangent:
+        return SOLVED
+    _assemble(y, v1, topology, points, bodies, work, (1 - am) / (beta * h * h),
+              gamma / (beta * h), af, M, C, damped, width, factors)
+    ab, E, F, D, piv_band, piv_schur = factors
+    state[2] += 1.0
+    if not bordered.factor(ab, width, E, F, D, piv_band, piv_schur):
+        state[0] = 0.0
+        return SINGULAR
+    state[0] = 1.0
+    return SOLVED
+
+
+@njit(cache=True)
+def _solve(B, factors, width):
+    """B <- A^-1 B with the factorized Newton matrix: the largest entry, inf when one is
+    not finite."""
+    ab, E, F, D, piv_band, piv_schur = factors
+    bordered.solve(ab, width, E, F, D, piv_band, piv_schur, B)
+    size = 0.0
+    for i in range(B.size):
+        if not math.isfinite(B[i]):
+            return np.inf
+        size = max(size, abs(B[i]))
+    return size
+
+
+@njit(cache=True)
+def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driven, factors,
+             state, work, x1):
+    """One step of ``dynamics.integrate`` (its ``advance``) with the prescribed ends'
+    inertia on the free DOFs ``driven`` (M_fp a_p, N; empty: none), x1 the solution: modified
+    Newton from constant acceleration, and when that fails full Newton with the
+    backtracking line search from constant velocity. Returns the iterations used, 0 when
+    Newton does not converge in maxiter, -1 when a correction is not finite."""
+    am, af, beta, gamma = scheme
+    width = model[14]
+    n = x0.size
+    x_pred = x0 + h * v0 + h * h * (0.5 - beta) * a0
+    v_pred = v0 + h * (1 - gamma) * a0
+    B, Ma = work[8], work[11]
+    _product(model[10][0], a0, Ma)
+    inertia_old = am * Ma + af * force_old
+    for i in range(driven.size):  # M_fp a_p at t1: a load given in time, at the alpha_f
+        inertia_old[i] += (1 - af) * driven[i]  # level as R (constant over the iterations)
+    if state[1] != h:  # a factorization of another step's matrix: make a new one
+        state[0] = 0.0
+        state[1] = h
+    # modified Newton: the factors kept until a correction shrinks slower than CONTRACTION
+    y = x0 + h * v0 + 0.5 * h * h * a0
+    tangent = state[0] == 0.0
+    previous = scale = np.inf
+    used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
+    for it in range(1, maxiter + 1):
+        code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent,
+                        factors, state, work, B)
+        if code == SURFACE:
+            return -2
+        if code == SINGULAR:
+            used = it
+            break
+        size = _solve(B, factors, width)
+        if not math.isfinite(size):
+            used = it
+            break
+        for i in range(n):
+            y[i] += B[i]
+        if it == 1:  # the step's change, to scale the tolerance
+            scale = _distance(y, x0)
+        if size <= tol * scale + 1e-12:
+            x1[:] = y
+            return it
+        tangent = size > CONTRACTION * previous
+        previous = size
+    # full Newton with the line search (dynamics._newton with full=True)
+    y = x0 + h * v0
+    trial = work[13]
+    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True, factors,
+                    state, work, B)
+    norm = _norm(B)
+    for it in range(1, maxiter + 1):
+        if code == SURFACE:
+            return -2
+        if code == SINGULAR:
+            return -1
+        dx = B.copy()
+        size = _solve(dx, factors, width)
+        if not math.isfinite(size):
+            return -1
+        for i in range(n):
+            trial[i] = y[i] + dx[i]
+        if it == 1:
+            scale = _distance(trial, x0)
+        if size <= tol * scale + 1e-12:
+            x1[:] = trial
+            return used + it
+        length = 1.0
+        for halving in range(LINE_SEARCH + 1):
+            code = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, model, inputs,
+                            halving == 0, factors, state, work, B)
+            if code == SURFACE:
+                return -2
+            norm_try = _norm(B)
+            if (norm_try <= (1 - 1e-4 * length) * norm or not math.isfinite(norm_try)
+                    or halving == LINE_SEARCH):
+                break
+            length *= 0.5
+            for i in range(n):
+                trial[i] = y[i] + length * dx[i]
+        y[:] = trial
+        if length != 1.0 and math.isfinite(norm_try):  # the tangent where the search stopped
+            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True,
+                            factors, state, work, B)
+        norm = norm_try
+    return 0
+
+
+@njit(cache=True)
+def _distance(a, b):
+    """max |a - b|."""
+    out = 0.0
+    for i in range(a.size):
+        out = max(out, abs(a[i] - b[i]))
+    return out
+
+
+@njit(cache=True)
+def _norm(b):
+    s = 0.0
+    for i in range(b.size):
+        s += b[i] * b[i]
+    return math.sqrt(s)

@@ -1,0 +1,318 @@
+"""Implicit time integration of  M a + C v + R(x, v, t) = 0  (Eq. 35).
+
+Generalized-alpha (Chung & Hulbert 1993) with a selectable spectral radius at infinite
+frequency, and Newmark's average acceleration as the special case alpha_m = alpha_f = 0,
+beta = 1/4, gamma = 1/2. Each step solves the alpha-level balance with Newton:
+
+    (1-am) M a1 + am M a0 + (1-af) [C v1 + R(x1, v1, t1)] + af [C v0 + R(x0, v0, t0)] = 0
+
+A system with a state-dependent inertia (``system.nonlinear_inertia``: rigid bodies with
+exact rotations) gives it beside the constant M (``system.inertia``): M a becomes M a + G
+at each level, G1 computed from the step's start (x0, v0, a0, G0, h, gamma) so that the
+momenta follow the scheme's own velocity rule, and G's derivatives in a, v and x join the
+Newton matrix. Such a system may re-base its state after a step (``system.rebase(x, v)``
+-> new (x, v) or None: a body's angles counted from its present attitude, away from the
+gimbal lock); the integration then restarts from the new state as from t0.
+
+The integrator is a generator of states, so a caller decides what to record and when
+to stop; a Newton failure raises :class:`DivergenceError` with the time, the step and a
+hint instead of carrying NaN on.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..numerics.banded import as_layout
+from .newton import DivergenceError, _IterationMatrix, _newton, matrix_layout
+
+
+
+
+@dataclass(frozen=True)
+class Scheme:
+    """Time-integration parameters (alpha_m, alpha_f, beta, gamma)."""
+
+    alpha_m: float
+    alpha_f: float
+    beta: float
+    gamma: float
+
+    @classmethod
+    def newmark(cls):
+        """Average acceleration (trapezoidal rule): energy-conserving, no numerical damping."""
+        return cls(0.0, 0.0, 0.25, 0.5)
+
+    @classmethod
+    def generalized_alpha(cls, rho_inf: float = 0.8):
+        """Chung-Hulbert generalized-alpha; rho_inf in [0, 1] is the spectral radius at
+        infinite frequency (1: no numerical damping, 0: asymptotic annihilation)."""
+        if not 0.0 <= rho_inf <= 1.0:
+            raise ValueError(f"Scheme rho_inf: must lie in [0, 1], got {rho_inf}")
+        am = (2 * rho_inf - 1) / (rho_inf + 1)
+        af = rho_inf / (rho_inf + 1)
+        return cls(am, af, 0.25 * (1 - am + af) ** 2, 0.5 - am + af)
+
+    @classmethod
+    def named(cls, name: str, rho_inf: float = 0.8):
+        if name in ("newmark", "average-acceleration"):
+            return cls.newmark()
+        if name in ("generalized-alpha", "alpha"):
+            return cls.generalized_alpha(rho_inf)
+        raise ValueError(f"scheme: unknown {name!r}, use 'newmark' or 'generalized-alpha'")
+
+
+@dataclass
+class State:
+    """One time level: t (s), step number, x (m / rad), v, a, Newton iterations used,
+    steps subdivided so far; at the steps :func:`integrate` reports (``report_every``),
+    the lines' full state (u m, ud m/s: ``System.full_state``) and end forces (fairlead,
+    anchor: (nlines, 3) N each, ``System.end_forces``), else None."""
+
+    t: float
+    step: int
+    x: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    iterations: int = 0
+    subdivided: int = 0  # steps split so far (a failed Newton retried in halves)
+    full_state: tuple | None = None
+    reactions: tuple | None = None
+
+
+def rayleigh_coefficients(zeta: float, omega1: float, omega2: float):
+    """(a0, a1) of C = a0 M + a1 K giving damping ratio zeta at omega1 and omega2 (rad/s)."""
+    if omega1 <= 0 or omega2 <= 0:
+        raise ValueError(f"rayleigh: frequencies must be positive, got {omega1}, {omega2}")
+    return 2 * zeta * omega1 * omega2 / (omega1 + omega2), 2 * zeta / (omega1 + omega2)
+
+
+COMPILED_BATCH = 32  # steps per call of the compiled step (its call costs ~30 us)
+SUBDIVIDE = 6  # levels of halving a step whose Newton fails (down to dt / 64)
+
+
+
+
+
+
+def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-5,
+              maxiter=20, subdivide=SUBDIVIDE, compiled=True, report_every=0):
+    """Yield a :class:`State` per step from (x0, v0) at t0 until t_end.
+
+    system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., layout=...)
+    -> (R, K, Kv)`` (layouts: :func:`matrix_layout`). C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when
+    the largest correction is below tol times the largest change over the step (as it
+    stands after the first correction; plus 1e-12 m). Newton is modified: the factorized
+    matrix is kept over iterations and steps and refreshed when a correction is larger
+    than ``CONTRACTION`` times the one before; a step that does not converge so is
+    retried with full Newton and a backtracking line search on the balance residual.
+    A step that still fails is split in two halves, each half split again when it fails,
+    up to ``subdivide`` levels (0: none); the run then goes on at dt, on the full step's
+    own matrix. States come at the full steps only; ``State.subdivided`` counts the steps
+    that were split so far. compiled: run each step's modified Newton as one compiled
+    function where :mod:`skmoor.solvers.compiled_step` covers the system (the same iteration; a
+    step it does not converge goes on in Python as above). A system with ``commit(t, x, v)`` has it called with the
+    initial state and after every accepted step, the halves of a split step included
+    (terms with a memory of the past, :mod:`skmoor.bodies.radiation`, keep their history so).
+    report_every: every that many steps (and at the start) the State carries the lines'
+    full state and end forces (a :class:`~skmoor.coupling.system.System`; 0: never), computed
+    in the compiled step where it runs: what a recorder of tensions needs, without a
+    residual in Python per output.
+    """
+    if not dt > 0:
+        raise ValueError(f"integrate dt: must be positive, got {dt}")
+    scheme = scheme or Scheme.newmark()
+    am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
+    layout = matrix_layout(system)
+    bandwidth = getattr(system, "bandwidth", None)
+    M = as_layout(system.M, layout, bandwidth)
+    C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
+    damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
+    fast = _compiled_step(system, C, scheme, tol, maxiter) if compiled else None
+    C = as_layout(C, layout, bandwidth)
+    x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
+    nonlinear = getattr(system, "nonlinear_inertia", False)
+    rebase = getattr(system, "rebase", None) if nonlinear else None
+    driven = getattr(system, "driven_inertia", None) or (lambda t: None)
+    if hasattr(system, "acceleration_step"):  # driven ends' accelerations over the step
+        system.acceleration_step = dt
+
+    def loads(R, t):
+        """R plus the prescribed ends' inertia on the free DOFs (M_fp a_p(t), a load given
+        in time: at the alpha_f level like the others), when the system has one."""
+        extra = driven(t)
+        return R if extra is None else R + extra
+
+    def start(x, v, t):
+        """(a, C v + R, G) at a start (x, v, t): a from the balance, G the state-dependent
+        inertia (None: the system has none)."""
+        R, _, _ = system.residual(x, v, t, tangent=False)
+        force = C @ v + loads(R, t)
+        mass = _IterationMatrix(layout)
+
+        def balance(A, b):  # A a = b; least squares (MoorDyn's QR) when A is singular
+            mass.update(A)  # (a body's masses on one line: its spin held by a spring)
+            a = mass.solve(b)
+            if np.all(np.isfinite(a)):
+                return a
+            return np.linalg.lstsq(A.toarray() if sp.issparse(A) else A, b, rcond=None)[0]
+        if not nonlinear:
+            return balance(M, -force), force, None
+        # G is affine in a: (M + dG/da) a = -(C v + R + G(x, v, 0))
+        G0, d_acc, _, _ = system.inertia(x, v, np.zeros_like(v), tangent=True, layout=layout)
+        a = balance(M + d_acc, -(force + G0))
+        return a, force, system.inertia(x, v, a)[0]
+
+    a, force_old, G = start(x, v, t)
+    commit = getattr(system, "commit", None) or (lambda t, x, v: None)
+    commit(t, x, v)
+    reports = report_every > 0 and hasattr(system, "end_forces")
+
+    def report(x, v, a, t):
+        """(full state, end forces) of the lines at (x, v, a, t), computed here."""
+        u, ud = system.full_state(x, v, t)
+        return (u, ud), system.end_forces(u, ud, t, a)
+
+    yield State(t, 0, x, v, a, 0, 0, *(report(x, v, a, t) if reports else (None, None)))
+
+    def advance(x, v, a, force_old, G_old, t1, h, matrix):
+        """One step of h from (x, v, a) to t1: ((x1, v1, a1, C v1 + R1, G1), iterations),
+        or (None, why) when Newton fails."""
+        c_x = (1 - am) / (beta * h**2)
+        c_v = gamma / (beta * h)
+        x_pred = x + h * v + h**2 * (0.5 - beta) * a  # part of x1 known from level 0
+        v_pred = v + h * (1 - gamma) * a
+        inertia_old = am * (M @ a if G_old is None else M @ a + G_old) + af * force_old
+        previous = (x, v, a, G_old, h, gamma)
+        extra = driven(t1)
+
+        def inertia(y, v1, a1, tangent=False):
+            """M a1 plus the system's state-dependent inertia G1 (momentum-consistent over
+            the step from level 0) and its derivatives d/da, d/dv, d/dx when it has one."""
+            if G_old is None:
+                return M @ a1, None, None
+            G1, *slopes = system.inertia(y, v1, a1, tangent=tangent, layout=layout,
+                                         previous=previous)
+            return M @ a1 + G1, (slopes if tangent else None), G1
+
+        def balance(y, tangent):
+            """alpha-level balance at x1 = y, and (when asked) its tangent."""
+            a1 = (y - x_pred) / (beta * h**2)
+            v1 = v_pred + gamma * h * a1
+            R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, layout=layout)
+            if extra is not None:
+                R1 = R1 + extra
+            inertia1, slopes, _ = inertia(y, v1, a1, tangent)
+            B = (1 - am) * inertia1 + (1 - af) * (C @ v1 + R1 if damped else R1) + inertia_old
+            if not tangent:
+                return B, None
+            Cv = C if Kv1 is None else C + Kv1
+            A = c_x * M + (1 - af) * (c_v * Cv + K1)
+            if slopes is not None:  # d/dy of (1 - am) G(y, v1(y), a1(y))
+                d_acc, d_rate, d_pose = slopes
+                A = A + (1 - am) * (d_acc / (beta * h**2) + gamma / (beta * h) * d_rate
+                                    + d_pose)
+            return B, A
+
+        # first guess: constant acceleration; should modified Newton stall from it, the step
+        # again from constant velocity (robust on stiff axial modes) with full Newton and
+        # a line search
+        guess = x + h * v + 0.5 * h**2 * a
+        x1, it = _newton(balance, guess, x, matrix, tol, maxiter, full=False)
+        if x1 is None or x1 is False:
+            x1, more = _newton(balance, x + h * v, x, matrix, tol, maxiter, full=True)
+            it += more
+        if x1 is None:
+            return None, f"Newton did not converge in {maxiter} iterations"
+        if x1 is False:
+            return None, "the Newton step is not finite"
+        a1 = (x1 - x_pred) / (beta * h**2)
+        v1 = v_pred + gamma * h * a1
+        # C v1 + R(x1) from the converged balance (saves a residual evaluation per step)
+        inertia1, _, G1 = inertia(x1, v1, a1)
+        force1 = -((1 - am) * inertia1 + inertia_old) / (1 - af)
+        return (x1, v1, a1, force1, G1), it
+
+    halves = {}  # level -> the iteration matrix of steps dt / 2**level, kept for reuse
+
+    def split(level_state, t, t1, level):
+        """(x, v, a, force, G) at t1 through two halves of [t, t1], each split again when it
+        fails (down to ``subdivide`` levels); (None, why) if the smallest fails too."""
+        matrix = halves.setdefault(level, _IterationMatrix(layout))
+        total, h, mid = 0, dt / 2**level, t + 0.5 * (t1 - t)
+        for start, end in ((t, mid), (mid, t1)):
+            out, it = advance(*level_state, end, h, matrix)
+            if out is None and level < subdivide:
+                out, it = split(level_state, start, end, level + 1)
+            elif out is not None:
+                commit(end, out[0], out[1])
+            if out is None:
+                return None, it
+            level_state, total = out, total + it
+        return level_state, total
+
+    matrix = _IterationMatrix(layout)
+    ahead, failed = [], None  # steps the compiled step made, not yet yielded; its failure
+    n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
+    subdivided = 0
+    for step in range(1, n_steps + 1):
+        t1 = t0 + step * dt
+        if fast is not None and not ahead and failed is None:  # the next steps compiled
+            numbers = np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
+            ahead, failed = fast.steps(x, v, a, force_old, t0 + dt * numbers, dt,
+                                       report=numbers % report_every == 0 if reports else None)
+            ahead.reverse()
+        reported = None
+        if ahead:
+            out, it, reported = ahead.pop()
+        elif failed is not None and failed != fast.handed_back:  # failed as advance would
+            out, it, failed = None, failed, None
+        else:
+            failed = None
+            out, it = advance(x, v, a, force_old, G, t1, dt, matrix)
+        if out is None:
+            why = it
+            if subdivide > 0:
+                out, it = split((x, v, a, force_old, G), t, t1, 1)
+            if out is None:
+                tried = (f" (and in steps down to dt / {2**subdivide:g})" if subdivide > 0
+                         else "")
+                raise DivergenceError(_hint(t1, step, dt, f"{why}{tried}"), t1, step)
+            subdivided += 1
+        else:
+            commit(t1, out[0], out[1])
+        x, v, a, force_old, G = out
+        t = t1
+        turned = rebase(x, v) if rebase is not None else None
+        if turned is not None:  # a body's angles counted from a new frame: restart there
+            x, v = turned
+            a, force_old, G = start(x, v, t1)
+            matrix = _IterationMatrix(layout)
+            halves.clear()
+        if reports and step % report_every == 0 and reported is None:
+            reported = report(x, v, a, t1)
+        yield State(t1, step, x, v, a, it, subdivided, *(reported or (None, None)))
+
+
+def _compiled_step(system, C, scheme, tol, maxiter):
+    """The compiled Newton step of a :class:`~skmoor.coupling.system.System` it covers, or None
+    (another kind of system, or one with physics the compiled step leaves to Python)."""
+    from ..coupling.system import System
+
+    if type(system) is not System:
+        return None
+    from .compiled_step import build
+
+    return build(system, C, scheme, tol, maxiter)
+
+
+
+
+
+
+def _hint(t, step, dt, what):
+    return (f"time integration stopped at t = {t:.6g} s (step {step}): {what}. "
+            f"Try a smaller time step (dt = {dt:g} s now), more damping "
+            "(generalized-alpha with rho_inf < 1), or check the loads for a blow-up.")
