@@ -19,40 +19,41 @@ from threadpoolctl import threadpool_limits as _threadpool_limits
 # unless SKMOOR_BLAS_THREADS says otherwise (this applies to the whole process).
 _threadpool_limits(int(_os.environ.get("SKMOOR_BLAS_THREADS", 1)), user_api="blas")
 
-from .bodies.body import RigidBody  # noqa: E402
-from .io.case import Case, paper_case
-from .lines.catenary import Catenary, solve_catenary
-from .coupling.system import Ends, PointMass, System
-from .io.deck import read_deck, write_deck
-from .model.from_deck import heave_motion, read_motion
-from .solvers.newton import DivergenceError
-from .solvers.dynamics import Scheme, integrate
-from .sea.hydro import body_hydrodynamics, line_hydrodynamics
-from .lines.line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
-from .model.model import Model, build, from_network
-from .coupling.network import Body, MooringLine, Network, Point
-from .solvers.modes import eigenmodes
-from .bodies.motion import Motion, fade_in
 from .bodies import bem
 from .bodies.bem import Hydrodynamics
+from .bodies.body import RigidBody  # noqa: E402
+from .bodies.loads import BodyLoad, PointLoad
+from .bodies.motion import Motion, fade_in
 from .bodies.radiation import PotentialFlow
+from .coupling import rods
+from .coupling.network import Body, MooringLine, Network, Point
+from .coupling.system import Ends, PointMass, System
+from .fem.terms import LineForm, TangentCheck, Term, check_tangent
+from .io.case import Case, paper_case
+from .io.deck import read_deck, write_deck
+from .lines import laws
+from .lines.catenary import Catenary, solve_catenary
+from .lines.laws import Curve, Engineering, Paper, StaticDynamic
+from .lines.line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
+from .model.from_deck import heave_motion, read_motion
+from .model.model import Model, build, from_network
 from .post.results import Results
-from .run.simulate import (equilibrium,
+from .run.simulate import (
+    equilibrium,
     mooring_stiffness,
     run_case,
     simulate,
     static_results,
     summary,
-    write_outputs)
+    write_outputs,
+)
+from .sea.hydro import body_hydrodynamics, line_hydrodynamics
 from .sea.seabed import Seabed, seabed_term
-from .solvers.newton import ConvergenceError
-from .solvers.statics import solve_static
-from .lines import laws
-from .coupling import rods
-from .lines.laws import Curve, Engineering, Paper, StaticDynamic
-from .bodies.loads import BodyLoad, PointLoad
-from .fem.terms import LineForm, Term, TangentCheck, check_tangent
 from .sea.waves import AiryWave, Current, JonswapWave, Sea
+from .solvers.dynamics import Scheme, integrate
+from .solvers.modes import eigenmodes
+from .solvers.newton import ConvergenceError, DivergenceError
+from .solvers.statics import solve_static
 
 __version__ = "0.1.0"
 

@@ -28,7 +28,7 @@ import moordyn_decks as md  # noqa: E402
 
 import skmoor  # noqa: E402
 from skmoor.lines.line import LineType
-from skmoor.coupling.network import reference_line
+from skmoor.coupling.build import reference_line
 
 try:
     MIRROR, NO_MIRROR = md.Mirror(md.mirror_path()), ""

@@ -20,7 +20,8 @@ import pytest
 from skmoor.bodies.body import RigidBody
 from skmoor.lines.laws import Engineering
 from skmoor.lines.line import LineType
-from skmoor.coupling.network import Body, MooringLine, Network, Point, build_system
+from skmoor.coupling.network import Body, MooringLine, Network, Point
+from skmoor.coupling.build import build_system
 from skmoor.coupling.rods import coupled_reaction
 from skmoor.solvers.statics import solve_static
 from skmoor.bodies.loads import BodyLoad

@@ -201,7 +201,7 @@ def test_a_network_honours_its_motions_velocity_and_acceleration(with_accelerati
     tangential speed and centripetal acceleration), from a Motion's velocity (and
     acceleration, or differences of the velocity); a velocity given with a wrong factor
     is the one used (not a difference of the positions)."""
-    from skmoor.coupling.network import build_system
+    from skmoor.coupling.build import build_system
 
     motion = skmoor.Motion(ship, ship_rate, ship_acceleration if with_acceleration else None)
     system = build_system(network_on_a_turning_ship(motion))[0]

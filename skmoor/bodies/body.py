@@ -22,7 +22,6 @@ moment of each load, which cancel in a model whose total static moment is zero.
 from __future__ import annotations
 
 import math
-
 import os
 from dataclasses import dataclass
 from functools import lru_cache

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import numpy as np
 
-
 SECOND_DIFFERENCE = 1e-4  # s: the default step of an acceleration's central differences
 
 

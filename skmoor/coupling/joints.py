@@ -21,9 +21,13 @@ import math
 
 import numpy as np
 
-from ..bodies.body import attachment_hessian, attachment_state, attachment_velocity_slope
-from .rods import PIN_DEFLECTION, spring_weight
+from ..bodies.body import (
+    attachment_hessian,
+    attachment_state,
+    attachment_velocity_slope,
+)
 from ..fem.terms import Term
+from .rods import PIN_DEFLECTION, spring_weight
 
 __all__ = ["BodyPin"]
 

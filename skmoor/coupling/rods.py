@@ -455,12 +455,12 @@ def coupled_reaction(model, x, v, t, body, a=None):
     if coupled.kind != "coupled":
         raise ValueError(f"coupled_reaction body: {body!r} is a {coupled.kind} body, not "
                          "a coupled one or one pinned on coupled DOFs")
-    from .network import _coupled_offsets, _coupled_vector
+    from .network import coupled_offsets, coupled_vector
 
-    where = _coupled_offsets(network)[("Body", body)]
+    where = coupled_offsets(network)[("Body", body)]
 
     def pose(time):  # (reference point m, rotation) of the body at time
-        y = _coupled_vector(network, time)[where]
+        y = coupled_vector(network, time)[where]
         return coupled.position + y[:3], coupled.rotation_matrix(coupled.attitude + y[3:])
 
     R = pose(t)[1]

@@ -21,26 +21,27 @@ its inertia beyond the constant M (which holds its mass matrix at q = 0) is
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..bodies import body as rigid
-from ..numerics.banded import LAYOUTS, as_layout
 from ..bodies.body_motion import BodyMotion
-from ..lines.cable_kernel import CableKernel
-from ..fem.patterns import ElementPattern
-from ..bodies.large_rotations import (added_mass_load,
+from ..bodies.large_rotations import (
+    added_mass_load,
     added_mass_tangents,
     generalized_load,
     rate_matrix,
-    zyx_angles)
+    zyx_angles,
+)
 from ..bodies.motion import SECOND_DIFFERENCE, acceleration_of
-from .no_lines import EmptyPattern, NoLineKernel
+from ..fem.patterns import ElementPattern
 from ..fem.terms import Term
+from ..lines.cable_kernel import CableKernel
+from ..numerics.banded import LAYOUTS, as_layout
+from .no_lines import EmptyPattern, NoLineKernel
 
 REBASE_PITCH = math.radians(60.0)  # |ry| past which an 'exact' body's angles are re-based
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 
-
 def hermite_shapes(xi, h):
     """The cubic Hermite shape functions on elements of length h (m) at the reference
     points xi in [0, 1], for the DOFs [u_i, u_i', u_j, u_j']: values, d/ds (1/m) and

@@ -6,9 +6,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 from numba import njit
+
 from ..numerics.banded import Band
-
-
 
 NO_BLOCKS = np.zeros((0, 6, 6))  # stands for "no tangent" in the compiled loops
 

@@ -267,9 +267,8 @@ def _assembly_engine(term):
 
 def _autodiff_engine(term):
     """scikit-fem's skfem.autodiff (JAX linearization on its assembly), d/du and d/dv."""
-    from skfem.autodiff import NonlinearForm
     from skfem import LinearForm
-
+    from skfem.autodiff import NonlinearForm
     from skfem.element import DiscreteField
 
     raw, Field = _raw(term.residual), _jax_field()

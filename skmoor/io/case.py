@@ -21,7 +21,6 @@ else:  # pragma: no cover
 
 import numpy as np
 
-
 PAPER_CASE = {
     "name": "Wang, Er & Iu: moored box, d/l = 1/60, theta = 50 deg",
     "water": {"density": 1025.0, "gravity": 9.81, "depth": 100.0},

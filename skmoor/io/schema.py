@@ -29,7 +29,13 @@ import numbers
 from typing import Annotated, Any, ClassVar
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, PlainValidator, ValidationError, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    PlainValidator,
+    ValidationError,
+    model_validator,
+)
 from pydantic_core import PydanticCustomError
 
 __all__ = ["validate_case", "layout", "MAX_ELEMENTS_PER_LINE", "ParametricCase", "NetworkCase"]

@@ -46,13 +46,15 @@ from pathlib import Path
 import numpy as np
 
 from ..sea.seabed import Bathymetry
-from ..sea.water_grids import (CurrentGrid,
+from ..sea.water_grids import (
+    CurrentGrid,
     SpectrumWaves,
     Stretching,
     WaveGrid,
     elevation_spectrum,
     evenly_spaced,
-    resampled_current)
+    resampled_current,
+)
 from ..sea.waves import Sea
 
 WAVE_FILES = {2: ("wave_frequencies.txt", "water_grid.txt"),

@@ -33,9 +33,9 @@ from __future__ import annotations
 import numpy as np
 from skfem import Basis, BilinearForm, LinearForm
 
-from . import laws
-from ..fem.ops import dot
 from ..fem.hermite import hermite_shapes
+from ..fem.ops import dot
+from . import laws
 
 
 def d2_ds2(field):

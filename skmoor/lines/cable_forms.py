@@ -36,9 +36,9 @@ velocity); see :class:`skmoor.coupling.system.Term` and ``examples/03_weak_form_
 """
 from skfem import BilinearForm, LinearForm
 
-from . import laws
 from ..fem import ops
 from ..fem.ops import d_ds, dot
+from . import laws
 
 
 def strain(Xp, up):

@@ -19,11 +19,6 @@ from numba import njit
 from ..fem.patterns import NO_BLOCKS, ElementPattern
 
 
-
-
-
-
-
 class CableKernel:
     """Internal force and tangent of all lines of a :class:`~skmoor.lines.line.LineSet`: the
     forms ``cable_force`` + the reference force (Eq. 9), ``cable_tangent`` (Eq. 17) and

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+
 from ..numerics.roots import brent as brentq
 
 __all__ = ["Catenary", "solve_catenary"]

@@ -4,7 +4,7 @@ A law is a small object chosen per line type (``LineType(law=...)``; a LineSet's
 Network's ``law`` / ``strain_law`` is the default for line types without one). The same
 law drives the cable forms (:mod:`skmoor.lines.cable_forms`), the compiled kernel
 (:mod:`skmoor.lines.cable_kernel`) and the static reference state (the elastic catenary of
-:mod:`skmoor.lines.catenary`, :func:`skmoor.coupling.network.reference_line`).
+:mod:`skmoor.lines.catenary`, :func:`skmoor.coupling.build.reference_line`).
 
 Strains. ``e`` is the engineering strain of the unstretched line (stretched length over
 unstretched length, minus 1), as MoorDyn and MoorPy use it; ``eps = X'.u' + |u'|^2/2`` is

@@ -15,10 +15,18 @@ from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import Basis, ElementLineHermite, ElementLineP1, ElementVector, MeshLine1, asm
+from skfem import (
+    Basis,
+    ElementLineHermite,
+    ElementLineP1,
+    ElementVector,
+    MeshLine1,
+    asm,
+)
 
-from . import bending, cable_forms as forms, laws
 from ..numerics.validation import check_finite, check_positive
+from . import bending, laws
+from . import cable_forms as forms
 
 RHO_WATER = 1025.0
 G = 9.81

@@ -82,17 +82,17 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies.body import Hydrostatics, RigidBody, combined_mass, point_mass_matrix
+from ..bodies.motion import Motion
+from ..coupling import rods
+from ..coupling.network import Body, MooringLine, Network, Point, moordyn_rotation
+from ..coupling.rods import RodLoad, RodType, SpinLoad, spring_weight
 from ..io.deck import Deck, read_deck
-from ..sea.hydro import body_hydrodynamics
+from ..io.sea_files import deck_bathymetry, deck_sea
 from ..lines import laws
 from ..lines.line import LineType
-from ..bodies.motion import Motion
-from ..coupling.network import Body, MooringLine, Network, Point, moordyn_rotation
-from ..coupling import rods
-from ..coupling.rods import RodLoad, RodType, SpinLoad, spring_weight
-from ..io.sea_files import deck_bathymetry, deck_sea
-from ..sea.viv import RMS_STEPS
+from ..sea.hydro import body_hydrodynamics
 from ..sea.seabed import Seabed
+from ..sea.viv import RMS_STEPS
 
 __all__ = ["deck_network", "heave_motion", "read_motion", "default_time_step"]
 

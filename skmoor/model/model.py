@@ -14,15 +14,21 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from ..numerics.roots import brent as brentq
 
-from . import environment
-from ..bodies.body import RigidBody, hull_hydrostatics, hull_triangles, uniform_box_inertia
+from ..bodies.body import (
+    RigidBody,
+    hull_hydrostatics,
+    hull_triangles,
+    uniform_box_inertia,
+)
 from ..bodies.large_rotations import box_triangles
-from ..lines.catenary import solve_catenary
+from ..coupling.build import build_system
 from ..coupling.checks import check_network
+from ..coupling.network import Body, MooringLine, Network, Point
+from ..lines.catenary import solve_catenary
 from ..lines.line import LineType
-from ..coupling.network import Body, MooringLine, Network, Point, build_system
+from ..numerics.roots import brent as brentq
+from . import environment
 
 SOLVER_DEFAULTS = {"duration": 200.0, "dt": 0.05, "output_interval": 0.1,
                    "scheme": "generalized-alpha", "rho_inf": 0.9, "steady_periods": 5}
@@ -126,7 +132,7 @@ def build(source, *, motion=None, sea=None, rotations=None) -> Model:
                              "MoorDyn deck")
         source = Case.from_toml(path) if path.suffix == ".toml" else read_deck(path)
     if isinstance(source, Deck):
-        from .from_deck import default_time_step, deck_network
+        from .from_deck import deck_network, default_time_step
         network, settings = deck_network(source, motion=motion, sea=sea,
                                          rotations=rotations or "small")
         as_given = settings["solver"].get("start") == "reference"  # TmaxIC = 0
@@ -172,7 +178,7 @@ def from_network(network: Network, *, name="network", settings=None, draft=None,
     """Build a Network into a Model (statics not yet solved: see :func:`skmoor.equilibrium`).
     Impossible input is refused first, suspicious input warned about (:mod:`skmoor.coupling.checks`).
     settle: the free points' reference positions settled on catenaries
-    (:func:`~skmoor.coupling.network.settle_points`), else where the network gives them."""
+    (:func:`~skmoor.coupling.build.settle_points`), else where the network gives them."""
     warned = _checked(network)
     given = None if settle else {p.name: network.global_position(p) for p in network.points}
     system, lineset, catenaries, positions = build_system(network, given)

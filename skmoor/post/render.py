@@ -20,8 +20,14 @@ import pyvista as pv  # noqa: E402
 from tqdm import tqdm  # noqa: E402
 from vtkmodules.vtkCommonCore import VTK_FONT_FILE  # noqa: E402
 
-from .export import (BOX_FACES, _check_index, _check_mode, box_points, has_box,  # noqa: E402
-                     mode_scale)
+from .export import (  # noqa: E402
+    BOX_FACES,
+    _check_index,
+    _check_mode,
+    box_points,
+    has_box,
+    mode_scale,
+)
 
 pv.OFF_SCREEN = True
 

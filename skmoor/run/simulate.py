@@ -21,16 +21,14 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies import body as rigid
-from ..solvers.newton import DivergenceError
-from ..solvers.dynamics import Scheme, State, integrate, rayleigh_coefficients
-from ..model.model import Model, build
-from ..solvers.modes import Modes, eigenmodes
 from ..coupling.network import coupled_size
-from ..post.results import BODY_DOFS, Results
 from ..coupling.rods import coupled_reaction
-from ..solvers.newton import ConvergenceError
+from ..model.model import Model, build
+from ..post.results import BODY_DOFS, Results
+from ..solvers.dynamics import Scheme, State, integrate, rayleigh_coefficients
+from ..solvers.modes import Modes, eigenmodes
+from ..solvers.newton import ConvergenceError, DivergenceError
 from ..solvers.statics import solve_static
-
 
 INTERRUPTED = "interrupted (Ctrl-C)"
 BLOWN_UP_STRAIN = 0.5  # no mooring material stretches by half (nylon breaks at 20-30 %)

@@ -463,7 +463,8 @@ def _on_dask(pending, scheduler):
     if not pending:
         return
     try:
-        from dask.distributed import Client, as_completed as dask_completed
+        from dask.distributed import Client
+        from dask.distributed import as_completed as dask_completed
     except ImportError:
         raise ImportError("scheduler= needs dask.distributed: "
                           "pip install 'dask[distributed]'") from None

@@ -31,17 +31,16 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import BilinearForm, LinearForm, asm
 from numba import njit
+from skfem import BilinearForm, LinearForm, asm
 
+from ..bodies.loads import BodyLoad
 from ..fem import ops
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS
-from ..bodies.loads import BodyLoad
 from ..fem.terms import LineForm, Term
 from ..numerics.validation import check_finite, check_positive
 from .waves import Sea
-
 
 # --- the forms. Fields (nel, nqp), per unit reference length: drag_n = 1/2 rho Cd_n d,
 # drag_t = 1/2 rho Cd_t pi d, inertia_n/t = (1 + Ca_n/t) rho A, added_n/t = Ca_n/t rho A;

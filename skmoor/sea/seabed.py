@@ -37,12 +37,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from skfem import BilinearForm, LinearForm
 from numba import njit
+from skfem import BilinearForm, LinearForm
 
 from ..fem import ops
-from ..fem.patterns import NO_BLOCKS
 from ..fem.ops import d_ds, dot
+from ..fem.patterns import NO_BLOCKS
 from ..fem.terms import LineForm, Term
 from ..numerics.validation import check_finite, check_positive
 

@@ -23,12 +23,14 @@ import numpy as np
 from skfem import BilinearForm, CellBasis, LinearForm, asm
 
 from ..fem import ops
-from .hydro import (coefficients,
+from ..fem.terms import LineForm, _blocks, _local_order, _raw
+from .hydro import (
+    coefficients,
     morison_drag,
     morison_drag_rate,
     morison_drag_stiffness,
-    nodal_water)
-from ..fem.terms import LineForm, _blocks, _local_order, _raw
+    nodal_water,
+)
 
 _drag = _raw(morison_drag)
 _drag_stiffness = _raw(morison_drag_stiffness)

@@ -28,13 +28,13 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from ..numerics import bordered
 from ..bodies.body import rotation_and_slopes
-from .newton import CONTRACTION, LINE_SEARCH
-from ..sea.hydro import LineHydroKernel, _morison
-from ..lines.cable_kernel import CableKernel, _cable
 from ..fem.patterns import ElementPattern
+from ..lines.cable_kernel import CableKernel, _cable
+from ..numerics import bordered
+from ..sea.hydro import LineHydroKernel, _morison
 from ..sea.seabed import SeabedKernel, _seabed
+from .newton import CONTRACTION, LINE_SEARCH
 
 last_refusal = ""  # why the last build() returned None
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)

@@ -29,8 +29,6 @@ from ..numerics.banded import as_layout
 from .newton import DivergenceError, _IterationMatrix, _newton, matrix_layout
 
 
-
-
 @dataclass(frozen=True)
 class Scheme:
     """Time-integration parameters (alpha_m, alpha_f, beta, gamma)."""

@@ -3,14 +3,15 @@ search, the time step's modified Newton, its iteration matrix and the divergence
 """
 from __future__ import annotations
 
-import warnings
-
 import math
+import warnings
 from dataclasses import dataclass
+
 import numpy as np
-from scipy.linalg import lapack
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.linalg import lapack
+
 
 @dataclass
 class StaticSolution:

@@ -3,17 +3,9 @@ regularization (needed to start from a slack, stress-free line whose tangent is 
 """
 from __future__ import annotations
 
-
-
 import numpy as np
+
 from .newton import ConvergenceError, StaticSolution, newton
-
-
-
-
-
-
-
 
 
 def solve_static(system, x0=None, *, steps=1, t=0.0, xtol=1e-9, maxiter=60,
