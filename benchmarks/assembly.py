@@ -1,6 +1,6 @@
 """Time of one tangent + residual of the cable: scikit-fem forms vs the compiled kernel.
 
-Both evaluate the same physics (tests/test_forms.py holds them equal to 1e-12): the forms
+Both evaluate the same physics (tests/fem/test_forms.py holds them equal to 1e-12): the forms
 path is ``LineSet.internal_force(u)`` + ``LineSet.tangent_stiffness(u)`` (two scikit-fem
 assemblies), the fast path ``CableKernel.force_and_tangent(u)``. The line is the paper's
 steel line (analytic catenary, sag ratio 1/60) with n elements, at a random displacement.

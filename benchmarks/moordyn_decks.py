@@ -459,7 +459,7 @@ NOT_STATIC = {
     "started from the same positions, finds no equilibrium either; skmoor.simulate runs "
     "it as MoorDyn does (start='reference', the deck's TmaxIC = 0), and over its first "
     "0.1 s the chain junctions track MoorDyn's within 1.3-4.3 % rms of their range on "
-    "twice the deck's segments (tests/test_tripod_moordyn.py, docs/bending.md)",
+    "twice the deck's segments (tests/coupling/test_tripod_moordyn.py, docs/bending.md)",
 }
 
 

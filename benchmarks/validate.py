@@ -264,7 +264,7 @@ def check_moorpy_stretchy_line():
 
 def check_moordyn_driven_line(n=11):
     """Line C1 of the paper's case, fairlead driven 0.05 sin(1.6 t) m along x, 30 s,
-    n elements / segments, same physics as MoorDyn (tests/test_peers_moordyn.py)."""
+    n elements / segments, same physics as MoorDyn (tests/run/test_peers_moordyn.py)."""
     from peers import amplitude
     from test_peers_moordyn import DURATION, PERIOD, compare, side_by_side
 
@@ -348,7 +348,7 @@ def check_time_order():
 
 def check_seabed_touchdown():
     """A chain on a stiff frictionless sea bed (150 elements, from the analytic catenary
-    with touchdown, tests/test_seabed.py): static FE solve with the fairlead where the
+    with touchdown, tests/sea/test_seabed.py): static FE solve with the fairlead where the
     catenary has it and moved 5 m away / closer, against the analytic catenary with
     touchdown of the moved fairlead: fairlead tension and laid length."""
     from test_seabed import touchdown_solution
@@ -367,7 +367,7 @@ def check_seabed_touchdown():
 
 def check_seabed_friction():
     """A 100 m line lying on the bed, its far end dragged at 0.2 m/s along and across
-    itself (tests/test_seabed.py): the drag force against Coulomb's mu w L_laid."""
+    itself (tests/sea/test_seabed.py): the drag force against Coulomb's mu w L_laid."""
     from test_seabed import CHAIN, drag
 
     force_a, laid = drag([1.0, 0.0], mu_axial=0.3, mu_lateral=0.9, stretch=0.01, t_end=4.0)
@@ -380,7 +380,7 @@ def check_seabed_friction():
 
 
 def check_orcaflex_chain():
-    """The chain set MoorDyn validates against OrcaFlex (tests/test_chain_statics.py):
+    """The chain set MoorDyn validates against OrcaFlex (tests/lines/test_chain_statics.py):
     static FE solve (100 elements, sea-bed term) from a stress-free L-shaped line, end
     tensions against OrcaFlex's and against the analytic catenary with touchdown."""
     from test_chain_statics import CASES, CHAIN, l_shaped
@@ -414,7 +414,7 @@ def check_orcaflex_chain():
 def check_chain_dynamics():
     """The 50 m chain deck (examples/decks/chain_50m.dat) heaved 2 m / 10 s at the
     fairlead, skmoor (deck model, dt = 0.05 s) and MoorDyn on the same file
-    (tests/test_chain_dynamics.py), 30 s: static tension, and the largest tension
+    (tests/lines/test_chain_dynamics.py), 30 s: static tension, and the largest tension
     difference after the transient over MoorDyn's tension range."""
     from test_chain_dynamics import side_by_side
 

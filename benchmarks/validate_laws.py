@@ -1,7 +1,7 @@
 """Checks of benchmarks/validate.py on the lines' tension laws: a tension-strain curve, the
 static-dynamic polyester, a tension-only line going slack; each returns rows
 (benchmarks/_validation.Row); the set-ups are the test suite's (imported from
-tests/test_curve_catenary.py, test_polyester_moordyn.py, test_slack_snap_moordyn.py)."""
+tests/lines/test_curve_catenary.py, test_polyester_moordyn.py, test_slack_snap_moordyn.py)."""
 from __future__ import annotations
 
 import tempfile
@@ -61,7 +61,7 @@ def check_viscoelastic_polyester():
 def check_slack_and_snap():
     """The paper's line C1 alone (20 segments), its fairlead driven 1 m sin(1.6 t) along
     the line for eight periods, so that it goes slack and snaps taut every cycle
-    (tests/test_slack_snap_moordyn.py): fairlead tension over the last four periods."""
+    (tests/solvers/test_slack_snap_moordyn.py): fairlead tension over the last four periods."""
     from test_slack_snap_moordyn import measures, slack_snap_runs
 
     with tempfile.TemporaryDirectory() as tmp, inside(tmp), quiet():

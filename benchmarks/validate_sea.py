@@ -1,7 +1,7 @@
 """Checks of benchmarks/validate.py on bodies in waves, MoorDyn's sea input, the bed's
 damping, the paper's coupled case against MoorDyn and the VolturnUS-S mooring: each
 returns rows (benchmarks/_validation.Row); the set-ups are the test suite's (imported
-from tests/test_radiation.py, test_bem.py, test_sea_files.py, test_sea_moordyn.py,
+from tests/bodies/test_radiation.py, test_bem.py, test_sea_files.py, test_sea_moordyn.py,
 test_bed_damping_moordyn.py, test_paper_case_moordyn.py) and benchmarks/volturnus.py's."""
 from __future__ import annotations
 
@@ -150,7 +150,7 @@ def check_wavekin7_against_moordyn():
 
 def check_sea_decks_in_time(names=("WaveKin1", "WaveKin2-Currents5", "SeafloorFile")):
     """MoorDyn's sea decks (waves from a file, current grids, a bathymetry), both codes
-    started from still water, 20 s (tests/test_sea_decks_moordyn.py): over 5-20 s, the
+    started from still water, 20 s (tests/sea/test_sea_decks_moordyn.py): over 5-20 s, the
     offset of skmoor's end tension from MoorDyn's and the rms difference of what the water
     does to the tension (each code's change from its own static state)."""
     from test_sea_decks_moordyn import MIRROR, NO_MIRROR, run_deck
@@ -220,7 +220,7 @@ def check_volturnus_static():
 def check_paper_case_against_moordyn():
     """The paper's box on its four lines (11 segments, F_x = 1e5 sin(1.6 t) N, 20 s; the
     'moordyn-damping' scenario of benchmarks/paper_case.py): MoorDyn's lines with the body
-    integrated beside them (tests/test_paper_case_moordyn.py). Differences over MoorDyn's
+    integrated beside them (tests/run/test_paper_case_moordyn.py). Differences over MoorDyn's
     range: the two discretizations of the line (they halve at 40 segments)."""
     import paper_case
     from test_paper_case_moordyn import DT_SKMOOR, DURATION, SAMPLE, difference, run_moordyn

@@ -1,6 +1,6 @@
 """Checks of benchmarks/validate.py on bending lines, rods and rigid bodies: each returns
 rows (benchmarks/_validation.Row); the set-ups are the test suite's (imported from
-tests/test_bending.py, test_bending_decks.py, test_rods.py, test_large_rotations.py)."""
+tests/lines/test_bending.py, test_bending_decks.py, test_rods.py, test_large_rotations.py)."""
 from __future__ import annotations
 
 import tempfile
@@ -28,7 +28,7 @@ def _moordyn_mirror():
 # ------------------------------------------------------------------ bending
 
 def check_beams_euler_bernoulli():
-    """Hermite beams (L = 10 m, EI = 1e8 N m2, w = 100 N/m, P = 500 N; tests/test_bending.py):
+    """Hermite beams (L = 10 m, EI = 1e8 N m2, w = 100 N/m, P = 500 N; tests/lines/test_bending.py):
     cantilever tip and simply supported mid-span deflections (8 / 16 elements), pinned-pinned
     and tensioned beam-string first frequencies (16 elements)."""
     from test_bending import (EI, L, NodeLoad, P, W, beam_modes, beam_type, cantilever,
@@ -339,7 +339,7 @@ def check_pendulum_on_a_free_body():
 
 def check_pinned_rods_in_current():
     """MoorDyn's RodPinnedFloating.txt (no lines): two buoyant rods pinned at one end,
-    given drag, settled in a uniform current (tests/test_no_lines_moordyn.py)."""
+    given drag, settled in a uniform current (tests/coupling/test_no_lines_moordyn.py)."""
     from test_no_lines_moordyn import MIRROR, NO_MIRROR, pinned_rods_in_current
 
     if MIRROR is None:
@@ -359,7 +359,7 @@ L3_6 = ("OrcaFlex 11.6d (CableDyn's L3-6 reference values, its "
 def check_lazy_wave_dynamics_orcaflex(elements=(("80m", 128), ("200m", 256)), dt=0.05):
     """The Lozon 80 m and 200 m lazy waves' suspended spans heaved 3 m / 12 s at their
     hang-off in still water, with drag and added mass, scored over the last three periods
-    (tests/test_lazy_wave_orcaflex.py; ``elements``: (site, elements) pairs): peak curvature, its
+    (tests/lines/test_lazy_wave_orcaflex.py; ``elements``: (site, elements) pairs): peak curvature, its
     amplification, hang-off tension mean / min / max against OrcaFlex as CableDyn
     publishes it."""
     from test_lazy_wave_orcaflex import SPANS, heave_protocol

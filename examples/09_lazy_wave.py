@@ -18,7 +18,7 @@ balance), from which the static solve finds the lazy wave directly. Published (O
 and peak curvature 0.0968 1/m at 80 m, 25.16 kN and 0.0831 1/m at 200 m.
 Heaved at the hang-off (a "coupled" point), start the motion from rest with
 ``skmoor.fade_in``: a sinusoid from t = 0 is a velocity jump (docs/bending.md,
-tests/test_lazy_wave_dynamics.py).
+tests/lines/test_lazy_wave_dynamics.py).
 
 Run: python examples/09_lazy_wave.py   (prints the mesh convergence of both numbers and
 the touchdown at both sites, writes docs/images/lazy_wave.png: the shapes and the

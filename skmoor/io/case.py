@@ -67,7 +67,7 @@ class Case:
     directory: Path | None = None  # the case file's folder: relative paths start there
 
     def __post_init__(self):
-        built_in = self.data is PAPER_CASE  # valid as written (tests/test_schema.py)
+        built_in = self.data is PAPER_CASE  # valid as written (tests/io/test_schema.py)
         self.data = copy.deepcopy(self.data)
         if not built_in:  # pydantic loads (~0.2 s) for case files and changed cases only
             from .schema import validate_case
