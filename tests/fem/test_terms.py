@@ -78,7 +78,7 @@ def test_automatic_tangents_of_the_morison_forms_equal_the_hand_tangents(lines, 
 @pytest.mark.parametrize("friction", [True, False])
 def test_automatic_tangent_of_the_seabed_equals_the_hand_tangent(friction):
     """Contact with a faded-in damping and regularised Coulomb friction on a sloped bed."""
-    from tests.test_seabed import contact_state  # chains partly buried in a sloped bed
+    from test_seabed import contact_state  # chains partly buried in a sloped bed
 
     lines, bed, u, v = contact_state(friction=friction)
     R0, K0, C0 = dense(form_term(lines, bed), u, v)
