@@ -331,7 +331,7 @@ def report(rows, case, env, quick, seconds) -> str:
         "user's `LineForm` (its residual alone on 'fd', 'autodiff', 'compiled'; with "
         "hand-written tangents on 'assembly'), residual + both tangents per call, time over "
         "the built-in numba kernel `LineHydroKernel.add_to` (same physics; its own time per "
-        "call is given for scale). Issue 12's goal: compiled within 3.",
+        "call is given for scale). Goal: compiled within 3.",
         "",
         format_terms(rows),
         "",
@@ -342,8 +342,8 @@ def report(rows, case, env, quick, seconds) -> str:
         "## The paper's case with the user's drag",
         "",
         "Wall time of the time loop (best of three), the user's form added by `model.add` "
-        "against the built-in drag switched on by the line type's Cd_n, Cd_t. Issue 12's "
-        "goal: within 1.5." if not quick else "Wall time of the time loop (one run).",
+        "against the built-in drag switched on by the line type's Cd_n, Cd_t. "
+        "Goal: within 1.5." if not quick else "Wall time of the time loop (one run).",
         "",
         format_case(case),
         "",

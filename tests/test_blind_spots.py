@@ -1,4 +1,4 @@
-"""Checks where a mutation test of the suite found it blind (issue 13, item 6), each
+"""Checks where a mutation test of the suite found it blind, each
 against numbers written here from the textbook formula, never from skmoor's own code:
 
 - Rayleigh damping: ``rayleigh_coefficients`` against the two-frequency formula

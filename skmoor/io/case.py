@@ -4,7 +4,7 @@ ranges with the field and the reason).
 
 A case is a nested dict (the TOML file) turned into small dataclasses. ``Case.replace``
 changes one value by its dotted path (``"mooring.sag_ratio"``), which is what parameter
-studies vary. The paper's case (Wang, Er & Iu; resolved in design.md section 4) is
+studies vary. The paper's case (Wang, Er & Iu; resolved in docs/paper.md) is
 :func:`paper_case` and ships as ``examples/paper_case.toml``.
 """
 from __future__ import annotations

@@ -149,7 +149,7 @@ def grid_study(name: str, parameters: dict, base_case: Case | None = None,
 
 
 def paper_studies(n_points: int = 8, base_case: Case | None = None) -> list[Study]:
-    """The paper's two studies (Wang, Er & Iu, Figs. 7 and 8; design.md section 4):
+    """The paper's two studies (Wang, Er & Iu, Figs. 7 and 8; resolved in docs/paper.md):
     sag ratio d/l from 1/45 to 1/80 at theta = 50 deg (evenly spaced in l/d), and chord
     angle theta from 40 to 54 deg at d/l = 1/60."""
     if not (isinstance(n_points, int) and n_points >= 2):

@@ -73,7 +73,7 @@ def test_reference_state_is_equilibrium_of_paper_case(model):
 
 
 def test_draft_matches_paper(model):
-    """Paper: h_s = 0.896 m (design.md: exact catenary 0.8975 m)."""
+    """Paper: h_s = 0.896 m (the exact catenary: 0.8975 m)."""
     assert model.draft == pytest.approx(0.896, rel=5e-3)
     assert model.draft == pytest.approx(0.8975, abs=5e-4)
 

@@ -1,4 +1,4 @@
-"""The analytic elastic catenary against MoorPy, its own differential equations and design.md."""
+"""The analytic elastic catenary against MoorPy, its own differential equations and the paper's resolved case."""
 import math
 
 import numpy as np
@@ -8,7 +8,7 @@ from scipy.optimize import brentq
 
 from skmoor.lines.catenary import solve_catenary
 
-# The paper's case (design.md section 4): steel line, D = 0.1 m, in water.
+# The paper's case (docs/paper.md): steel line, D = 0.1 m, in water.
 G = 9.81
 RHO_WATER = 1025.0
 AREA = math.pi / 4 * 0.1**2
@@ -171,7 +171,7 @@ def test_horizontal_tension_input_gives_the_same_line(name):
 
 
 def test_draft_of_the_paper_case():
-    """design.md section 4: rho_s g h_s (26 x 10) = M g + 4 V_fairlead gives h_s = 0.8975 m."""
+    """The paper's case resolved (docs/paper.md): rho_s g h_s (26 x 10) = M g + 4 V_fairlead gives h_s = 0.8975 m."""
     def vertical_imbalance(draft):
         return RHO_WATER * G * draft * 26 * 10 - 1.2e5 * G - 4 * paper_line(draft).V_fairlead
 

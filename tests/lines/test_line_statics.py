@@ -11,7 +11,7 @@ from skmoor.coupling.system import System
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.solvers.statics import solve_static
 
-# The paper's steel line (design.md section 4): E = 2e11 Pa, D = 0.1 m, 8000 kg/m3 in water;
+# The paper's steel line (docs/paper.md): E = 2e11 Pa, D = 0.1 m, 8000 kg/m3 in water;
 # 100 m deep, chord at 50 deg. No seabed: the line hangs free between its ends.
 STEEL = LineType.steel_rod(0.1)
 ANCHOR = np.array([-100.0 / np.tan(np.radians(50.0)), 0.0, -100.0])

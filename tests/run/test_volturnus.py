@@ -1,6 +1,6 @@
 """benchmarks/volturnus.py's system, the IEA 15 MW VolturnUS-S chain mooring read from the
 IEA-15-240-RWT deck (a local mirror, $SKMOOR_IEA_MIRROR; skipped without it): its static
-fairlead tension against the published ones (design.md section 13: CableDyn 2437 kN,
+fairlead tension against the published ones (CableDyn 2437 kN,
 OrcaFlex 2427 kN, MoorDyn 2439 kN), and the benchmark's deck as each peer gets it."""
 import sys
 from pathlib import Path

@@ -1,4 +1,4 @@
-"""Large steps through touchdown (issue 16 item 1): the step's full-Newton retry with a
+"""Large steps through touchdown: the step's full-Newton retry with a
 line search and the automatic subdivision of a step whose Newton fails
 (skmoor.solvers.dynamics.integrate), and the count of subdivided steps in the results.
 
