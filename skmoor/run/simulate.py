@@ -253,7 +253,7 @@ def start_shock_notes(system, x) -> list:
     """Warnings for prescribed ends that start moving at t = 0 while the lines rest at x:
     such an end sends an axial shock of about v sqrt(EA m) (N; v the end's speed, m/s) into
     its line; noted where that exceeds SHOCK_SHARE of the end's static tension."""
-    if not getattr(system, "_has_prescribed", False):
+    if not system.dofs.has_prescribed:
         return []
     _, rates = system.prescribed_state(0.0)  # (n, 3) m/s, in the order of the prescribed slots
     u = system.full_displacement(x, 0.0)
