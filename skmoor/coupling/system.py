@@ -18,8 +18,8 @@ its inertia beyond the constant M (which holds its mass matrix at q = 0) is
 :meth:`System.inertia`, added by the time integrator.
 
 The parts: DOF numbering and reduction (:mod:`skmoor.coupling.dofs`), body frames
-(:mod:`skmoor.coupling.frames`), exact-body inertia (:mod:`skmoor.coupling.inertia`) and end
-forces (:mod:`skmoor.coupling.reactions`).
+(:mod:`skmoor.coupling.frames`), exact-body inertia (:mod:`skmoor.coupling.inertia`), end
+forces (:mod:`skmoor.coupling.reactions`) and prescribed ends (:mod:`skmoor.coupling.prescribed`).
 """
 from __future__ import annotations
 
@@ -31,7 +31,6 @@ import scipy.sparse as sp
 
 from ..bodies import body as rigid
 from ..bodies.large_rotations import generalized_load
-from ..bodies.motion import SECOND_DIFFERENCE, acceleration_of
 from ..fem.patterns import ElementPattern
 from ..fem.terms import Term
 from ..lines.cable_kernel import CableKernel
@@ -40,6 +39,7 @@ from .dofs import DofMap
 from .frames import BodyFrames
 from .inertia import ExactBodyInertia
 from .no_lines import EmptyPattern, NoLineKernel
+from .prescribed import PrescribedEnds
 from .reactions import EndReactions
 
 
@@ -140,7 +140,7 @@ class Ends:
 
 
 
-class System(BodyFrames, ExactBodyInertia, EndReactions):
+class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
     """The network's equations: lines (one :class:`~skmoor.lines.line.LineSet`) whose ends sit
     on fixed, prescribed or free points or on rigid bodies, reduced to one nonlinear system.
 
@@ -159,6 +159,12 @@ class System(BodyFrames, ExactBodyInertia, EndReactions):
     body the load's moment is global). terms: :class:`~skmoor.fem.terms.Term` objects on the
     lines, the free points or the bodies (add more with :meth:`add_term`). sea: the water
     whose current drags the free points (None: still).
+
+    Its parts: ``dofs`` (a :class:`~skmoor.coupling.dofs.DofMap`: the numbering and the
+    reduction), the body frames (:class:`~skmoor.coupling.frames.BodyFrames`), the exact
+    bodies' inertia (:class:`~skmoor.coupling.inertia.ExactBodyInertia`), the end forces
+    (:class:`~skmoor.coupling.reactions.EndReactions`) and the prescribed ends' motion
+    (:class:`~skmoor.coupling.prescribed.PrescribedEnds`).
     """
 
     def __init__(self, lines, body=None, *, fairleads="body", motion=None,
@@ -202,11 +208,7 @@ class System(BodyFrames, ExactBodyInertia, EndReactions):
         self.fairlead_dofs, self.anchor_dofs = dofs.fairlead_dofs, dofs.anchor_dofs
         self.r_local = dofs.r_local0[0] if bodies else None
         self._init_frames()
-        self._prescribed_cache = (None, None, None)
-        self._acceleration_cache = (None, None)
-        # s: the difference step of the prescribed ends' accelerations when the motion has
-        # none (integrate sets its time step)
-        self.acceleration_step = SECOND_DIFFERENCE
+        self._init_prescribed()
         self.K_bodies = [b.hydrostatic_stiffness(generalized=True) for b in bodies]
         self.F_bodies0 = [b.static_force() for b in bodies]
         self.K_body = self.K_bodies[0] if bodies else None
@@ -327,6 +329,7 @@ class System(BodyFrames, ExactBodyInertia, EndReactions):
                 term.commit(t, x[columns], v[columns])
             else:
                 term.commit(t, self.full_displacement(x, t), self.full_velocity(x, v, t))
+
     # --- maps between reduced and full cable DOFs
     def q(self, x, body=0):
         """DOFs of body ``body`` in a reduced vector (zeros without bodies), m / rad."""
@@ -357,56 +360,6 @@ class System(BodyFrames, ExactBodyInertia, EndReactions):
     def fairlead_displacement(self, x, t=0.0):
         """(nlines, 3) displacements of the lines' B ends, m."""
         return self.full_displacement(x, t)[self.fairlead_dofs]
-
-    def prescribed_state(self, t, dt=1e-6):
-        """Displacements (m) and velocities (``motion.velocity``, or central differences
-        over dt, m/s) of the prescribed ends at time t, (n, 3) each; the last time's are
-        kept (Newton revisits it)."""
-        if self._prescribed_cache[0] != (t, dt):
-            slots = self.dofs.prescribed_slots
-
-            def at(f, time):
-                return np.asarray(f(time), float).reshape(-1, 3)[slots]
-            velocity = getattr(self.motion, "velocity", None)
-            rate = (at(velocity, t) if velocity is not None else
-                    (at(self.motion, t + dt) - at(self.motion, t - dt)) / (2 * dt))
-            self._prescribed_cache = ((t, dt), at(self.motion, t), rate)
-        return self._prescribed_cache[1:]
-
-    def forget_prescribed(self):
-        """Drop the kept prescribed-end displacements and velocities (after ``motion`` was
-        changed in place at a time already asked for)."""
-        self._prescribed_cache = (None, None, None)
-
-    def prescribed_acceleration(self, t):
-        """(n, 3) accelerations (m/s2) of the prescribed ends at t (s): the motion's
-        ``acceleration``, else differences of its velocity or position over
-        ``acceleration_step`` (:func:`~skmoor.bodies.motion.acceleration_of`); the last time's is
-        kept."""
-        key = (t, self.acceleration_step)
-        if self._acceleration_cache[0] != key:
-            rate = acceleration_of(self.motion, t, self.acceleration_step)
-            rate = np.asarray(rate, float).reshape(-1, 3)
-            self._acceleration_cache = (key, rate[self.dofs.prescribed_slots])
-        return self._acceleration_cache[1]
-
-    def prescribed_at(self, times, accelerations=False):
-        """Displacements (m) and velocities (m/s) of the prescribed ends at each of the m
-        ``times``, (m, 3 n) each, and with ``accelerations`` their accelerations (m/s2):
-        one call of ``motion.at_times`` when the motion has it (a
-        :class:`~skmoor.bodies.motion.Motion`), else :meth:`prescribed_state` time by time."""
-        at_times = getattr(self.motion, "at_times", None)
-        m = len(times)
-        if at_times is None:
-            pairs = [self.prescribed_state(t) for t in times]
-            out = (np.array([d.ravel() for d, _ in pairs]).reshape(m, -1),
-                   np.array([r.ravel() for _, r in pairs]).reshape(m, -1))
-            if accelerations:
-                out += (np.array([self.prescribed_acceleration(t).ravel() for t in times]
-                                 ).reshape(m, -1),)
-            return out
-        values = at_times(times, accelerations=accelerations, step=self.acceleration_step)
-        return tuple(value[:, self.dofs.prescribed_slots].reshape(m, -1) for value in values)
 
     def full_state(self, x, v, t=0.0):
         """(ndofs,) cable displacement (m) and velocity (m/s) of the reduced state (x, v)
