@@ -118,7 +118,7 @@ def test_load_dependent_stiffness_and_the_tangent(tmp_path):
     model = skmoor.build(deck(tmp_path / "mean.dat", segments=3,
                               EA=f"{EA_S!r}|{alpha!r}|{beta!r}"))
     skmoor.equilibrium(model)
-    term = next(t for t in model.system.line_terms if isinstance(t, creep.CreepTerm))
+    term = next(t for t in model.system._terms["lines"] if isinstance(t, creep.CreepTerm))
     u0 = np.zeros(model.lines.ndofs)
     term.commit(0.0, u0, u0)
     check = check_tangent(model, term, t=0.05, steps=np.logspace(-1, -4, 7))
