@@ -487,7 +487,7 @@ def coupled_reaction(model, x, v, t, body, a=None):
 def _pin_reaction(network, system, x, v, t, body):
     """(force, zero moment) the PinLoad of dynamic body ``body`` takes from the caller."""
     k = [b.name for b in network.bodies if b.kind == "dynamic"].index(body)
-    block = system._body_block(k)
+    block = system.dofs.blocks[k]
     pin = next(term for term in system.body_terms
                if isinstance(term, PinLoad) and term.body == k)
     return -pin.forces(x[block], v[block], t)[:3], np.zeros(3)

@@ -100,7 +100,7 @@ def unrestrained(model: Model, x=None) -> list:
     lines = model.lines
     for column in range(system.nf):
         if not names[column]:
-            dof = system.free[np.flatnonzero(system._columns == column)[0]]
+            dof = system.free[np.flatnonzero(system.dofs.columns == column)[0]]
             slope = lines.slope_dofs is not None and dof in lines.slope_dofs
             dofs = lines.slope_dofs if slope else lines.nodal_dofs
             node = int(np.flatnonzero((dofs == dof).any(axis=1))[0])
@@ -182,7 +182,7 @@ def released_state(model: Model) -> np.ndarray:
     for a, b in zip(lines.anchor_nodes, lines.fairlead_nodes):
         share = np.linspace(0.0, 1.0, b - a + 1)[1:-1, None]
         u[dofs[a + 1:b]] = (1 - share) * u[dofs[a]] + share * u[dofs[b]]
-    x0[system._columns] = u[system.free]  # (a point's column gets its own value back)
+    x0[system.dofs.columns] = u[system.free]  # (a point's column gets its own value back)
     held = np.concatenate([system.point_columns.ravel(), np.arange(system.nf, system.n)])
     if len(np.unique(held)) == system.n:  # nothing left to settle
         return x0
@@ -201,7 +201,7 @@ def reference_state(model: Model) -> np.ndarray:
     x0 = np.zeros(system.n)
     if lines.slope_dofs is None:
         return x0
-    turning = np.unique(system._columns[np.isin(system.free, lines.slope_dofs)])
+    turning = np.unique(system.dofs.columns[np.isin(system.free, lines.slope_dofs)])
     if turning.size == 0:  # every tangent clamped
         return x0
     held = np.setdiff1d(np.arange(system.n), turning)
@@ -253,9 +253,9 @@ def start_shock_notes(system, x) -> list:
     """Warnings for prescribed ends that start moving at t = 0 while the lines rest at x:
     such an end sends an axial shock of about v sqrt(EA m) (N; v the end's speed, m/s) into
     its line; noted where that exceeds SHOCK_SHARE of the end's static tension."""
-    if not getattr(system, "_has_prescribed", False):
+    if not system.dofs.has_prescribed:
         return []
-    _, rates = system._prescribed(0.0)  # (n, 3) m/s, in the order of the prescribed slots
+    _, rates = system.prescribed_state(0.0)  # (n, 3) m/s, in the order of the prescribed slots
     u = system.full_displacement(x, 0.0)
     on_b, on_a = system.end_forces(u, None, 0.0)
     notes = []
@@ -263,7 +263,7 @@ def start_shock_notes(system, x) -> list:
         for end, force in ((system.ends.a[k], on_a[k]), (system.ends.b[k], on_b[k])):
             if end[0] != "prescribed":
                 continue
-            speed = float(np.linalg.norm(rates[list(system._prescribed_slots).index(end[1])]))
+            speed = float(np.linalg.norm(rates[list(system.dofs.prescribed_slots).index(end[1])]))
             shock = speed * math.sqrt(line.line_type.EA * line.line_type.mass)
             tension = float(np.linalg.norm(force))
             if shock > SHOCK_SHARE * tension:
@@ -497,7 +497,7 @@ def _coupled_stiffness(model: Model, eq: Equilibrium, body, step=1e-4) -> np.nda
                 y = np.zeros(n)
                 y[start + j] = sign * step
                 network.motion = lambda t, y=y: y
-                system._prescribed_cache = (None, None, None)
+                system.forget_prescribed()
                 x = static_state(system, x).x
                 fb, fa = system.reactions(x)
                 F = np.zeros(6)
@@ -511,7 +511,7 @@ def _coupled_stiffness(model: Model, eq: Equilibrium, body, step=1e-4) -> np.nda
             K[:, j] = -(loads[0] - loads[1]) / (2 * step)
     finally:
         network.motion = given
-        system._prescribed_cache = (None, None, None)
+        system.forget_prescribed()
     return K
 
 

@@ -75,7 +75,7 @@ def build(system, C, scheme, tol, maxiter):
         else:
             return _refuse(f"line term {type(term).__name__} (moving water, a bathymetry "
                            "or a user form)")
-    if system.point_terms or system.body_terms or system._committing:
+    if system.point_terms or system.body_terms or system.committing:
         return _refuse("terms on points or bodies, or with a memory")
     if system.nonlinear_inertia:
         return _refuse("a body with rotations='exact'")
@@ -85,7 +85,7 @@ def build(system, C, scheme, tol, maxiter):
     for load in system.body_loads:
         if load is not None and not getattr(load, "time_only", False):
             return _refuse("a body load that depends on the body's state")
-    width = ElementPattern(lines, position=system._position).bandwidth if system.nf else 0
+    width = ElementPattern(lines, position=system.dofs.position).bandwidth if system.nf else 0
     width = max(width, 1)
     try:
         M = bordered.split(system.M, system.nf, width)
@@ -130,11 +130,11 @@ class CompiledStep:
         lines, n = system.lines, system.n
         ndofs = lines.ndofs
         end_row = np.full(ndofs, -1, np.int64)
-        end_row[system._body_flat] = np.arange(len(system._body_flat))
-        r_local = (np.concatenate([r for r in system._r_local]) if system.bodies
+        end_row[system.dofs.body_flat] = np.arange(len(system.dofs.body_flat))
+        r_local = (np.concatenate([r for r in system.frame_r_local]) if system.bodies
                    else np.zeros((0, 3)))
-        self.topology = (np.asarray(system._position, np.int64), end_row,
-                         np.asarray(system._body_of_end, np.int64),
+        self.topology = (np.asarray(system.dofs.position, np.int64), end_row,
+                         np.asarray(system.dofs.body_of_end, np.int64),
                          np.asarray(system.body_end_dofs, np.int64).reshape(-1, 3),
                          np.ascontiguousarray(r_local, float),
                          np.ascontiguousarray(lines.element_dofs, np.int64), system.nf,
@@ -144,7 +144,7 @@ class CompiledStep:
                          else np.asarray(surface._z_dofs, np.int64),
                          np.zeros(0) if surface is None else np.asarray(surface._z, float),
                          0.0 if surface is None else float(surface._deepest_reach))
-        self.prescribed_dofs = np.asarray(system._prescribed_flat, np.int64)
+        self.prescribed_dofs = np.asarray(system.dofs.prescribed_flat, np.int64)
         self.report_dofs = np.concatenate([np.ravel(system.fairlead_dofs),
                                            np.ravel(system.anchor_dofs)]).astype(np.int64)
         self.held = _held_inertia(system)
@@ -161,8 +161,8 @@ class CompiledStep:
                         np.zeros((nb, nf)), np.zeros((nb, nb)), np.zeros(nf, np.int64),
                         np.zeros(nb, np.int64))
         self.work = (np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs), np.zeros((nel, 6, 6)),
-                     np.zeros((nel, 6, 6)), np.zeros((len(system._body_flat), 6)),
-                     np.zeros((len(system._body_flat), 6)), np.zeros(n), np.zeros(n),
+                     np.zeros((nel, 6, 6)), np.zeros((len(system.dofs.body_flat), 6)),
+                     np.zeros((len(system.dofs.body_flat), 6)), np.zeros(n), np.zeros(n),
                      np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self._still = np.zeros((len(lines.points), 3))
@@ -172,7 +172,7 @@ class CompiledStep:
         """The kernels' current arrays (a strain law may be refreshed between steps)."""
         k = self.system.kernel
         cable = (k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h, k.weight, k.dofs_i, k.dofs_j,
-                 bool(self.system._damped), k.constant, self.system.weight)
+                 bool(self.system.damped), k.constant, self.system.weight)
         hydro, bed = NO_HYDRO, NO_BED
         if self.hydro is not None:
             h = self.hydro
@@ -207,14 +207,14 @@ class CompiledStep:
         loads = np.zeros((count, nbodies, 6))
         driven = np.zeros((count, 0))  # M_fp a_p of each step (none: lumped P1 lines)
         pres_a = pres_u  # the prescribed ends' accelerations, where something needs them
-        if system._has_prescribed:  # the time-only inputs of each step
-            needed = system._M_driven is not None or (
+        if system.dofs.has_prescribed:  # the time-only inputs of each step
+            needed = system.driven_mass is not None or (
                 self.held[2][0].size and report is not None and np.any(report))
             pres_u, pres_v, *pres_a = (np.ascontiguousarray(p, float) for p in
                                        system.prescribed_at(times, accelerations=needed))
             pres_a = pres_a[0] if pres_a else pres_u
-            if system._M_driven is not None:
-                driven = np.ascontiguousarray((system._M_driven @ pres_a.T).T, float)
+            if system.driven_mass is not None:
+                driven = np.ascontiguousarray((system.driven_mass @ pres_a.T).T, float)
         for k, load in enumerate(system.body_loads):
             if load is None:
                 continue
@@ -222,7 +222,7 @@ class CompiledStep:
             if at_times is not None:
                 loads[:, k] = at_times(times)
                 continue
-            block = system._body_block(k)
+            block = system.dofs.blocks[k]
             for i, t1 in enumerate(times):
                 loads[i, k] = load(t1, x[block], v[block])
         out = np.empty((4, count, len(x)))
@@ -290,12 +290,12 @@ def _held_inertia(system):
     ``System.end_forces`` takes from their reactions, as the compiled report takes it:
     (the flat slots of the (2, nlines, 3) end forces it lands in, M[e] P0 and M[e, p] in
     CSR); no slots when the system has none."""
-    if system._end_mass is None:
+    if system.end_mass is None:
         return np.zeros(0, np.int64), _csr(sp.csr_matrix((0, 0))), _csr(sp.csr_matrix((0, 0)))
-    rows, on_free, on_driven = system._end_mass
+    rows, on_free, on_driven = system.end_mass
     slots = ((rows[:, 0] * len(system.fairlead_dofs) + rows[:, 1])[:, None] * 3
              + np.arange(3)).ravel().astype(np.int64)
-    shapes = ((len(slots), system.n), (len(slots), len(system._prescribed_flat)))
+    shapes = ((len(slots), system.n), (len(slots), len(system.dofs.prescribed_flat)))
     return (slots, *(_csr(sp.csr_matrix(shape) if A is None else A)
                      for A, shape in zip((on_free, on_driven), shapes)))
 

@@ -142,7 +142,7 @@ def test_case_file_body_potential_flow(tmp_path):
     assert isinstance(term, skmoor.PotentialFlow)
     body = slice(model.system.nf, model.system.nf + 6)
     system, rigid = model.system, model.system.bodies[0]
-    without = (system._reduce_constant(system.M_lines).toarray()[body, body]
+    without = (system.reduce_constant(system.M_lines).toarray()[body, body]
                + rigid.mass_matrix() + rigid.added_mass)  # the lines' fairlead masses too
     np.testing.assert_allclose(system.M.toarray()[body, body] - without, term.added_mass_inf,
                                atol=1e-9 * np.abs(without).max())

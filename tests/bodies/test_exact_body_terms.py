@@ -64,9 +64,9 @@ def test_carried_line_end_masses_give_the_kinetic_energy_of_the_ends():
     end's lumped mass m_e at its body point (wrong parallel axes show at O(1))."""
     system = tethered_body()
     body = system.bodies[0]
-    carrier, M0 = system._carrying_body(0)
-    ends = body.reference_point + system._r_local0[0]
-    masses = system._end_masses[system._body_rows[0]]
+    carrier, M0 = system.carrying_body(0)
+    ends = body.reference_point + system.dofs.r_local0[0]
+    masses = system.end_masses[system.dofs.body_rows[0]]
     assert np.all(masses > 0)
     assert np.allclose(M0, system.M.toarray()[system.nf:, system.nf:])  # what M holds
     q = np.array([0.2, -0.1, 0.3, 0.7, -0.4, 1.2])

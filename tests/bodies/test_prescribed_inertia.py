@@ -83,7 +83,7 @@ CASES = {"lumped P1": {}, "consistent P1": {"lumped": False}, "Hermite": {"EI": 
 def free_acceleration(system, a):
     """(nnodes - 2, 3) accelerations (m/s2) of the interior nodes from reduced a."""
     full = np.zeros(system.lines.ndofs)
-    full[system.free] = a[system._columns]
+    full[system.free] = a[system.dofs.columns]
     return full[system.lines.nodal_dofs[1:-1]]
 
 
@@ -212,10 +212,10 @@ def test_a_network_honours_its_motions_velocity_and_acceleration(with_accelerati
                  + YAW_RATE * np.array([-radial[1], radial[0], 0.0]))
         acceleration = (-SURGE * W**2 * np.sin(W * t) * np.array([1.0, 0, 0])
                         - YAW_RATE**2 * radial)
-        _, rate = system._prescribed(t)
+        _, rate = system.prescribed_state(t)
         assert np.allclose(rate[0], speed, atol=1e-8)
         assert np.allclose(system.prescribed_acceleration(t)[0], acceleration, atol=1e-6)
     wrong = skmoor.Motion(ship, lambda t: 2 * ship_rate(t))
     system = build_system(network_on_a_turning_ship(wrong))[0]
     doubled = 2 * np.array([SURGE * W, YAW_RATE * ARM[0], 0.0])
-    assert np.allclose(system._prescribed(0.0)[1][0], doubled)
+    assert np.allclose(system.prescribed_state(0.0)[1][0], doubled)

@@ -244,10 +244,10 @@ def test_rebase_keeps_the_loads_of_the_terms():
     E0 = rate_matrix(x[-3:])[0]
     block = slice(system.nf, None)
     for term in terms:
-        before_frames = system._frames
-        system._frames = [None]
+        before_frames = system.frames
+        system.frames = [None]
         Q0 = body_load(system, term, x[block], v[block])
-        system._frames = before_frames
+        system.frames = before_frames
         Q1 = body_load(system, term, x1[block], v1[block])
         np.testing.assert_allclose(Q1[:3], Q0[:3], atol=1e-9 * np.abs(Q0).max())
         np.testing.assert_allclose(Q1[3:], np.linalg.solve(E0.T, Q0[3:]),
@@ -288,12 +288,12 @@ def test_potential_flow_memory_is_in_the_global_frame(box):
     system.add_term(term)
     block = slice(system.nf, None)
     x, v, (x1, v1) = rebased(system)
-    frames = system._frames
-    system._frames = [None]
+    frames = system.frames
+    system.frames = [None]
     for t in np.arange(0.0, 3.0, 0.1):  # a history of turning
         term.commit(t, x[block], v[block] * np.cos(0.7 * t))
     Q0 = body_load(system, term, x[block], v[block], t=3.05)
-    system._frames = frames
+    system.frames = frames
     Q1 = body_load(system, term, x1[block], v1[block], t=3.05)
     E0 = rate_matrix(x[-3:])[0]
     scale = np.abs(Q0).max()
@@ -467,7 +467,7 @@ def test_rebase_leaves_the_motion_of_a_body_in_potential_flow(box, monkeypatch):
     The memory on [v, omega] and A_inf on [a, alpha] make the motion independent of the
     angles' frame; the memory lost at the restart after a re-base, or A_inf on the angle
     accelerations, give O(dt) (7e-3 rad) and O(1) (0.13 rad) differences."""
-    from skmoor.coupling import system as coupling
+    from skmoor.coupling import frames as coupling
     from skmoor.bodies.body import uniform_box_inertia
 
     def attitudes(pitch, dt):

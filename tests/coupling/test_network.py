@@ -93,7 +93,7 @@ def test_mass_is_conserved_through_the_network():
     model = skmoor.from_network(network)
     system = model.system
     ex = np.zeros(system.n)  # a rigid unit translation in x of everything that moves
-    columns = system._position[model.lines.nodal_dofs[:, 0]]
+    columns = system.dofs.position[model.lines.nodal_dofs[:, 0]]
     ex[columns[columns >= 0]] = 1.0
     for k in range(2):
         ex[system.nf + 6 * k] = 1.0
