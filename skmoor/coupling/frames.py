@@ -74,7 +74,7 @@ class BodyFrames:
         return BodyMotion(q, qdot, frame=self.frames[body],
                           exact=self.bodies[body].rotations == "exact")
 
-    def _global_rates(self, q, qdot, k):
+    def global_rates(self, q, qdot, k):
         """(q, qdot) of re-based body k with its angles (and their rates) counted from the
         global frame: what its ``body_load`` sees (at the gimbal lock the rates are the
         least-squares ones)."""

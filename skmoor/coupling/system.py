@@ -30,11 +30,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..bodies import body as rigid
-from ..bodies.large_rotations import generalized_load
+from ..bodies.restoring import AppliedLoad, BodyRestoring
 from ..fem.patterns import ElementPattern
 from ..fem.terms import Term
-from ..lines.cable_kernel import CableKernel
+from ..lines.cable import CableTerm
 from ..numerics.banded import LAYOUTS, as_layout
+from ..sea.hydro import PointDrag
 from .dofs import DofMap
 from .frames import BodyFrames
 from .inertia import ExactBodyInertia
@@ -191,13 +192,8 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
                            else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
         self._terms = {"lines": [], "points": [], "bodies": [], "body pairs": []}
-        if not lines.lines:
-            self.kernel = NoLineKernel()
-        elif lines.hermite:
-            from ..lines.bending import HermiteKernel
-            self.kernel = HermiteKernel(lines)
-        else:
-            self.kernel = CableKernel(lines)
+        self.cable = CableTerm(lines) if lines.lines else None
+        self.kernel = self.cable.kernel if lines.lines else NoLineKernel()
         nloc = self.kernel.pattern.nloc
         self._block_shape = (self.kernel.pattern.nel, nloc, nloc)
         self.damped = lines.damped
@@ -221,9 +217,33 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         self._free_pattern = (None if self.nb else EmptyPattern(self.nf) if not lines.lines
                               else ElementPattern(lines, position=dofs.position))
         self.committing = []  # terms with a history (commit(t, u, v))
+        self.dead_load = self._dead_load()
+        for term in self._built_in_terms():
+            self._join(term)
         for term in terms:
             self._join(term)
         self._assemble_mass()
+
+    def _built_in_terms(self):
+        """The physics every System has, as terms: the cable, the free points' drag, the
+        bodies' restoring and applied loads (their dead loads: :attr:`dead_load`)."""
+        terms = [self.cable] if self.cable is not None else []
+        terms += [PointDrag(p, point.CdA, point.rho, self.sea)
+                  for p, point in enumerate(self.point_masses) if point.CdA]
+        for k, body in enumerate(self.bodies):
+            terms += [BodyRestoring(k, body), AppliedLoad(k, body)]
+        return terms
+
+    def _dead_load(self):
+        """(n,) the constant loads on the free points and bodies that the load factor
+        scales (N, N m; the residual gets -load_factor times it): the points' net
+        buoyancy (rho V - m) g up, the bodies' static load at the reference pose."""
+        dead = np.zeros(self.n)
+        for p, point in enumerate(self.point_masses):
+            dead[self.point_columns[p][2]] += (point.rho * point.volume - point.mass) * point.g
+        for k, block in enumerate(self.dofs.blocks):
+            dead[block] += self.F_bodies0[k]
+        return dead
 
     @property
     def body_load(self):
@@ -408,7 +428,6 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         Ke = Ce = None
         if tangent:
             Ke, Ce = np.zeros(self._block_shape), np.zeros(self._block_shape)
-        self.kernel.add_to(u, ud if self.damped else None, R, Ke, Ce)
         for term in self._terms["lines"]:
             term.add_to(u, ud, t, R, Ke, Ce)
         return R, Ke, Ce
@@ -425,25 +444,12 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         rows and columns couple all its line ends)."""
         return None if self.nb else self._free_pattern.bandwidth
 
-    def _points(self, x, v, t, load_factor, R, tangent):
-        """Adds the free points' loads into R (net buoyancy (rho V - m) g, drag on the
-        velocity relative to the current, and their terms); returns their derivative
-        blocks d/dx, d/dv (npoints, 3, 3) or None without ``tangent``."""
+    def _points(self, x, v, t, R, tangent):
+        """Adds the free points' terms into R; returns their derivative blocks d/dx, d/dv
+        (npoints, 3, 3) or None without ``tangent``."""
         npoints = len(self.point_masses)
         K = np.zeros((npoints, 3, 3)) if tangent else None
         C = np.zeros((npoints, 3, 3)) if tangent else None
-        for p, point in enumerate(self.point_masses):
-            cols = self.point_columns[p]
-            R[cols[2]] -= load_factor * (point.rho * point.volume - point.mass) * point.g
-            if point.CdA:
-                relative = -v[cols]
-                if self.sea is not None and not self.sea.still:
-                    relative = relative + self.sea.velocity(self.point_reference[p] + x[cols], t)
-                speed = np.linalg.norm(relative)
-                k = 0.5 * point.rho * point.CdA
-                R[cols] -= k * speed * relative
-                if tangent and speed > 0:  # the residual's d/dv of -k |w| w, w = U - v
-                    C[p] += k * (speed * np.eye(3) + np.outer(relative, relative) / speed)
         for term in self._terms["points"]:
             cols = self.point_columns[term.point]
             Rp = np.zeros(3)
@@ -474,10 +480,12 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         else:  # no body: the element blocks go straight into the reduced matrices
             R_full, Ke, Ce = self._line_blocks(u, ud, t, load_factor, True)
         R = self.dofs.reduce(R_full, J)
+        if self.point_masses or self.nb:
+            R -= load_factor * self.dead_load
         point_K = point_C = None
         if self.point_masses:
-            point_K, point_C = self._points(x, v, t, load_factor, R, tangent)
-        body_K, body_Kv = self._bodies(x, v, t, load_factor, R, tangent)
+            point_K, point_C = self._points(x, v, t, R, tangent)
+        body_K, body_Kv = self._bodies(x, v, t, R, tangent)
         pair_K, pair_Kv = self._body_pairs(x, v, t, R, tangent)
         if not tangent:
             return R, None, None
@@ -488,26 +496,14 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
                                     (pair_K, pair_Kv), layout)
         return (R, *self._add_point_blocks(K, Kv, point_K, point_C, layout))
 
-    def _bodies(self, x, v, t, load_factor, R, tangent):
-        """Adds the bodies' loads into R (hydrostatics, linear damping, applied loads and
-        their terms); returns the (6, 6) blocks of their terms' d/dx and d/dv, one per
-        body (None each without ``tangent``)."""
+    def _bodies(self, x, v, t, R, tangent):
+        """Adds the bodies' terms into R (their restoring and applied loads among them);
+        returns the (6, 6) blocks of their d/dx and d/dv, one per body (None each without
+        ``tangent``)."""
         body_K, body_Kv = [], []
-        for k, body in enumerate(self.bodies):
+        for k in range(len(self.bodies)):
             block = self.dofs.blocks[k]
             q, qdot = x[block], v[block]
-            if body.rotations == "exact":  # at the pose; (1 - load_factor) F0 as K q - lf F0
-                R[block] -= (body.restoring_load(q, self.frames[k])
-                             - (1 - load_factor) * self.F_bodies0[k])
-            else:
-                R[block] += self.K_bodies[k] @ q - load_factor * self.F_bodies0[k]
-            R[block] += body.linear_damping @ qdot
-            if self.body_loads[k] is not None:
-                load = self.body_loads[k](t, q, qdot) if self.frames[k] is None else \
-                    self.body_loads[k](t, *self._global_rates(q, qdot, k))
-                if body.rotations == "exact":  # force and moment (global) -> [F, E^T M]
-                    load = generalized_load(q[3:], load[:3], load[3:])
-                R[block] -= load
             Kk, Ck = (np.zeros((6, 6)), np.zeros((6, 6))) if tangent else (None, None)
             Rk = np.zeros(6)
             for term in self._terms["bodies"]:
@@ -532,14 +528,12 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         K_bodies = np.zeros((self.nb, self.nb))
         D_bodies = np.zeros((self.nb, self.nb))
         end_forces = R_full[self.body_end_dofs]
-        for k, body in enumerate(self.bodies):
+        for k in range(len(self.bodies)):
             b, q, rows = slice(6 * k, 6 * k + 6), x[dofs.blocks[k]], dofs.body_rows[k]
             H = (rigid.attachment_hessian(q, self.frame_r_local[k], end_forces[rows])
                  if len(rows) else 0.0)
-            restoring = (body.restoring_stiffness(q, self.frames[k])
-                         if body.rotations == "exact" else self.K_bodies[k])
-            K_bodies[b, b] = H + restoring + terms[0][k]
-            D_bodies[b, b] = body.linear_damping + terms[1][k]
+            K_bodies[b, b] = H + terms[0][k]
+            D_bodies[b, b] = terms[1][k]
         if pairs[0] is not None:
             K_bodies += pairs[0]
             D_bodies += pairs[1]

@@ -55,6 +55,14 @@ class Term:
     # q[3:]) lets an 'exact' body re-base its angles (System.rebase)
     frame_aware = False
     _system = None
+    why_python = "no compiled kernel (a user term)"  # why lowered() says None
+
+    def lowered(self) -> str | None:
+        """The name of the compiled kernel that evaluates this term inside the compiled
+        time step ('cable', 'morison', 'seabed', 'surface', 'point drag', 'body restoring',
+        'time load'), or None: the term is evaluated in Python, and the time loop with it
+        (:attr:`why_python` says why)."""
+        return None
 
     def bind(self, system):
         """Attach to a System: a line term to its LineSet, a body term to the body's

@@ -205,6 +205,8 @@ class LineHydroKernel(Term):
     :mod:`skmoor.lines.cable_kernel`), a line :class:`~skmoor.fem.terms.Term`: the same Gauss points,
     element by element."""
 
+    why_python = "moving water (waves or a time-varying current)"
+
     def __init__(self, lines, sea=None, lumped_mass=True):
         basis = lines.basis
         self.lines, self.sea = lines, sea
@@ -224,6 +226,10 @@ class LineHydroKernel(Term):
         self._still = np.zeros((len(self.points), 3))
         self._no_velocity = np.zeros(lines.ndofs)
         self._mass = added_mass_matrix(lines, lumped_mass)
+
+
+    def lowered(self):
+        return None if self.moving_water else "morison"
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
@@ -488,3 +494,39 @@ class BodyDrag(BodyLoad):
             e[k] = step
             dQ_dq[:, k] = (self.forces(q + e, qdot, t) - self.forces(q - e, qdot, t)) / (2 * step)
         return dQ_dq, dQ_dv
+
+
+class PointDrag(Term):
+    """Quadratic drag on a free point (MoorDyn's point CdA): with w the velocity of the
+    water (a current; still water: 0) relative to the point's,
+
+        F = 1/2 rho CdA |w| w,
+
+    entering the residual as -F, with its exact derivative with respect to the velocity
+    (N s/m) and none with respect to the position (the water is taken at the point's
+    reference position plus its displacement, without its gradient)."""
+
+    acts_on = "points"
+    why_python = "moving water (waves or a time-varying current)"
+
+    def __init__(self, point, CdA, rho=1025.0, sea=None):
+        self.point, self.CdA, self.rho, self.sea = int(point), float(CdA), float(rho), sea
+        self.k = 0.5 * self.rho * self.CdA
+        self.moving_water = sea is not None and not sea.still
+        self.position = np.zeros(3)
+
+    def bind(self, system):
+        super().bind(system)
+        self.position = system.point_reference[self.point]
+
+    def lowered(self):
+        return None if self.moving_water else "point drag"
+
+    def add_to(self, u, v, t, R, K=None, C=None):
+        relative = -v
+        if self.moving_water:
+            relative = relative + self.sea.velocity(self.position + u, t)
+        speed = np.linalg.norm(relative)
+        R -= self.k * speed * relative
+        if C is not None and speed > 0:  # the residual's d/dv of -k |w| w, w = U - v
+            C += self.k * (speed * np.eye(3) + np.outer(relative, relative) / speed)

@@ -428,6 +428,12 @@ class SeabedKernel(Term):
         # Hermite: the position DOFs [node i x, y, z, node j x, y, z] in the element blocks
         self._positions = np.array([0, 1, 2, 6, 7, 8]) if lines.hermite else None
 
+
+    why_python = "a bathymetry grid, or bending (Hermite) lines"
+
+    def lowered(self):
+        return "seabed" if self.bathymetry is None and self._positions is None else None
+
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
         blocks (the term protocol, :mod:`skmoor.fem.terms`)."""

@@ -131,6 +131,11 @@ class SurfaceTerm(LineForm):
         self._test_z = np.stack([np.asarray(f[0])[2] for f in lines.basis.basis])  # (nloc, nel, nqp)
         self._order = _local_order(lines, lines.basis)
 
+    why_python = "a moving free surface (waves)"
+
+    def lowered(self):
+        return "surface" if self._flat else None
+
     def _eta(self, u, t):
         """(ndofs,) the surface elevation at the displaced nodes on their z DOFs, m."""
         eta = np.zeros(self.lines.ndofs)

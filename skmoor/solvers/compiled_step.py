@@ -13,10 +13,11 @@ zero while every node stays half a diameter deep; a step that brings one up is h
 the Python step), fixed, prescribed and free points (buoyancy, drag in still water) and
 small-rotation rigid bodies whose applied load depends on time only
 (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
-loads in one call). :func:`build` returns None, with the reason in
-:data:`last_refusal`, for anything else (bending lines, user forms, waves or currents, a
-bathymetry, terms on points or bodies, radiation memory, exact rotations), and the step
-then runs in Python. When modified Newton does not converge the step falls back to the
+loads in one call). :func:`build` asks every term of the System
+which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first that lowers to
+none (bending lines, user forms, waves or currents, a bathymetry, user point or body loads,
+radiation memory, exact rotations) makes it return None, its name and reason in
+:data:`last_refusal`, and the step then runs in Python. When modified Newton does not converge the step falls back to the
 Python step (full Newton with a line search, then subdivision), so robustness is the
 Python path's; results are the same to round-off as long as neither path falls back.
 """
@@ -30,10 +31,10 @@ from numba import njit
 
 from ..bodies.body import rotation_and_slopes
 from ..fem.patterns import ElementPattern
-from ..lines.cable_kernel import CableKernel, _cable
+from ..lines.cable_kernel import _cable
 from ..numerics import bordered
-from ..sea.hydro import LineHydroKernel, _morison
-from ..sea.seabed import SeabedKernel, _seabed
+from ..sea.hydro import _morison
+from ..sea.seabed import _seabed
 from .newton import CONTRACTION, LINE_SEARCH
 
 last_refusal = ""  # why the last build() returned None
@@ -53,38 +54,35 @@ def _refuse(why):
     last_refusal = why
 
 
+# the kernels a term may lower to (Term.lowered), and those the step holds one of
+LOWERED = ("cable", "morison", "seabed", "surface", "point drag", "body restoring", "time load")
+ONCE = ("cable", "morison", "seabed", "surface")
+
+
 def build(system, C, scheme, tol, maxiter):
     """A :class:`CompiledStep` for ``system`` (C: its constant damping matrix, sparse, or
     None; scheme: a :class:`~skmoor.solvers.dynamics.Scheme`; tol, maxiter: Newton's), or
     None when the system has something the compiled step does not cover (reason in
     :data:`last_refusal`)."""
     lines = system.lines
-    if lines.hermite or not isinstance(system.kernel, CableKernel):
-        return _refuse("bending (Hermite) lines")
-    from ..sea.surface import SurfaceTerm
-
-    hydro = bed = surface = None
-    for term in system.line_terms:
-        if isinstance(term, LineHydroKernel) and not term.moving_water and hydro is None:
-            hydro = term
-        elif isinstance(term, SurfaceTerm) and term._flat and surface is None:
-            surface = term  # zero while the lines stay deep (checked at every residual)
-        elif (isinstance(term, SeabedKernel) and term.bathymetry is None
-              and term._positions is None and bed is None):
-            bed = term
-        else:
-            return _refuse(f"line term {type(term).__name__} (moving water, a bathymetry "
-                           "or a user form)")
-    if system.point_terms or system.body_terms or system.committing:
-        return _refuse("terms on points or bodies, or with a memory")
+    kinds = {}  # each lowered kind the compiled step knows, once: its term
+    for term in system.terms:
+        kind = term.lowered()
+        if kind is None:
+            return _refuse(f"{type(term).__name__} on the {term.acts_on}: {term.why_python}")
+        if kind not in LOWERED:
+            return _refuse(f"{type(term).__name__}: a '{kind}' kernel is not in the compiled "
+                           "step")
+        if kind in ONCE and kind in kinds:
+            return _refuse(f"{type(term).__name__}: a second '{kind}' term")
+        kinds.setdefault(kind, term)
+    if "cable" not in kinds:
+        return _refuse("no lines")
+    if system.committing:
+        return _refuse("terms with a memory of the past")
     if system.nonlinear_inertia:
         return _refuse("a body with rotations='exact'")
-    if any(p.CdA for p in system.point_masses) and system.sea is not None \
-            and not system.sea.still:
-        return _refuse("free points dragged by moving water")
-    for load in system.body_loads:
-        if load is not None and not getattr(load, "time_only", False):
-            return _refuse("a body load that depends on the body's state")
+    hydro, bed, surface = (kinds.get(k) for k in ("morison", "seabed", "surface"))
     width = ElementPattern(lines, position=system.dofs.position).bandwidth if system.nf else 0
     width = max(width, 1)
     try:
@@ -149,7 +147,9 @@ class CompiledStep:
                                            np.ravel(system.anchor_dofs)]).astype(np.int64)
         self.held = _held_inertia(system)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
-        drag = np.array([0.5 * p.rho * p.CdA for p in system.point_masses])
+        drag = np.zeros(len(system.point_masses))
+        for term in system.point_terms:  # the lowered point terms are PointDrag's
+            drag[term.point] += term.k
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
                        lift.reshape(-1), drag.reshape(-1))
         nbodies = len(system.bodies)
