@@ -218,7 +218,8 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
                               else ElementPattern(lines, position=dofs.position))
         self.committing = []  # terms with a history (commit(t, u, v))
         self.dead_load = self._dead_load()
-        for term in self._built_in_terms():
+        self.built_in_terms = tuple(self._built_in_terms())
+        for term in self.built_in_terms:
             self._join(term)
         for term in terms:
             self._join(term)
@@ -256,25 +257,30 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
             raise ValueError("System body_load: the system has no dynamic body")
         self.body_loads[0] = load
 
+    def _added(self, *kinds) -> tuple:
+        built_in = {id(term) for term in self.built_in_terms}
+        return tuple(term for kind in kinds for term in self._terms[kind]
+                     if id(term) not in built_in)
+
     @property
     def terms(self) -> tuple:
-        """Every term of the system (lines, points, bodies, body pairs); add with
-        :meth:`add_term`."""
-        return tuple(self._terms["lines"] + self._terms["points"] + self._terms["bodies"]
-                     + self._terms["body pairs"])
+        """The terms added to the system's own physics (lines, points, bodies, body
+        pairs): the model's options and a user's terms; add with :meth:`add_term`. Its own
+        physics, joined the same way, is :attr:`built_in_terms`."""
+        return self._added("lines", "points", "bodies", "body pairs")
 
     @property
     def line_terms(self) -> tuple:
-        return tuple(self._terms["lines"])
+        return self._added("lines")
 
     @property
     def point_terms(self) -> tuple:
-        return tuple(self._terms["points"])
+        return self._added("points")
 
     @property
     def body_terms(self) -> tuple:
-        """The terms on one body and on pairs of bodies (joints)."""
-        return tuple(self._terms["bodies"] + self._terms["body pairs"])
+        """The added terms on one body and on pairs of bodies (joints)."""
+        return self._added("bodies", "body pairs")
 
     def add_term(self, term):
         """Add a :class:`~skmoor.fem.terms.Term` (lines, a free point or a body) with its mass."""

@@ -1,2 +1,6 @@
 """From a case, a MoorDyn deck or a network to one Model.
 """
+from .from_deck import heave_motion, read_motion
+from .model import Model, build, from_network
+
+__all__ = ["Model", "build", "from_network", "heave_motion", "read_motion"]

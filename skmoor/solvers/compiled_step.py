@@ -66,7 +66,7 @@ def build(system, C, scheme, tol, maxiter):
     :data:`last_refusal`)."""
     lines = system.lines
     kinds = {}  # each lowered kind the compiled step knows, once: its term
-    for term in system.terms:
+    for term in system.built_in_terms + system.terms:
         kind = term.lowered()
         if kind is None:
             return _refuse(f"{type(term).__name__} on the {term.acts_on}: {term.why_python}")
@@ -148,8 +148,9 @@ class CompiledStep:
         self.held = _held_inertia(system)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
         drag = np.zeros(len(system.point_masses))
-        for term in system.point_terms:  # the lowered point terms are PointDrag's
-            drag[term.point] += term.k
+        for term in system.built_in_terms:
+            if term.acts_on == "points":  # the free points' drag
+                drag[term.point] += term.k
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
                        lift.reshape(-1), drag.reshape(-1))
         nbodies = len(system.bodies)
