@@ -12,8 +12,8 @@ import timeit
 
 import numpy as np
 
-from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.cable_kernel import CableKernel
+from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.line import Line, LineSet, LineType
 
 ELEMENTS = (11, 100, 1_000, 10_000)

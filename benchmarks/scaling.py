@@ -48,17 +48,29 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
-
-from _cases import (CBOT, CHAIN, DEPTH, KBOT, ROOT, chain_catenary, chain_type,  # noqa: E402
-                    heave, heave_at, inside, line_deck, quiet)
 import steps  # noqa: E402
-from skmoor.coupling.system import System
-from skmoor.solvers.newton import DivergenceError
-from skmoor.solvers.dynamics import Scheme, integrate
-from skmoor.sea.hydro import line_hydrodynamics
-from skmoor.lines.line import Line, LineSet
+from _cases import (  # noqa: E402
+    CBOT,
+    CHAIN,
+    DEPTH,
+    KBOT,
+    ROOT,
+    chain_catenary,
+    chain_type,
+    heave,
+    heave_at,
+    inside,
+    line_deck,
+    quiet,
+)
+
 from skmoor.bodies.motion import Motion
+from skmoor.coupling.system import System
+from skmoor.lines.line import Line, LineSet
+from skmoor.sea.hydro import line_hydrodynamics
 from skmoor.sea.seabed import Seabed, seabed_term
+from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.solvers.newton import DivergenceError
 from skmoor.solvers.statics import solve_static
 
 SEGMENTS = (10, 20, 50, 100, 200)

@@ -55,11 +55,11 @@ from skfem import BilinearForm, LinearForm  # noqa: E402
 
 import skmoor  # noqa: E402
 from skmoor.fem import ops
-from skmoor.lines.catenary import solve_catenary
-from skmoor.sea.hydro import LineHydroKernel
-from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.fem.ops import d_ds, dot
 from skmoor.fem.terms import LineForm
+from skmoor.lines.catenary import solve_catenary
+from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea.hydro import LineHydroKernel
 
 ROOT = Path(__file__).resolve().parents[1]
 ELEMENTS = (11, 100, 1_000, 10_000)

@@ -23,29 +23,57 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-from scipy.optimize import brentq
-
 import _cases
+import numpy as np
 from _cases import ROOT, inside, quiet
-from _validation import (FE_ORDER, IRVINE, IRVINE_MODES, MOORDYN, MOORPY, ORCAFLEX, PAPER,
-                         STRING, TIME_ORDER, NotRun, Row)
-from validate_laws import (check_curve_catenary, check_slack_and_snap,
-                          check_viscoelastic_polyester)
-from validate_sea import (check_bed_damping, check_box_in_regular_waves,
-                          check_paper_case_against_moordyn,
-                          check_capytaine_long_waves, check_radiation_memory,
-                          check_retardation_kernel, check_sea_decks_in_time,
-                          check_volturnus_static,
-                          check_wavekin3_record, check_wavekin7_against_moordyn)
-from validate_structures import (check_beams_euler_bernoulli, check_floating_spar_rod,
-                                 check_free_spin, check_large_roll, check_lazy_wave,
-                                 check_lazy_wave_dynamics_orcaflex,
-                                 check_lowe_langley_jumper, check_moordyn_beam_decks,
-                                 check_pendulum_on_a_free_body, check_pinned_rod_pendulum,
-                                 check_pinned_rods_in_current, check_rising_rods,
-                                 check_squat_spar_periods,
-                                 check_symmetric_top)
+from _validation import (
+    FE_ORDER,
+    IRVINE,
+    IRVINE_MODES,
+    MOORDYN,
+    MOORPY,
+    ORCAFLEX,
+    PAPER,
+    STRING,
+    TIME_ORDER,
+    NotRun,
+    Row,
+)
+from scipy.optimize import brentq
+from validate_laws import (
+    check_curve_catenary,
+    check_slack_and_snap,
+    check_viscoelastic_polyester,
+)
+from validate_sea import (
+    check_bed_damping,
+    check_box_in_regular_waves,
+    check_capytaine_long_waves,
+    check_paper_case_against_moordyn,
+    check_radiation_memory,
+    check_retardation_kernel,
+    check_sea_decks_in_time,
+    check_volturnus_static,
+    check_wavekin3_record,
+    check_wavekin7_against_moordyn,
+)
+from validate_structures import (
+    check_beams_euler_bernoulli,
+    check_floating_spar_rod,
+    check_free_spin,
+    check_large_roll,
+    check_lazy_wave,
+    check_lazy_wave_dynamics_orcaflex,
+    check_lowe_langley_jumper,
+    check_moordyn_beam_decks,
+    check_pendulum_on_a_free_body,
+    check_pinned_rod_pendulum,
+    check_pinned_rods_in_current,
+    check_rising_rods,
+    check_squat_spar_periods,
+    check_symmetric_top,
+)
+
 
 def _number(value, unit=""):
     text = f"{value:.6g}"
@@ -128,7 +156,7 @@ def check_fe_is_its_discrete_chain():
 
 def check_paper_draft():
     """The paper's draft from Eq. 1 (weight, buoyancy, four lines' pull)."""
-    from test_catenary import G, RHO_WATER, paper_line
+    from test_catenary import RHO_WATER, G, paper_line
 
     from skmoor.io.case import paper_case
     from skmoor.model.model import build
@@ -319,9 +347,10 @@ def check_energy_conservation():
 def check_time_order():
     """Fairlead of the paper's line driven smoothly for 4 s: observed order of the
     error against a 0.004 s reference, dt = 0.08, 0.04, 0.02 s."""
+    from test_dynamics import paper_line
+
     from skmoor.coupling.system import System
     from skmoor.solvers.dynamics import Scheme, integrate
-    from test_dynamics import paper_line
 
     def final_state(dt, scheme):
         system = System(paper_line(law="engineering"), fairleads="prescribed",
@@ -385,8 +414,8 @@ def check_orcaflex_chain():
     tensions against OrcaFlex's and against the analytic catenary with touchdown."""
     from test_chain_statics import CASES, CHAIN, l_shaped
 
-    from skmoor.lines.catenary import solve_catenary
     from skmoor.coupling.system import System
+    from skmoor.lines.catenary import solve_catenary
     from skmoor.lines.line import Line, LineSet
     from skmoor.sea.seabed import Seabed, seabed_term
     from skmoor.solvers.statics import solve_static
@@ -457,10 +486,10 @@ def check_string_in_current():
     flat-sag string under the drag load q = 1/2 rho Cd d U^2: d = q L^2 / (8 H), its
     stretch (8/3)(d/L)^2 raising the tension to H = T0 + EA (8/3)(d/L)^2 (+12 % here)."""
     from skmoor.coupling.system import System
-    from skmoor.sea.hydro import line_hydrodynamics
     from skmoor.lines.line import LineSet, LineType
-    from skmoor.solvers.statics import solve_static
+    from skmoor.sea.hydro import line_hydrodynamics
     from skmoor.sea.waves import Current, Sea
+    from skmoor.solvers.statics import solve_static
 
     T0, EA, L, U = 1e5, 1e8, 100.0, 1.0
     lt = LineType(EA=EA, mass=10.0, diameter=0.1, weight=0.0, Cd_n=1.2)
@@ -479,8 +508,8 @@ def check_added_mass_frequency():
     """The taut string (T = 1e5 N, L = 100 m, m = 10 kg/m, d = 0.1 m) with Ca = 1:
     first transverse frequency pi / L sqrt(T / (m + Ca rho pi d^2 / 4))."""
     from skmoor.coupling.system import System
-    from skmoor.sea.hydro import line_hydrodynamics
     from skmoor.lines.line import LineSet, LineType
+    from skmoor.sea.hydro import line_hydrodynamics
     from skmoor.solvers.modes import eigenmodes
 
     T, L = 1e5, 100.0

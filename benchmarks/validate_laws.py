@@ -17,7 +17,16 @@ def check_curve_catenary():
     """A 1000 m line (600 N/m) with a stiffening four-point tension-strain curve, anchor
     400 m deep, fairlead 850 m away: the closed-form catenary with the curve law and the
     FE statics from a stress-free polyline (40 elements)."""
-    from test_curve_catenary import ANCHOR, FAIRLEAD, STRAIN, TENSION, L, W, fe_statics, shot_line
+    from test_curve_catenary import (
+        ANCHOR,
+        FAIRLEAD,
+        STRAIN,
+        TENSION,
+        L,
+        W,
+        fe_statics,
+        shot_line,
+    )
 
     import skmoor
     from skmoor import laws
@@ -39,8 +48,17 @@ def check_viscoelastic_polyester():
     10 s) driven 0.5 m sin(2 t) along its chord for six periods: skmoor's viscoelastic law
     (its creep state integrated in time) against MoorDyn's, fairlead tension over the last
     3 periods."""
-    from test_polyester_moordyn import (EA_D, EA_S, FAIRLEAD, PERIOD, chord_motion, measures,
-                                        run_moordyn, run_skmoor, visco_deck)
+    from test_polyester_moordyn import (
+        EA_D,
+        EA_S,
+        FAIRLEAD,
+        PERIOD,
+        chord_motion,
+        measures,
+        run_moordyn,
+        run_skmoor,
+        visco_deck,
+    )
 
     duration = 6 * PERIOD
     displacement, velocity = chord_motion()

@@ -9,7 +9,6 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
-
 from _cases import inside, quiet
 from _validation import MOORDYN, NotRun, Row
 
@@ -173,8 +172,15 @@ def check_sea_decks_in_time(names=("WaveKin1", "WaveKin2-Currents5", "SeafloorFi
 def check_bed_damping():
     """tests/decks/seabed/bed_drop.dat: a line's nodes dropping onto MoorDyn's bed (kBot
     3e6 Pa/m, cBot 7.5e3 Pa s/m), 0.3 s: the middle node's penetration / its static one."""
-    from test_bed_damping_moordyn import (G_STATIC, MIDDLE, closed_form, deck_with,
-                                          faded_oscillator, run_moordyn, run_skmoor)
+    from test_bed_damping_moordyn import (
+        G_STATIC,
+        MIDDLE,
+        closed_form,
+        deck_with,
+        faded_oscillator,
+        run_moordyn,
+        run_skmoor,
+    )
 
     cBot = 7.5e3
     with tempfile.TemporaryDirectory() as tmp, inside(tmp), quiet():
@@ -223,7 +229,13 @@ def check_paper_case_against_moordyn():
     integrated beside them (tests/run/test_paper_case_moordyn.py). Differences over MoorDyn's
     range: the two discretizations of the line (they halve at 40 segments)."""
     import paper_case
-    from test_paper_case_moordyn import DT_SKMOOR, DURATION, SAMPLE, difference, run_moordyn
+    from test_paper_case_moordyn import (
+        DT_SKMOOR,
+        DURATION,
+        SAMPLE,
+        difference,
+        run_moordyn,
+    )
 
     import skmoor
     from skmoor.post.results import BODY_DOFS

@@ -8,9 +8,8 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from scipy.special import ellipk
-
 from _validation import NotRun, Row
+from scipy.special import ellipk
 
 EULER_BERNOULLI = "Euler-Bernoulli beam"
 LOWE_LANGLEY = "Lowe & Langley (2006), static end force (MoorDyn's jumper deck)"
@@ -31,8 +30,17 @@ def check_beams_euler_bernoulli():
     """Hermite beams (L = 10 m, EI = 1e8 N m2, w = 100 N/m, P = 500 N; tests/lines/test_bending.py):
     cantilever tip and simply supported mid-span deflections (8 / 16 elements), pinned-pinned
     and tensioned beam-string first frequencies (16 elements)."""
-    from test_bending import (EI, L, NodeLoad, P, W, beam_modes, beam_type, cantilever,
-                              straight)
+    from test_bending import (
+        EI,
+        L,
+        NodeLoad,
+        P,
+        W,
+        beam_modes,
+        beam_type,
+        cantilever,
+        straight,
+    )
 
     from skmoor.coupling.system import System
     from skmoor.lines.line import LineSet
@@ -124,7 +132,7 @@ def check_lowe_langley_jumper():
 def check_pinned_rod_pendulum():
     """tests/decks/rods/pinned_pendulum.dat: a 10 m rod (d = 0.2 m, 250 kg/m) pinned at
     its end, swinging 5 deg in water: period over 7.5 s at dt = 0.025 s."""
-    from test_rods import G, RHO, build, crossings, point_track, run
+    from test_rods import RHO, G, build, crossings, point_track, run
 
     r = run(build("pinned_pendulum.dat"), 7.5, 0.025)
     L, d, mu = 10.0, 0.2, 250.0
@@ -140,7 +148,7 @@ def check_pinned_rod_pendulum():
 def check_floating_spar_rod():
     """tests/decks/rods/floating_spar.dat: a free vertical rod (d = 0.5 m, 100 kg/m, 10 m)
     released below its draft: mean draft and heave period over 10 s at dt = 0.02 s."""
-    from test_rods import G, RHO, build, crossings, point_track, run
+    from test_rods import RHO, G, build, crossings, point_track, run
 
     r = run(build("floating_spar.dat"), 10.0, 0.02)
     z = point_track(r, "rod1.A")[:, 2]
@@ -159,7 +167,7 @@ def check_floating_spar_rod():
 def check_rising_rods():
     """tests/decks/rods/rising_rods.dat: two buoyant rods rising from rest, 1.5 s:
     largest departure from z0 + a t^2 / 2, a = (rho V - m) g / (m + m_a)."""
-    from test_rods import G, RHO, build, point_track, run
+    from test_rods import RHO, G, build, point_track, run
 
     r = run(build("rising_rods.dat"), 1.5, 0.05)
     d, mu, L = 0.5, 100.0, 2.0
@@ -181,8 +189,12 @@ def check_rising_rods():
 def check_squat_spar_periods():
     """CableDyn's V-SPW squat spar (d = 10 m, draft 20 m, GM 0.41 m), exact rotations,
     released 1 deg in pitch or 1 m in heave, 2.2 periods at 60 steps a period."""
-    from test_large_rotations import (lone_body_system, spar_periods, squat_spar,
-                                      zero_up_periods)
+    from test_large_rotations import (
+        lone_body_system,
+        spar_periods,
+        squat_spar,
+        zero_up_periods,
+    )
 
     from skmoor.solvers.dynamics import integrate
 
@@ -242,8 +254,16 @@ def check_symmetric_top():
 def check_large_roll():
     """A box (20 x 10 x 8 m, draft 3 m, small GM) released at 30 deg roll, exact
     rotations, 12 s at 0.05 s, against scipy's solve_ivp of its clipped 2D section."""
-    from test_large_rotations import (DRAFT, HEIGHT, LENGTH, RHO, WIDTH, G, lone_body_system,
-                                      roll_reference)
+    from test_large_rotations import (
+        DRAFT,
+        HEIGHT,
+        LENGTH,
+        RHO,
+        WIDTH,
+        G,
+        lone_body_system,
+        roll_reference,
+    )
 
     from skmoor.bodies.body import RigidBody
     from skmoor.solvers.dynamics import integrate

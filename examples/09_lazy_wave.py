@@ -32,7 +32,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 import skmoor
-from skmoor.run.simulate import static_state
+from skmoor.run.equilibrium import static_state
 
 G, RHO = 9.80665, 1025.0
 

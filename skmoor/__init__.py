@@ -38,15 +38,10 @@ from .lines.line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
 from .model.from_deck import heave_motion, read_motion
 from .model.model import Model, build, from_network
 from .post.results import Results
-from .run.simulate import (
-    equilibrium,
-    mooring_stiffness,
-    run_case,
-    simulate,
-    static_results,
-    summary,
-    write_outputs,
-)
+from .run.equilibrium import equilibrium, mooring_stiffness
+from .run.outputs import summary, write_outputs
+from .run.recorder import static_results
+from .run.simulate import run_case, simulate
 from .sea.hydro import body_hydrodynamics, line_hydrodynamics
 from .sea.seabed import Seabed, seabed_term
 from .sea.waves import AiryWave, Current, JonswapWave, Sea

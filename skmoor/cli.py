@@ -43,7 +43,7 @@ def _motion(args, source):
 
 def cmd_run(args) -> int:
     from . import build, simulate, summary
-    from .run.simulate import prepare_output
+    from .run.outputs import prepare_output
 
     out = prepare_output(args.out)  # before any solve
     source = _source(args.case)

@@ -8,7 +8,6 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq, root
 
-
 # ----------------------------------------------------------------------- skmoor side
 
 def condensed_line_stiffness(system, x):

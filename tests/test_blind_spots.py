@@ -26,12 +26,11 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from skmoor.solvers.dynamics import rayleigh_coefficients
-from skmoor.sea.hydro import line_hydrodynamics
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.post.results import Results
+from skmoor.sea.hydro import line_hydrodynamics
 from skmoor.sea.waves import AiryWave, Sea, jonswap_spectrum
-
+from skmoor.solvers.dynamics import rayleigh_coefficients
 
 # ------------------------------------------------------------------ Rayleigh damping
 
@@ -64,7 +63,7 @@ def test_rayleigh_damping_of_the_paper_model():
     modes, periods or Hz, or builds C from another K."""
     from skmoor import build
     from skmoor.io.case import paper_case
-    from skmoor.run.simulate import equilibrium
+    from skmoor.run.equilibrium import equilibrium
 
     model = build(paper_case())
     eq = equilibrium(model)

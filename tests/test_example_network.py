@@ -174,7 +174,7 @@ def test_a_static_push_moves_the_buoy_as_its_stiffness_says(ex):
     """A static surge force +-5 kN on the buoy (offsets +-0.18 m): its offset over 2F
     equals the surge entry of the inverse of (mooring stiffness + the buoy's own
     hydrostatic stiffness) within 1 % (the legs' nonlinearity: 2 % at +-20 kN)."""
-    from skmoor.run.simulate import static_state
+    from skmoor.run.equilibrium import static_state
 
     system, eq = ex.model.system, ex.eq
     F = 5e3  # N

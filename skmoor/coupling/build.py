@@ -312,8 +312,8 @@ def _pin(network: Network, body: Body, k: int, body_index: dict):
     """The PinLoad of a pinned dynamic body (number k among the dynamic bodies; body_index:
     {name: number}), or its BodyPin when the pin is on another dynamic body: stiff on the
     length scale of its centre of mass from the pin (at least 1 m)."""
+    from ..bodies.rod_loads import PinLoad
     from .joints import BodyPin
-    from .rods import PinLoad
 
     rigid = body.rigid
     scale = max(float(np.linalg.norm(rigid.center_of_mass - rigid.reference_point)), 1.0)

@@ -1,7 +1,7 @@
 """A pin joining two dynamic bodies: MoorDyn's Body<N>Pinned rod on a free body.
 
 The pinned body's reference point (a rod's end A) is held at a point of the carrier body
-by a stiff spring-damper, as :class:`~skmoor.coupling.rods.PinLoad` holds a pinned rod in place:
+by a stiff spring-damper, as :class:`~skmoor.bodies.rod_loads.PinLoad` holds a pinned rod in place:
 both bodies turn freely about the pin, which carries force and no moment. With p the
 pin's place on the carrier (its reference point plus R(q_c) r - r, Jacobian J_c) and
 x the pinned body's reference point (q_p[:3]),
@@ -26,8 +26,8 @@ from ..bodies.body import (
     attachment_state,
     attachment_velocity_slope,
 )
+from ..bodies.rod_loads import PIN_DEFLECTION, spring_weight
 from ..fem.terms import Term
-from .rods import PIN_DEFLECTION, spring_weight
 
 __all__ = ["BodyPin"]
 

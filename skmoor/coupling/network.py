@@ -112,7 +112,7 @@ class Body:
     moved by the motion (a coupled point, or a point on a coupled body: held where that
     point goes, from where it starts) or of a point on another dynamic body (where the
     body's reference point starts; a joint of the two, :class:`~skmoor.coupling.joints.BodyPin`);
-    the body turns freely about it (a stiff :class:`~skmoor.coupling.rods.PinLoad`)."""
+    the body turns freely about it (a stiff :class:`~skmoor.bodies.rod_loads.PinLoad`)."""
 
     name: str
     kind: str

@@ -41,7 +41,7 @@ MoorDyn's water and bed input (WaveKin 1, 2, 3, 7; Currents 1, 2, 5; SeafloorFil
 read from the deck's folder (:mod:`skmoor.io.sea_files`).
 
 Rods (:mod:`skmoor.coupling.rods`): a Free rod is a dynamic body of its own (reference point at
-end A) with its :class:`~skmoor.coupling.rods.RodLoad` and a spin spring; a Pinned rod the same,
+end A) with its :class:`~skmoor.bodies.rod_loads.RodLoad` and a spin spring; a Pinned rod the same,
 end A pinned in place; a CoupledPinned rod, end A on 3 coupled DOFs; a Fixed rod is its
 two end points, fixed; a Body<N> rod adds its mass and its RodLoad to body N (on a
 coupled or fixed body it only carries its line ends); a Body<N>Pinned rod on a fixed
@@ -83,9 +83,9 @@ import numpy as np
 
 from ..bodies.body import Hydrostatics, RigidBody, combined_mass, point_mass_matrix
 from ..bodies.motion import Motion
+from ..bodies.rod_loads import RodLoad, RodType, SpinLoad, spring_weight
 from ..coupling import rods
 from ..coupling.network import Body, MooringLine, Network, Point, moordyn_rotation
-from ..coupling.rods import RodLoad, RodType, SpinLoad, spring_weight
 from ..io.deck import Deck, read_deck
 from ..io.sea_files import deck_bathymetry, deck_sea
 from ..lines import laws
@@ -295,7 +295,7 @@ def _held_axis(deck: Deck, body, position, R0, centre, axis):
     (its weight, buoyancy, drag and lines act at its points). Nothing then drives the
     rotation about the line (every force on it passes through it: no moment), which
     MoorDyn's QR solve of M a = F leaves at zero; skmoor holds it with a torsional spring,
-    as a free rod's spin (:class:`~skmoor.coupling.rods.SpinLoad`), and says so."""
+    as a free rod's spin (:class:`~skmoor.bodies.rod_loads.SpinLoad`), and says so."""
     if body.volume or any(_six(body.CdA, "CdA")):
         return None
     places = [position + R0 @ np.array(p.position, float) for p in deck.points

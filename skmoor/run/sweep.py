@@ -55,7 +55,8 @@ import numpy as np
 
 from ..io.case import PAPER_CASE, Case, paper_case
 from ..model.model import build
-from .simulate import simulate, summary
+from .outputs import summary
+from .simulate import simulate
 
 COLUMNS = ("study", "parameter", "value", "surge", "heave", "pitch", "max_tension_steady", "error")
 AMPLITUDES = ("surge", "heave", "pitch")

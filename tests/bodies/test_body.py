@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import pyvista as pv
 
-from skmoor.bodies.body import (Hydrostatics,
+from skmoor.bodies.body import (
+    Hydrostatics,
     RigidBody,
     attachment_displacement,
     attachment_hessian,
@@ -14,7 +15,8 @@ from skmoor.bodies.body import (Hydrostatics,
     box_hydrostatics,
     hull_hydrostatics,
     rotation_matrix,
-    uniform_box_inertia)
+    uniform_box_inertia,
+)
 
 HULL = Path(__file__).resolve().parents[2] / "meshes" / "box_hull.stl"
 L, W, H = 26.0, 10.0, 5.0
@@ -326,9 +328,11 @@ def test_fast_rotation_and_slopes_match_the_product_and_finite_differences():
 def test_fast_attachment_state_matches_the_checked_functions():
     """attachment_state (the time loop's compiled path) gives attachment_displacement and
     attachment_jacobian for several points at once."""
-    from skmoor.bodies.body import (attachment_displacement,
+    from skmoor.bodies.body import (
+        attachment_displacement,
         attachment_jacobian,
-        attachment_state)
+        attachment_state,
+    )
 
     rng = np.random.default_rng(4)
     r = rng.normal(scale=20.0, size=(4, 3))

@@ -3,11 +3,10 @@ the hydrostatic stiffness at a pose against central differences of their loads (
 a re-based frame), and the body that carries its line ends' lumped masses against the
 kinetic energy of the body plus those point masses moving with it."""
 import numpy as np
+from test_gimbal_lock import tethered_body
 
 from skmoor.bodies.body import Hydrostatics, RigidBody, rotation_matrix
 from skmoor.bodies.large_rotations import rate_matrix
-
-from test_gimbal_lock import tethered_body
 
 INERTIA = np.array([[4.0, 0.3, -0.2], [0.3, 2.5, 0.1], [-0.2, 0.1, 1.5]])
 

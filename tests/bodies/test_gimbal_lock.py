@@ -3,15 +3,14 @@ re-based on the way (System.rebase), against the invariants of a free rigid body
 closed-form motion of a torque-free symmetric top."""
 import numpy as np
 from scipy.spatial.transform import Rotation
+from test_large_rotations import ASYMMETRIC, lone_body_system, weightless
 
 from skmoor.bodies.body import RigidBody
+from skmoor.bodies.large_rotations import rate_matrix, zyx_angles
+from skmoor.bodies.loads import BodyLoad
 from skmoor.coupling.system import Ends, System
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.solvers.dynamics import integrate
-from skmoor.bodies.large_rotations import rate_matrix, zyx_angles
-from skmoor.bodies.loads import BodyLoad
-
-from test_large_rotations import ASYMMETRIC, lone_body_system, weightless
 
 
 def spin(inertia, omega0, dt, duration):

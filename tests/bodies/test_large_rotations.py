@@ -7,14 +7,16 @@ import pytest
 import pyvista as pv
 from scipy.integrate import solve_ivp
 
-from skmoor.bodies.body import (Hydrostatics,
+from skmoor.bodies.body import (
+    Hydrostatics,
     RigidBody,
     attachment_displacement,
-    hull_hydrostatics)
-from skmoor.bodies.body import rotation_matrix
+    hull_hydrostatics,
+    rotation_matrix,
+)
 from skmoor.coupling.system import Ends, System
-from skmoor.solvers.dynamics import integrate
 from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.solvers.dynamics import integrate
 
 RHO, G = 1025.0, 9.81
 

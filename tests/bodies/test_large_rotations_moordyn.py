@@ -22,9 +22,9 @@ small 16 cm and 9.3 deg (the exact body carries its line ends' lumped masses; wh
 were a constant matrix P0^T M P0 the exact model was no closer than the small one, 8.6
 against 7.8 deg).
 """
-from pathlib import Path
 import shutil
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest

@@ -259,8 +259,8 @@ def test_rod_mounted_on_a_body():
     hand about it, the body diag(1, 2, 3) + 10 (1 m)^2 across x, the rod its along
     m r^2 / 2 = 0.05 and across m (L^2/12 + r^2/4) + 10 (1 m)^2; rotations kept."""
     body = skmoor.RigidBody(10.0, np.zeros(3), np.diag([1.0, 2.0, 3.0]), rotations="exact")
-    rod_type = skmoor.coupling.rods.RodType("r", 0.2, 5.0, 0.0, 0.0, 0.0, 0.0)
-    both = skmoor.coupling.rods.mount_rod(body, rod_type, [1.0, 0, 0], [3.0, 0, 0],
+    rod_type = skmoor.bodies.rod_loads.RodType("r", 0.2, 5.0, 0.0, 0.0, 0.0, 0.0)
+    both = skmoor.bodies.rod_loads.mount_rod(body, rod_type, [1.0, 0, 0], [3.0, 0, 0],
                                  reference_point=np.zeros(3))
     across = 10 * (4 / 12 + 0.01 / 4)
     assert both.mass == 20.0 and np.allclose(both.center_of_mass, [1.0, 0, 0])

@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.lines.catenary import solve_catenary
 from skmoor.coupling.system import Ends
+from skmoor.lines.catenary import solve_catenary
 from skmoor.solvers.dynamics import Scheme, integrate
 
 SPAN, LENGTH, ELEMENTS = 40.0, 50.0, 10  # m, m, -

@@ -85,7 +85,7 @@ def box_in_waves(box, omega, amplitude=0.05, periods=None, steps_per_period=80):
     damping; no water forces on the lines in the paper's case), and of the 6x6 one with
     the lines as a quasi-static stiffness: (time, full, 6x6), each (3,)."""
     import skmoor
-    from skmoor.run.simulate import equilibrium, mooring_stiffness
+    from skmoor.run.equilibrium import equilibrium, mooring_stiffness
 
     period = 2 * np.pi / omega
     model = copy.deepcopy(_paper_model())

@@ -25,24 +25,25 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 from scipy.special import ellipk
+from test_gimbal_lock import CABLE, tethered_body
+from test_large_rotations import lone_body_system
 
 import skmoor
 from skmoor.bodies.bem import Hydrodynamics
 from skmoor.bodies.body import RigidBody, rotation_matrix
-from skmoor.coupling.system import Ends, System
-from skmoor.solvers.dynamics import integrate
-from skmoor.sea.hydro import body_hydrodynamics
-from skmoor.bodies.large_rotations import (added_mass_load,
+from skmoor.bodies.large_rotations import (
+    added_mass_load,
     added_mass_tangents,
     rate_matrix,
-    zyx_angles)
-from skmoor.lines.line import Line, LineSet
+    zyx_angles,
+)
 from skmoor.bodies.radiation import PotentialFlow
-from skmoor.coupling.rods import RodLoad, RodType, SpinLoad
+from skmoor.bodies.rod_loads import RodLoad, RodType, SpinLoad
+from skmoor.coupling.system import Ends, System
 from skmoor.fem.terms import check_tangent
-
-from test_gimbal_lock import CABLE, tethered_body
-from test_large_rotations import lone_body_system
+from skmoor.lines.line import Line, LineSet
+from skmoor.sea.hydro import body_hydrodynamics
+from skmoor.solvers.dynamics import integrate
 
 RHO, G = 1025.0, 9.80665
 DECKS = Path(__file__).parents[1] / "decks" / "rods"
@@ -381,7 +382,7 @@ def test_a_tilted_rod_rises_along_its_added_mass():
     (I - t t^T) + 2 CaEnd rho (2/3) pi r^3 t t^T with t its axis now (Newmark: exact for
     a constant acceleration). The rod's added mass as built (vertical), which a small
     body keeps, turns it over and misses by metres."""
-    from skmoor.coupling.rods import rod_body
+    from skmoor.bodies.rod_loads import rod_body
 
     rod = RodType("r", 0.5, 100.0, Cd=0.0, Ca=1.0, CdEnd=0.0, CaEnd=1.0)
     a, b = np.array([0.0, 0.0, -20.0]), np.array([0.0, 0.0, -18.0])
@@ -407,7 +408,7 @@ def test_a_tilted_rod_rises_along_its_added_mass():
 def test_inertia_tangents_with_added_masses_are_its_derivatives():
     """System.inertia of an exact body with a rod's turning added mass and a constant one:
     d/da, d/dv, d/dx against central differences at a random state."""
-    from skmoor.coupling.rods import rod_body
+    from skmoor.bodies.rod_loads import rod_body
 
     rod = RodType("r", 0.5, 100.0, Ca=1.0, CaEnd=1.0)
     a, b = np.array([0.0, 0.0, -20.0]), np.array([1.0, 0.5, -18.0])
@@ -467,8 +468,8 @@ def test_rebase_leaves_the_motion_of_a_body_in_potential_flow(box, monkeypatch):
     The memory on [v, omega] and A_inf on [a, alpha] make the motion independent of the
     angles' frame; the memory lost at the restart after a re-base, or A_inf on the angle
     accelerations, give O(dt) (7e-3 rad) and O(1) (0.13 rad) differences."""
-    from skmoor.coupling import frames as coupling
     from skmoor.bodies.body import uniform_box_inertia
+    from skmoor.coupling import frames as coupling
 
     def attitudes(pitch, dt):
         monkeypatch.setattr(coupling, "REBASE_PITCH", np.radians(pitch))

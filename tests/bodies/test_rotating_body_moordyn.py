@@ -25,8 +25,8 @@ masses as a constant matrix (the body's mass matrix at q = 0, as before they wer
 carried by the exact body) skmoor was 20 cm and 170 deg off after the first quarter.
 """
 import sys
-from pathlib import Path
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest

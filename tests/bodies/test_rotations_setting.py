@@ -7,13 +7,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_schema import NETWORK_CASE
 
 import skmoor
-from skmoor.io.case import Case, paper_case
 from skmoor.cli import main, parser
+from skmoor.io.case import Case, paper_case
 from skmoor.io.schema import validate_case
-
-from test_schema import NETWORK_CASE
 
 DECKS = Path(__file__).parents[1] / "decks"
 

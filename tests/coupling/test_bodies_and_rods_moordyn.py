@@ -27,8 +27,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 import moordyn_decks as md  # noqa: E402
 
 import skmoor  # noqa: E402
-from skmoor.lines.line import LineType
 from skmoor.coupling.build import reference_line
+from skmoor.lines.line import LineType
 
 try:
     MIRROR, NO_MIRROR = md.Mirror(md.mirror_path()), ""

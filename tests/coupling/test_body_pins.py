@@ -11,8 +11,8 @@ on a free body) against analytic numbers.
 The deck is tests/decks/rods/pendulum_on_a_free_body.dat (it says what it holds);
 MoorDyn's BodiesAndRods deck side by side is in tests/coupling/test_rods_moordyn.py.
 """
-from pathlib import Path
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,7 +21,8 @@ from scipy.special import ellipk
 import skmoor
 from skmoor.coupling.joints import BodyPin
 from skmoor.coupling.network import Body, MooringLine, Network, Point
-from skmoor.coupling.rods import RodType, rod
+from skmoor.coupling.rods import rod
+from skmoor.bodies.rod_loads import RodType
 from skmoor.fem.terms import check_tangent
 
 DECKS = Path(__file__).parents[1] / "decks" / "rods"

@@ -18,13 +18,13 @@ import numpy as np
 import pytest
 
 from skmoor.bodies.body import RigidBody
+from skmoor.bodies.loads import BodyLoad
+from skmoor.coupling.build import build_system
+from skmoor.coupling.network import Body, MooringLine, Network, Point
+from skmoor.coupling.rods import coupled_reaction
 from skmoor.lines.laws import Engineering
 from skmoor.lines.line import LineType
-from skmoor.coupling.network import Body, MooringLine, Network, Point
-from skmoor.coupling.build import build_system
-from skmoor.coupling.rods import coupled_reaction
 from skmoor.solvers.statics import solve_static
-from skmoor.bodies.loads import BodyLoad
 
 L, EI, EA, W = 10.0, 1e8, 1e10, 100.0  # m, N m2, N, N/m: a stiff beam (deflection ~1e-4 L)
 ROOT = np.array([0.0, 0.0, -5.0])

@@ -38,9 +38,9 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
                               "lumped-mass dynamic peer")
 
 from skmoor.model.from_deck import deck_network
-from skmoor.solvers.dynamics import Scheme, integrate
 from skmoor.model.model import from_network
-from skmoor.run.simulate import reference_state
+from skmoor.run.equilibrium import reference_state
+from skmoor.solvers.dynamics import Scheme, integrate
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 import moordyn_decks as md  # noqa: E402

@@ -76,8 +76,8 @@ skmoor's catenary-network settling (network.settle_points) puts them, not from t
 positions, whenever that settling converges (it does not on the weightless pendulum rope,
 which is why the pendulum decks start where the deck says).
 """
-from pathlib import Path
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest

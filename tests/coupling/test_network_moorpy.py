@@ -29,8 +29,15 @@ import pytest
 
 pytest.importorskip("moorpy", reason="MoorPy (pip install moorpy) is the quasi-static peer")
 
-from moorpy_network import (DECK_NAMES, arm_stiffness, block_error, deck_path,  # noqa: E402
-                            moorpy_reference, perturbed_reference, sanity)
+from moorpy_network import (  # noqa: E402
+    DECK_NAMES,
+    arm_stiffness,
+    block_error,
+    deck_path,
+    moorpy_reference,
+    perturbed_reference,
+    sanity,
+)
 
 TENSION_RTOL = 1e-3   # end tensions, relative
 POSITION_RTOL = 1e-3  # positions, relative to the shortest line at the point

@@ -7,16 +7,17 @@ Independent numbers: the elastic catenary of the uncut line (a massless junction
 not change it), and the buoy's net lift in closed form (Archimedes on the body and on
 the rod, halved between its two vertical ropes). The decks are in tests/decks/rods/.
 """
-from pathlib import Path
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import skmoor
-from skmoor.lines.catenary import solve_catenary
 from skmoor.io.deck import read_deck
-from skmoor.run.simulate import equilibrium, static_results
+from skmoor.lines.catenary import solve_catenary
+from skmoor.run.equilibrium import equilibrium
+from skmoor.run.recorder import static_results
 
 DECKS = Path(__file__).parents[1] / "decks" / "rods"
 G, RHO = 9.80665, 1025.0

@@ -16,17 +16,17 @@ tolerances sit a few times above it.
     rod_drag_conventions          1/2 rho Cd d L v^2, 1/2 rho CdEnd A v^2 per end
     rod_morison_load_in_a_wave    Morison integral of Airy kinematics  < 1e-4
 """
-from pathlib import Path
 import re
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.special import ellipk
 
 import skmoor
+from skmoor.bodies.rod_loads import RodLoad, RodType
 from skmoor.io.deck import read_deck, write_deck
-from skmoor.coupling.rods import RodLoad, RodType
 
 DECKS = Path(__file__).parents[1] / "decks" / "rods"
 G, RHO = 9.80665, 1025.0
@@ -293,7 +293,7 @@ def test_spin_is_the_turn_about_the_axis():
     1.2 rad about an axis across the rod reads 0 (its spring must not hold the swing)."""
     from scipy.spatial.transform import Rotation
 
-    from skmoor.coupling.rods import SpinLoad
+    from skmoor.bodies.rod_loads import SpinLoad
 
     axis = np.array([1.0, 0.2, -0.3]) / np.linalg.norm([1.0, 0.2, -0.3])
     spin = SpinLoad(np.zeros(3), axis, stiffness=10.0)

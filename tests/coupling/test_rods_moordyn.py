@@ -68,8 +68,9 @@ import moordyn_decks as md  # noqa: E402
 moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) is the "
                               "lumped-mass dynamic peer")
 
-import skmoor  # noqa: E402
 from peers import faded_sine  # noqa: E402
+
+import skmoor  # noqa: E402
 
 try:
     MIRROR, NO_MIRROR = md.Mirror(md.mirror_path()), ""

@@ -7,12 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from skmoor.coupling.network import MooringLine, Network, Point
 from skmoor.coupling.system import Ends
 from skmoor.lines.laws import Engineering
 from skmoor.lines.line import LineType
 from skmoor.model.model import from_network
-from skmoor.coupling.network import MooringLine, Network, Point
-from skmoor.run.simulate import equilibrium
+from skmoor.run.equilibrium import equilibrium
 
 L, EI, EA, W = 10.0, 1e8, 1e10, 100.0  # m, N m2, N, N/m: deflections ~1e-5 L (linear theory)
 N = 4  # elements per half

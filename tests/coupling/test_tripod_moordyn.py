@@ -12,7 +12,7 @@ three chain junctions (points 5, 8, 11) jump 0.1-0.2 m in the first 0.1 s.
 skmoor builds such a deck with ``solver["start"] = 'reference'`` and without settling
 its free points: ``skmoor.simulate`` starts from the reference state as built, the same
 node positions as MoorDyn's (checked to 1e-6 m), with only the Hermite node tangents
-turned to rotational balance (skmoor.run.simulate.reference_state; MoorDyn's nodes have none).
+turned to rotational balance (skmoor.run.equilibrium.reference_state; MoorDyn's nodes have none).
 
 What is compared: the free points' tracks over 0-0.1 s (before the float's tether
 snaps at 0.33 s, after which both codes heave the float by metres), rms of skmoor -

@@ -15,7 +15,7 @@ import pytest
 from scipy.optimize import brentq
 
 import skmoor
-from skmoor.run.simulate import equilibrium
+from skmoor.run.equilibrium import equilibrium
 
 DECK = Path(__file__).parents[1] / "decks" / "rods" / "jointed_cantilever.dat"
 G, EI, L, MASS, TIP = 9.80665, 1e8, 10.0, 100.0, 50.0  # N m2, m, kg/m, kg

@@ -5,10 +5,10 @@ import pytest
 from skfem import BilinearForm, LinearForm
 from skfem.helpers import dot
 
-from skmoor.lines.catenary import solve_catenary
 from skmoor.coupling.system import System
 from skmoor.fem.terms import LineForm
 from skmoor.lines.cable_kernel import CableKernel
+from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.laws import Engineering, Paper
 from skmoor.lines.line import Line, LineSet, LineType
 

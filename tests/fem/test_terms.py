@@ -6,15 +6,14 @@ import pytest
 from skfem import BilinearForm, LinearForm
 
 import skmoor
+from skmoor.bodies.loads import BodyLoad, PointLoad
 from skmoor.fem import form_compiler as compiled
-from skmoor.sea import hydro
-from skmoor.fem import ops
-from skmoor.fem import terms
+from skmoor.fem import ops, terms
+from skmoor.fem.terms import LineForm, check_tangent
 from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea import hydro
 from skmoor.sea.seabed import form_term
-from skmoor.bodies.loads import BodyLoad, PointLoad
-from skmoor.fem.terms import LineForm, check_tangent
 
 pytest.importorskip("jax")
 

@@ -14,7 +14,7 @@ import pytest
 
 import skmoor
 from skmoor.io.deck import read_deck
-from skmoor.run.simulate import equilibrium
+from skmoor.run.equilibrium import equilibrium
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 

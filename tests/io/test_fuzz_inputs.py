@@ -2,11 +2,11 @@
 skmoor builds a model or stops with a one-line error naming what is wrong, never a
 traceback (any other exception type) and never a silent NaN in the built model."""
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
+import tomllib
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 

@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skmoor.cli import main
-from skmoor.io.deck import is_deck, read_deck, write_deck
 import skmoor
 from skmoor import build
+from skmoor.cli import main
+from skmoor.io.deck import is_deck, read_deck, write_deck
 from skmoor.model.from_deck import heave_motion
 from skmoor.solvers.statics import solve_static
 

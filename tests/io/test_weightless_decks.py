@@ -2,8 +2,8 @@
 nothing weighed; refused, naming the option and its deck line, when they ask for waves.
 Decks with water density 0 (MoorDyn's body_tests/pinnedBody.txt) run in air: nothing
 floats, drags or adds mass."""
-from pathlib import Path
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest

@@ -6,13 +6,13 @@ forms' assembly."""
 import numpy as np
 import pytest
 
+from skmoor.bodies.loads import PointLoad
 from skmoor.coupling.system import Ends, PointMass, System
+from skmoor.fem.terms import Term
 from skmoor.lines.laws import Engineering
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.solvers.modes import eigenmodes
 from skmoor.solvers.statics import solve_static
-from skmoor.bodies.loads import PointLoad
-from skmoor.fem.terms import Term
 
 L, EI, EA = 10.0, 1e8, 1e10  # m, N m2, N: a stiff beam, deflections ~1e-4 L (linear theory)
 W, P = 100.0, 500.0  # weight per length N/m, point load N
@@ -190,10 +190,12 @@ def test_outputs_carry_curvature_and_moment(tmp_path):
 
     import meshio
 
-    from skmoor.post.export import write_vtu_series
-    from skmoor.model.model import from_network
     from skmoor.coupling.network import MooringLine, Network, Point
-    from skmoor.run.simulate import equilibrium, static_results, write_outputs
+    from skmoor.model.model import from_network
+    from skmoor.post.export import write_vtu_series
+    from skmoor.run.equilibrium import equilibrium
+    from skmoor.run.outputs import write_outputs
+    from skmoor.run.recorder import static_results
 
     n = 8
     points = [Point("a", "fixed", [0.0, 0.0, -5.0]), Point("b", "fixed", [L, 0.0, -5.0])]

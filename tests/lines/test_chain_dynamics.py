@@ -36,8 +36,8 @@ import pytest
 moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) is the "
                               "lumped-mass dynamic peer")
 
-from skmoor.io.deck import read_deck, write_deck
 from skmoor import build, simulate  # noqa: E402
+from skmoor.io.deck import read_deck, write_deck
 from skmoor.model.from_deck import heave_motion
 
 DECKS = Path(__file__).parents[2] / "examples" / "decks"

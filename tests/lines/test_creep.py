@@ -24,8 +24,8 @@ import pytest
 
 import skmoor
 from skmoor import laws
-from skmoor.lines import creep
 from skmoor.fem.terms import check_tangent
+from skmoor.lines import creep
 
 EA_S, EA_D = 1.0e8, 3.0e8  # N
 EA_1 = EA_D * EA_S / (EA_D - EA_S)

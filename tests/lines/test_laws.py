@@ -20,9 +20,9 @@ from scipy.optimize import brentq
 
 import skmoor
 from skmoor import laws
+from skmoor.coupling.network import MooringLine, Network, Point
 from skmoor.lines.cable_kernel import CableKernel
 from skmoor.lines.line import Line, LineSet, LineType
-from skmoor.coupling.network import MooringLine, Network, Point
 
 EA = 1e6  # N
 CURVE_E = [0.01, 0.02, 0.05]
@@ -122,6 +122,7 @@ def test_kernel_equals_forms_for_every_law_with_slack_elements():
     assert np.abs(tension - tension_forms).max() < 1e-12 * np.abs(tension_forms).max()
     assert np.abs(strain - strain_forms).max() < 1e-15
     from skfem import asm
+
     from skmoor.lines import cable_forms as forms
     f = lines.cable_fields
     R_forms = lines.internal_force(u) + lines.damping_force(u, ud)

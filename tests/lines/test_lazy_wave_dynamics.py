@@ -10,11 +10,11 @@ import warnings
 
 import numpy as np
 import pytest
+from test_lazy_wave import cabledyn_deck, load_example
 
 import skmoor
 from skmoor.bodies.motion import quintic_ramp
 from skmoor.run.simulate import ResolutionWarning
-from test_lazy_wave import cabledyn_deck, load_example
 
 AMPLITUDE, PERIOD, DT, RHO_INF = 3.0, 12.0, 0.05, 0.9  # m, s, s, -
 ELEMENTS = 64  # CableDyn's example mesh: 28 / 20 / 16 elements

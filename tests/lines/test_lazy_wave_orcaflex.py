@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.run.simulate import static_state
+from skmoor.run.equilibrium import static_state
 
 G, RHO = 9.80665, 1025.0
 MORISON = {"Cd_n": 1.2, "Cd_t": 0.1, "Ca_n": 1.0, "Ca_t": 0.0}

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, fsolve
 
-from skmoor.lines.catenary import solve_catenary
 from skmoor.coupling.system import System
+from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.solvers.statics import solve_static
 

@@ -45,10 +45,11 @@ import pytest
 moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) is the "
                               "lumped-mass dynamic peer")
 
+from peers import faded_sine  # noqa: E402
+
 import skmoor  # noqa: E402
 from skmoor import laws  # noqa: E402
 from skmoor.bodies.motion import Motion
-from peers import faded_sine  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 import moordyn_decks as md_decks  # noqa: E402

@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from skmoor.solvers import dynamics
-from skmoor.numerics.banded import Band, as_layout
 from skmoor.coupling.system import System
-from skmoor.solvers.dynamics import Scheme, integrate
-from skmoor.sea.hydro import line_hydrodynamics
 from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.numerics.banded import Band, as_layout
+from skmoor.sea.hydro import line_hydrodynamics
 from skmoor.sea.seabed import Seabed, seabed_term
+from skmoor.solvers import dynamics
+from skmoor.solvers.dynamics import Scheme, integrate
 
 
 def banded_matrix(n, kl, ku, seed=0):

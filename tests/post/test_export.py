@@ -6,11 +6,13 @@ import numpy as np
 import pytest
 from _synthetic import synthetic_results
 
-from skmoor.post.export import (box_points,
+from skmoor.post.export import (
+    box_points,
     export,
     write_mode_series,
     write_vtu_series,
-    write_xdmf)
+    write_xdmf,
+)
 
 
 @pytest.fixture(scope="module")

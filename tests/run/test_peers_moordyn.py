@@ -38,11 +38,11 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
 
 from peers import amplitude, chain_fairlead_force, chain_length_for, moordyn_deck  # noqa: E402
 
-from skmoor.io.case import paper_case
 from skmoor.coupling.system import System
-from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.io.case import paper_case
 from skmoor.lines.line import Line, LineSet
 from skmoor.model.model import build, line_type
+from skmoor.solvers.dynamics import Scheme, integrate
 from skmoor.solvers.statics import solve_static
 
 AMPLITUDE, OMEGA = 0.05, 1.6  # fairlead motion along x, m and rad/s

@@ -17,9 +17,9 @@ mp = pytest.importorskip("moorpy", reason="MoorPy (pip install moorpy) is the qu
 
 from peers import condensed_fairlead_stiffness, condensed_line_stiffness, moorpy_system  # noqa: E402
 
+from skmoor.coupling.system import System
 from skmoor.io.case import paper_case
 from skmoor.lines.catenary import solve_catenary
-from skmoor.coupling.system import System
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.model.model import build, line_type
 from skmoor.solvers.statics import solve_static

@@ -11,7 +11,8 @@ import pytest
 import skmoor
 from skmoor import cli
 from skmoor.post.export import export
-from skmoor.run.simulate import ResolutionWarning, prepare_output
+from skmoor.run.outputs import prepare_output
+from skmoor.run.simulate import ResolutionWarning
 
 
 @pytest.fixture(scope="module")

@@ -13,16 +13,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skmoor.run import sweep
 from skmoor import paper_case
-from skmoor.run.sweep import (COLUMNS,
+from skmoor.run import sweep
+from skmoor.run.sweep import (
+    COLUMNS,
     Study,
     grid_study,
     paper_studies,
     parse_spec,
     read_studies,
     run_sweep,
-    studies_from_args)
+    studies_from_args,
+)
 
 SETTINGS = dict(duration=60.0, dt=0.1, progress=False)
 BAD_SAG = 0.7            # rejected by the case (sag ratio must lie in (0, 0.5))

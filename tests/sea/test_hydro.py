@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.lines.catenary import solve_catenary
 from skmoor.coupling.system import System
-from skmoor.sea.hydro import body_hydrodynamics, form_terms, line_hydrodynamics
+from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea.hydro import body_hydrodynamics, form_terms, line_hydrodynamics
+from skmoor.sea.waves import AiryWave, Current, JonswapWave, Sea
 from skmoor.solvers.modes import eigenmodes
 from skmoor.solvers.statics import solve_static
-from skmoor.sea.waves import AiryWave, Current, JonswapWave, Sea
 
 RHO = 1025.0
 ROPE = LineType(EA=2e6, mass=50.0, diameter=0.12, Cd_n=1.2, Cd_t=0.3, Ca_n=1.0, Ca_t=0.4)

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from skmoor.io.deck import read_deck
-from skmoor.model.from_deck import deck_network
 from skmoor.io.sea_files import deck_bathymetry, deck_sea
+from skmoor.model.from_deck import deck_network
 from skmoor.sea.waves import wavenumber
 
 DEPTH, G = 50.0, 9.81

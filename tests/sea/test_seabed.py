@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from skmoor.lines.catenary import solve_catenary
 from skmoor.coupling.system import System
-from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.sea.seabed import DEFAULT_PENETRATION, Seabed, form_term, seabed_term
+from skmoor.solvers.dynamics import Scheme, integrate
 from skmoor.solvers.statics import solve_static
 
 CHAIN = LineType(EA=6e8, mass=150.0, diameter=0.15)  # w = 1294 N/m

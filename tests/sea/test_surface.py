@@ -10,9 +10,9 @@ import pytest
 
 import skmoor
 from skmoor import MooringLine, Network, Point
-from skmoor.run.simulate import equilibrium
-from skmoor.sea.surface import SurfaceTerm
 from skmoor.fem.terms import check_tangent
+from skmoor.run.equilibrium import equilibrium
+from skmoor.sea.surface import SurfaceTerm
 
 RHO, G = 1025.0, 9.81
 ROPE = skmoor.LineType(EA=5e8, mass=60.0, diameter=0.2, Cd_n=1.2, Cd_t=0.1,

@@ -156,8 +156,8 @@ def lock_in_case(zeta, dF=0.08, cF=0.18):
     damping ratio ``zeta`` from the current's drag, ½ rho d Cd U per length across the
     flow (skmoor integrates the drag at Gauss points: the middle node takes 2/3 of the
     lumped share, int N^2 = 2 h / 3), lift lumped at the node. (model, f_n, m, h)."""
-    from skmoor.model.model import from_network
     from skmoor.coupling.network import MooringLine, Network, Point
+    from skmoor.model.model import from_network
 
     Cd, L = 1.2, 8.0
     f_n = (cF + 0.5 * dF) * U / D
@@ -286,9 +286,9 @@ def test_viv_deck_against_moordyn(tmp_path, monkeypatch):
     3 to 8 min (skmoor's 2400 steps, the later ones 4 to 8 times the cost of the first:
     see docs/api/hydro.md; MoorDyn about 1/3 of it)."""
     from skmoor.io.deck import read_deck
+    from skmoor.io.sea_files import still_water
     from skmoor.model.from_deck import deck_network
     from skmoor.model.model import from_network
-    from skmoor.io.sea_files import still_water
 
     monkeypatch.chdir(tmp_path)
     path = deck_copy(tmp_path, VIV_DECK, "current_profile.txt")

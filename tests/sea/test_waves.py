@@ -5,7 +5,14 @@ import numpy as np
 import pytest
 from scipy.integrate import trapezoid
 
-from skmoor.sea.waves import AiryWave, Current, JonswapWave, Sea, jonswap_spectrum, wavenumber
+from skmoor.sea.waves import (
+    AiryWave,
+    Current,
+    JonswapWave,
+    Sea,
+    jonswap_spectrum,
+    wavenumber,
+)
 
 G = 9.81
 

@@ -4,9 +4,9 @@ import pytest
 
 import skmoor
 from skmoor.coupling.system import System
-from skmoor.solvers.newton import DivergenceError
-from skmoor.solvers.dynamics import Scheme, integrate
 from skmoor.lines.line import Line, LineSet
+from skmoor.solvers.dynamics import Scheme, integrate
+from skmoor.solvers.newton import DivergenceError
 
 
 def paper_line(n_elements=10, law="paper"):
@@ -116,9 +116,9 @@ def test_commit_after_every_accepted_step_and_half_step():
     term's own DOFs; a step whose Newton fails (here: a residual that is not finite at
     that step's end for the full step's two Newton tries) is split, and both halves are
     committed."""
+    from skmoor.fem.terms import Term
     from skmoor.lines.catenary import solve_catenary
     from skmoor.lines.line import LineType
-    from skmoor.fem.terms import Term
 
     rope = LineType(EA=5e8, mass=80.0, diameter=0.12)
     cat = solve_catenary([0.0, 0.0, -60.0], [90.0, 20.0, -5.0], rope.weight, rope.EA,

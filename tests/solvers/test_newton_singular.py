@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from skmoor.solvers.newton import DENSE_BELOW
 from skmoor.solvers.dynamics import integrate
+from skmoor.solvers.newton import DENSE_BELOW
 
 N, K, K3, F, DAMPING = DENSE_BELOW, 1.0, 100.0, 20.0, 5.0  # N / m, N / m3, N, N s / m
 

@@ -17,9 +17,10 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.solvers.newton import DivergenceError
+from skmoor.run.equilibrium import equilibrium
+from skmoor.run.outputs import summary
 from skmoor.solvers.dynamics import integrate
-from skmoor.run.simulate import equilibrium, summary
+from skmoor.solvers.newton import DivergenceError
 
 DECK = Path(__file__).parents[1] / "decks" / "seabed" / "chain_semi.dat"
 SEGMENTS = 20
@@ -140,12 +141,12 @@ def test_a_run_whose_lines_blow_up_stops_with_the_line_and_the_time():
     cable heaved without damping: 1e3 m/s and 1e8 N within 3 s): the recorder stops it
     where a line is stretched by more than half its length, naming the line and the time,
     and keeps what came before; a state merely far from rest passes."""
+    from skmoor.run.recorder import BLOWN_UP_STRAIN, Recorder
     from skmoor.solvers.dynamics import State
-    from skmoor.run.simulate import BLOWN_UP_STRAIN, _Recorder
 
     model = skmoor.build(skmoor.paper_case())
     eq = skmoor.equilibrium(model)
-    recorder = _Recorder(model)
+    recorder = Recorder(model)
     zero = np.zeros(model.system.n)
     # the body moved, the lines' inner nodes not: their end elements (~12 m) stretch
     x = eq.x.copy()

@@ -22,9 +22,10 @@ import pytest
 moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn) is the "
                               "lumped-mass dynamic peer")
 
+from peers import faded_sine  # noqa: E402
+
 import skmoor  # noqa: E402
 from skmoor.model.model import line_type
-from peers import faded_sine  # noqa: E402
 
 AMPLITUDE, OMEGA = 1.0, 1.6  # m, rad/s
 PERIOD = 2 * np.pi / OMEGA

@@ -1,0 +1,163 @@
+"""What a run writes: the summary, the time-series table, the results file and the plots,
+into an output folder checked before the run and kept when the run is interrupted.
+"""
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..post.results import BODY_DOFS, Results
+
+# what a run writes into its output folder (a reused folder is cleared of these first)
+OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png",
+           "snapshot.png", "animation.mp4", "animation.gif", "lines.xdmf", "lines.h5",
+           "motion.pvd")
+
+
+def summary(results: Results) -> dict:
+    """The run's key numbers (SI, angles in rad), as written to ``summary.json``:
+    ``fairlead_tension_static`` is the FE static state's (end B of each line);
+    ``fairlead_tension_catenary`` the analytic catenary's where one exists (else null)."""
+    meta = results.meta
+    period = meta.get("forcing_period")
+    n = int(meta.get("steady_periods", 5))
+    amplitude, steady_max = {}, None
+    if period and results.t[-1] - results.t[0] >= n * period:
+        if meta.get("has_body", True):
+            amplitude = {name: results.amplitude(results.body_series(name), period, n)
+                         for name in ("surge", "heave", "pitch")}
+        steady_max = float(results.max_tension[results.t >= results.t[-1] - n * period].max())
+    return {"case": meta.get("case"), "draft": meta.get("draft"),
+            "fairlead_tension_static": meta.get("fairlead_tension_static"),
+            "anchor_tension_static": meta.get("anchor_tension_static"),
+            "fairlead_tension_catenary": meta.get("fairlead_tension_catenary"),
+            "line_names": list(results.line_names), "body_names": list(results.body_names),
+            "natural_periods": meta.get("natural_periods"), "amplitude": amplitude,
+            "max_tension": float(results.max_tension.max()),
+            "max_tension_steady": steady_max,
+            "wall_time": meta.get("wall_time"), "simulated_time": float(results.t[-1]),
+            "steps": meta.get("steps"), "steps_planned": meta.get("steps_planned"),
+            "subdivided_steps": meta.get("subdivided_steps", 0),
+            "dt": meta.get("dt"), "stopped": meta.get("stopped"),
+            "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", []),
+            **({"max_curvature": results.line_maxima("curvature"),
+                "max_bending_moment": results.line_maxima("bending_moment")}
+               if results.bending else {})}
+
+
+def _timeseries_header(body_names, line_names, free_names) -> list:
+    header = ["t"] + [f"{b}.{dof}" for b in body_names for dof in BODY_DOFS]
+    header += ["max_tension"] + [f"fairlead_tension_{n}" for n in line_names]
+    header += [f"anchor_tension_{n}" for n in line_names]
+    return header + [f"{name}.{c}" for name in free_names for c in "xyz"]
+
+
+def _timeseries_table(t, bodies, max_tension, fair, anchor, free_displacement):
+    nt = len(t)
+    return np.column_stack([t, np.reshape(bodies, (nt, -1)), max_tension, fair, anchor,
+                            np.reshape(free_displacement, (nt, -1))])
+
+
+def _write_rows(path, table, header=None):
+    with open(path, "a") as f:
+        if header is not None:
+            f.write(",".join(header) + "\n")
+        np.savetxt(f, table, delimiter=",", fmt="%.9g")
+        f.flush()
+
+
+def write_outputs(results: Results, out) -> dict:
+    """Write results.npz, summary.json and timeseries.csv into folder ``out``.
+
+    timeseries.csv columns: t; for each body its six DOFs ``NAME.surge`` ... ``NAME.yaw``
+    (m, rad); max_tension (the largest element tension at that time, N);
+    ``fairlead_tension_LINE`` (end B) and ``anchor_tension_LINE`` (end A) of each line (N);
+    ``NAME.x``, ``NAME.y``, ``NAME.z`` displacements of each free point (m)."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    results.save(out / "results.npz")
+    info = summary(results)
+    (out / "summary.json").write_text(json.dumps(info, indent=2))
+    kinds = results.meta.get("point_kinds", [])
+    free = [k for k, kind in enumerate(kinds) if kind == "free"]
+    header = _timeseries_header(results.body_names, results.line_names,
+                                [results.point_names[k] for k in free])
+    table = _timeseries_table(results.t, results.bodies, results.max_tension,
+                              results.fairlead_tension, results.anchor_tension,
+                              results.point_displacement[:, free])
+    (out / "timeseries.csv").unlink(missing_ok=True)
+    _write_rows(out / "timeseries.csv", table, header)
+    return info
+
+
+def prepare_output(out) -> Path:
+    """Check that ``out`` is, or can be made, a folder skmoor can write into (before any
+    solve: ValueError with the reason), and clear a previous run's files from it."""
+    out = Path(out)
+    for path in (out, *out.parents):
+        if path.exists() and not path.is_dir():
+            raise ValueError(f"output folder {out}: {path} is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / f".skmoor-write-test-{os.getpid()}"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as err:
+        raise ValueError(f"output folder {out}: cannot write there "
+                         f"({err.strerror or err})") from None
+    for name in OUTPUTS:
+        (out / name).unlink(missing_ok=True)
+    if (out / "motion").is_dir():
+        for frame in (out / "motion").glob("*.vtu"):
+            frame.unlink()
+    return out
+
+
+class OutputWriter:
+    """A run's outputs written as it goes: timeseries.csv gains its new rows every
+    ``chunk`` samples; results.npz and summary.json are rewritten every ``checkpoint`` s
+    of wall time and at the end (so a crash or a full disk loses at most that)."""
+
+    def __init__(self, folder, recorder, meta, chunk=50, checkpoint=30.0):
+        self.folder, self.recorder, self.meta = Path(folder), recorder, meta
+        self.chunk, self.checkpoint = chunk, checkpoint
+        network = recorder.model.network
+        self.free = [k for k, p in enumerate(network.points) if p.kind == "free"]
+        self.header = _timeseries_header([b.name for b in network.bodies],
+                                         [ln.name for ln in network.lines],
+                                         [network.points[k].name for k in self.free])
+        self.written, self.saved = 0, time.perf_counter()
+
+    def record(self, state):
+        self.recorder.record(state)
+        if len(self.recorder.rows["t"]) - self.written >= self.chunk:
+            self._append()
+            if time.perf_counter() - self.saved > self.checkpoint:
+                self._save(self.recorder.results(self.meta))
+
+    def _append(self):
+        rows, start = self.recorder.rows, self.written
+        if len(rows["t"]) == start:
+            return
+        points = np.array(rows["points"][start:]).reshape(len(rows["t"]) - start, -1, 3)
+        tension = rows["tension"][start:]  # no lines: no tension, 0
+        table = _timeseries_table(np.array(rows["t"][start:]), np.array(rows["bodies"][start:]),
+                                  np.array([np.max(x) if len(x) else 0.0 for x in tension]),
+                                  np.array(rows["fair"][start:]), np.array(rows["anchor"][start:]),
+                                  points[:, self.free])
+        _write_rows(self.folder / "timeseries.csv", table, self.header if start == 0 else None)
+        self.written = len(rows["t"])
+
+    def _save(self, results):
+        results.save(self.folder / "results.npz")
+        (self.folder / "summary.json").write_text(json.dumps(summary(results), indent=2))
+        self.saved = time.perf_counter()
+
+    def finish(self, results):
+        """The last rows and the final results.npz and summary.json."""
+        self._append()
+        self._save(results)
