@@ -54,7 +54,7 @@ import moordyn  # noqa: E402
 from peers import chain_length_for, condensed_line_stiffness  # noqa: E402
 
 import skmoor  # noqa: E402
-from skmoor.model.model import line_type
+from skmoor.model.from_case import line_type
 
 TOLERANCE = 0.01  # of the reference's fairlead tension range
 SAMPLE = 0.1  # s, comparison grid

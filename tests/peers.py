@@ -50,7 +50,7 @@ def moorpy_system(model, q=None, tol=1e-12):
     (1e-4 m) moves the fairlead tension of these stiff steel lines by ~1e-5."""
     import moorpy as mp
 
-    from skmoor.model.model import line_type
+    from skmoor.model.from_case import line_type
 
     case = model.case
     q = np.zeros(6) if q is None else np.asarray(q, float)

@@ -341,32 +341,7 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
     points_dir.mkdir(parents=True, exist_ok=True)
 
     points = [(study, value) for study in studies for value in study.values]
-    rows: list[dict | None] = [None] * len(points)
-    pending = []                      # (index, task, key, point file)
-    reused = 0
-    errors = []
-    for i, (study, value) in enumerate(points):
-        head = {"study": study.name, "parameter": study.parameter, "value": value}
-        try:
-            case = study.case(value)
-        except Exception as err:
-            rows[i] = _row(head, {"error": f"case rejected: {_describe(err)}"})
-            errors.append(rows[i])
-            continue
-        task = {"study": study.name, "parameter": study.parameter, "value": value,
-                "fixed": study.fixed, "case": case.data,
-                "duration": float(duration if duration is not None else case.solver["duration"]),
-                "dt": float(dt if dt is not None else case.solver["dt"]),
-                "skmoor": _version()}
-        key = hashlib.sha256(json.dumps(task, sort_keys=True, default=_jsonable)
-                             .encode()).hexdigest()[:20]
-        file = points_dir / f"{_slug(study.name)}-{key}.json"
-        kept = _load_point(file, key)
-        if kept is not None:
-            rows[i] = _row(head, kept["result"])
-            reused += 1
-        else:
-            pending.append((i, task, key, file))
+    rows, pending, reused, errors = _plan(points, points_dir, duration, dt)
 
     from tqdm.auto import tqdm  # (imported here: it pulls in asyncio, ~40 ms)
 
@@ -423,6 +398,39 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
           f"{failed} failed; wall time {wall:.1f} s{per_point}; wrote {csv_path}"
           + (f" and {len(figures)} figure{'s' * (len(figures) != 1)}" if figures else ""))
     return rows
+
+
+def _plan(points, points_dir, duration, dt):
+    """(rows, pending, reused, errors) of the sweep's points: each point's case built, the
+    finished ones read from ``points_dir`` into their rows, the others pending as
+    (index, task, key, point file); a point whose case is refused is an error row."""
+    rows: list[dict | None] = [None] * len(points)
+    pending = []                      # (index, task, key, point file)
+    reused = 0
+    errors = []
+    for i, (study, value) in enumerate(points):
+        head = {"study": study.name, "parameter": study.parameter, "value": value}
+        try:
+            case = study.case(value)
+        except Exception as err:
+            rows[i] = _row(head, {"error": f"case rejected: {_describe(err)}"})
+            errors.append(rows[i])
+            continue
+        task = {"study": study.name, "parameter": study.parameter, "value": value,
+                "fixed": study.fixed, "case": case.data,
+                "duration": float(duration if duration is not None else case.solver["duration"]),
+                "dt": float(dt if dt is not None else case.solver["dt"]),
+                "skmoor": _version()}
+        key = hashlib.sha256(json.dumps(task, sort_keys=True, default=_jsonable)
+                             .encode()).hexdigest()[:20]
+        file = points_dir / f"{_slug(study.name)}-{key}.json"
+        kept = _load_point(file, key)
+        if kept is not None:
+            rows[i] = _row(head, kept["result"])
+            reused += 1
+        else:
+            pending.append((i, task, key, file))
+    return rows, pending, reused, errors
 
 
 def write_csv(rows, path) -> Path:

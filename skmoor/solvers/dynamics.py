@@ -122,49 +122,20 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     if not dt > 0:
         raise ValueError(f"integrate dt: must be positive, got {dt}")
     scheme = scheme or Scheme.newmark()
-    am, af, beta, gamma = scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma
     layout = matrix_layout(system)
     bandwidth = getattr(system, "bandwidth", None)
     M = as_layout(system.M, layout, bandwidth)
     C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
     damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
     fast = _compiled_step(system, C, scheme, tol, maxiter) if compiled else None
-    C = as_layout(C, layout, bandwidth)
-    x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
-    nonlinear = getattr(system, "nonlinear_inertia", False)
-    rebase = getattr(system, "rebase", None) if nonlinear else None
-    driven = getattr(system, "driven_inertia", None) or (lambda t: None)
+    stepper = _Stepper(system, M, as_layout(C, layout, bandwidth), damped, layout, scheme,
+                       tol, maxiter, subdivide)
     if hasattr(system, "acceleration_step"):  # driven ends' accelerations over the step
         system.acceleration_step = dt
-
-    def loads(R, t):
-        """R plus the prescribed ends' inertia on the free DOFs (M_fp a_p(t), a load given
-        in time: at the alpha_f level like the others), when the system has one."""
-        extra = driven(t)
-        return R if extra is None else R + extra
-
-    def start(x, v, t):
-        """(a, C v + R, G) at a start (x, v, t): a from the balance, G the state-dependent
-        inertia (None: the system has none)."""
-        R, _, _ = system.residual(x, v, t, tangent=False)
-        force = C @ v + loads(R, t)
-        mass = _IterationMatrix(layout)
-
-        def balance(A, b):  # A a = b; least squares (MoorDyn's QR) when A is singular
-            mass.update(A)  # (a body's masses on one line: its spin held by a spring)
-            a = mass.solve(b)
-            if np.all(np.isfinite(a)):
-                return a
-            return np.linalg.lstsq(A.toarray() if sp.issparse(A) else A, b, rcond=None)[0]
-        if not nonlinear:
-            return balance(M, -force), force, None
-        # G is affine in a: (M + dG/da) a = -(C v + R + G(x, v, 0))
-        G0, d_acc, _, _ = system.inertia(x, v, np.zeros_like(v), tangent=True, layout=layout)
-        a = balance(M + d_acc, -(force + G0))
-        return a, force, system.inertia(x, v, a)[0]
-
-    a, force_old, G = start(x, v, t)
-    commit = getattr(system, "commit", None) or (lambda t, x, v: None)
+    x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
+    rebase = getattr(system, "rebase", None) if stepper.nonlinear else None
+    a, force_old, G = stepper.start(x, v, t)
+    commit = stepper.commit
     commit(t, x, v)
     reports = report_every > 0 and hasattr(system, "end_forces")
 
@@ -174,17 +145,102 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         return (u, ud), system.end_forces(u, ud, t, a)
 
     yield State(t, 0, x, v, a, 0, 0, *(report(x, v, a, t) if reports else (None, None)))
+    matrix = _IterationMatrix(layout)
+    ahead, failed = [], None  # steps the compiled step made, not yet yielded; its failure
+    n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
+    subdivided = 0
+    for step in range(1, n_steps + 1):
+        t1 = t0 + step * dt
+        if fast is not None and not ahead and failed is None:  # the next steps compiled
+            numbers = np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
+            ahead, failed = fast.steps(x, v, a, force_old, t0 + dt * numbers, dt,
+                                       report=numbers % report_every == 0 if reports else None)
+            ahead.reverse()
+        reported = None
+        if ahead:
+            out, it, reported = ahead.pop()
+        elif failed is not None and failed != fast.handed_back:  # failed as advance would
+            out, it, failed = None, failed, None
+        else:
+            failed = None
+            out, it = stepper.advance(x, v, a, force_old, G, t1, dt, matrix)
+        if out is None:
+            why = it
+            if subdivide > 0:
+                out, it = stepper.split((x, v, a, force_old, G), t, t1, 1, dt)
+            if out is None:
+                tried = (f" (and in steps down to dt / {2**subdivide:g})" if subdivide > 0
+                         else "")
+                raise DivergenceError(_hint(t1, step, dt, f"{why}{tried}"), t1, step)
+            subdivided += 1
+        else:
+            commit(t1, out[0], out[1])
+        x, v, a, force_old, G = out
+        t = t1
+        turned = rebase(x, v) if rebase is not None else None
+        if turned is not None:  # a body's angles counted from a new frame: restart there
+            x, v = turned
+            a, force_old, G = stepper.start(x, v, t1)
+            matrix = _IterationMatrix(layout)
+            stepper.halves.clear()
+        if reports and step % report_every == 0 and reported is None:
+            reported = report(x, v, a, t1)
+        yield State(t1, step, x, v, a, it, subdivided, *(reported or (None, None)))
 
-    def advance(x, v, a, force_old, G_old, t1, h, matrix):
+
+class _Stepper:
+    """One implicit step of :func:`integrate` in Python: the start's acceleration, a step
+    of h by Newton on the alpha-level balance, a failed step split in halves."""
+
+    def __init__(self, system, M, C, damped, layout, scheme, tol, maxiter, subdivide):
+        self.system, self.M, self.C, self.damped, self.layout = system, M, C, damped, layout
+        self.am, self.af = scheme.alpha_m, scheme.alpha_f
+        self.beta, self.gamma = scheme.beta, scheme.gamma
+        self.tol, self.maxiter, self.subdivide = tol, maxiter, subdivide
+        self.nonlinear = getattr(system, "nonlinear_inertia", False)
+        self.driven = getattr(system, "driven_inertia", None) or (lambda t: None)
+        self.commit = getattr(system, "commit", None) or (lambda t, x, v: None)
+        self.halves = {}  # level -> the iteration matrix of steps dt / 2**level, kept
+
+    def loads(self, R, t):
+        """R plus the prescribed ends' inertia on the free DOFs (M_fp a_p(t), a load given
+        in time: at the alpha_f level like the others), when the system has one."""
+        extra = self.driven(t)
+        return R if extra is None else R + extra
+
+    def start(self, x, v, t):
+        """(a, C v + R, G) at a start (x, v, t): a from the balance, G the state-dependent
+        inertia (None: the system has none)."""
+        system, layout = self.system, self.layout
+        R, _, _ = system.residual(x, v, t, tangent=False)
+        force = self.C @ v + self.loads(R, t)
+        mass = _IterationMatrix(layout)
+
+        def balance(A, b):  # A a = b; least squares (MoorDyn's QR) when A is singular
+            mass.update(A)  # (a body's masses on one line: its spin held by a spring)
+            a = mass.solve(b)
+            if np.all(np.isfinite(a)):
+                return a
+            return np.linalg.lstsq(A.toarray() if sp.issparse(A) else A, b, rcond=None)[0]
+        if not self.nonlinear:
+            return balance(self.M, -force), force, None
+        # G is affine in a: (M + dG/da) a = -(C v + R + G(x, v, 0))
+        G0, d_acc, _, _ = system.inertia(x, v, np.zeros_like(v), tangent=True, layout=layout)
+        a = balance(self.M + d_acc, -(force + G0))
+        return a, force, system.inertia(x, v, a)[0]
+
+    def advance(self, x, v, a, force_old, G_old, t1, h, matrix):
         """One step of h from (x, v, a) to t1: ((x1, v1, a1, C v1 + R1, G1), iterations),
         or (None, why) when Newton fails."""
+        system, M, C, layout = self.system, self.M, self.C, self.layout
+        am, af, beta, gamma, damped = self.am, self.af, self.beta, self.gamma, self.damped
         c_x = (1 - am) / (beta * h**2)
         c_v = gamma / (beta * h)
         x_pred = x + h * v + h**2 * (0.5 - beta) * a  # part of x1 known from level 0
         v_pred = v + h * (1 - gamma) * a
         inertia_old = am * (M @ a if G_old is None else M @ a + G_old) + af * force_old
         previous = (x, v, a, G_old, h, gamma)
-        extra = driven(t1)
+        extra = self.driven(t1)
 
         def inertia(y, v1, a1, tangent=False):
             """M a1 plus the system's state-dependent inertia G1 (momentum-consistent over
@@ -218,12 +274,12 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         # again from constant velocity (robust on stiff axial modes) with full Newton and
         # a line search
         guess = x + h * v + 0.5 * h**2 * a
-        x1, it = _newton(balance, guess, x, matrix, tol, maxiter, full=False)
+        x1, it = _newton(balance, guess, x, matrix, self.tol, self.maxiter, full=False)
         if x1 is None or x1 is False:
-            x1, more = _newton(balance, x + h * v, x, matrix, tol, maxiter, full=True)
+            x1, more = _newton(balance, x + h * v, x, matrix, self.tol, self.maxiter, full=True)
             it += more
         if x1 is None:
-            return None, f"Newton did not converge in {maxiter} iterations"
+            return None, f"Newton did not converge in {self.maxiter} iterations"
         if x1 is False:
             return None, "the Newton step is not finite"
         a1 = (x1 - x_pred) / (beta * h**2)
@@ -233,65 +289,21 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         force1 = -((1 - am) * inertia1 + inertia_old) / (1 - af)
         return (x1, v1, a1, force1, G1), it
 
-    halves = {}  # level -> the iteration matrix of steps dt / 2**level, kept for reuse
-
-    def split(level_state, t, t1, level):
+    def split(self, level_state, t, t1, level, dt):
         """(x, v, a, force, G) at t1 through two halves of [t, t1], each split again when it
         fails (down to ``subdivide`` levels); (None, why) if the smallest fails too."""
-        matrix = halves.setdefault(level, _IterationMatrix(layout))
+        matrix = self.halves.setdefault(level, _IterationMatrix(self.layout))
         total, h, mid = 0, dt / 2**level, t + 0.5 * (t1 - t)
         for start, end in ((t, mid), (mid, t1)):
-            out, it = advance(*level_state, end, h, matrix)
-            if out is None and level < subdivide:
-                out, it = split(level_state, start, end, level + 1)
+            out, it = self.advance(*level_state, end, h, matrix)
+            if out is None and level < self.subdivide:
+                out, it = self.split(level_state, start, end, level + 1, dt)
             elif out is not None:
-                commit(end, out[0], out[1])
+                self.commit(end, out[0], out[1])
             if out is None:
                 return None, it
             level_state, total = out, total + it
         return level_state, total
-
-    matrix = _IterationMatrix(layout)
-    ahead, failed = [], None  # steps the compiled step made, not yet yielded; its failure
-    n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
-    subdivided = 0
-    for step in range(1, n_steps + 1):
-        t1 = t0 + step * dt
-        if fast is not None and not ahead and failed is None:  # the next steps compiled
-            numbers = np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
-            ahead, failed = fast.steps(x, v, a, force_old, t0 + dt * numbers, dt,
-                                       report=numbers % report_every == 0 if reports else None)
-            ahead.reverse()
-        reported = None
-        if ahead:
-            out, it, reported = ahead.pop()
-        elif failed is not None and failed != fast.handed_back:  # failed as advance would
-            out, it, failed = None, failed, None
-        else:
-            failed = None
-            out, it = advance(x, v, a, force_old, G, t1, dt, matrix)
-        if out is None:
-            why = it
-            if subdivide > 0:
-                out, it = split((x, v, a, force_old, G), t, t1, 1)
-            if out is None:
-                tried = (f" (and in steps down to dt / {2**subdivide:g})" if subdivide > 0
-                         else "")
-                raise DivergenceError(_hint(t1, step, dt, f"{why}{tried}"), t1, step)
-            subdivided += 1
-        else:
-            commit(t1, out[0], out[1])
-        x, v, a, force_old, G = out
-        t = t1
-        turned = rebase(x, v) if rebase is not None else None
-        if turned is not None:  # a body's angles counted from a new frame: restart there
-            x, v = turned
-            a, force_old, G = start(x, v, t1)
-            matrix = _IterationMatrix(layout)
-            halves.clear()
-        if reports and step % report_every == 0 and reported is None:
-            reported = report(x, v, a, t1)
-        yield State(t1, step, x, v, a, it, subdivided, *(reported or (None, None)))
 
 
 def _compiled_step(system, C, scheme, tol, maxiter):

@@ -19,10 +19,10 @@ import pytest
 from scipy.special import ellipk
 
 import skmoor
+from skmoor.bodies.rod_loads import RodType
 from skmoor.coupling.joints import BodyPin
 from skmoor.coupling.network import Body, MooringLine, Network, Point
 from skmoor.coupling.rods import rod
-from skmoor.bodies.rod_loads import RodType
 from skmoor.fem.terms import check_tangent
 
 DECKS = Path(__file__).parents[1] / "decks" / "rods"

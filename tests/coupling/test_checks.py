@@ -66,7 +66,7 @@ def test_a_deck_line_too_short_is_refused_at_its_deck_line(tmp_path):
 
 def test_a_case_with_an_anchor_above_the_water_warns(tmp_path):
     """The case's network tables are checked (the build would go on to its statics)."""
-    from skmoor.model.model import explicit_network
+    from skmoor.model.from_case import explicit_network
 
     text = Path("examples/network_buoy.toml").read_text().replace(
         "position = [560.0, 0.0, -160.0]", "position = [60.0, 0.0, 20.0]")

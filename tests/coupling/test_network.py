@@ -200,16 +200,16 @@ def test_hull_mesh_is_read_for_the_draft(tmp_path):
     pv = pytest.importorskip("pyvista")
     mesh = pv.read(str(skmoor.__path__[0] + "/../meshes/box_hull.stl"))
     base = skmoor.paper_case()
-    box = skmoor.model.model.equilibrium_draft(base)
+    box = skmoor.model.from_case.equilibrium_draft(base)
     path = tmp_path / "box.stl"
     mesh.save(path)
-    hull = skmoor.model.model.equilibrium_draft(base.replace("body.hull", str(path)))
+    hull = skmoor.model.from_case.equilibrium_draft(base.replace("body.hull", str(path)))
     assert hull == pytest.approx(box, abs=1e-9)
     wide = mesh.copy()
     wide.points = wide.points * [1.0, 1.2, 1.0]
     wide.save(tmp_path / "wide.stl")
-    draft = skmoor.model.model.equilibrium_draft(base.replace("body.hull", str(tmp_path / "wide.stl")))
-    wide_box = skmoor.model.model.equilibrium_draft(base.replace("body.size", [26.0, 12.0, 5.0]))
+    draft = skmoor.model.from_case.equilibrium_draft(base.replace("body.hull", str(tmp_path / "wide.stl")))
+    wide_box = skmoor.model.from_case.equilibrium_draft(base.replace("body.size", [26.0, 12.0, 5.0]))
     assert draft == pytest.approx(wide_box, abs=1e-9) and abs(draft - box) > 0.05
     missing = base.replace("body.hull", str(tmp_path / "none.stl"))
     with pytest.raises(ValueError, match="body.hull: no such mesh file"):

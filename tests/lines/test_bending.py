@@ -303,7 +303,7 @@ def test_case_file_line_type_takes_EI():
     from pathlib import Path
 
     from skmoor.io.case import Case
-    from skmoor.model.model import line_type
+    from skmoor.model.from_case import line_type
 
     path = Path(__file__).resolve().parents[2] / "examples" / "paper_case.toml"
     case = Case.from_toml(path).replace("line_types.steel.EI", 2.5e5)

@@ -342,7 +342,7 @@ def test_the_network_layout_reads_tension_only():
     """[mooring] tension_only = false in a case with network tables gives a law that can
     push (the default is tension-only)."""
     from skmoor.lines.laws import as_law
-    from skmoor.model.model import explicit_network
+    from skmoor.model.from_case import explicit_network
 
     case = skmoor.Case.from_toml("examples/network_buoy.toml")
     assert as_law(explicit_network(case).strain_law).tension_only

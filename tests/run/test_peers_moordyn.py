@@ -41,7 +41,8 @@ from peers import amplitude, chain_fairlead_force, chain_length_for, moordyn_dec
 from skmoor.coupling.system import System
 from skmoor.io.case import paper_case
 from skmoor.lines.line import Line, LineSet
-from skmoor.model.model import build, line_type
+from skmoor.model.from_case import line_type
+from skmoor.model.model import build
 from skmoor.solvers.dynamics import Scheme, integrate
 from skmoor.solvers.statics import solve_static
 

@@ -21,7 +21,8 @@ from skmoor.coupling.system import System
 from skmoor.io.case import paper_case
 from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.line import Line, LineSet, LineType
-from skmoor.model.model import build, line_type
+from skmoor.model.from_case import line_type
+from skmoor.model.model import build
 from skmoor.solvers.statics import solve_static
 
 # the entries that carry the mooring stiffness of this symmetric layout

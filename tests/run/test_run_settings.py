@@ -172,7 +172,7 @@ def test_paraview_series_have_at_most_a_thousand_frames_by_default(paper, tmp_pa
 def test_an_interrupted_command_line_run_skips_the_long_exports(tmp_path, capsys, monkeypatch):
     """After Ctrl-C the CLI keeps the results and leaves the ParaView files and the
     animations for `skmoor export` / `skmoor render` (exit status 1: stopped early)."""
-    import skmoor.model.model as model_module
+    import skmoor.model.from_case as model_module
 
     paper_load = model_module.body_load
 

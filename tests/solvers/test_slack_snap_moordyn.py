@@ -25,7 +25,7 @@ moordyn = pytest.importorskip("moordyn", reason="MoorDyn v2 (pip install moordyn
 from peers import faded_sine  # noqa: E402
 
 import skmoor  # noqa: E402
-from skmoor.model.model import line_type
+from skmoor.model.from_case import line_type
 
 AMPLITUDE, OMEGA = 1.0, 1.6  # m, rad/s
 PERIOD = 2 * np.pi / OMEGA
