@@ -51,6 +51,7 @@ def d_ds(field):
 
 
 def sqrt(a):
+    """Square root, elementwise."""
     a = value(a)
     return xp(a).sqrt(a)
 
@@ -63,41 +64,63 @@ def norm(a):
 
 
 def abs(a):  # noqa: A001 - the form-side name of |.|
+    """Absolute value, elementwise (derivative sign(a), 0 at a = 0)."""
     a = value(a)
     return xp(a).abs(a)
 
 
 def exp(a):
+    """Exponential, elementwise."""
     a = value(a)
     return xp(a).exp(a)
 
 
 def log(a):
+    """Natural logarithm, elementwise."""
     a = value(a)
     return xp(a).log(a)
 
 
 def tanh(a):
+    """Hyperbolic tangent, elementwise: a smooth step, e.g. a contact switched on over a
+    length scale, tanh(gap / width)."""
     a = value(a)
     return xp(a).tanh(a)
 
 
+def sin(a):
+    """Sine, elementwise (radians): e.g. a load varying in time, sin(omega t)."""
+    a = value(a)
+    return xp(a).sin(a)
+
+
+def cos(a):
+    """Cosine, elementwise (radians)."""
+    a = value(a)
+    return xp(a).cos(a)
+
+
 def where(condition, a, b):
+    """a where condition holds, else b, elementwise (the derivative is the chosen
+    branch's: guard both branches against NaN, as :func:`norm` does)."""
     condition, a, b = _values(condition, a, b)
     return xp(condition, a, b).where(condition, a, b)
 
 
 def maximum(a, b):
+    """The larger of a and b, elementwise."""
     a, b = _values(a, b)
     return xp(a, b).maximum(a, b)
 
 
 def minimum(a, b):
+    """The smaller of a and b, elementwise."""
     a, b = _values(a, b)
     return xp(a, b).minimum(a, b)
 
 
 def clip(a, low, high):
+    """a limited to [low, high], elementwise."""
     a, low, high = _values(a, low, high)
     return xp(a, low, high).clip(a, low, high)
 
