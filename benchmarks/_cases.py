@@ -23,8 +23,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 # skmoor from the source tree; the peers' set-up from the tests (which mirror the packages)
 _TESTS = ROOT / "tests"
-for _path in (ROOT, _TESTS, *sorted(p for p in _TESTS.iterdir() if (p / "__init__.py").exists()
-                                    or any(p.glob("test_*.py")))):
+_FOLDERS = sorted(p for p in _TESTS.iterdir() if any(p.glob("test_*.py"))) if _TESTS.is_dir() else []
+for _path in (ROOT, _TESTS, *_FOLDERS):
     if str(_path) not in sys.path:
         sys.path.insert(0, str(_path))
 

@@ -4,6 +4,9 @@ and shapes, free points) at the output interval, written out as it goes.
 from __future__ import annotations
 
 import functools
+import sys
+import threading
+import time
 
 import numpy as np
 
@@ -61,6 +64,7 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     from tqdm.auto import tqdm  # (imported here: it pulls in asyncio, ~40 ms)
 
     bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=label[:30])
+    compiling = _CompileNotice(bar, label[:30])
     system.reset_frames()  # x0 has its angles from the global frame
     try:
         for state in integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
@@ -68,15 +72,56 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
             done["steps"], done["subdivided"] = state.step, state.subdivided
             if state.step % every == 0:
                 record(state)
+            if state.step and compiling.waiting:
+                compiling.first_step(state.step)
             bar.update(1 if state.step else 0)
     except KeyboardInterrupt:
         return INTERRUPTED, done["steps"]
     except DivergenceError as err:
         return str(err), done["steps"]
     finally:
+        compiling.cancel()
         bar.close()
         system.reset_frames()  # the model as built for what comes next (statics, modes)
     return None, done["steps"]
+
+
+COMPILE_NOTICE = 3.0  # s before the first step: the bar says it is compiling
+
+
+class _CompileNotice:
+    """The progress bar while numba compiles the time step on its first use after an
+    install (minutes; cached on disk for the runs after): after ``COMPILE_NOTICE`` s
+    without a step the bar says so, and once the first steps are done its clock starts
+    again (an ETA from the steps, not from the compilation) with a line of how long the
+    compilation took."""
+
+    def __init__(self, bar, label):
+        self.bar, self.label, self.waiting = bar, label, True
+        self.started = time.perf_counter()
+        self.timer = threading.Timer(COMPILE_NOTICE, self._notice)
+        self.timer.daemon = True
+        self.timer.start()
+
+    def _notice(self):
+        if self.waiting:
+            self.bar.set_description_str(f"{self.label} compiling the step (once, cached)"
+                                         .strip())
+
+    def first_step(self, step):
+        self.cancel()
+        seconds = time.perf_counter() - self.started
+        if seconds > COMPILE_NOTICE:
+            if not self.bar.disable:
+                self.bar.write(f"the time step was compiled in {seconds:.0f} s, once: later "
+                               "runs read it from numba's cache", file=sys.stderr)
+            self.bar.set_description_str(self.label)
+            self.bar.reset(total=self.bar.total)
+            self.bar.update(step - 1)
+
+    def cancel(self):
+        self.waiting = False
+        self.timer.cancel()
 
 
 class Recorder:

@@ -228,3 +228,40 @@ def test_a_deck_without_ic_solve_starts_from_its_given_state():
     assert np.abs(clump[results.point_names.index("point2")] - [10.0, 0.0, -100.0]).max() < 1e-9
     with pytest.raises(ValueError, match="simulate start: 'rest' is not one of"):
         skmoor.simulate(model, duration=0.02, dt=0.01, progress=False, start="rest")
+
+
+def test_the_first_steps_compile_time_is_said_and_kept_out_of_the_eta(monkeypatch, capsys):
+    """While the first step takes longer than COMPILE_NOTICE (numba compiling it after an
+    install), the bar says it is compiling; after it, one line says how long that took
+    and the bar's clock restarts (its rate counts the steps, not the compilation)."""
+    import time as clock
+    from types import SimpleNamespace
+
+    from skmoor.run import recorder
+
+    seen = {}
+
+    def slow_first(system, x0, v0, dt, duration, **kwargs):
+        clock.sleep(0.3)  # the compilation
+        seen["description"] = bar_of["bar"].desc
+        for step in range(int(round(duration / dt)) + 1):
+            yield SimpleNamespace(step=step, subdivided=0)
+
+    bar_of = {}
+    real_notice = recorder._CompileNotice
+
+    def keep_bar(bar, label):
+        bar_of["bar"] = bar
+        return real_notice(bar, label)
+
+    monkeypatch.setattr(recorder, "integrate", slow_first)
+    monkeypatch.setattr(recorder, "COMPILE_NOTICE", 0.05)
+    monkeypatch.setattr(recorder, "_CompileNotice", keep_bar)
+    system = SimpleNamespace(n=1, reset_frames=lambda: None)
+    why, steps = recorder.record_run(system, np.zeros(1), dt=0.1, duration=1.0, every=1,
+                                     record=lambda state: None, progress=True, label="run")
+    assert why is None and steps == 10
+    assert "compiling" in seen["description"]
+    err = capsys.readouterr().err
+    assert "compiled in" in err and bar_of["bar"].desc == "run"
+    assert bar_of["bar"].format_dict["elapsed"] < 0.25  # the clock restarted after it
