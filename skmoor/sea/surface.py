@@ -120,12 +120,12 @@ class SurfaceTerm(LineForm):
         xi = lines.basis.X[0]
         self._phi = np.stack([1.0 - xi, xi])  # P1 shape functions at the Gauss points
         self._half = 0.5 * per_cell("diameter")  # (nel, 1), m
-        self._z = lines.points[:, 2].copy()
-        self._z_dofs = lines.nodal_dofs[:, 2].copy()
-        steps = np.diff(self._z_dofs)
-        self._z_view = (slice(self._z_dofs[0], self._z_dofs[-1] + 1, steps[0])
-                        if len(steps) and np.all(steps == steps[0]) else self._z_dofs)
-        self._deepest_reach = -float(self._half.max())
+        self.z_reference = lines.points[:, 2].copy()  # the nodes' reference heights, m
+        self.z_dofs = lines.nodal_dofs[:, 2].copy()  # their z DOFs
+        steps = np.diff(self.z_dofs)
+        self._z_view = (slice(self.z_dofs[0], self.z_dofs[-1] + 1, steps[0])
+                        if len(steps) and np.all(steps == steps[0]) else self.z_dofs)
+        self.deepest_reach = -float(self._half.max())  # m: a node below stays wet
         self._cells_basis = None
         self._nel = lines.mesh.t.shape[1]
         self._test_z = np.stack([np.asarray(f[0])[2] for f in lines.basis.basis])  # (nloc, nel, nqp)
@@ -141,7 +141,7 @@ class SurfaceTerm(LineForm):
         eta = np.zeros(self.lines.ndofs)
         if not self._flat:
             x = self.lines.points + u[self.lines.nodal_dofs]
-            eta[self._z_dofs] = self.sea.elevation(x, t)
+            eta[self.z_dofs] = self.sea.elevation(x, t)
         return eta
 
     def _heights(self, u, t):
@@ -151,10 +151,10 @@ class SurfaceTerm(LineForm):
         lines = self.lines
         if lines.hermite:
             return np.asarray(lines.basis.interpolate(self.fields["X"] + u - self._eta(u, t)))[2]
-        nodes = self._z + u[self._z_view]
+        nodes = self.z_reference + u[self._z_view]
         if not self._flat:
-            nodes = nodes - self._eta(u, t)[self._z_dofs]
-        if nodes.max() <= self._deepest_reach:
+            nodes = nodes - self._eta(u, t)[self.z_dofs]
+        if nodes.max() <= self.deepest_reach:
             return None
         a, b = nodes[lines.mesh.t]  # (nel,) each
         return a[:, None] * self._phi[0] + b[:, None] * self._phi[1]

@@ -139,9 +139,10 @@ class CompiledStep:
                          # the nodes' z DOFs, reference heights (m) and the depth (m) a
                          # SurfaceTerm needs them below (none: no term)
                          np.zeros(0, np.int64) if surface is None
-                         else np.asarray(surface._z_dofs, np.int64),
-                         np.zeros(0) if surface is None else np.asarray(surface._z, float),
-                         0.0 if surface is None else float(surface._deepest_reach))
+                         else np.asarray(surface.z_dofs, np.int64),
+                         np.zeros(0) if surface is None
+                         else np.asarray(surface.z_reference, float),
+                         0.0 if surface is None else float(surface.deepest_reach))
         self.prescribed_dofs = np.asarray(system.dofs.prescribed_flat, np.int64)
         self.report_dofs = np.concatenate([np.ravel(system.fairlead_dofs),
                                            np.ravel(system.anchor_dofs)]).astype(np.int64)
