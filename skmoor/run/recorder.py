@@ -7,6 +7,7 @@ import functools
 import sys
 import threading
 import time
+import warnings
 
 import numpy as np
 
@@ -15,6 +16,7 @@ from ..coupling.network import coupled_size
 from ..coupling.rods import coupled_reaction
 from ..model.model import Model
 from ..post.results import Results
+from ..solvers.compiled_step import lowered_terms
 from ..solvers.dynamics import State, integrate
 from ..solvers.newton import DivergenceError
 from .equilibrium import Equilibrium, equilibrium, steady_water
@@ -63,6 +65,12 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     done["steps"] = done["subdivided"] = 0
     from tqdm.auto import tqdm  # (imported here: it pulls in asyncio, ~40 ms)
 
+    if compiled:
+        why, _ = lowered_terms(system)
+        if why is not None:
+            warnings.warn(f"the time step runs in Python, not compiled: {why} (a Python step "
+                          "costs several times a compiled one)", PythonStepWarning,
+                          stacklevel=3)
     bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=label[:30])
     compiling = _CompileNotice(bar, label[:30])
     system.reset_frames()  # x0 has its angles from the global frame
@@ -84,6 +92,10 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
         bar.close()
         system.reset_frames()  # the model as built for what comes next (statics, modes)
     return None, done["steps"]
+
+
+class PythonStepWarning(UserWarning):
+    """The run's time step is evaluated in Python: a term has no compiled kernel."""
 
 
 COMPILE_NOTICE = 3.0  # s before the first step: the bar says it is compiling

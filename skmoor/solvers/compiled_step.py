@@ -59,29 +59,38 @@ LOWERED = ("cable", "morison", "seabed", "surface", "point drag", "body restorin
 ONCE = ("cable", "morison", "seabed", "surface")
 
 
+def lowered_terms(system):
+    """(why not, kinds): why the compiled step cannot take ``system``'s terms (the first
+    term that lowers to no compiled kernel, named, with its reason) or None, and the
+    lowered kinds with their terms."""
+    kinds = {}  # each lowered kind the compiled step knows, once: its term
+    for term in system.built_in_terms + system.terms:
+        kind = term.lowered()
+        if kind is None:
+            return f"{type(term).__name__} on the {term.acts_on}: {term.why_python}", kinds
+        if kind not in LOWERED:
+            return f"{type(term).__name__}: a '{kind}' kernel is not in the compiled step", kinds
+        if kind in ONCE and kind in kinds:
+            return f"{type(term).__name__}: a second '{kind}' term", kinds
+        kinds.setdefault(kind, term)
+    if "cable" not in kinds:
+        return "no lines", kinds
+    if system.committing:
+        return "terms with a memory of the past", kinds
+    if system.nonlinear_inertia:
+        return "a body with rotations='exact'", kinds
+    return None, kinds
+
+
 def build(system, C, scheme, tol, maxiter):
     """A :class:`CompiledStep` for ``system`` (C: its constant damping matrix, sparse, or
     None; scheme: a :class:`~skmoor.solvers.dynamics.Scheme`; tol, maxiter: Newton's), or
     None when the system has something the compiled step does not cover (reason in
     :data:`last_refusal`)."""
     lines = system.lines
-    kinds = {}  # each lowered kind the compiled step knows, once: its term
-    for term in system.built_in_terms + system.terms:
-        kind = term.lowered()
-        if kind is None:
-            return _refuse(f"{type(term).__name__} on the {term.acts_on}: {term.why_python}")
-        if kind not in LOWERED:
-            return _refuse(f"{type(term).__name__}: a '{kind}' kernel is not in the compiled "
-                           "step")
-        if kind in ONCE and kind in kinds:
-            return _refuse(f"{type(term).__name__}: a second '{kind}' term")
-        kinds.setdefault(kind, term)
-    if "cable" not in kinds:
-        return _refuse("no lines")
-    if system.committing:
-        return _refuse("terms with a memory of the past")
-    if system.nonlinear_inertia:
-        return _refuse("a body with rotations='exact'")
+    why, kinds = lowered_terms(system)
+    if why is not None:
+        return _refuse(why)
     hydro, bed, surface = (kinds.get(k) for k in ("morison", "seabed", "surface"))
     width = ElementPattern(lines, position=system.dofs.position).bandwidth if system.nf else 0
     width = max(width, 1)

@@ -259,9 +259,28 @@ def test_the_first_steps_compile_time_is_said_and_kept_out_of_the_eta(monkeypatc
     monkeypatch.setattr(recorder, "_CompileNotice", keep_bar)
     system = SimpleNamespace(n=1, reset_frames=lambda: None)
     why, steps = recorder.record_run(system, np.zeros(1), dt=0.1, duration=1.0, every=1,
-                                     record=lambda state: None, progress=True, label="run")
+                                     record=lambda state: None, progress=True, label="run",
+                                     compiled=False)
     assert why is None and steps == 10
     assert "compiling" in seen["description"]
     err = capsys.readouterr().err
     assert "compiled in" in err and bar_of["bar"].desc == "run"
     assert bar_of["bar"].format_dict["elapsed"] < 0.25  # the clock restarted after it
+
+
+def test_a_run_says_once_which_term_keeps_its_step_in_python():
+    """The paper case compiles its step: no PythonStepWarning; with a user's body load that
+    depends on the state, one warning names the term and why."""
+    import warnings
+
+    from skmoor.run.recorder import PythonStepWarning
+
+    model = skmoor.build(skmoor.paper_case())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        skmoor.simulate(model, duration=0.1, dt=0.05, progress=False)
+    assert not [w for w in caught if issubclass(w.category, PythonStepWarning)]
+    model.add(skmoor.BodyLoad(lambda q, qdot, t: -1e3 * qdot, body=0))
+    with pytest.warns(PythonStepWarning, match="BodyLoad on the bodies") as caught:
+        skmoor.simulate(model, duration=0.1, dt=0.05, progress=False)
+    assert len([w for w in caught if issubclass(w.category, PythonStepWarning)]) == 1
