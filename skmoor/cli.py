@@ -108,6 +108,9 @@ def _plots(results, out):
         plot_time_histories(results, out / "time_histories.png")
     else:
         plot_line_tensions(results, out / "time_histories.png")
+    if results.line_names:
+        from .post.plots import plot_strength
+        plot_strength(results, out / "strength.png")
 
 
 def _export(results, out, max_frames):

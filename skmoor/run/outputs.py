@@ -11,17 +11,20 @@ from pathlib import Path
 import numpy as np
 
 from ..post.results import BODY_DOFS, Results
+from ..post.strength import strength
 
 # what a run writes into its output folder (a reused folder is cleared of these first)
 OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png",
            "snapshot.png", "animation.mp4", "animation.gif", "lines.xdmf", "lines.h5",
-           "motion.pvd")
+           "motion.pvd", "strength.png")
 
 
 def summary(results: Results) -> dict:
     """The run's key numbers (SI, angles in rad), as written to ``summary.json``:
     ``fairlead_tension_static`` is the FE static state's (end B of each line);
-    ``fairlead_tension_catenary`` the analytic catenary's where one exists (else null)."""
+    ``fairlead_tension_catenary`` the analytic catenary's where one exists (else null);
+    ``strength`` each line's largest tension, MBL, safety factor and utilisation
+    (:func:`skmoor.post.strength.strength`)."""
     meta = results.meta
     period = meta.get("forcing_period")
     n = int(meta.get("steady_periods", 5))
@@ -46,7 +49,8 @@ def summary(results: Results) -> dict:
             "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", []),
             **({"max_curvature": results.line_maxima("curvature"),
                 "max_bending_moment": results.line_maxima("bending_moment")}
-               if results.bending else {})}
+               if results.bending else {}),
+            "strength": strength(results) if results.line_names else {}}
 
 
 def _timeseries_header(body_names, line_names, free_names) -> list:
