@@ -1,4 +1,4 @@
-"""Command line: ``skmoor run | sweep | export | render``, over the public API only."""
+"""Command line: ``skmoor run | sweep | export | render | fatigue``, over the public API only."""
 from __future__ import annotations
 
 import argparse
@@ -98,6 +98,81 @@ def cmd_render(args) -> int:
     _animate(Results.load(out / "results.npz"), out, args.quiet, scale=args.scale,
              camera=args.camera)
     return 0
+
+
+def cmd_fatigue(args) -> int:
+    from .post.fatigue import fatigue
+
+    out = Path(args.outdir)
+    results = _load_results(out)
+    report = fatigue(results, curve=_per_line(args.curve, str, results.line_names, "--curve"),
+                     m=args.m, start=args.start, design_life=args.design_life,
+                     mbl=_per_line(args.mbl, float, results.line_names, "--mbl"),
+                     d_nom=_per_line(args.d_nom, float, results.line_names, "--d-nom"),
+                     where="fairlead" if args.fairlead else "elements")
+    (out / "fatigue.json").write_text(json.dumps(report, indent=2))
+    print(fatigue_table(report))
+    print(f"wrote {out / 'fatigue.json'}")
+    return 0
+
+
+def fatigue_table(report) -> str:
+    """The fatigue report as a short text table: per line its curve, damage over the run,
+    per year and over the design life, life (years) and DELs (kN)."""
+    m = [f"{x:g}" for x in report["m"]]
+    head = ["line", "curve", "D run", "D/year", "life [y]"]
+    if report.get("design_life"):
+        head.append(f"D {report['design_life']:g} y")
+    head += [f"DEL m={x} [kN]" for x in m]
+    rows = []
+    for name, row in report["lines"].items():
+        cells = [name, row["curve"] or "-", _g(row["damage"]), _g(row["damage_per_year"]),
+                 _g(row["life_years"])]
+        if report.get("design_life"):
+            cells.append(_g(row["damage_design_life"]))
+        rows.append(cells + [_g(row["DEL"][x] / 1e3) for x in m])
+    return _table(head, rows) + (f"\n({report['where']}, {report['duration']:g} s of run, "
+                                 f"DEL at {report['f_eq']:g} Hz)")
+
+
+def _g(x) -> str:
+    return "-" if x is None else f"{x:.4g}"
+
+
+def _table(head, rows) -> str:
+    widths = [max(len(str(r[i])) for r in [head] + rows) for i in range(len(head))]
+    return "\n".join("  ".join(str(c).ljust(w) for c, w in zip(r, widths)).rstrip()
+                     for r in [head] + rows)
+
+
+def _per_line(values, convert, line_names, option):
+    """--option VALUE [LINE=VALUE ...] as a value for all lines, or {line: value}."""
+    if not values:
+        return None
+    bare = [v for v in values if "=" not in v]
+    if len(bare) > 1:
+        raise ValueError(f"{option}: one value for all lines, then LINE=VALUE for some "
+                         f"(got {', '.join(bare)})")
+    given = {}
+    for item in values:
+        if "=" in item:
+            line, value = item.split("=", 1)
+            given[line] = value
+    try:
+        if not given:
+            return convert(bare[0])
+        out = {name: convert(bare[0]) for name in line_names} if bare else {}
+        out.update({line: convert(v) for line, v in given.items()})
+    except ValueError as err:
+        raise ValueError(f"{option}: {err}") from None
+    return out
+
+
+def _load_results(out):
+    """A saved run's results: OUTDIR/results.npz."""
+    from . import Results
+
+    return Results.load(out / "results.npz")
 
 
 def _plots(results, out):
@@ -200,6 +275,30 @@ def parser() -> argparse.ArgumentParser:
     rd.add_argument("--camera", default="iso", help="camera preset: iso, side, top, front")
     rd.add_argument("--quiet", action="store_true", help="no progress bar")
     rd.set_defaults(func=cmd_render)
+    fa = sub.add_parser("fatigue", help="rainflow fatigue damage and DELs of a saved run",
+                        description="Reads OUTDIR's results, counts each element's tension "
+                        "ranges (rainflow, ASTM E1049), sums Miner's damage on the lines' "
+                        "T-N / S-N curves (DNV-OS-E301, DNV-RP-C203) over the run, per year "
+                        "and per design life, and the damage-equivalent loads at 1 Hz; "
+                        "writes OUTDIR/fatigue.json and prints a table.")
+    fa.add_argument("outdir", help="folder of a previous run")
+    fa.add_argument("--curve", nargs="+", metavar="CURVE", help="fatigue curve for all "
+                    "lines and/or LINE=CURVE for some, over the line types' own (names: "
+                    "studless-chain, studlink-chain, six-strand-rope, spiral-strand-rope, "
+                    "polyester-rope, dnv-c203-D-air ...)")
+    fa.add_argument("--m", nargs="+", type=float, default=[3.0, 5.0],
+                    help="Wöhler exponents of the damage-equivalent loads (default: 3 5)")
+    fa.add_argument("--start", type=float, default=0.0,
+                    help="skip the samples before this time, s (the start-up transient)")
+    fa.add_argument("--design-life", dest="design_life", type=float, metavar="YEARS",
+                    help="also give the damage over this many years")
+    fa.add_argument("--mbl", nargs="+", metavar="N", help="minimum breaking load, N, for all "
+                    "lines and/or LINE=N (polyester's curve needs it)")
+    fa.add_argument("--d-nom", dest="d_nom", nargs="+", metavar="M", help="nominal diameter, "
+                    "m, for all lines and/or LINE=M (default: the line types')")
+    fa.add_argument("--fairlead", action="store_true",
+                    help="the tension at each line's fairlead (end B) only")
+    fa.set_defaults(func=cmd_fatigue)
     return p
 
 

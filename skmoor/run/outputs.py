@@ -10,13 +10,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..post.fatigue import fatigue
 from ..post.results import BODY_DOFS, Results
 from ..post.strength import strength
 
 # what a run writes into its output folder (a reused folder is cleared of these first)
 OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png",
            "snapshot.png", "animation.mp4", "animation.gif", "lines.xdmf", "lines.h5",
-           "motion.pvd", "strength.png")
+           "motion.pvd", "strength.png", "fatigue.json")
 
 
 def summary(results: Results) -> dict:
@@ -24,7 +25,9 @@ def summary(results: Results) -> dict:
     ``fairlead_tension_static`` is the FE static state's (end B of each line);
     ``fairlead_tension_catenary`` the analytic catenary's where one exists (else null);
     ``strength`` each line's largest tension, MBL, safety factor and utilisation
-    (:func:`skmoor.post.strength.strength`)."""
+    (:func:`skmoor.post.strength.strength`); ``fatigue`` each line's damage at its
+    fairlead on its type's curve and the DELs for m = 3 and 5 at 1 Hz
+    (:func:`skmoor.post.fatigue.fatigue`)."""
     meta = results.meta
     period = meta.get("forcing_period")
     n = int(meta.get("steady_periods", 5))
@@ -50,7 +53,19 @@ def summary(results: Results) -> dict:
             **({"max_curvature": results.line_maxima("curvature"),
                 "max_bending_moment": results.line_maxima("bending_moment")}
                if results.bending else {}),
-            "strength": strength(results) if results.line_names else {}}
+            "strength": strength(results) if results.line_names else {},
+            "fatigue": _fatigue_summary(results)}
+
+
+def _fatigue_summary(results) -> dict:
+    """The fatigue at each line's fairlead (end B) on its line type's curve over the run
+    (:func:`skmoor.post.fatigue.fatigue` with ``where="fairlead"``; ``skmoor fatigue``
+    gives every element's); {} for a static state or without lines."""
+    if not results.line_names or len(results.t) < 2 or results.t[-1] <= results.t[0]:
+        return {}
+    report = fatigue(results, where="fairlead")
+    return {"where": "fairlead", "duration": report["duration"], "f_eq": report["f_eq"],
+            "lines": report["lines"]}
 
 
 def _timeseries_header(body_names, line_names, free_names) -> list:
