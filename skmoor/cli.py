@@ -84,18 +84,14 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_export(args) -> int:
-    from . import Results
-
     out = Path(args.outdir)
-    _export(Results.load(out / "results.npz"), out, args.frames)
+    _export(_load_results(out), out, args.frames)
     return 0
 
 
 def cmd_render(args) -> int:
-    from . import Results
-
     out = Path(args.outdir)
-    _animate(Results.load(out / "results.npz"), out, args.quiet, scale=args.scale,
+    _animate(_load_results(out), out, args.quiet, scale=args.scale,
              camera=args.camera)
     return 0
 
@@ -169,10 +165,12 @@ def _per_line(values, convert, line_names, option):
 
 
 def _load_results(out):
-    """A saved run's results: OUTDIR/results.npz."""
+    """A saved run's results: OUTDIR/results.nc, or results.npz where there is none (a
+    run stopped before its end, or written before results.nc)."""
     from . import Results
 
-    return Results.load(out / "results.npz")
+    nc = out / "results.nc"
+    return Results.load(nc if nc.exists() else out / "results.npz")
 
 
 def _plots(results, out):
@@ -260,7 +258,7 @@ def parser() -> argparse.ArgumentParser:
     sw.set_defaults(func=cmd_sweep)
 
     ex = sub.add_parser("export", help="(re)write ParaView files from saved results",
-                        description="Reads OUTDIR/results.npz and writes lines.xdmf (+ .h5) and "
+                        description="Reads OUTDIR/results.nc (or results.npz) and writes lines.xdmf (+ .h5) and "
                         "a VTU series with a .pvd index into OUTDIR.")
     ex.add_argument("outdir", help="folder of a previous run")
     ex.add_argument("--frames", type=int, default=1000, help="at most this many samples, "
@@ -268,7 +266,7 @@ def parser() -> argparse.ArgumentParser:
     ex.set_defaults(func=cmd_export)
 
     rd = sub.add_parser("render", help="(re)render snapshot and animations from saved results",
-                        description="Reads OUTDIR/results.npz and renders snapshot.png, "
+                        description="Reads OUTDIR/results.nc (or results.npz) and renders snapshot.png, "
                         "animation.mp4 and animation.gif off-screen.")
     rd.add_argument("outdir", help="folder of a previous run")
     rd.add_argument("--scale", type=float, help="displacement scale factor (default: automatic)")

@@ -17,7 +17,7 @@ from ..post.strength import strength
 # what a run writes into its output folder (a reused folder is cleared of these first)
 OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png",
            "snapshot.png", "animation.mp4", "animation.gif", "lines.xdmf", "lines.h5",
-           "motion.pvd", "strength.png", "fatigue.json")
+           "motion.pvd", "strength.png", "fatigue.json", "results.nc")
 
 
 def summary(results: Results) -> dict:
@@ -90,7 +90,8 @@ def _write_rows(path, table, header=None):
 
 
 def write_outputs(results: Results, out) -> dict:
-    """Write results.npz, summary.json and timeseries.csv into folder ``out``.
+    """Write results.npz, results.nc (the same as netCDF, :meth:`Results.to_netcdf`),
+    summary.json and timeseries.csv into folder ``out``.
 
     timeseries.csv columns: t; for each body its six DOFs ``NAME.surge`` ... ``NAME.yaw``
     (m, rad); max_tension (the largest element tension at that time, N);
@@ -99,6 +100,7 @@ def write_outputs(results: Results, out) -> dict:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     results.save(out / "results.npz")
+    results.to_netcdf(out / "results.nc")
     info = summary(results)
     (out / "summary.json").write_text(json.dumps(info, indent=2))
     kinds = results.meta.get("point_kinds", [])
@@ -177,6 +179,7 @@ class OutputWriter:
         self.saved = time.perf_counter()
 
     def finish(self, results):
-        """The last rows and the final results.npz and summary.json."""
+        """The last rows, the final results.npz and summary.json, and results.nc."""
         self._append()
         self._save(results)
+        results.to_netcdf(self.folder / "results.nc")
