@@ -52,6 +52,8 @@ def cmd_run(args) -> int:
     model = build(source, motion=_motion(args, source), rotations=args.rotations)
     results = simulate(model, progress=not args.quiet, out=out, **settings)
     info = summary(results)
+    from .run.report import summary_table
+    print(summary_table(info), flush=True)  # the numbers first, then files and renders
     _plots(results, out)
     return _finish(results, info, out, args)
 
@@ -107,38 +109,10 @@ def cmd_fatigue(args) -> int:
                      d_nom=_per_line(args.d_nom, float, results.line_names, "--d-nom"),
                      where="fairlead" if args.fairlead else "elements")
     (out / "fatigue.json").write_text(json.dumps(report, indent=2))
+    from .run.report import fatigue_table
     print(fatigue_table(report))
     print(f"wrote {out / 'fatigue.json'}")
     return 0
-
-
-def fatigue_table(report) -> str:
-    """The fatigue report as a short text table: per line its curve, damage over the run,
-    per year and over the design life, life (years) and DELs (kN)."""
-    m = [f"{x:g}" for x in report["m"]]
-    head = ["line", "curve", "D run", "D/year", "life [y]"]
-    if report.get("design_life"):
-        head.append(f"D {report['design_life']:g} y")
-    head += [f"DEL m={x} [kN]" for x in m]
-    rows = []
-    for name, row in report["lines"].items():
-        cells = [name, row["curve"] or "-", _g(row["damage"]), _g(row["damage_per_year"]),
-                 _g(row["life_years"])]
-        if report.get("design_life"):
-            cells.append(_g(row["damage_design_life"]))
-        rows.append(cells + [_g(row["DEL"][x] / 1e3) for x in m])
-    return _table(head, rows) + (f"\n({report['where']}, {report['duration']:g} s of run, "
-                                 f"DEL at {report['f_eq']:g} Hz)")
-
-
-def _g(x) -> str:
-    return "-" if x is None else f"{x:.4g}"
-
-
-def _table(head, rows) -> str:
-    widths = [max(len(str(r[i])) for r in [head] + rows) for i in range(len(head))]
-    return "\n".join("  ".join(str(c).ljust(w) for c, w in zip(r, widths)).rstrip()
-                     for r in [head] + rows)
 
 
 def _per_line(values, convert, line_names, option):

@@ -75,3 +75,17 @@ def test_strength_plot(tmp_path):
 
     path = plot_strength(_results_with_peak(), tmp_path / "strength.png")
     assert path.stat().st_size > 1000
+
+
+def test_bend_radius_against_mbr():
+    r = _results_with_peak()
+    r.meta["bending"] = True
+    r.meta["line_MBR"] = [None, 4.0, None, None]
+    r.curvature[:] = 0.05
+    r.curvature[3, NEL + 2] = -0.125              # radius 8 m on line 1
+    s = strength(r)
+    row = s[r.line_names[1]]
+    assert row["min_bend_radius"] == pytest.approx(8.0)
+    assert row["bend_radius_ratio"] == pytest.approx(2.0)
+    assert s[r.line_names[0]]["min_bend_radius"] == pytest.approx(20.0)
+    assert s[r.line_names[0]]["bend_radius_ratio"] is None
