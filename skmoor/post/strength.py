@@ -42,8 +42,10 @@ def line_property(results, key, given=None) -> list:
 def strength(results, mbl=None, mbr=None, start=0.0) -> dict:
     """{line name: its strength over the samples from time ``start`` (s)}:
 
-    ``max_tension`` (N), its ``time`` (s) and ``element`` (index within the line, from
-    end A), ``element_max_tension`` (N, each element's largest), ``MBL`` (N or None),
+    ``max_tension`` (N: the largest of the element tensions and the two end tensions),
+    its ``time`` (s) and ``where`` ('element J', 'fairlead' or 'anchor'), ``element``
+    (the most loaded element's index within the line, from end A),
+    ``element_max_tension`` (N, each element's largest), ``MBL`` (N or None),
     ``safety_factor`` = MBL / max_tension and ``utilisation`` = max_tension / MBL (None
     without an MBL); on bending lines also ``min_bend_radius`` (m, 1 / the largest
     curvature; None if straight throughout), ``MBR`` and ``bend_radius_ratio`` = min_bend_radius / MBR (>= 1: within
@@ -64,9 +66,14 @@ def strength(results, mbl=None, mbr=None, start=0.0) -> dict:
             continue
         series = tension[:, cells]
         i, j = np.unravel_index(int(np.argmax(series)), series.shape)
-        tmax = float(series[i, j])
+        tmax, at = float(series[i, j]), f"element {int(j)}"
+        for end, values in (("fairlead", results.fairlead_tension[keep][:, k]),
+                            ("anchor", results.anchor_tension[keep][:, k])):
+            if len(values) and values.max() > tmax:
+                i, tmax, at = int(np.argmax(values)), float(values.max()), end
         MBL = None if mbls[k] is None else float(mbls[k])
-        row = {"max_tension": tmax, "time": float(t[i]), "element": int(j),
+        row = {"max_tension": tmax, "time": float(t[i]), "where": at,
+               "element": int(np.argmax(series.max(axis=0))),
                "MBL": MBL,
                "safety_factor": None if MBL is None or tmax <= 0 else MBL / tmax,
                "utilisation": None if MBL is None else tmax / MBL,

@@ -89,3 +89,14 @@ def test_bend_radius_against_mbr():
     assert row["bend_radius_ratio"] == pytest.approx(2.0)
     assert s[r.line_names[0]]["min_bend_radius"] == pytest.approx(20.0)
     assert s[r.line_names[0]]["bend_radius_ratio"] is None
+
+
+def test_end_tension_counts_where_it_is_larger():
+    r = _results_with_peak()
+    r.fairlead_tension[:] = 0.5e6
+    r.anchor_tension[:] = 0.5e6
+    r.fairlead_tension[12, 1] = 4e6
+    row = strength(r)[r.line_names[1]]
+    assert (row["max_tension"], row["where"], row["element"]) == (4e6, "fairlead", 3)
+    assert row["time"] == pytest.approx(r.t[12])
+    assert row["safety_factor"] == pytest.approx(1.25)
