@@ -50,6 +50,7 @@ def cmd_run(args) -> int:
     settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
                 if getattr(args, k) is not None}
     model = build(source, motion=_motion(args, source), rotations=args.rotations)
+    _line_data(model, args)
     results = simulate(model, progress=not args.quiet, out=out, **settings)
     info = summary(results)
     from .run.report import summary_table
@@ -138,6 +139,29 @@ def _per_line(values, convert, line_names, option):
     return out
 
 
+def _line_data(model, args):
+    """--mbl, --fatigue-curve, --d-nom of ``skmoor run``: the lines' strength and fatigue
+    data over their line types' (a MoorDyn deck has none of them)."""
+    import dataclasses
+
+    lines = model.lines.lines if model is not None else []
+    names = [line.name for line in lines]
+    for key, option, convert in (("MBL", "--mbl", float), ("fatigue_curve", "--fatigue-curve", str),
+                                 ("d_nom", "--d-nom", float)):
+        given = _per_line(getattr(args, key.lower(), None), convert, names, option)
+        if given is None:
+            continue
+        if isinstance(given, dict):
+            unknown = sorted(set(given) - set(names))
+            if unknown:
+                raise ValueError(f"{option}: no line named {', '.join(map(repr, unknown))} "
+                                 f"(the lines are {', '.join(names)})")
+        for line in lines:
+            value = given.get(line.name) if isinstance(given, dict) else given
+            if value is not None:
+                line.line_type = dataclasses.replace(line.line_type, **{key: value})
+
+
 def _load_results(out):
     """A saved run's results: OUTDIR/results.nc, or results.npz where there is none (a
     run stopped before its end, or written before results.nc)."""
@@ -211,6 +235,14 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--rotations", choices=("small", "exact"),
                      help="deck only: the free bodies' rotations, 'exact' for bodies that "
                      "turn far (default: small; a case file sets it per body)")
+    run.add_argument("--mbl", nargs="+", metavar="N", help="minimum breaking load, N, of all "
+                     "lines and/or LINE=N, over the line types' (a MoorDyn deck gives none): "
+                     "the safety factors in summary.json")
+    run.add_argument("--fatigue-curve", dest="fatigue_curve", nargs="+", metavar="CURVE",
+                     help="fatigue curve of all lines and/or LINE=CURVE (e.g. studless-chain; "
+                     "see skmoor fatigue --help)")
+    run.add_argument("--d-nom", dest="d_nom", nargs="+", metavar="M", help="nominal "
+                     "diameter, m, of all lines and/or LINE=M (the fatigue curves' section)")
     run.set_defaults(func=cmd_run)
 
     sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",

@@ -55,3 +55,31 @@ def test_fatigue_command_refuses_bad_values(tmp_path, bad, capsys):
     write_outputs(synthetic_results(), tmp_path)
     assert main(["fatigue", str(tmp_path), *bad]) == 2
     assert "error" in capsys.readouterr().err
+
+
+def test_run_options_give_a_deck_its_mbl_and_curve():
+    """A MoorDyn deck has no MBL: --mbl and --fatigue-curve set them on its lines; the
+    static safety factor is the MBL over the static fairlead tension (the reactions')."""
+    import argparse
+    from pathlib import Path
+
+    from skmoor.cli import _line_data
+    from skmoor.post.strength import strength
+    from skmoor.run.recorder import static_results
+
+    deck = Path(__file__).parents[2] / "examples" / "decks" / "chain_50m.dat"
+    model = skmoor.build(deck)
+    names = [line.name for line in model.lines.lines]
+    args = argparse.Namespace(mbl=["3e6", f"{names[0]}=2e6"],
+                              fatigue_curve=["studless-chain"], d_nom=None)
+    _line_data(model, args)
+    r = static_results(model)
+    assert r.meta["line_MBL"] == [2e6] + [3e6] * (len(names) - 1)
+    assert r.meta["line_fatigue_curve"] == ["studless-chain"] * len(names)
+    s = strength(r)[names[0]]
+    assert s["where"] == "fairlead"
+    assert s["safety_factor"] == pytest.approx(2e6 / r.meta["fairlead_tension_static"][0],
+                                               rel=1e-9)
+    with pytest.raises(ValueError, match="--fatigue-curve"):
+        _line_data(model, argparse.Namespace(mbl=None, fatigue_curve=["x=studless-chain"],
+                                             d_nom=None))
