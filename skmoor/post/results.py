@@ -183,9 +183,13 @@ class Results:
         return cls(**kw)
 
     def to_netcdf(self, path) -> Path:
-        """Write :meth:`to_xarray` as netCDF-4 (h5netcdf) to ``path``; returns the path."""
+        """Write :meth:`to_xarray` as netCDF-4 (h5netcdf, the arrays deflated) to ``path``;
+        returns the path."""
         path = Path(path)
-        self.to_xarray().to_netcdf(path, engine="h5netcdf")
+        ds = self.to_xarray()
+        encoding = {name: {"zlib": True, "complevel": 4} for name, var in ds.data_vars.items()
+                    if var.size and var.ndim}
+        ds.to_netcdf(path, engine="h5netcdf", encoding=encoding)
         return path
 
     def to_dataframe(self):
