@@ -63,7 +63,10 @@ def _fatigue_summary(results) -> dict:
     gives every element's); {} for a static state or without lines."""
     if not results.line_names or len(results.t) < 2 or results.t[-1] <= results.t[0]:
         return {}
-    report = fatigue(results, where="fairlead")
+    try:
+        report = fatigue(results, where="fairlead")
+    except ValueError as err:  # e.g. a history that is not finite: the summary still goes out
+        return {"where": "fairlead", "note": f"no fatigue: {err}"}
     return {"where": "fairlead", "duration": report["duration"], "f_eq": report["f_eq"],
             "lines": report["lines"]}
 

@@ -178,3 +178,11 @@ def test_fatigue_command_help(capsys):
     for option in ("--curve", "--m", "--start", "--design-life", "--mbl", "--d-nom",
                    "--fairlead"):
         assert option in text
+
+
+def test_summary_of_a_history_that_is_not_finite_still_writes():
+    from skmoor.run.outputs import summary
+
+    r = _cosine_results()
+    r.fairlead_tension[-1, 0] = np.nan
+    assert "not finite" in summary(r)["fatigue"]["note"]
