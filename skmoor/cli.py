@@ -1,4 +1,4 @@
-"""Command line: ``skmoor run | sweep | export | render``, over the public API only."""
+"""Command line: ``skmoor run | sweep | export | render | fatigue``, over the public API only."""
 from __future__ import annotations
 
 import argparse
@@ -50,8 +50,11 @@ def cmd_run(args) -> int:
     settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
                 if getattr(args, k) is not None}
     model = build(source, motion=_motion(args, source), rotations=args.rotations)
+    _line_data(model, args)
     results = simulate(model, progress=not args.quiet, out=out, **settings)
     info = summary(results)
+    from .run.report import summary_table
+    print(summary_table(info), flush=True)  # the numbers first, then files and renders
     _plots(results, out)
     return _finish(results, info, out, args)
 
@@ -84,20 +87,88 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_export(args) -> int:
-    from . import Results
-
     out = Path(args.outdir)
-    _export(Results.load(out / "results.npz"), out, args.frames)
+    _export(_load_results(out), out, args.frames)
     return 0
 
 
 def cmd_render(args) -> int:
-    from . import Results
-
     out = Path(args.outdir)
-    _animate(Results.load(out / "results.npz"), out, args.quiet, scale=args.scale,
+    _animate(_load_results(out), out, args.quiet, scale=args.scale,
              camera=args.camera)
     return 0
+
+
+def cmd_fatigue(args) -> int:
+    from .post.fatigue import fatigue
+
+    out = Path(args.outdir)
+    results = _load_results(out)
+    report = fatigue(results, curve=_per_line(args.curve, str, results.line_names, "--curve"),
+                     m=args.m, start=args.start, design_life=args.design_life,
+                     mbl=_per_line(args.mbl, float, results.line_names, "--mbl"),
+                     d_nom=_per_line(args.d_nom, float, results.line_names, "--d-nom"),
+                     where="fairlead" if args.fairlead else "elements")
+    (out / "fatigue.json").write_text(json.dumps(report, indent=2))
+    from .run.report import fatigue_table
+    print(fatigue_table(report))
+    print(f"wrote {out / 'fatigue.json'}")
+    return 0
+
+
+def _per_line(values, convert, line_names, option):
+    """--option VALUE [LINE=VALUE ...] as a value for all lines, or {line: value}."""
+    if not values:
+        return None
+    bare = [v for v in values if "=" not in v]
+    if len(bare) > 1:
+        raise ValueError(f"{option}: one value for all lines, then LINE=VALUE for some "
+                         f"(got {', '.join(bare)})")
+    given = {}
+    for item in values:
+        if "=" in item:
+            line, value = item.split("=", 1)
+            given[line] = value
+    try:
+        if not given:
+            return convert(bare[0])
+        out = {name: convert(bare[0]) for name in line_names} if bare else {}
+        out.update({line: convert(v) for line, v in given.items()})
+    except ValueError as err:
+        raise ValueError(f"{option}: {err}") from None
+    return out
+
+
+def _line_data(model, args):
+    """--mbl, --fatigue-curve, --d-nom of ``skmoor run``: the lines' strength and fatigue
+    data over their line types' (a MoorDyn deck has none of them)."""
+    import dataclasses
+
+    lines = model.lines.lines if model is not None else []
+    names = [line.name for line in lines]
+    for key, option, convert in (("MBL", "--mbl", float), ("fatigue_curve", "--fatigue-curve", str),
+                                 ("d_nom", "--d-nom", float)):
+        given = _per_line(getattr(args, key.lower(), None), convert, names, option)
+        if given is None:
+            continue
+        if isinstance(given, dict):
+            unknown = sorted(set(given) - set(names))
+            if unknown:
+                raise ValueError(f"{option}: no line named {', '.join(map(repr, unknown))} "
+                                 f"(the lines are {', '.join(names)})")
+        for line in lines:
+            value = given.get(line.name) if isinstance(given, dict) else given
+            if value is not None:
+                line.line_type = dataclasses.replace(line.line_type, **{key: value})
+
+
+def _load_results(out):
+    """A saved run's results: OUTDIR/results.nc, or results.npz where there is none (a
+    run stopped before its end, or written before results.nc)."""
+    from . import Results
+
+    nc = out / "results.nc"
+    return Results.load(nc if nc.exists() else out / "results.npz")
 
 
 def _plots(results, out):
@@ -108,6 +179,9 @@ def _plots(results, out):
         plot_time_histories(results, out / "time_histories.png")
     else:
         plot_line_tensions(results, out / "time_histories.png")
+    if results.line_names:
+        from .post.plots import plot_strength
+        plot_strength(results, out / "strength.png")
 
 
 def _export(results, out, max_frames):
@@ -161,6 +235,14 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--rotations", choices=("small", "exact"),
                      help="deck only: the free bodies' rotations, 'exact' for bodies that "
                      "turn far (default: small; a case file sets it per body)")
+    run.add_argument("--mbl", nargs="+", metavar="N", help="minimum breaking load, N, of all "
+                     "lines and/or LINE=N, over the line types' (a MoorDyn deck gives none): "
+                     "the safety factors in summary.json")
+    run.add_argument("--fatigue-curve", dest="fatigue_curve", nargs="+", metavar="CURVE",
+                     help="fatigue curve of all lines and/or LINE=CURVE (e.g. studless-chain; "
+                     "see skmoor fatigue --help)")
+    run.add_argument("--d-nom", dest="d_nom", nargs="+", metavar="M", help="nominal "
+                     "diameter, m, of all lines and/or LINE=M (the fatigue curves' section)")
     run.set_defaults(func=cmd_run)
 
     sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",
@@ -182,7 +264,7 @@ def parser() -> argparse.ArgumentParser:
     sw.set_defaults(func=cmd_sweep)
 
     ex = sub.add_parser("export", help="(re)write ParaView files from saved results",
-                        description="Reads OUTDIR/results.npz and writes lines.xdmf (+ .h5) and "
+                        description="Reads OUTDIR/results.nc (or results.npz) and writes lines.xdmf (+ .h5) and "
                         "a VTU series with a .pvd index into OUTDIR.")
     ex.add_argument("outdir", help="folder of a previous run")
     ex.add_argument("--frames", type=int, default=1000, help="at most this many samples, "
@@ -190,13 +272,37 @@ def parser() -> argparse.ArgumentParser:
     ex.set_defaults(func=cmd_export)
 
     rd = sub.add_parser("render", help="(re)render snapshot and animations from saved results",
-                        description="Reads OUTDIR/results.npz and renders snapshot.png, "
+                        description="Reads OUTDIR/results.nc (or results.npz) and renders snapshot.png, "
                         "animation.mp4 and animation.gif off-screen.")
     rd.add_argument("outdir", help="folder of a previous run")
     rd.add_argument("--scale", type=float, help="displacement scale factor (default: automatic)")
     rd.add_argument("--camera", default="iso", help="camera preset: iso, side, top, front")
     rd.add_argument("--quiet", action="store_true", help="no progress bar")
     rd.set_defaults(func=cmd_render)
+    fa = sub.add_parser("fatigue", help="rainflow fatigue damage and DELs of a saved run",
+                        description="Reads OUTDIR's results, counts each element's tension "
+                        "ranges (rainflow, ASTM E1049), sums Miner's damage on the lines' "
+                        "T-N / S-N curves (DNV-OS-E301, DNV-RP-C203) over the run, per year "
+                        "and per design life, and the damage-equivalent loads at 1 Hz; "
+                        "writes OUTDIR/fatigue.json and prints a table.")
+    fa.add_argument("outdir", help="folder of a previous run")
+    fa.add_argument("--curve", nargs="+", metavar="CURVE", help="fatigue curve for all "
+                    "lines and/or LINE=CURVE for some, over the line types' own (names: "
+                    "studless-chain, studlink-chain, six-strand-rope, spiral-strand-rope, "
+                    "polyester-rope, dnv-c203-D-air ...)")
+    fa.add_argument("--m", nargs="+", type=float, default=[3.0, 5.0],
+                    help="Wöhler exponents of the damage-equivalent loads (default: 3 5)")
+    fa.add_argument("--start", type=float, default=0.0,
+                    help="skip the samples before this time, s (the start-up transient)")
+    fa.add_argument("--design-life", dest="design_life", type=float, metavar="YEARS",
+                    help="also give the damage over this many years")
+    fa.add_argument("--mbl", nargs="+", metavar="N", help="minimum breaking load, N, for all "
+                    "lines and/or LINE=N (polyester's curve needs it)")
+    fa.add_argument("--d-nom", dest="d_nom", nargs="+", metavar="M", help="nominal diameter, "
+                    "m, for all lines and/or LINE=M (default: the line types')")
+    fa.add_argument("--fairlead", action="store_true",
+                    help="the tension at each line's fairlead (end B) only")
+    fa.set_defaults(func=cmd_fatigue)
     return p
 
 

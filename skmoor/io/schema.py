@@ -38,6 +38,8 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
+from ..lines.fatigue_curves import CURVES
+
 __all__ = ["validate_case", "layout", "MAX_ELEMENTS_PER_LINE", "ParametricCase", "NetworkCase"]
 
 #: The most elements one line may have: beyond it the model's matrices and the recorded
@@ -373,7 +375,8 @@ class Water(_Table):
     depth: Positive
 
 
-LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "EI")
+LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "EI", "MBL", "MBR", "fatigue_curve",
+                     "d_nom")
 _BY_EA = ("EA", "mass", "diameter", "weight")
 _BY_E = ("E", "diameter", "density")
 
@@ -381,7 +384,9 @@ _BY_E = ("E", "diameter", "density")
 class LineTypeSpec(_Table):
     """Either EA (N), mass (kg/m), diameter (m) [, weight (N/m, submerged)] or E (Pa),
     diameter (m), density (kg/m3); Morison coefficients, BA (N s) and the bending
-    stiffness EI (N m2) >= 0."""
+    stiffness EI (N m2) >= 0; for the strength and fatigue checks the minimum breaking
+    load MBL (N), the allowable bend radius MBR (m), the fatigue curve's name
+    (skmoor.lines.fatigue_curves.CURVES) and the nominal diameter d_nom (m)."""
 
     EA: Positive = None
     mass: Positive = None
@@ -395,6 +400,10 @@ class LineTypeSpec(_Table):
     Ca_t: NonNegative = None
     BA: NonNegative = None
     EI: NonNegative = None
+    MBL: Positive = None
+    MBR: Positive = None
+    fatigue_curve: Annotated[str, _choice(*CURVES)] = None
+    d_nom: Positive = None
 
     @staticmethod
     def _by_EA(keys) -> bool:

@@ -27,6 +27,7 @@ from skfem import (
 from ..numerics.validation import check_finite, check_positive
 from . import bending, laws
 from . import cable_forms as forms
+from .fatigue_curves import curve as fatigue_curve
 
 RHO_WATER = 1025.0
 G = 9.81
@@ -49,6 +50,13 @@ class LineType:
     goes on the C1 Hermite element with the bending form, :mod:`skmoor.lines.bending`).
     Cl, viv_dF, viv_cF: the cross-flow VIV lift coefficient and the synchronization
     range and centre (MoorDyn's Cl, dF, cF; Cl = 0: no VIV, see :mod:`skmoor.sea.viv`).
+    MBL: minimum breaking load, N (None: unknown; the strength check then reports no
+    safety factor). MBR: the allowable (minimum) bend radius, m, of a bending line.
+    fatigue_curve: the T-N or S-N curve of the line's fatigue, a name in
+    :data:`skmoor.lines.fatigue_curves.CURVES` (None: no fatigue unless one is given
+    when the damage is computed). d_nom: the nominal diameter, m, whose section
+    pi d_nom^2 / 4 turns a tension range into the curves' stress range (default: the
+    diameter; a chain's volume-equivalent diameter is about 1.8 times its nominal one).
     """
 
     EA: float | None
@@ -67,8 +75,17 @@ class LineType:
     Cl: float = 0.0
     viv_dF: float = 0.08
     viv_cF: float = 0.18
+    MBL: float | None = None
+    MBR: float | None = None
+    fatigue_curve: str | None = None
+    d_nom: float | None = None
 
     def __post_init__(self):
+        for name in ("MBL", "MBR", "d_nom"):
+            if getattr(self, name) is not None:
+                check_positive(f"LineType.{name}", getattr(self, name))
+        if self.fatigue_curve is not None:
+            fatigue_curve(self.fatigue_curve, "LineType.fatigue_curve")
         if self.law is not None:
             self.law = laws.as_law(self.law, "LineType.law")
         if self.EA is None:

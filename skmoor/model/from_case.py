@@ -25,10 +25,13 @@ from . import environment
 def line_type(case, name) -> LineType:
     """The LineType ``name`` of a case (from EA, mass, diameter or from E, diameter, density;
     optional Morison coefficients Cd_n, Cd_t, Ca_n, Ca_t, internal damping BA, N s, and
-    bending stiffness EI, N m2)."""
+    bending stiffness EI, N m2; strength and fatigue: MBL, N, MBR, m, fatigue_curve, d_nom, m)."""
     t = case.data["line_types"][name]
-    extra = {key: float(t[key]) for key in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "EI")
+    extra = {key: float(t[key]) for key in ("Cd_n", "Cd_t", "Ca_n", "Ca_t", "BA", "EI", "MBL",
+                                            "MBR", "d_nom")
              if key in t}
+    if "fatigue_curve" in t:
+        extra["fatigue_curve"] = t["fatigue_curve"]
     rho, g = case.water["density"], case.water["gravity"]
     if "EA" in t:
         return LineType(EA=t["EA"], mass=t["mass"], diameter=t["diameter"], weight=t.get("weight"),

@@ -1,7 +1,8 @@
 """Time histories and parameter studies as figures (PNG, PDF or SVG by the suffix;
 matplotlib without pyplot, so no GUI backend is ever touched): the paper's Fig. 6
 (:func:`plot_time_histories`), one body of a network with its lines' fairlead tensions
-(:func:`plot_body_and_tensions`) and the parameter studies (:func:`plot_study`)."""
+(:func:`plot_body_and_tensions`), the lines' strength (:func:`plot_strength`) and the
+parameter studies (:func:`plot_study`)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -95,6 +96,45 @@ def plot_line_tensions(results, path, title=None, figsize=(8.0, 5.0), dpi=120) -
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize="small", ncol=2)
     return _finish_history(fig, [ax], results, title, path)
+
+
+def plot_strength(results, path, mbl=None, title=None, figsize=(8.0, 6.0), dpi=120) -> Path:
+    """The lines' strength (:func:`skmoor.post.strength.strength`): (a) each element's
+    largest tension over the run (kN) along its line (element index from end A), the
+    line's MBL dashed where known; (b) each line's utilisation Tmax / MBL (%), its safety
+    factor written on the bar. mbl: as for ``strength`` (a value or {line: N})."""
+    from .strength import strength
+
+    rows = strength(results, mbl=mbl)
+    fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
+    top, bottom = fig.subplots(2, 1)
+    for k, (name, row) in enumerate(rows.items()):
+        y = np.asarray(row["element_max_tension"]) / 1e3
+        top.plot(np.arange(len(y)), y, "o-", ms=3, lw=1.2, color=f"C{k}", label=name)
+        if row["MBL"] is not None:
+            top.axhline(row["MBL"] / 1e3, color=f"C{k}", ls="--", lw=1.0)
+    top.set_xlabel("element (from the anchor end)")
+    top.set_ylabel("largest tension [kN]")
+    top.ticklabel_format(axis="y", useOffset=False)
+    top.legend(loc="best", fontsize="small", ncol=min(len(rows), 4) or 1)
+    names = [n for n, row in rows.items() if row["utilisation"] is not None]
+    use = [100 * rows[n]["utilisation"] for n in names]
+    bars = bottom.bar(names, use, color=[f"C{list(rows).index(n)}" for n in names])
+    for bar, name in zip(bars, names):
+        bottom.annotate(f"SF {rows[name]['safety_factor']:.2f}",
+                        (bar.get_x() + bar.get_width() / 2, bar.get_height()),
+                        ha="center", va="bottom", fontsize="small")
+    if not names:
+        bottom.text(0.5, 0.5, "no MBL given: no utilisation", ha="center", va="center",
+                    transform=bottom.transAxes)
+    bottom.set_ylabel("utilisation Tmax / MBL [%]")
+    for ax, letter in zip((top, bottom), "ab"):
+        ax.grid(alpha=0.3)
+        ax.set_title(f"({letter})", loc="left", fontsize="medium")
+    title = results.meta.get("case", "") if title is None else title
+    if title:
+        fig.suptitle(str(title))
+    return _save(fig, path)
 
 
 def plot_study(rows, path, parameter_label, title=None, figsize=(9.0, 7.0), dpi=120) -> Path:

@@ -142,9 +142,85 @@ class Results:
                             meta=np.array(json.dumps(self.meta, default=_jsonable)))
         return path
 
+    def to_xarray(self):
+        """The results as an :class:`xarray.Dataset`: dimensions ``time``, ``line``,
+        ``node``, ``element``, ``body``, ``dof`` (surge ... yaw), ``point``, ``axis`` (x, y,
+        z), ``end`` (A, B) and ``load`` (Fx ... Mz); every variable with its ``units``
+        and ``long_name``; the water depth and the meta (JSON) as attributes.
+        :meth:`from_xarray` reads it back."""
+        import xarray as xr
+
+        data = {}
+        for name, (dims, units, long_name) in _XARRAY.items():
+            value = np.asarray(getattr(self, name))
+            data[_XR_NAME.get(name, name)] = xr.Variable(
+                dims, value.reshape([_size(self, d) for d in dims]),
+                {"units": units, "long_name": long_name})
+        coords = {"time": ("time", np.asarray(self.t, float), {"units": "s", "long_name": "time"}),
+                  "line": ("line", np.array(self.line_names, dtype=str)),
+                  "body": ("body", np.array(self.body_names, dtype=str)),
+                  "point": ("point", np.array(self.point_names, dtype=str)),
+                  "node": np.arange(len(self.points)),
+                  "element": np.arange(len(self.line_of_cell)),
+                  "dof": list(BODY_DOFS), "axis": ["x", "y", "z"], "end": ["A", "B"],
+                  "load": list(LOAD_COMPONENTS)}
+        return xr.Dataset(data, coords=coords, attrs={
+            "title": "skmoor results", "depth": float(self.depth), "depth_units": "m",
+            "meta": json.dumps(self.meta, default=_jsonable)})
+
+    @classmethod
+    def from_xarray(cls, ds) -> Results:
+        """Results from a Dataset made by :meth:`to_xarray` (or read from ``results.nc``)."""
+        kw = {name: np.asarray(ds[_XR_NAME.get(name, name)].values) for name in _XARRAY}
+        kw["t"] = np.asarray(ds["time"].values, float)
+        kw["cells"] = kw["cells"].astype(int)
+        kw["line_of_cell"] = kw["line_of_cell"].astype(int)
+        for key, dim in (("line_names", "line"), ("body_names", "body"),
+                         ("point_names", "point")):
+            kw[key] = [str(s) for s in ds[dim].values]
+        kw["depth"] = float(ds.attrs["depth"])
+        kw["meta"] = json.loads(ds.attrs.get("meta", "{}"))
+        return cls(**kw)
+
+    def to_netcdf(self, path) -> Path:
+        """Write :meth:`to_xarray` as netCDF-4 (h5netcdf, the arrays deflated) to ``path``;
+        returns the path."""
+        path = Path(path)
+        ds = self.to_xarray()
+        encoding = {name: {"zlib": True, "complevel": 4} for name, var in ds.data_vars.items()
+                    if var.size and var.ndim}
+        ds.to_netcdf(path, engine="h5netcdf", encoding=encoding)
+        return path
+
+    def to_dataframe(self):
+        """The time series as a :class:`pandas.DataFrame` indexed by time (s), the columns
+        of ``timeseries.csv``: each body's six DOFs ``BODY.surge`` ... (m, rad),
+        ``max_tension``, ``fairlead_tension_LINE`` and ``anchor_tension_LINE`` (N) and each
+        point's displacement ``POINT.x`` ... (m)."""
+        import pandas as pd
+
+        columns = {}
+        for k, body in enumerate(self.body_names):
+            for j, dof in enumerate(BODY_DOFS):
+                columns[f"{body}.{dof}"] = self.bodies[:, k, j]
+        columns["max_tension"] = self.max_tension
+        for k, line in enumerate(self.line_names):
+            columns[f"fairlead_tension_{line}"] = self.fairlead_tension[:, k]
+        for k, line in enumerate(self.line_names):
+            columns[f"anchor_tension_{line}"] = self.anchor_tension[:, k]
+        for k, point in enumerate(self.point_names):
+            for j, c in enumerate("xyz"):
+                columns[f"{point}.{c}"] = self.point_displacement[:, k, j]
+        return pd.DataFrame(columns, index=pd.Index(np.asarray(self.t, float), name="t"))
+
     @classmethod
     def load(cls, path) -> Results:
-        """Read a file written by :meth:`save`."""
+        """Read a file written by :meth:`save` (``.npz``) or :meth:`to_netcdf` (``.nc``)."""
+        if Path(path).suffix == ".nc":
+            import xarray as xr
+
+            with xr.open_dataset(Path(path), engine="h5netcdf") as ds:
+                return cls.from_xarray(ds.load())
         with np.load(Path(path), allow_pickle=False) as data:
             kw = {f.name: data[f.name] for f in fields(cls)
                   if f.name not in ("meta", "depth") + _NAMES and f.name in data}
@@ -159,6 +235,46 @@ _TIME_ARRAYS = ("t", "body", "displacement", "velocity", "tension", "strain",
                 "fairlead_tension", "anchor_tension", "bodies", "point_displacement",
                 "curvature", "bending_moment", "coupled_loads")
 _NAMES = ("line_names", "body_names", "point_names")
+
+#: the six components of a body's load: force (N) and moment (N m)
+LOAD_COMPONENTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+
+# field: (dimensions, units, long name) of the netCDF / xarray form
+_XARRAY = {
+    "body": (("time", "dof"), "m, rad", "first body's displacement from its reference "
+             "(surge, sway, heave in m; roll, pitch, yaw in rad)"),
+    "points": (("node", "axis"), "m", "reference (static) node position"),
+    "cells": (("element", "end"), "1", "element connectivity: node of end A and end B"),
+    "line_of_cell": (("element",), "1", "line index of the element"),
+    "displacement": (("time", "node", "axis"), "m", "node displacement from the reference"),
+    "velocity": (("time", "node", "axis"), "m s-1", "node velocity"),
+    "tension": (("time", "element"), "N", "element tension"),
+    "strain": (("time", "element"), "1", "element strain relative to the reference"),
+    "fairlead_tension": (("time", "line"), "N", "tension at end B (fairlead)"),
+    "anchor_tension": (("time", "line"), "N", "tension at end A (anchor)"),
+    "body_center": (("axis",), "m", "reference point of the drawn body"),
+    "body_box": (("axis",), "m", "box size of the drawn body (zeros: none)"),
+    "body_box_center": (("axis",), "m", "box centre relative to the body's reference point"),
+    "body_reference": (("body", "axis"), "m", "reference point of each body"),
+    "bodies": (("time", "body", "dof"), "m, rad", "each body's displacement from its "
+               "reference (surge, sway, heave in m; roll, pitch, yaw in rad)"),
+    "point_reference": (("point", "axis"), "m", "point position in the reference state"),
+    "point_displacement": (("time", "point", "axis"), "m", "point displacement"),
+    "curvature": (("time", "element"), "m-1", "curvature at the element mid-point"),
+    "bending_moment": (("time", "element"), "N m", "bending moment at the element mid-point"),
+    "coupled_loads": (("time", "body", "load"), "N, N m", "force and moment each coupled "
+                      "body passes to the caller"),
+}
+# variables renamed in the Dataset (a variable may not share its name with a dimension)
+_XR_NAME = {"body": "body_displacement", "points": "node_reference",
+            "line_of_cell": "element_line", "cells": "element_nodes"}
+
+
+def _size(results, dim) -> int:
+    return {"time": len(results.t), "line": len(results.line_names),
+            "node": len(results.points), "element": len(results.line_of_cell),
+            "body": len(results.body_names), "dof": 6, "point": len(results.point_names),
+            "axis": 3, "end": 2, "load": 6}[dim]
 
 
 def _jsonable(x):

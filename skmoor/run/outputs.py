@@ -10,18 +10,24 @@ from pathlib import Path
 
 import numpy as np
 
+from ..post.fatigue import fatigue
 from ..post.results import BODY_DOFS, Results
+from ..post.strength import strength
 
 # what a run writes into its output folder (a reused folder is cleared of these first)
 OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png",
            "snapshot.png", "animation.mp4", "animation.gif", "lines.xdmf", "lines.h5",
-           "motion.pvd")
+           "motion.pvd", "strength.png", "fatigue.json", "results.nc")
 
 
 def summary(results: Results) -> dict:
     """The run's key numbers (SI, angles in rad), as written to ``summary.json``:
     ``fairlead_tension_static`` is the FE static state's (end B of each line);
-    ``fairlead_tension_catenary`` the analytic catenary's where one exists (else null)."""
+    ``fairlead_tension_catenary`` the analytic catenary's where one exists (else null);
+    ``strength`` each line's largest tension, MBL, safety factor and utilisation
+    (:func:`skmoor.post.strength.strength`); ``fatigue`` each line's damage at its
+    fairlead on its type's curve and the DELs for m = 3 and 5 at 1 Hz
+    (:func:`skmoor.post.fatigue.fatigue`)."""
     meta = results.meta
     period = meta.get("forcing_period")
     n = int(meta.get("steady_periods", 5))
@@ -46,7 +52,23 @@ def summary(results: Results) -> dict:
             "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", []),
             **({"max_curvature": results.line_maxima("curvature"),
                 "max_bending_moment": results.line_maxima("bending_moment")}
-               if results.bending else {})}
+               if results.bending else {}),
+            "strength": strength(results) if results.line_names else {},
+            "fatigue": _fatigue_summary(results)}
+
+
+def _fatigue_summary(results) -> dict:
+    """The fatigue at each line's fairlead (end B) on its line type's curve over the run
+    (:func:`skmoor.post.fatigue.fatigue` with ``where="fairlead"``; ``skmoor fatigue``
+    gives every element's); {} for a static state or without lines."""
+    if not results.line_names or len(results.t) < 2 or results.t[-1] <= results.t[0]:
+        return {}
+    try:
+        report = fatigue(results, where="fairlead")
+    except ValueError as err:  # e.g. a history that is not finite: the summary still goes out
+        return {"where": "fairlead", "note": f"no fatigue: {err}"}
+    return {"where": "fairlead", "duration": report["duration"], "f_eq": report["f_eq"],
+            "lines": report["lines"]}
 
 
 def _timeseries_header(body_names, line_names, free_names) -> list:
@@ -71,7 +93,8 @@ def _write_rows(path, table, header=None):
 
 
 def write_outputs(results: Results, out) -> dict:
-    """Write results.npz, summary.json and timeseries.csv into folder ``out``.
+    """Write results.npz, results.nc (the same as netCDF, :meth:`Results.to_netcdf`),
+    summary.json and timeseries.csv into folder ``out``.
 
     timeseries.csv columns: t; for each body its six DOFs ``NAME.surge`` ... ``NAME.yaw``
     (m, rad); max_tension (the largest element tension at that time, N);
@@ -80,6 +103,7 @@ def write_outputs(results: Results, out) -> dict:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     results.save(out / "results.npz")
+    results.to_netcdf(out / "results.nc")
     info = summary(results)
     (out / "summary.json").write_text(json.dumps(info, indent=2))
     kinds = results.meta.get("point_kinds", [])
@@ -158,6 +182,7 @@ class OutputWriter:
         self.saved = time.perf_counter()
 
     def finish(self, results):
-        """The last rows and the final results.npz and summary.json."""
+        """The last rows, the final results.npz and summary.json, and results.nc."""
         self._append()
         self._save(results)
+        results.to_netcdf(self.folder / "results.nc")

@@ -16,6 +16,7 @@ from ..coupling.network import coupled_size
 from ..coupling.rods import coupled_reaction
 from ..model.model import Model
 from ..post.results import Results
+from ..post.strength import line_strength_meta
 from ..solvers.compiled_step import lowered_terms
 from ..solvers.dynamics import State, integrate
 from ..solvers.newton import DivergenceError
@@ -274,7 +275,8 @@ class Recorder:
         bending = bool(lines.hermite)
         meta = {**meta, "has_body": bool(network.bodies), "bending": bending,
                 "point_kinds": [p.kind for p in network.points],
-                "point_masses": [p.mass for p in network.points]}
+                "point_masses": [p.mass for p in network.points],
+                **line_strength_meta(lines.lines)}
         return Results(t=r["t"], body=bodies[:, 0] if network.bodies else np.zeros((nt, 6)),
                        points=lines.points, cells=lines.mesh.t.T.copy(),
                        line_of_cell=lines.line_of_cell,
