@@ -2,8 +2,12 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import signal
 import sys
+import threading
+import warnings
 from pathlib import Path
 
 DEFAULT_OUT = "skmoor-out"
@@ -43,17 +47,18 @@ def _motion(args, source):
 
 def cmd_run(args) -> int:
     from . import build, simulate, summary
-    from .run.outputs import prepare_output
+    from .run.outputs import output_lock, prepare_output
 
-    out = prepare_output(args.out)  # before any solve
-    source = _source(args.case)
-    settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
-                if getattr(args, k) is not None}
-    model = build(source, motion=_motion(args, source), rotations=args.rotations)
-    results = simulate(model, progress=not args.quiet, out=out, **settings)
-    info = summary(results)
-    _plots(results, out)
-    return _finish(results, info, out, args)
+    with output_lock(args.out):  # a second run into the same folder is refused
+        out = prepare_output(args.out)  # before any solve
+        source = _source(args.case)
+        settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
+                    if getattr(args, k) is not None}
+        model = build(source, motion=_motion(args, source), rotations=args.rotations)
+        results = simulate(model, progress=not args.quiet, out=out, **settings)
+        info = summary(results)
+        _plots(results, out)
+        return _finish(results, info, out, args)
 
 
 def _finish(results, info, out, args) -> int:
@@ -84,20 +89,23 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_export(args) -> int:
-    from . import Results
-
     out = Path(args.outdir)
-    _export(Results.load(out / "results.npz"), out, args.frames)
+    _export(_load(out), out, args.frames)
     return 0
 
 
 def cmd_render(args) -> int:
-    from . import Results
-
     out = Path(args.outdir)
-    _animate(Results.load(out / "results.npz"), out, args.quiet, scale=args.scale,
-             camera=args.camera)
+    _animate(_load(out), out, args.quiet, scale=args.scale, camera=args.camera)
     return 0
+
+
+def _load(out):
+    """The Results of a previous run's folder, ValueError (one line) when it is not one:
+    a file, no results.npz, a truncated one or one without an array, non-finite motion."""
+    from .run.outputs import load_results
+
+    return load_results(out)
 
 
 def _plots(results, out):
@@ -200,16 +208,55 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
-def main(argv=None) -> int:
-    args = parser().parse_args(argv)
+def _one_line_warning(message, category, filename, lineno, line=None):
+    """A warning as one line naming its kind, not the source line that raised it."""
+    return f"skmoor: {category.__name__}: {message}\n"
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt():
+    """SIGTERM handled as Ctrl-C while a command runs (a run keeps its results, a sweep
+    its finished points); the previous handler restored after."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
     try:
-        return args.func(args)
-    except (ValueError, FileNotFoundError) as err:
-        print(f"skmoor {args.command}: error: {err}", file=sys.stderr)
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def main(argv=None) -> int:
+    from .solvers.newton import ConvergenceError
+
+    args = parser().parse_args(argv)
+    shown = warnings.formatwarning
+    warnings.formatwarning = _one_line_warning
+    try:
+        with _terminate_as_interrupt():
+            return args.func(args)
+    except (ValueError, FileNotFoundError, ConvergenceError) as err:
+        print(f"skmoor {args.command}: error: {_line(err)}", file=sys.stderr)
+        return 2
+    except OSError as err:  # a full disk, a folder that cannot be written
+        where = f"{err.filename}: " if err.filename else ""
+        print(f"skmoor {args.command}: error: {where}{err.strerror or err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"skmoor {args.command}: interrupted", file=sys.stderr)
         return 130
+    finally:
+        warnings.formatwarning = shown
+
+
+def _line(err) -> str:
+    """An error's message on one line."""
+    return " ".join(str(err).split())
 
 
 if __name__ == "__main__":
