@@ -30,6 +30,7 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..numerics.validation import user_stacklevel
 from .paths import resolve_inside
 
 __all__ = ["Deck", "DeckLineType", "DeckPoint", "DeckLine", "DeckBody", "DeckRodType",
@@ -755,7 +756,8 @@ def _option(e, deck):
     if name in deck.options:  # MoorDyn reads on: the later value wins
         warnings.warn(f"{e.source} line {e.number}: {e.section} {written}: given twice "
                       f"(line {deck.option_lines[name]}: {deck.options[name]}, and here: "
-                      f"{value}); the later value is used, as MoorDyn uses it", stacklevel=2)
+                      f"{value}); the later value is used, as MoorDyn uses it",
+                      stacklevel=user_stacklevel())
     deck.options[name] = value
     deck.option_lines[name] = e.number
 

@@ -15,6 +15,7 @@ import warnings
 import numpy as np
 
 from ..model.model import Model, build
+from ..numerics.validation import user_stacklevel
 from ..post.results import Results
 from ..solvers.dynamics import Scheme
 from ..solvers.newton import ConvergenceError
@@ -158,7 +159,7 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     eq = eq or _starting_equilibrium(model, start)
     notes = resolution_notes(model, eq, dt)
     for note in notes:
-        warnings.warn(note, ResolutionWarning, stacklevel=2)
+        warnings.warn(note, ResolutionWarning, stacklevel=user_stacklevel())
     x0 = {"given": released_state, "reference": reference_state}.get(start)
     x0 = eq.x if x0 is None else x0(model)
     recorder = Recorder(model)

@@ -342,3 +342,31 @@ def test_file_references_leaving_the_case_folder_are_refused(tmp_path):
     with pytest.raises(ValueError, match=r"curve\.dat line \d+: LINE TYPES EA: '/etc/passwd' "
                                          r"leads out of the folder"):
         skmoor.read_deck(folder / "curve.dat")
+
+
+# ------------------------------------------------------------------ a current in the wrong unit
+
+def test_a_current_of_a_million_metres_a_second_is_refused_at_once(tmp_path, capsys):
+    """A deck's steady current (Currents 1) of 1e6 m/s on a chain of Cd 2.4, d 0.18 m,
+    350 m: its drag 1/2 1025 2.4 0.18 (1e6)^2 350 = 7.75e16 N, 9.1e7 times EA; refused
+    before any solve (it ran a static solve for minutes), on the CLI in one line."""
+    text = CLUMP.read_text().replace("100.0      WtrDpth",
+                                     "1          Currents      steady current\n"
+                                     "100.0      WtrDpth")
+    (tmp_path / "deck.dat").write_text(text)
+    (tmp_path / "current_profile.txt").write_text("z ux\n(m) (m/s)\n-\n-100 1e6\n0 1e6\n")
+    with pytest.raises(ValueError, match=r"sea: the water's speed 1e\+06 m/s drags line line1 "
+                                         r"with about 7\.75e\+16 N, 9\.12e\+07 times its axial"):
+        skmoor.build(tmp_path / "deck.dat")
+    assert cli.main(["run", str(tmp_path / "deck.dat"), "--out", str(tmp_path / "o"),
+                     "--quiet"]) == 2
+    assert "no cable holds that" in one_line_error(capsys, "run")
+
+
+def test_a_warning_from_the_api_points_at_the_callers_line():
+    """A warning skmoor gives (a current with nothing to act on) names the line of the
+    user's code that called skmoor, not skmoor's own source."""
+    case = PAPER.replace("sea", {"current_speed": 0.5})
+    with pytest.warns(UserWarning, match="the current acts on nothing") as caught:
+        skmoor.build(case)
+    assert caught[0].filename == __file__
