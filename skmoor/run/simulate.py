@@ -210,6 +210,11 @@ def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
     try:
         return equilibrium(model)
     except ConvergenceError as err:
+        if "not finite" in str(err):  # name the term that gives NaN at the start
+            culprit = model.system.non_finite(np.zeros(model.system.n))
+            if culprit is not None:
+                raise ConvergenceError(f"{str(err).split(';')[0]}: {culprit} gives NaN or "
+                                       "inf at the state as built") from None
         if start != "given" or rayleigh:
             raise
         model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "

@@ -370,3 +370,46 @@ def test_a_warning_from_the_api_points_at_the_callers_line():
     with pytest.warns(UserWarning, match="the current acts on nothing") as caught:
         skmoor.build(case)
     assert caught[0].filename == __file__
+
+
+# ------------------------------------------------------------------ a user's terms
+
+@pytest.mark.parametrize("path", ["compiled", "fd"])
+def test_a_user_form_returning_nan_is_named(path):
+    """A user's LineForm that returns NaN: the static solve says the residual is not
+    finite and names the term (it said 'singular tangent ... is a line slack')."""
+    pytest.importorskip("jax") if path == "compiled" else None
+    from skmoor.fem import ops
+    from skmoor.fem.terms import LineForm
+    from skmoor.solvers.newton import ConvergenceError
+
+    def soggy_drag(v, w):
+        return np.nan * ops.dot(w.u, v)
+
+    model = skmoor.build(PAPER)
+    model.add(LineForm(soggy_drag, path=path))
+    with pytest.raises(ConvergenceError, match=r"not finite \(NaN or inf\) at iteration 1: "
+                                               r"an added lines term 'soggy_drag' \(LineForm\)") as info:
+        skmoor.simulate(model, duration=1.0, progress=False)
+    assert "slack" not in str(info.value) and "\n" not in str(info.value)
+
+
+class UsersOwnError(Exception):
+    pass
+
+
+@pytest.mark.parametrize("path", ["compiled", "fd"])
+def test_an_exception_in_a_user_form_is_the_users_own(path):
+    """An exception raised in a user's form reaches the caller as that exception, its
+    message the last thing said (no JAX note after it)."""
+    pytest.importorskip("jax") if path == "compiled" else None
+    from skmoor.fem.terms import LineForm
+
+    def broken(v, w):
+        raise UsersOwnError("the user's own words")
+
+    model = skmoor.build(PAPER)
+    model.add(LineForm(broken, path=path))
+    with pytest.raises(UsersOwnError, match="the user's own words") as info:
+        skmoor.simulate(model, duration=1.0, progress=False)
+    assert not any("JAX" in note for note in getattr(info.value, "__notes__", []))
