@@ -19,7 +19,14 @@ from ..numerics.validation import user_stacklevel
 from ..post.results import Results
 from ..solvers.dynamics import Scheme
 from ..solvers.newton import ConvergenceError
-from .equilibrium import Equilibrium, equilibrium, reference_state, released_state
+from .equilibrium import (
+    Equilibrium,
+    dof_names,
+    equilibrium,
+    reference_state,
+    released_state,
+    steady_water,
+)
 from .outputs import OutputWriter, prepare_output, summary
 from .recorder import INTERRUPTED, Recorder, record_run, run_meta
 
@@ -195,6 +202,23 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     return results
 
 
+def _out_of_balance(model: Model) -> str:
+    """Where the state as built is most out of balance: the DOF with the largest residual
+    force, named (``line2 node 14``, ``point3 z``), or '' when it cannot be said."""
+    system = model.system
+    try:
+        with steady_water(model), np.errstate(all="ignore"):
+            R = system.residual(np.zeros(system.n), tangent=False)[0]
+        names = dof_names(model)
+    except Exception:  # naming is a courtesy: never hide the solve's own error
+        return ""
+    if not R.size or not np.all(np.isfinite(R)):
+        return ""
+    k = int(np.argmax(np.abs(R)))
+    return (f"most out of balance as built: {names[k] or f'DOF {k}'} "
+            f"({abs(R[k]):.3g} N or N m)")
+
+
 def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
     """The model's equilibrium; for a release from the given state (``start='given'``)
     without Rayleigh damping, a model with no static equilibrium (a buoyant rod pinned
@@ -216,6 +240,9 @@ def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
                 raise ConvergenceError(f"{str(err).split(';')[0]}: {culprit} gives NaN or "
                                        "inf at the state as built") from None
         if start != "given" or rayleigh:
+            worst = _out_of_balance(model)
+            if worst and "out of balance" not in str(err):
+                raise ConvergenceError(f"{err}; {worst}") from None
             raise
         model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "
                            "released from the given state without one")

@@ -413,3 +413,27 @@ def test_an_exception_in_a_user_form_is_the_users_own(path):
     with pytest.raises(UsersOwnError, match="the user's own words") as info:
         skmoor.simulate(model, duration=1.0, progress=False)
     assert not any("JAX" in note for note in getattr(info.value, "__notes__", []))
+
+
+# ------------------------------------------------------------------ a failing static solve
+
+def test_a_failing_static_solve_is_one_line_naming_the_line(tmp_path, capsys):
+    """A 100 km chain between an anchor and a fairlead 400 m apart has no static state
+    the solve finds: on the command line one line (no traceback) naming the line whose
+    node is most out of balance as built."""
+    head, rest = CLUMP.read_text().split("---------------------- POINTS")
+    options = rest.split("---------------------- OPTIONS")[1]
+    (tmp_path / "span.dat").write_text(head + """---------------------- POINTS ----
+ID  Attachment  X         Y         Z        Mass    Volume  CdA   Ca
+(#) (word)      (m)       (m)       (m)      (kg)    (m^3)   (m^2) (-)
+1   Fixed       -400.0    0.0       -100.0   0.0     0.0     0.0   0.0
+2   Coupled     0.0       0.0       0.0      0.0     0.0     0.0   0.0
+---------------------- LINES ----
+ID  LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#) (name)     (#)      (#)      (m)       (-)      (-)
+1   chain      1        2        100000.0  40       -
+---------------------- OPTIONS""" + options)
+    assert cli.main(["run", str(tmp_path / "span.dat"), "--out", str(tmp_path / "o"),
+                     "--quiet", "--no-export", "--no-animation"]) == 2
+    err = one_line_error(capsys, "run")
+    assert "static solve" in err and "most out of balance as built: line1 node" in err
