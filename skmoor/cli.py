@@ -2,11 +2,8 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
 import json
-import signal
 import sys
-import threading
 import warnings
 from pathlib import Path
 
@@ -213,32 +210,15 @@ def _one_line_warning(message, category, filename, lineno, line=None):
     return f"skmoor: {category.__name__}: {message}\n"
 
 
-@contextlib.contextmanager
-def _terminate_as_interrupt():
-    """SIGTERM handled as Ctrl-C while a command runs (a run keeps its results, a sweep
-    its finished points); the previous handler restored after."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def interrupt(signum, frame):
-        raise KeyboardInterrupt
-
-    previous = signal.signal(signal.SIGTERM, interrupt)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-
-
 def main(argv=None) -> int:
+    from .run.simulate import terminate_as_interrupt
     from .solvers.newton import ConvergenceError
 
     args = parser().parse_args(argv)
     shown = warnings.formatwarning
     warnings.formatwarning = _one_line_warning
     try:
-        with _terminate_as_interrupt():
+        with terminate_as_interrupt():  # a run keeps its results, a sweep its points
             return args.func(args)
     except (ValueError, FileNotFoundError, ConvergenceError) as err:
         print(f"skmoor {args.command}: error: {_line(err)}", file=sys.stderr)

@@ -8,7 +8,10 @@ are returned (and written) with ``meta["stopped"]`` saying why.
 """
 from __future__ import annotations
 
+import contextlib
 import math
+import signal
+import threading
 import time
 import warnings
 
@@ -186,11 +189,12 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
         return recorder.results(meta)
 
     try:
-        outcome["stopped"], outcome["steps"] = record_run(
-            model.system, x0, dt=dt, duration=duration, every=every,
-            record=recorder.record if writer is None else writer.record, C=eq.C,
-            scheme=scheme, progress=progress, label=model.name, done=outcome,
-            compiled=solver.get("compiled", True))
+        with terminate_as_interrupt():  # SIGTERM keeps what was computed, as Ctrl-C
+            outcome["stopped"], outcome["steps"] = record_run(
+                model.system, x0, dt=dt, duration=duration, every=every,
+                record=recorder.record if writer is None else writer.record, C=eq.C,
+                scheme=scheme, progress=progress, label=model.name, done=outcome,
+                compiled=solver.get("compiled", True))
     except BaseException as error:  # a crash: keep what was computed, then re-raise
         if writer is not None and recorder.rows["t"]:
             outcome["stopped"] = f"crashed: {type(error).__name__}: {error}"
@@ -200,6 +204,26 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     if writer is not None:
         writer.finish(results)
     return results
+
+
+@contextlib.contextmanager
+def terminate_as_interrupt():
+    """SIGTERM handled as Ctrl-C (KeyboardInterrupt) inside the block, in the main thread
+    and where no other handler is set: a run stops keeping its results, a sweep its
+    finished points; the previous handler restored after."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGTERM) not in (signal.SIG_DFL, None)):
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def _out_of_balance(model: Model) -> str:

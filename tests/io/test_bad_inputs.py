@@ -437,3 +437,26 @@ ID  LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
                      "--quiet", "--no-export", "--no-animation"]) == 2
     err = one_line_error(capsys, "run")
     assert "static solve" in err and "most out of balance as built: line1 node" in err
+
+
+def test_sigterm_in_the_api_keeps_the_results(tmp_path, monkeypatch):
+    """skmoor.simulate(..., out=FOLDER) stopped by SIGTERM returns its results up to
+    there, marked interrupted, and keeps summary.json and results.npz."""
+    from skmoor.run import recorder
+
+    record, calls = recorder.Recorder.record, []
+
+    def record_then_terminate(self, state):
+        record(self, state)
+        calls.append(state.t)
+        if len(calls) == 4:
+            os.kill(os.getpid(), signal.SIGTERM)
+
+    monkeypatch.setattr(recorder.Recorder, "record", record_then_terminate)
+    before = signal.getsignal(signal.SIGTERM)
+    results = skmoor.simulate(skmoor.build(PAPER), duration=50.0, progress=False,
+                              out=tmp_path / "o")
+    assert signal.getsignal(signal.SIGTERM) == before
+    assert results.meta["interrupted"] and results.t[-1] < 50.0
+    assert json.loads((tmp_path / "o" / "summary.json").read_text())["interrupted"]
+    assert (tmp_path / "o" / "results.npz").exists()
