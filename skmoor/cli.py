@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from pathlib import Path
 
 DEFAULT_OUT = "skmoor-out"
@@ -43,20 +44,21 @@ def _motion(args, source):
 
 def cmd_run(args) -> int:
     from . import build, simulate, summary
-    from .run.outputs import prepare_output
+    from .run.outputs import output_lock, prepare_output
 
-    out = prepare_output(args.out)  # before any solve
-    source = _source(args.case)
-    settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
-                if getattr(args, k) is not None}
-    model = build(source, motion=_motion(args, source), rotations=args.rotations)
-    _line_data(model, args)
-    results = simulate(model, progress=not args.quiet, out=out, **settings)
-    info = summary(results)
-    from .run.report import summary_table
-    print(summary_table(info), flush=True)  # the numbers first, then files and renders
-    _plots(results, out)
-    return _finish(results, info, out, args)
+    with output_lock(args.out):  # a second run into the same folder is refused
+        out = prepare_output(args.out)  # before any solve
+        source = _source(args.case)
+        settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
+                    if getattr(args, k) is not None}
+        model = build(source, motion=_motion(args, source), rotations=args.rotations)
+        _line_data(model, args)
+        results = simulate(model, progress=not args.quiet, out=out, **settings)
+        info = summary(results)
+        from .run.report import summary_table
+        print(summary_table(info), flush=True)  # the numbers first, then files and renders
+        _plots(results, out)
+        return _finish(results, info, out, args)
 
 
 def _finish(results, info, out, args) -> int:
@@ -163,12 +165,12 @@ def _line_data(model, args):
 
 
 def _load_results(out):
-    """A saved run's results: OUTDIR/results.nc, or results.npz where there is none (a
-    run stopped before its end, or written before results.nc)."""
-    from . import Results
+    """The Results of a previous run's folder (results.npz, else results.nc), ValueError
+    (one line) when it is not one: a file, no results, a truncated file or one without an
+    array, non-finite motion."""
+    from .run.outputs import load_results
 
-    nc = out / "results.nc"
-    return Results.load(nc if nc.exists() else out / "results.npz")
+    return load_results(out)
 
 
 def _plots(results, out):
@@ -306,16 +308,38 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+def _one_line_warning(message, category, filename, lineno, line=None):
+    """A warning as one line naming its kind, not the source line that raised it."""
+    return f"skmoor: {category.__name__}: {message}\n"
+
+
 def main(argv=None) -> int:
+    from .run.simulate import terminate_as_interrupt
+    from .solvers.newton import ConvergenceError
+
     args = parser().parse_args(argv)
+    shown = warnings.formatwarning
+    warnings.formatwarning = _one_line_warning
     try:
-        return args.func(args)
-    except (ValueError, FileNotFoundError) as err:
-        print(f"skmoor {args.command}: error: {err}", file=sys.stderr)
+        with terminate_as_interrupt():  # a run keeps its results, a sweep its points
+            return args.func(args)
+    except (ValueError, FileNotFoundError, ConvergenceError) as err:
+        print(f"skmoor {args.command}: error: {_line(err)}", file=sys.stderr)
+        return 2
+    except OSError as err:  # a full disk, a folder that cannot be written
+        where = f"{err.filename}: " if err.filename else ""
+        print(f"skmoor {args.command}: error: {where}{err.strerror or err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"skmoor {args.command}: interrupted", file=sys.stderr)
         return 130
+    finally:
+        warnings.formatwarning = shown
+
+
+def _line(err) -> str:
+    """An error's message on one line."""
+    return " ".join(str(err).split())
 
 
 if __name__ == "__main__":

@@ -18,6 +18,7 @@ from ..lines import laws
 BYTES_PER_DOF = 4096  # what a model needs per unknown through its statics and a run (4x measured)
 STRAIN_WARNING = 0.03  # a span needing more strain than this is warned about
 STRAIN_LIMIT = 0.25  # ... and more than this refused (warned for a rope law made for it)
+DRAG_LIMIT = 10.0  # a current whose drag on a line exceeds this many times its EA is refused
 BED_TOLERANCE = 1e-3  # m below the bed still taken as on it
 
 
@@ -80,8 +81,34 @@ def check_network(network) -> list:
             if z > top:
                 warnings.append(f"line {line.name}: anchor {anchor.name} (z = {z:.6g} m) is "
                                 f"above its fairlead {other.name} (z = {top:.6g} m)")
+    _check_current(network)
     warnings += _sea_without_coefficients(network)
     return warnings
+
+
+def _check_current(network):
+    """ValueError for a sea whose water speed drags a line with more than DRAG_LIMIT times
+    its axial stiffness (the normal drag 1/2 rho Cd_n d U^2 over its length, U the fastest
+    water at its ends and middle at t = 0): no static state, no time step resolves it (a
+    current in the wrong unit; no cable stretches that far)."""
+    sea = network.sea
+    if sea is None or sea.still and not sea.has_waves:
+        return
+    for line in network.lines:
+        lt = line.line_type
+        if not lt.Cd_n:
+            continue
+        a, b = (network.global_position(network.point(p)) for p in (line.a, line.b))
+        ends = np.array([a, 0.5 * (a + b), b], float)
+        ends[:, 2] = np.minimum(ends[:, 2], 0.0)  # the water below the surface
+        speed = float(np.max(np.linalg.norm(sea.velocity(ends, 0.0), axis=-1)))
+        drag = 0.5 * float(network.rho) * lt.Cd_n * lt.diameter * speed ** 2 * line.length
+        EA = float(lt.law.nominal_EA(lt.EA) if lt.law is not None else lt.EA or 0.0)
+        if EA > 0 and drag > DRAG_LIMIT * EA:
+            raise ValueError(f"sea: the water's speed {speed:.3g} m/s drags line {line.name} "
+                             f"with about {drag:.3g} N, {drag / EA:.3g} times its axial "
+                             f"stiffness EA = {EA:.3g} N: no cable holds that (a speed in the "
+                             "wrong unit?)")
 
 
 def carries_strain(line_type, strain) -> bool:

@@ -465,6 +465,35 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         return K, C
 
 
+    def non_finite(self, x, v=None, t=0.0) -> str | None:
+        """The first term (its name, and whether it is the system's own or added) whose
+        residual or derivatives are not finite (NaN, inf) at the state (x, v, t), or None:
+        each term evaluated alone."""
+        v = np.zeros(self.n) if v is None else v
+        ends, J = self._attachment(x) if self.nb else (None, None)
+        u = self._displacement(x, ends, t)
+        ud = self._velocity(x, v, t, J)
+        built_in = {id(term) for term in self.built_in_terms}
+        states = {"lines": lambda term: (u, ud, np.zeros(self.lines.ndofs),
+                                         np.zeros(self._block_shape)),
+                  "points": lambda term: (x[self.point_columns[term.point]],
+                                          v[self.point_columns[term.point]], np.zeros(3),
+                                          np.zeros((3, 3))),
+                  "bodies": lambda term: (x[self.dofs.blocks[term.body]],
+                                          v[self.dofs.blocks[term.body]], np.zeros(6),
+                                          np.zeros((6, 6)))}
+        for kind, state in states.items():
+            for term in self._terms[kind]:
+                a, b, R, K = state(term)
+                C = np.zeros_like(K)
+                with np.errstate(all="ignore"):
+                    term.add_to(a, b, t, R, K, C)
+                if not all(np.all(np.isfinite(z)) for z in (R, K, C)):
+                    name = getattr(term, "name", None) or type(term).__name__
+                    whose = "skmoor's own" if id(term) in built_in else "an added"
+                    return f"{whose} {kind} term {name!r} ({type(term).__name__})"
+        return None
+
     def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, layout="sparse"):
         """Reduced residual R(x, v, t) (no inertia, no Rayleigh damping) and its
         derivatives K = dR/dx and Kv = dR/dv (None when zero) in ``layout``: 'sparse'

@@ -220,9 +220,15 @@ class LineForm(Term):
 
     # --- the protocol
     def add_to(self, u, v, t, R, K=None, C=None):
-        if self._engine is None:
-            self._engine = _ENGINES[self.path](self)
-        self._engine(u, v, t, R, K, C)
+        try:
+            if self._engine is None:
+                self._engine = _ENGINES[self.path](self)
+            self._engine(u, v, t, R, K, C)
+        except Exception as error:  # the user's own exception, without JAX's notes
+            notes = getattr(error, "__notes__", None)
+            if notes:
+                notes[:] = [n for n in notes if "JAX" not in n]
+            raise
 
     def mass_matrix(self):
         if self.mass is None:

@@ -30,10 +30,17 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..numerics.validation import user_stacklevel
+from .paths import resolve_inside
+
 __all__ = ["Deck", "DeckLineType", "DeckPoint", "DeckLine", "DeckBody", "DeckRodType",
            "DeckRod", "read_deck", "write_deck", "is_deck"]
 
 # section name as written -> canonical name (MoorDyn2.cpp's synonyms)
+MAX_ELEMENTS_PER_LINE = 100_000  # as a case file's (schema.MAX_ELEMENTS_PER_LINE)
+MAX_ROWS = 2_000  # lines (or rods) of one deck: MoorDyn's largest farms have hundreds
+MAX_ELEMENTS = 10 * MAX_ELEMENTS_PER_LINE  # segments of all the lines of one deck
+
 SECTIONS = {
     "LINE TYPES": "LINE TYPES", "LINE DICTIONARY": "LINE TYPES",
     "ROD TYPES": "ROD TYPES", "ROD DICTIONARY": "ROD TYPES",
@@ -374,8 +381,15 @@ def read_deck(path) -> Deck:
         _rod(entry, deck)
     for entry in entries.get("POINTS", []):
         _point(entry, deck)
+    _check_count(entries.get("LINES", []), "LINES", "lines", deck)
+    _check_count(entries.get("RODS", []), "RODS", "rods", deck)
     for entry in entries.get("LINES", []):
         _line(entry, deck)
+    elements = sum(line.n_segments for line in deck.lines)
+    if elements > MAX_ELEMENTS:
+        raise ValueError(f"{deck.source}: LINES NumSegs: {elements} segments in all, at most "
+                         f"{MAX_ELEMENTS} (the model's matrices and recorded time series "
+                         "would not fit in memory)")
     for entry in entries.get("SYROPE IC", []):
         _syrope_ic(entry, deck)
     for entry in entries.get("OPTIONS", []):
@@ -383,6 +397,13 @@ def read_deck(path) -> Deck:
     for entry in entries.get("OUTPUTS", []):
         deck.outputs.extend(entry.words)
     return deck
+
+
+def _check_count(entries, section, what, deck):
+    """Refuse a table with more rows than a model runs, before reading them."""
+    if len(entries) > MAX_ROWS:
+        raise ValueError(f"{deck.source}: {section}: {len(entries)} {what}, at most "
+                         f"{MAX_ROWS} (a model that size would run for days)")
 
 
 def _split_sections(text, deck):
@@ -499,8 +520,12 @@ def _syrope_stiffness(e, folder):
             raise e.error(f"EA: Syrope {label} must be a finite number >= 0, got {part!r}")
     name = parts[0][len("SYROPE:"):]
     where = f"{e.source} line {e.number}: LINE TYPES EA"
-    owc_name, form, k1, k2 = read_syrope_file(folder / name, source=where)
-    owc = read_owc(folder / owc_name, source=f"{where} ({name})")
+    owc_name, form, k1, k2 = read_syrope_file(resolve_inside(name, folder, where), source=where)
+    # the OWC table is named relative to the deck; MoorDyn's own Syrope decks keep it one
+    # folder up (../owc.dat), shared by the decks of several working curves
+    owc = read_owc(resolve_inside(owc_name, folder, f"{where} ({name}) OWC",
+                                  root=Path(folder).resolve().parent),
+                   source=f"{where} ({name})")
     return owc[1][-1] / owc[0][-1], (name, owc, form, k1, k2), tuple(visco)
 
 
@@ -525,8 +550,8 @@ def _curve_file(e, folder, name):
     """((strain, ...), (tension, ...)) of a MoorDyn curve file named in the EA column."""
     from ..lines.laws import read_curve
 
-    path = folder / name
     where = f"{e.source} line {e.number}: LINE TYPES EA"
+    path = resolve_inside(name, folder, where)
     if not path.is_file():
         raise ValueError(f"{where}: {name!r} is neither a number nor a curve file (no file "
                          f"{path})")
@@ -632,6 +657,9 @@ def _rod(e, deck):
     segments = e.integer_at(9, "NumSegs")
     if segments < 0:
         raise e.error(f"NumSegs: must be >= 0, got {segments}")
+    if segments > MAX_ELEMENTS_PER_LINE:
+        raise e.error(f"NumSegs: must be at most {MAX_ELEMENTS_PER_LINE} per rod, got "
+                      f"{segments}")
     if segments == 0 and kind != "free":
         raise e.error(f"NumSegs: 0 makes a zero-length rod (MoorDyn's 6-DOF connection "
                       f"node), supported as a Free rod only (this one is {e.words[2]})")
@@ -704,6 +732,10 @@ def _line(e, deck):
         raise e.error(f"UnstrLen: must be positive, got {length:g}")
     if segments < 1:
         raise e.error(f"NumSegs: must be >= 1, got {segments}")
+    if segments > MAX_ELEMENTS_PER_LINE:
+        raise e.error(f"NumSegs: must be at most {MAX_ELEMENTS_PER_LINE} per line (the "
+                      f"model's matrices and recorded time series would not fit in memory), "
+                      f"got {segments}")
     deck.lines.append(DeckLine(id=number, type=e.words[1], a=ends[0], b=ends[1],
                                length=length, n_segments=segments, outputs=e.words[6],
                                where=e.number))
@@ -724,7 +756,8 @@ def _option(e, deck):
     if name in deck.options:  # MoorDyn reads on: the later value wins
         warnings.warn(f"{e.source} line {e.number}: {e.section} {written}: given twice "
                       f"(line {deck.option_lines[name]}: {deck.options[name]}, and here: "
-                      f"{value}); the later value is used, as MoorDyn uses it", stacklevel=2)
+                      f"{value}); the later value is used, as MoorDyn uses it",
+                      stacklevel=user_stacklevel())
     deck.options[name] = value
     deck.option_lines[name] = e.number
 

@@ -56,6 +56,7 @@ from ..sea.water_grids import (
     resampled_current,
 )
 from ..sea.waves import Sea
+from .paths import resolve_inside
 
 WAVE_FILES = {2: ("wave_frequencies.txt", "water_grid.txt"),
               3: ("wave_elevation.txt", "water_grid.txt"), 7: ("wave_frequencies.txt",)}
@@ -294,10 +295,18 @@ def _mode(deck, name, supported):
 
 def _seafloor_path(deck):
     written = deck.options["SeafloorFile"]
+    field = f"{deck.where('SeafloorFile')}: SeafloorFile"
+    refused = None
     for base in (deck.folder, Path.cwd()):
-        path = Path(base) / written
+        try:
+            path = resolve_inside(written, base, field)
+        except ValueError as err:
+            refused = refused or err
+            continue
         if path.is_file():
             return path
+    if refused is not None:
+        raise refused
     raise ValueError(f"{deck.where('SeafloorFile')}: SeafloorFile {written!r}: no such "
                      f"file in the deck's folder {deck.folder} or the working folder")
 

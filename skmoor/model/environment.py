@@ -29,8 +29,7 @@ sea bed). In TOML:
 """
 from __future__ import annotations
 
-from pathlib import Path
-
+from ..io.paths import resolve_inside
 from ..sea.hydro import body_hydrodynamics
 from ..sea.seabed import Bathymetry, Seabed
 from ..sea.waves import AiryWave, Current, JonswapWave, Sea
@@ -106,9 +105,7 @@ def _bathymetry(spec: dict, directory) -> Bathymetry | None:
     if "file" in spec:
         from ..io.sea_files import read_seafloor
 
-        path = Path(spec["file"])
-        if not path.is_absolute() and directory is not None:
-            path = Path(directory) / path
+        path = resolve_inside(spec["file"], directory, "file")
         if not path.is_file():
             raise ValueError(f"file: no such seafloor file {path}")
         return read_seafloor(path)
@@ -148,8 +145,7 @@ def potential_flow(spec: dict, water: dict, body, water_sea=None, directory=None
     from ..bodies.radiation import PotentialFlow
 
     def path(name):
-        found = Path(name)
-        return found if found.is_absolute() or directory is None else Path(directory) / found
+        return resolve_inside(name, directory, "body.potential_flow")
 
     rho, g = float(water["density"]), float(water.get("gravity", 9.81))
     depth, point = float(water["depth"]), np.asarray(body.reference_point, float)

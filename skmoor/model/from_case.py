@@ -16,6 +16,7 @@ from ..bodies.body import (
 )
 from ..bodies.large_rotations import box_triangles
 from ..coupling.network import Body, MooringLine, Network, Point
+from ..io.paths import resolve_inside
 from ..lines.catenary import solve_catenary
 from ..lines.line import LineType
 from ..numerics.roots import brent as brentq
@@ -63,9 +64,7 @@ def _hull_keel(case) -> float:
 
 
 def _hull_path(case) -> Path:
-    path = Path(case.body["hull"])
-    if not path.is_absolute() and case.directory is not None:
-        path = case.directory / path
+    path = resolve_inside(case.body["hull"], case.directory, "body.hull")
     if not path.is_file():
         raise ValueError(f"body.hull: no such mesh file {path}")
     return path
@@ -275,9 +274,7 @@ def _explicit_body(case, spec, rho, g, sea) -> Body:
         box = np.asarray(spec["size"], float)
         hull = box_triangles(box, np.zeros(3))  # centred on the reference point
     elif "hull" in spec:
-        path = Path(spec["hull"])
-        if not path.is_absolute() and case.directory is not None:
-            path = case.directory / path
+        path = resolve_inside(spec["hull"], case.directory, f"bodies {name}.hull")
         if not path.is_file():
             raise ValueError(f"bodies {name}.hull: no such mesh file {path}")
         hydro = hull_hydrostatics(path, reference_point=position, offset=position)

@@ -90,6 +90,7 @@ from ..io.deck import Deck, read_deck
 from ..io.sea_files import deck_bathymetry, deck_sea
 from ..lines import laws
 from ..lines.line import LineType
+from ..numerics.validation import user_stacklevel
 from ..sea.hydro import body_hydrodynamics
 from ..sea.seabed import Seabed
 from ..sea.viv import RMS_STEPS
@@ -309,7 +310,8 @@ def _held_axis(deck: Deck, body, position, R0, centre, axis):
                   f"axis {axis.tolist()} through its centre of mass {centre.tolist()} (all "
                   "its masses and points on that line, so nothing turns it about it either): "
                   "its rotation about that line is held by a torsional spring (MoorDyn "
-                  "leaves it at zero); give the body an inertia I to free it", stacklevel=3)
+                  "leaves it at zero); give the body an inertia I to free it",
+                  stacklevel=user_stacklevel())
     a = centre - position
     return a, a + axis, max(extent, 1.0)
 

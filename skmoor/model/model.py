@@ -18,6 +18,7 @@ import numpy as np
 from ..coupling.build import build_system
 from ..coupling.checks import check_network
 from ..coupling.network import Network
+from ..numerics.validation import user_stacklevel
 from .from_case import explicit_network, paper_network
 
 SOLVER_DEFAULTS = {"duration": 200.0, "dt": 0.05, "output_interval": 0.1,
@@ -180,7 +181,7 @@ def _checked(network) -> list:
     """check_network's warnings, also issued as Python warnings."""
     found = check_network(network)
     for text in found:
-        warnings.warn(text, UserWarning, stacklevel=3)
+        warnings.warn(text, UserWarning, stacklevel=user_stacklevel())
     return found
 
 

@@ -14,3 +14,17 @@ def check_positive(name: str, value) -> None:
     check_finite(name, value)
     if np.any(np.asarray(value, dtype=float) <= 0):
         raise ValueError(f"{name}: must be positive, got {value!r}")
+
+
+def user_stacklevel() -> int:
+    """The ``stacklevel`` for a ``warnings.warn`` in the function that calls this one that
+    points at the first caller outside skmoor (the user's script, not skmoor's source)."""
+    import os
+    import sys
+
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
+    frame, level = sys._getframe(1), 1
+    while frame is not None and (os.path.abspath(frame.f_code.co_filename).startswith(package)
+                                 or frame.f_code.co_filename.startswith("<")):
+        frame, level = frame.f_back, level + 1
+    return level

@@ -51,7 +51,7 @@ def static_state(system, x0=None, held=None):
 def unrestrained(model: Model, x=None) -> list:
     """Names of the DOFs that the static tangent at x (default: the reference state)
     does not hold (its near-null vectors), e.g. ``body1 rx``, ``point3 z``, ``line2 node 4``."""
-    system, network = model.system, model.network
+    system = model.system
     if system.n > 3000:
         return []
     x = np.zeros(system.n) if x is None else x
@@ -59,6 +59,17 @@ def unrestrained(model: Model, x=None) -> list:
     K = 0.5 * (K + K.T)
     w, V = np.linalg.eigh(K)
     scale = max(np.abs(w).max(initial=0.0), 1.0)
+    names = dof_names(model)
+    found = []
+    for k in np.flatnonzero(np.abs(w) < 1e-10 * scale):
+        v = np.abs(V[:, k])
+        found += [names[i] for i in np.flatnonzero(v > 0.3 * v.max()) if names[i] not in found]
+    return found
+
+
+def dof_names(model: Model) -> list:
+    """The name of each reduced DOF: ``point3 x``, ``body1 rz``, ``line2 node 4``."""
+    system, network = model.system, model.network
     names = [""] * system.n
     free = iter(p.name for p in network.points if p.kind == "free")
     for columns in system.point_columns:
@@ -79,11 +90,7 @@ def unrestrained(model: Model, x=None) -> list:
             line = int(np.searchsorted(lines.fairlead_nodes, node))
             names[column] = (f"{lines.lines[line].name} node {node - lines.anchor_nodes[line]}"
                              + (" tangent" if slope else ""))
-    found = []
-    for k in np.flatnonzero(np.abs(w) < 1e-10 * scale):
-        v = np.abs(V[:, k])
-        found += [names[i] for i in np.flatnonzero(v > 0.3 * v.max()) if names[i] not in found]
-    return found
+    return names
 
 
 def _pretension(system) -> float:

@@ -3,9 +3,12 @@ into an output folder checked before the run and kept when the run is interrupte
 """
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import json
 import os
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -43,7 +46,8 @@ def summary(results: Results) -> dict:
             "fairlead_tension_catenary": meta.get("fairlead_tension_catenary"),
             "line_names": list(results.line_names), "body_names": list(results.body_names),
             "natural_periods": meta.get("natural_periods"), "amplitude": amplitude,
-            "max_tension": float(results.max_tension.max()),
+            "max_tension": _largest(results.max_tension, results.fairlead_tension,
+                                    results.anchor_tension),
             "max_tension_steady": steady_max,
             "wall_time": meta.get("wall_time"), "simulated_time": float(results.t[-1]),
             "steps": meta.get("steps"), "steps_planned": meta.get("steps_planned"),
@@ -69,6 +73,13 @@ def _fatigue_summary(results) -> dict:
         return {"where": "fairlead", "note": f"no fatigue: {err}"}
     return {"where": "fairlead", "duration": report["duration"], "f_eq": report["f_eq"],
             "lines": report["lines"]}
+
+
+def _largest(*arrays) -> float:
+    """The largest of the tensions (N): the elements' and the line ends' (an end's tension,
+    from its reaction, can exceed every element's)."""
+    values = [np.max(a) for a in arrays if a is not None and np.size(a)]
+    return float(max(values)) if values else 0.0
 
 
 def _timeseries_header(body_names, line_names, free_names) -> list:
@@ -139,6 +150,119 @@ def prepare_output(out) -> Path:
         for frame in (out / "motion").glob("*.vtu"):
             frame.unlink()
     return out
+
+
+LOCK = ".skmoor-lock"
+
+
+def _alive(pid) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True  # another user's process
+    return True
+
+
+@contextlib.contextmanager
+def output_lock(out):
+    """Hold ``out``'s lock file (the process id) while a run writes there: a second run
+    into the same folder while the first is going is refused (ValueError naming the
+    process); a lock left by a process that no longer runs is taken over."""
+    out = Path(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        yield  # prepare_output says why the folder cannot be written
+        return
+    lock = out / LOCK
+    for _ in range(2):
+        try:
+            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+        except FileExistsError:
+            try:
+                pid = int(lock.read_text().strip() or 0)
+            except (OSError, ValueError):
+                pid = 0
+            if pid and pid != os.getpid() and _alive(pid):
+                raise ValueError(f"output folder {out}: another skmoor run (process {pid}) "
+                                 "is writing there; give another --out, or wait for it to "
+                                 "finish") from None
+            lock.unlink(missing_ok=True)  # left by a run that ended without removing it
+            continue
+        except OSError:
+            yield  # read-only: prepare_output says so
+            return
+        with os.fdopen(fd, "w") as f:
+            f.write(str(os.getpid()))
+        break
+    try:
+        yield
+    finally:
+        with contextlib.suppress(OSError, ValueError):
+            if int(lock.read_text().strip() or 0) == os.getpid():
+                lock.unlink()
+
+
+def load_results(out) -> Results:
+    """The Results in the folder ``out`` of a previous run (results.npz, else
+    results.nc), or a one-line ValueError saying why not: not a folder, no results, a
+    truncated file or one without an array, displacements that are not finite (a run
+    that diverged)."""
+    out = Path(out)
+    if not out.exists():
+        raise FileNotFoundError(f"folder {out} does not exist")
+    if not out.is_dir():
+        raise ValueError(f"{out}: is a file, not the output folder of a run (give the "
+                         "folder that holds results.npz)")
+    path = out / "results.npz"
+    if not path.is_file():
+        netcdf = out / "results.nc"
+        if not netcdf.is_file():
+            raise ValueError(f"{out}: has no results.npz or results.nc (not the output "
+                             "folder of a run)")
+        return _finite(_read_netcdf(netcdf), netcdf)
+    required = [f.name for f in dataclasses.fields(Results)
+                if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            missing = [name for name in required if name not in data.files]
+        if missing:
+            raise ValueError(f"{path}: lacks the array{'s' * (len(missing) > 1)} "
+                             f"{', '.join(missing)} (not a results file of this skmoor)")
+        results = Results.load(path)
+    except (zipfile.BadZipFile, EOFError, KeyError, TypeError, OSError, ValueError) as err:
+        if isinstance(err, ValueError) and str(err).startswith(str(path)):
+            raise
+        raise ValueError(f"{path}: truncated or not a results file "
+                         f"({type(err).__name__}: {' '.join(str(err).split())})") from None
+    return _finite(results, path)
+
+
+def _read_netcdf(path) -> Results:
+    """Results from a results.nc, or a one-line ValueError."""
+    try:
+        return Results.load(path)
+    except Exception as err:  # h5netcdf / xarray raise many kinds on a damaged file
+        raise ValueError(f"{path}: truncated or not a results file "
+                         f"({type(err).__name__}: {' '.join(str(err).split())})") from None
+
+
+def _finite(results, path) -> Results:
+    """results, or a one-line ValueError when its motion is not finite (a diverged run)."""
+    for name in ("displacement", "bodies", "point_displacement"):
+        values = getattr(results, name, None)
+        if values is None or np.size(values) == 0:
+            continue
+        values = np.asarray(values, float)
+        bad = ~np.isfinite(values.reshape(len(values), -1)).all(axis=1)
+        if np.any(bad):
+            k = int(np.argmax(bad))
+            raise ValueError(f"{path}: {name} is not finite (NaN or inf) from t = "
+                             f"{float(results.t[k]):.6g} s on (the run diverged): nothing "
+                             "to draw")
+    return results
 
 
 class OutputWriter:

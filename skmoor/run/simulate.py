@@ -8,17 +8,28 @@ are returned (and written) with ``meta["stopped"]`` saying why.
 """
 from __future__ import annotations
 
+import contextlib
 import math
+import signal
+import threading
 import time
 import warnings
 
 import numpy as np
 
 from ..model.model import Model, build
+from ..numerics.validation import user_stacklevel
 from ..post.results import Results
 from ..solvers.dynamics import Scheme
 from ..solvers.newton import ConvergenceError
-from .equilibrium import Equilibrium, equilibrium, reference_state, released_state
+from .equilibrium import (
+    Equilibrium,
+    dof_names,
+    equilibrium,
+    reference_state,
+    released_state,
+    steady_water,
+)
 from .outputs import OutputWriter, prepare_output, summary
 from .recorder import INTERRUPTED, Recorder, record_run, run_meta
 
@@ -158,7 +169,7 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     eq = eq or _starting_equilibrium(model, start)
     notes = resolution_notes(model, eq, dt)
     for note in notes:
-        warnings.warn(note, ResolutionWarning, stacklevel=2)
+        warnings.warn(note, ResolutionWarning, stacklevel=user_stacklevel())
     x0 = {"given": released_state, "reference": reference_state}.get(start)
     x0 = eq.x if x0 is None else x0(model)
     recorder = Recorder(model)
@@ -178,11 +189,12 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
         return recorder.results(meta)
 
     try:
-        outcome["stopped"], outcome["steps"] = record_run(
-            model.system, x0, dt=dt, duration=duration, every=every,
-            record=recorder.record if writer is None else writer.record, C=eq.C,
-            scheme=scheme, progress=progress, label=model.name, done=outcome,
-            compiled=solver.get("compiled", True))
+        with terminate_as_interrupt():  # SIGTERM keeps what was computed, as Ctrl-C
+            outcome["stopped"], outcome["steps"] = record_run(
+                model.system, x0, dt=dt, duration=duration, every=every,
+                record=recorder.record if writer is None else writer.record, C=eq.C,
+                scheme=scheme, progress=progress, label=model.name, done=outcome,
+                compiled=solver.get("compiled", True))
     except BaseException as error:  # a crash: keep what was computed, then re-raise
         if writer is not None and recorder.rows["t"]:
             outcome["stopped"] = f"crashed: {type(error).__name__}: {error}"
@@ -192,6 +204,43 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     if writer is not None:
         writer.finish(results)
     return results
+
+
+@contextlib.contextmanager
+def terminate_as_interrupt():
+    """SIGTERM handled as Ctrl-C (KeyboardInterrupt) inside the block, in the main thread
+    and where no other handler is set: a run stops keeping its results, a sweep its
+    finished points; the previous handler restored after."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGTERM) not in (signal.SIG_DFL, None)):
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _out_of_balance(model: Model) -> str:
+    """Where the state as built is most out of balance: the DOF with the largest residual
+    force, named (``line2 node 14``, ``point3 z``), or '' when it cannot be said."""
+    system = model.system
+    try:
+        with steady_water(model), np.errstate(all="ignore"):
+            R = system.residual(np.zeros(system.n), tangent=False)[0]
+        names = dof_names(model)
+    except Exception:  # naming is a courtesy: never hide the solve's own error
+        return ""
+    if not R.size or not np.all(np.isfinite(R)):
+        return ""
+    k = int(np.argmax(np.abs(R)))
+    return (f"most out of balance as built: {names[k] or f'DOF {k}'} "
+            f"({abs(R[k]):.3g} N or N m)")
 
 
 def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
@@ -209,7 +258,15 @@ def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
     try:
         return equilibrium(model)
     except ConvergenceError as err:
+        if "not finite" in str(err):  # name the term that gives NaN at the start
+            culprit = model.system.non_finite(np.zeros(model.system.n))
+            if culprit is not None:
+                raise ConvergenceError(f"{str(err).split(';')[0]}: {culprit} gives NaN or "
+                                       "inf at the state as built") from None
         if start != "given" or rayleigh:
+            worst = _out_of_balance(model)
+            if worst and "out of balance" not in str(err):
+                raise ConvergenceError(f"{err}; {worst}") from None
             raise
         model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "
                            "released from the given state without one")

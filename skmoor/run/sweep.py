@@ -60,6 +60,7 @@ from .simulate import simulate
 
 COLUMNS = ("study", "parameter", "value", "surge", "heave", "pitch", "max_tension_steady", "error")
 AMPLITUDES = ("surge", "heave", "pitch")
+MAX_POINTS = 100_000  # points of one sweep (more is a typo: 1e8 points would take years)
 
 
 # ---------------------------------------------------------------- studies
@@ -99,6 +100,9 @@ class Study:
         self.values = [_plain(v) for v in values]
         if not self.values:
             raise ValueError(f"study {self.name!r}: no values")
+        if len(self.values) > MAX_POINTS:
+            raise ValueError(f"study {self.name!r}: {len(self.values)} values, more than a "
+                             f"sweep runs (at most {MAX_POINTS} points)")
         if self.base_case is None:
             self.base_case = paper_case()
         elif not isinstance(self.base_case, Case):
@@ -107,6 +111,9 @@ class Study:
         self.fixed = {str(k): _plain(v) for k, v in dict(self.fixed).items()}
         for path in (self.parameter, *self.fixed):
             _check_path(self.base_case, path, self.name)
+        _check_numbers(self.base_case, self.parameter, self.values, self.name)
+        for path, value in self.fixed.items():
+            _check_numbers(self.base_case, path, [value], self.name)
         if self.label is None:
             self.label = self.parameter
 
@@ -138,6 +145,10 @@ def grid_study(name: str, parameters: dict, base_case: Case | None = None,
     if not items:
         raise ValueError(f"grid {name!r}: give at least one parameter")
     (first, values), rest = items[0], items[1:]
+    total = math.prod(len(v) for _, v in items)
+    if total > MAX_POINTS:
+        raise ValueError(f"grid {name!r}: {total} points, more than a sweep runs (at most "
+                         f"{MAX_POINTS})")
     if not rest:
         return [Study(name, first, values, base_case, label=label)]
     studies = []
@@ -169,7 +180,7 @@ def studies_from_args(params=(), study_file=None, case=None) -> list[Study]:
     """Studies from command-line arguments: ``params`` spec strings (``"path=v1,v2"``,
     ``"path=start:stop:n"``; several make a grid), a TOML ``study_file`` and a base
     ``case`` file (for the params, and for the file's studies that name none)."""
-    base = Case.from_toml(case) if case else None
+    base = _base_case(case, "--case") if case else None
     studies = read_studies(study_file, base) if study_file else []
     if params:
         parsed = [parse_spec(p) for p in params]
@@ -220,7 +231,7 @@ def read_studies(path, base_case: Case | None = None) -> list[Study]:
             return base_case
         file = (path.parent / name).resolve()
         if file not in cases:
-            cases[file] = Case.from_toml(file)
+            cases[file] = _base_case(file, f"{path.name}: base_case")
         return cases[file]
 
     allowed = {"name", "parameter", "values", "grid", "base_case", "label"}
@@ -270,12 +281,18 @@ def parse_values(text: str) -> list:
         if len(parts) != 3 or not re.fullmatch(r"\d+", parts[2]) or int(parts[2]) < 1:
             raise ValueError(f"range {text!r}: expected start:stop:n with an integer n >= 1")
         start, stop, n = _scalar(parts[0]), _scalar(parts[1]), int(parts[2])
+        if n > MAX_POINTS:
+            raise ValueError(f"range {text!r}: {n} points, more than a sweep runs (at most "
+                             f"{MAX_POINTS})")
         if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (start, stop)):
             raise ValueError(f"range {text!r}: start and stop must be numbers")
         values = np.linspace(start, stop, n)
         if isinstance(start, int) and isinstance(stop, int) and np.all(values == np.round(values)):
             return [int(v) for v in values]
         return [float(v) for v in values]
+    if text.count(",") >= MAX_POINTS:
+        raise ValueError(f"{text.count(',') + 1} values, more than a sweep runs (at most "
+                         f"{MAX_POINTS})")
     values = [_scalar(p) for p in text.split(",")]
     return values
 
@@ -334,6 +351,10 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
     started = time.perf_counter()
     studies = [studies] if isinstance(studies, Study) else list(studies)
     _check_studies(studies, duration, dt)
+    total = sum(len(study.values) for study in studies)
+    if total > MAX_POINTS:
+        raise ValueError(f"studies: {total} points, more than a sweep runs (at most "
+                         f"{MAX_POINTS})")
     if workers is not None and not (isinstance(workers, int) and workers >= 1):
         raise ValueError(f"workers: need an integer >= 1, got {workers!r}")
     out = Path(out)
@@ -342,6 +363,7 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
 
     points = [(study, value) for study in studies for value in study.values]
     rows, pending, reused, errors = _plan(points, points_dir, duration, dt)
+    _check_long_enough(points, pending)
 
     from tqdm.auto import tqdm  # (imported here: it pulls in asyncio, ~40 ms)
 
@@ -377,8 +399,9 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
             bar.update(1)
     except KeyboardInterrupt:
         bar.close()
+        done = write_csv([row for row in rows if row is not None], out / "sweep.csv")
         print(f"sweep interrupted: {reused + computed} of {len(points)} points are kept in "
-              f"{points_dir}; run again to compute the rest", file=sys.stderr)
+              f"{points_dir} (and in {done}); run again to compute the rest", file=sys.stderr)
         raise
     finally:
         bar.close()
@@ -558,6 +581,59 @@ def _plot_study(rows, path, parameter_label, title=None):
 
 
 # ---------------------------------------------------------------- helpers
+
+def _base_case(file, where):
+    """The Case of a base case file; a MoorDyn deck is refused naming it (a sweep varies a
+    case file's values)."""
+    from ..io.deck import is_deck
+
+    if is_deck(file):
+        raise ValueError(f"{where} {file}: is a MoorDyn deck, not a case file (a sweep "
+                         "varies the values of a case file, .toml)")
+    return Case.from_toml(file)
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _check_numbers(case, path, values, study):
+    """Refuse a value that is not a number where the base case has a number."""
+    node = case.data
+    for key in path.split("."):
+        if isinstance(node, list) and key.lstrip("-").isdigit() and -len(node) <= int(key) < len(node):
+            node = node[int(key)]
+        elif isinstance(node, dict) and key in node:
+            node = node[key]
+        else:
+            node = PAPER_CASE.get("solver", {}).get(key) if path == f"solver.{key}" else None
+            break
+    if not _is_number(node):
+        return
+    for v in values:
+        if not _is_number(v):
+            raise ValueError(f"study {study!r}: parameter {path!r}: value {v!r} is not a "
+                             f"number (the base case has {node!r})")
+
+
+def _check_long_enough(points, pending):
+    """Refuse, before any point runs, a sweep whose runs are too short for steady-state
+    amplitudes (the last solver.steady_periods forcing periods)."""
+    for i, task, _, _ in pending:
+        case = task["case"]
+        omega = (case.get("load") or {}).get("omega")
+        if not omega:
+            continue
+        periods = int(case.get("solver", {}).get("steady_periods", 5))
+        need = periods * 2 * math.pi / float(omega)
+        if task["duration"] < need:
+            study, value = points[i]
+            raise ValueError(f"duration: {task['duration']:g} s is shorter than "
+                             f"solver.steady_periods = {periods} forcing periods "
+                             f"({need:.4g} s) of point {study.name} {study.parameter} = "
+                             f"{value!r}: no steady-state amplitudes (a longer --duration, "
+                             "or fewer steady_periods)")
+
 
 def _check_studies(studies, duration, dt):
     if not studies:

@@ -163,6 +163,10 @@ def newton(residual, x0, *, xtol=1e-9, maxiter=60, shift=None, shift_matrix=None
                 dx = spla.spsolve(A.tocsc(), -R)
             except RuntimeError:  # SuperLU: "failed to factorize" an exactly singular A
                 dx = np.full_like(R, np.nan)
+        if not (np.all(np.isfinite(R)) and np.all(np.isfinite(A.data if hasattr(A, "data")
+                                                               else A))):
+            raise ConvergenceError(f"{where}: the residual or its tangent is not finite (NaN "
+                                   f"or inf) at iteration {it}; some term gives NaN or inf there")
         if not np.all(np.isfinite(dx)):
             raise ConvergenceError(f"{where}: singular tangent at iteration {it}; is a line "
                                    "slack and weightless, or a DOF unrestrained? (a static "

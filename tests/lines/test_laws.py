@@ -348,3 +348,35 @@ def test_the_network_layout_reads_tension_only():
     assert as_law(explicit_network(case).strain_law).tension_only
     pushing = explicit_network(case.replace("mooring.tension_only", False)).strain_law
     assert not pushing.tension_only and pushing.name == "engineering"
+
+
+FD_LAWS = [laws.Paper(), laws.Paper(tension_only=False), laws.Engineering(),
+           laws.Curve(CURVE_E, CURVE_T), laws.StaticDynamic(EA_dynamic=3 * EA),
+           laws.Viscoelastic(EA_dynamic=3 * EA, creep_damping=1e5)]
+
+
+@pytest.mark.parametrize("law", FD_LAWS, ids=lambda law: f"{law.name}-{law.tension_only}")
+def test_each_laws_slope_is_the_central_difference_of_its_tension(law):
+    """Law.slope(e) equals (T(e + h) - T(e - h)) / 2h of Law.tension (h = 1e-7) at strains
+    off any knot, taut and (for a law that pushes) compressed, to 1e-6 of the slope: a
+    derivative with a sign flipped inside it (the paper's EA (lambda^2 + eps) written
+    lambda^2 - eps, a hinge's slope subtracted) is off by far more."""
+    e = np.array([0.004, 0.013, 0.037, 0.12] + ([-0.02] if not law.tension_only else []))
+    h = 1e-7
+    fd = (law.tension(e + h, EA) - law.tension(e - h, EA)) / (2 * h)
+    slope = law.slope(e, EA)
+    assert np.all(np.abs(slope - fd) <= 1e-6 * np.abs(fd)), (slope, fd)
+
+
+def test_stress_resultants_slope_is_the_central_difference_of_it():
+    """dS/deps of ``stress_resultant`` equals the central difference of S (h = 1e-8) for
+    every law's parameters, taut and compressed, without JAX (its own test is skipped
+    where JAX is missing)."""
+    lines = mixed_lines()
+    p = {name: value[:, 0] for name, value in lines.cable_fields.items() if name != "Xp"}
+    eps = np.linspace(-0.013, 0.031, lines.mesh.t.shape[1])
+    h = 1e-8
+    S = lambda x: laws.stress_resultant(x, p["T"], p)[0]  # noqa: E731
+    fd = (S(eps + h) - S(eps - h)) / (2 * h)
+    slope = laws.stress_resultant(eps, p["T"], p)[1]
+    assert np.max(np.abs(slope - fd)) <= 1e-5 * np.max(np.abs(fd))

@@ -296,3 +296,26 @@ def test_lateral_drag_needs_mu_lateral_w_laid_length():
     part."""
     force, laid = drag([0.0, 1.0], mu_axial=0.1, mu_lateral=0.8, stretch=1.0, t_end=6.0)
     assert force == pytest.approx(0.8 * CHAIN.weight * laid, rel=1e-2)
+
+
+def test_default_bed_damping_is_critical_for_a_laid_line():
+    """The default damping is critical (docstring: 2 sqrt(k m)): a straight chain laid
+    flat, sunk twice its static penetration (past the damping's onset), has the total
+    normal stiffness k_z and damping c_z of the assembled kernel such that the heave of
+    the laid line as a mass-spring-damper, m L z'' + c_z z' + k_z z = 0, has damping ratio
+    c_z / (2 sqrt(k_z m L)) = 1, with m the chain's mass per length; and k_z = w L / 1 mm.
+    Fails on a halved (ratio 0.5) or doubled default."""
+    L, n = 40.0, 20
+    w, mass = CHAIN.weight, CHAIN.mass
+    z = -DEPTH - 2.0 * DEFAULT_PENETRATION
+    X = np.c_[np.linspace(0.0, L, n + 1), np.zeros(n + 1), np.full(n + 1, z)]
+    lines = LineSet([Line.from_polyline(X, CHAIN)])
+    bed = Seabed(DEPTH)
+    u = np.zeros(lines.ndofs)
+    _, K, Kv = seabed_term(lines, bed).evaluate(u, u, 0.0, True)
+    K, Kv = (np.asarray(A.toarray() if hasattr(A, "toarray") else A) for A in (K, Kv))
+    zdofs = lines.nodal_dofs[:, 2]
+    k_z = K[np.ix_(zdofs, zdofs)].sum()
+    c_z = Kv[np.ix_(zdofs, zdofs)].sum()
+    assert k_z == pytest.approx(w * L / 1e-3, rel=1e-9)
+    assert c_z / (2.0 * np.sqrt(k_z * mass * L)) == pytest.approx(1.0, rel=1e-9)
