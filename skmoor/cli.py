@@ -50,7 +50,9 @@ def cmd_run(args) -> int:
     settings = {k: getattr(args, k) for k in ("duration", "dt", "output_interval")
                 if getattr(args, k) is not None}
     model = build(source, motion=_motion(args, source), rotations=args.rotations)
-    results = simulate(model, progress=not args.quiet, out=out, **settings)
+    results = simulate(model, progress=not args.quiet, out=out, **settings,
+                       checkpoint_every=getattr(args, "checkpoint_every", None),
+                       restart=getattr(args, "restart", None))
     info = summary(results)
     _plots(results, out)
     return _finish(results, info, out, args)
@@ -161,6 +163,12 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--rotations", choices=("small", "exact"),
                      help="deck only: the free bodies' rotations, 'exact' for bodies that "
                      "turn far (default: small; a case file sets it per body)")
+    run.add_argument("--checkpoint-every", dest="checkpoint_every", type=float, metavar="S",
+                     help="write the whole state to OUT/checkpoint.bin every S s of "
+                     "simulated time (replacing the one before)")
+    run.add_argument("--restart", metavar="FILE",
+                     help="go on from a checkpoint of the same model and dt (its results "
+                     "start at the checkpoint's time)")
     run.set_defaults(func=cmd_run)
 
     sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",

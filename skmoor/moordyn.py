@@ -49,7 +49,7 @@ from .coupling.network import Point, coupled_offsets, coupled_size
 from .coupling.rods import coupled_reaction
 from .model.model import build
 from .run.equilibrium import equilibrium
-from .solvers.dynamics import Scheme, Stepping
+from .solvers.dynamics import Scheme, Stepping, checkpoint_bytes
 
 __all__ = ["Create", "Init", "Step", "Close", "NCoupledDOF", "GetNumberLines", "GetLine",
            "GetLineN", "GetLineNumberNodes", "GetLineFairTen", "GetLineNodePos",
@@ -352,7 +352,7 @@ def SaveState(instance: Host, filepath=None):
     saved = instance.checkpoint()
     if filepath is None:
         return saved
-    Path(filepath).write_bytes(_dumps(saved))
+    Path(filepath).write_bytes(checkpoint_bytes(saved))
     return None
 
 
@@ -365,7 +365,7 @@ def LoadState(instance: Host, filepath_or_state) -> None:
 
 
 def Serialize(instance: Host) -> bytes:
-    return _dumps(instance.checkpoint())
+    return checkpoint_bytes(instance.checkpoint())
 
 
 def Deserialize(instance: Host, data: bytes) -> None:
@@ -378,22 +378,3 @@ def Save(instance: Host, filepath) -> None:
 
 def Load(instance: Host, filepath) -> None:
     LoadState(instance, filepath)
-
-
-def _dumps(saved) -> bytes:
-    """The state as bytes; a kept Newton factor that cannot be written (a sparse LU) is
-    left out: the first step after loading factorizes again (equal to Newton's
-    tolerance, not to round-off)."""
-    step = saved["stepping"]
-    matrices = [step["matrix"], *step["halves"].values()]
-    kept = [m.factor for m in matrices]
-    try:
-        return pickle.dumps(saved)
-    except (TypeError, pickle.PicklingError, AttributeError):
-        for m in matrices:
-            m.factor = None
-        try:
-            return pickle.dumps(saved)
-        finally:
-            for m, factor in zip(matrices, kept):
-                m.factor = factor

@@ -220,16 +220,17 @@ class Stepping:
         (after the prescribed motion was changed at t: a host's Init)."""
         self.a, self.force, self.G = self.stepper.start(self.x, self.v, self.t)
 
-    def step(self, h, report=False) -> State:
-        """One step of h (s); with ``report`` the State carries the lines' full state and
-        end forces as :func:`integrate`'s reports (computed in the compiled step where it
-        runs)."""
+    def step(self, h, report=False, to=None) -> State:
+        """One step of h (s) (to the time ``to`` when given: t0 + k dt, as :func:`integrate`
+        counts it, rather than a sum of steps); with ``report`` the State carries the
+        lines' full state and end forces as :func:`integrate`'s reports (computed in the
+        compiled step where it runs)."""
         system, stepper = self.system, self.stepper
         if not h > 0:
             raise ValueError(f"Stepping.step h: must be positive, got {h}")
         if hasattr(system, "acceleration_step"):
             system.acceleration_step = h
-        t1 = self.t + h
+        t1 = self.t + h if to is None else float(to)
         level = (self.x, self.v, self.a, self.force, self.G)
         out = reported = None
         if self.fast is not None:
@@ -273,7 +274,11 @@ class Stepping:
             [np.array(f, copy=True) for f in self.fast.factors], self.fast.state.copy())
         memory = [{k: copy.deepcopy(v) for k, v in term.__dict__.items() if _plain(v)}
                   for term in getattr(self.system, "committing", [])]
+        frames = (None if not hasattr(self.system, "frames") else
+                  copy.deepcopy((self.system.frames, self.system.frame_r_local,
+                                 self.system._end_offsets)))
         return {"t": self.t, "steps": self.steps, "subdivided": self.subdivided,
+                "frames": frames,
                 "state": copy.deepcopy((self.x, self.v, self.a, self.force, self.G)),
                 "matrix": copy.copy(self.matrix),  # a factor is replaced, never changed
                 "halves": {k: copy.copy(m) for k, m in self.stepper.halves.items()},
@@ -294,6 +299,34 @@ class Stepping:
             self.fast.state[...] = saved["fast"][1]
         for term, memory in zip(getattr(self.system, "committing", []), saved["memory"]):
             term.__dict__.update(copy.deepcopy(memory))
+        if saved.get("frames") is not None:  # bodies re-based away from the gimbal lock
+            system = self.system
+            system.frames, system.frame_r_local, system._end_offsets = copy.deepcopy(
+                saved["frames"])
+            system._attachment_cache = (None, None, None)
+        if hasattr(self.system, "forget_prescribed"):
+            self.system.forget_prescribed()
+
+
+def checkpoint_bytes(saved) -> bytes:
+    """A :meth:`Stepping.checkpoint` (or a dict holding one under "stepping") as bytes; a
+    kept Newton factor that cannot be pickled (a sparse LU) is left out: the first step
+    after loading factorizes again (equal to Newton's tolerance, not to round-off)."""
+    import pickle
+
+    step = saved.get("stepping", saved)
+    matrices = [step["matrix"], *step["halves"].values()]
+    kept = [m.factor for m in matrices]
+    try:
+        return pickle.dumps(saved)
+    except (TypeError, pickle.PicklingError, AttributeError):
+        for m in matrices:
+            m.factor = None
+        try:
+            return pickle.dumps(saved)
+        finally:
+            for m, factor in zip(matrices, kept):
+                m.factor = factor
 
 
 class _Stepper:
