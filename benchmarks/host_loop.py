@@ -10,15 +10,18 @@ excluded), their ratio (skmoor / MoorDyn, below 1: skmoor faster) and the accura
 buys: max |difference| of the fairlead tension's swing T(t) - T(0) over MoorDyn's range
 (see test_host.py for why the swing).
 
-Measured (30 s, dt = 0.05 s, a 2-core machine shared with other jobs):
+Measured (30 s, dt = 0.05 s, a 2-core machine shared with other jobs: the ratios move by
+about 0.1 from run to run):
 
     deck                 substeps  MoorDyn s/s  skmoor s/s  ratio  swing diff / range
-    buoy_chain (38)      1         0.0117       0.0102      0.88   4.42 %
-    buoy_chain (38)      5         0.0117       0.0197      1.69   0.59 %
-    chain_600m (170)     1         0.0635       0.0130      0.21   1.84 %
-    chain_600m (170)     5         0.0635       0.0485      0.76   0.15 %
+    buoy_chain (38)      1         0.0104       0.0048      0.46   4.42 %
+    buoy_chain (38)      5         0.0104       0.0056      0.54   0.59 %
+    chain_600m (170)     1         0.0360       0.0063      0.18   1.84 %
+    chain_600m (170)     5         0.0360       0.0171      0.48   0.15 %
 
-(Init apart: MoorDyn's relaxation 0.5 s / 5.2 s, skmoor's static solve 0.01-0.09 s.)
+(Init apart: MoorDyn's relaxation 0.3 s / 3.0 s, skmoor's static solve 0.01-0.05 s.) A
+Step call runs its substeps in one call of the compiled step; coupled points' motion
+reaches it without per-time Python.
 
 Run: ``python benchmarks/host_loop.py [--duration 60] [--dt 0.05]``
 """
@@ -81,6 +84,8 @@ def main(argv=None):
     print("| deck | MoorDyn | skmoor substeps | skmoor | ratio | swing diff / range | "
           "Init MoorDyn / skmoor (s) |")
     print("|---|---|---|---|---|---|---|")
+    warm = skmoordyn.Create(DECKS["buoy_chain (38 segments)"], substeps=2)
+    timed(skmoordyn, warm, 1.0, args.dt)  # compiled code loaded before the timings
     for name, deck in DECKS.items():
         md = moordyn.Create(str(deck))
         t, T_md, wall_md, init_md = timed(moordyn, md, args.duration, args.dt)

@@ -6,11 +6,11 @@ and heave 1 sin(2 pi t / 10) m of the three fairleads, faded in over the first p
 given (a) as a :class:`skmoor.Motion` with its closed-form velocity and acceleration and
 (b) as a record of 12,000 rows (0.01 s) read by :func:`skmoor.read_motion` (a cubic
 spline, :class:`skmoor.Record`). Printed: each run's wall time (best of ``--repeats``),
-their ratio (record / function; the issue's target: within 1.2) and the largest
+their ratio (record / function; the target: within 1.2) and the largest
 difference of the fairlead tensions over the swing.
 
-Measured (30 s, best of 2, a 2-core machine shared with other jobs): function 0.354 s,
-record 0.388 s, ratio 1.09; tensions 1.5e-7 of the swing apart.
+Measured (30 s, best of 3, a 2-core machine shared with other jobs): function 0.086 s,
+record 0.089 s, ratio 1.03; tensions 1.5e-7 of the swing apart.
 
 Run: ``python benchmarks/motion_record.py [--duration 30] [--repeats 3]``
 """

@@ -20,7 +20,7 @@ Differences from MoorDyn:
   ``substeps`` equal steps per call (``Create(path, substeps=5)``), no explicit substeps
   at dtM. On a chain heaved and surged at 10 s, a 0.05 s coupling step needs 5 substeps
   to follow MoorDyn's tension swing within 0.6 % (one step: 4 %; tests/run/test_host.py,
-  docs/host.md). Over the step the coupled DOFs move as MoorDyn moves them:
+  docs/host.md); the substeps of a call run in one call of the compiled step. Over the step the coupled DOFs move as MoorDyn moves them:
   x + xd (s - t) from the values given at the step's start t, at the constant velocity
   xd. A coupling step coarser than the lines' dynamics need (a tenth of the shortest
   period of interest) is the host's choice, as with any implicit code.
@@ -155,9 +155,7 @@ class Host:
             raise RuntimeError("moordyn.Step: call moordyn.Init first")
         self._set_motion(t, x, xd)
         self.stepping.t = float(t)
-        for k in range(self.substeps):
-            state = self.stepping.step(float(dt) / self.substeps,
-                                       report=k == self.substeps - 1)
+        state = self.stepping.advance(float(dt) / self.substeps, self.substeps, report=True)
         (u, ud), ends = state.full_state, state.reactions
         self._last = (u, ud, ends)
         return self.coupled_forces()

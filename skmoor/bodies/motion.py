@@ -198,5 +198,18 @@ class Record(Motion):
             if order == 1:
                 return (3 * c[0] * s + 2 * c[1]) * s + c[2]
             return 6 * c[0] * s + 2 * c[1]
-        return np.array([self._at(t, order) for t in np.ravel(time)]).reshape(
-            np.shape(time) + (self._c.shape[2],))
+        t = self.times
+        times = np.ravel(np.asarray(time, float))
+        clipped = np.clip(times, t[0], t[-1])
+        i = np.clip(np.searchsorted(t, clipped, side="right") - 1, 0, len(t) - 2)
+        s = (clipped - t[i])[:, None]
+        c = self._c[i]  # (times, 4, k): one search for all the times and columns
+        if order == 0:
+            out = ((c[:, 0] * s + c[:, 1]) * s + c[:, 2]) * s + c[:, 3]
+        elif order == 1:
+            out = (3 * c[:, 0] * s + 2 * c[:, 1]) * s + c[:, 2]
+        else:
+            out = 6 * c[:, 0] * s + 2 * c[:, 1]
+        if order and np.any(clipped != times):
+            out[clipped != times] = 0.0
+        return out.reshape(np.shape(time) + (c.shape[2],))

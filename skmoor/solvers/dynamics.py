@@ -266,6 +266,33 @@ class Stepping:
         return State(self.t, self.steps, self.x, self.v, self.a, it, self.subdivided,
                      *(reported or (None, None)))
 
+    def advance(self, h, count, report=False) -> State:
+        """``count`` steps of h (s) (in one call of the compiled step where it runs: its
+        call costs more than a small system's step); the last State, with the report
+        of :meth:`step` when asked."""
+        done = []
+        if self.fast is not None and count > 1 and not self.stepper.nonlinear:
+            if hasattr(self.system, "acceleration_step"):
+                self.system.acceleration_step = h
+            times = self.t + h * np.arange(1, count + 1)
+            flags = [False] * (count - 1) + [bool(report)]
+            done, _ = self.fast.steps(self.x, self.v, self.a, self.force, times, h,
+                                      report=flags)
+            for k, (out, it, reported) in enumerate(done):
+                self.stepper.commit(times[k], out[0], out[1])
+            if done:
+                out, it, reported = done[-1]
+                self.x, self.v, self.a, self.force, self.G = out
+                self.t, self.iterations = float(times[len(done) - 1]), it
+                self.steps += len(done)
+                if len(done) == count:
+                    return State(self.t, self.steps, self.x, self.v, self.a, it,
+                                 self.subdivided, *(reported or (None, None)))
+        state = None
+        for k in range(len(done), count):
+            state = self.step(h, report=report and k == count - 1)
+        return state
+
     def checkpoint(self):
         """A copy of the stepping state (see the class)."""
         import copy
