@@ -87,7 +87,9 @@ def main(argv=None):
     warm = skmoordyn.Create(DECKS["buoy_chain (38 segments)"], substeps=2)
     timed(skmoordyn, warm, 1.0, args.dt)  # compiled code loaded before the timings
     for name, deck in DECKS.items():
-        md = moordyn.Create(str(deck))
+        copy = Path.cwd() / deck.name  # MoorDyn writes its outputs next to its deck
+        copy.write_text(deck.read_text())
+        md = moordyn.Create(str(copy))
         t, T_md, wall_md, init_md = timed(moordyn, md, args.duration, args.dt)
         moordyn.Close(md)
         span = np.ptp(T_md)

@@ -39,8 +39,8 @@ def host(lib, md, t0, x, v, f0, steps):
     return t, x, v, np.array(tension)
 
 
-def run(lib, checkpoint=False):
-    md = lib.Create(str(DECK))
+def run(lib, checkpoint=False, deck=DECK):
+    md = lib.Create(str(deck))
     x, v = np.array([0.0, 0.0, -10.0]), np.zeros(3)
     lib.Init(md, x, v)
     f0 = np.asarray(lib.GetPointForce(lib.GetPoint(md, 2)), float)  # the static pull
@@ -70,9 +70,11 @@ if moordyn_itself is not None:
     here = os.getcwd()
     import tempfile
 
-    os.chdir(tempfile.mkdtemp())  # MoorDyn may write files next to where it runs
+    os.chdir(tempfile.mkdtemp())  # MoorDyn writes its outputs next to its deck: a copy here
     try:
-        static_md, tension_md, _, _ = run(moordyn_itself)
+        copy = Path.cwd() / DECK.name
+        copy.write_text(DECK.read_text())
+        static_md, tension_md, _, _ = run(moordyn_itself, deck=copy)
     finally:
         os.chdir(here)
     swing = np.max(np.abs((tension - static) - (tension_md - static_md))) / np.ptp(tension_md)

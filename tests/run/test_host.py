@@ -64,8 +64,15 @@ def host_loop(lib, md, duration, dt=DT, start=START, mass=5e6, k_heave=1e6,
     return np.array(times), np.array(tension), np.array(path)
 
 
+def here(deck):
+    """The deck copied into the working folder: MoorDyn writes its outputs next to it."""
+    copy = Path.cwd() / deck.name
+    copy.write_text(deck.read_text())
+    return copy
+
+
 def side_by_side(deck, duration, substeps=5):
-    md = moordyn.Create(str(deck))
+    md = moordyn.Create(str(here(deck)))
     try:
         _, T_md, x_md = host_loop(moordyn, md, duration)
     finally:
@@ -175,7 +182,8 @@ def test_coupled_body_forces_against_moordyn(workdir):
     deck = ROOT / "tests" / "decks" / "host" / "semi_body.dat"
     pose = np.array([5.0, 0.0, 0.0, 0.0, 0.05, 0.02])
     out = []
-    for lib, md in ((moordyn, moordyn.Create(str(deck))), (skmoordyn, skmoordyn.Create(deck))):
+    for lib, md in ((moordyn, moordyn.Create(str(here(deck)))),
+                    (skmoordyn, skmoordyn.Create(deck))):
         assert lib.NCoupledDOF(md) == 6
         lib.Init(md, pose, np.zeros(6))
         for k in range(20):
