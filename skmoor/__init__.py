@@ -23,7 +23,7 @@ from .bodies import bem
 from .bodies.bem import Hydrodynamics
 from .bodies.body import RigidBody  # noqa: E402
 from .bodies.loads import BodyLoad, PointLoad
-from .bodies.motion import Motion, fade_in
+from .bodies.motion import Motion, Record, fade_in
 from .bodies.radiation import PotentialFlow
 from .coupling import rods
 from .coupling.network import Body, MooringLine, Network, Point
@@ -62,5 +62,5 @@ __all__ = [
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
     "from_network", "mooring_stiffness", "Ends", "PointMass", "bem", "Hydrodynamics",
-    "PotentialFlow", "rods", "Motion", "fade_in",
+    "PotentialFlow", "rods", "Motion", "Record", "fade_in",
 ]

@@ -53,7 +53,9 @@ def cmd_run(args) -> int:
                     if getattr(args, k) is not None}
         model = build(source, motion=_motion(args, source), rotations=args.rotations)
         _line_data(model, args)
-        results = simulate(model, progress=not args.quiet, out=out, **settings)
+        results = simulate(model, progress=not args.quiet, out=out, **settings,
+                           checkpoint_every=getattr(args, "checkpoint_every", None),
+                           restart=getattr(args, "restart", None))
         info = summary(results)
         from .run.report import summary_table
         print(summary_table(info), flush=True)  # the numbers first, then files and renders
@@ -245,6 +247,12 @@ def parser() -> argparse.ArgumentParser:
                      "see skmoor fatigue --help)")
     run.add_argument("--d-nom", dest="d_nom", nargs="+", metavar="M", help="nominal "
                      "diameter, m, of all lines and/or LINE=M (the fatigue curves' section)")
+    run.add_argument("--checkpoint-every", dest="checkpoint_every", type=float, metavar="S",
+                     help="write the whole state to OUT/checkpoint.bin every S s of "
+                     "simulated time (replacing the one before)")
+    run.add_argument("--restart", metavar="FILE",
+                     help="go on from a checkpoint of the same model and dt (its results "
+                     "start at the checkpoint's time)")
     run.set_defaults(func=cmd_run)
 
     sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",

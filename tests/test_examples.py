@@ -100,3 +100,16 @@ def test_box_in_jonswap_example(monkeypatch, tmp_path):
         assert ex.std_time[name] == pytest.approx(ex.std_linear[name], rel=0.15), name
     for picture in ("motions.png", "tension_spectra.png", "run.gif"):
         assert (tmp_path / picture).exists()
+
+
+def test_host_loop_example(monkeypatch, tmp_path):
+    """Example 10 (10 s): the host loop on skmoor.moordyn; the run continued from the
+    checkpoint repeats the uninterrupted one to 1e-12 of the tension; the body swings the
+    tension by more than 100 kN; the static tension is MoorDyn's within 1.5 % (the two
+    discretizations of the chain on its bed, tests/run/test_host.py)."""
+    monkeypatch.chdir(tmp_path)
+    ex = load("10_host_loop.py", monkeypatch, SKMOOR_EXAMPLE_DURATION="10")
+    assert np.max(np.abs(ex.again - ex.second)) <= 1e-12 * ex.static
+    assert np.ptp(ex.tension) > 1e5
+    if ex.moordyn_itself is not None:  # MoorDyn's static tension: the discretizations' 1 %
+        assert ex.static == pytest.approx(ex.static_md, rel=0.015)

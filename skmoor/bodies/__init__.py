@@ -5,10 +5,10 @@ from .bem import Hydrodynamics
 from .body import Hydrostatics, RigidBody
 from .body_motion import BodyMotion
 from .loads import BodyLoad, BodyTerm, PointLoad
-from .motion import Motion, fade_in
+from .motion import Motion, Record, fade_in
 from .radiation import PotentialFlow
 from .restoring import AppliedLoad, BodyRestoring
 
 __all__ = ["RigidBody", "Hydrostatics", "BodyMotion", "BodyTerm", "PointLoad", "BodyLoad",
-           "Motion", "fade_in", "BodyRestoring", "AppliedLoad", "PotentialFlow",
+           "Motion", "Record", "fade_in", "BodyRestoring", "AppliedLoad", "PotentialFlow",
            "Hydrodynamics"]

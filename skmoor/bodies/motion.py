@@ -143,3 +143,73 @@ def fade_in(motion, ramp):
                 + scaled(r, acceleration_of(motion, t)))
 
     return Motion(position, velocity, acceleration, vectorized=motion.vectorized)
+
+
+class Record(Motion):
+    """A :class:`Motion` through a table of m times (s, increasing) and (m, k) values: a
+    cubic spline through every column (not-a-knot ends, C2: its velocity and acceleration
+    are the spline's own derivatives, continuous), held at the first / last row outside
+    the table (velocity and acceleration zero there). A call finds the interval of each
+    time once for all k columns (a binary search, or the interval of the time before when
+    it still holds) and evaluates the interval's cubic: a record of any length costs what
+    a short one does. Vectorized: position, velocity and acceleration take a time (-> (k,))
+    or an array of times (-> (times, k))."""
+
+    def __init__(self, times, values):
+        t = np.asarray(times, float)
+        y = np.asarray(values, float)
+        y = y.reshape(len(t), -1) if y.ndim != 2 else y
+        if t.ndim != 1 or len(t) < 2 or len(y) != len(t):
+            raise ValueError(f"Record: expected m >= 2 times and m rows of values, got "
+                             f"{t.shape} and {np.shape(values)}")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(y))):
+            raise ValueError("Record: the times and values must be finite")
+        if np.any(np.diff(t) <= 0):
+            raise ValueError("Record: the times must increase row by row")
+        from scipy.interpolate import CubicSpline
+
+        spline = CubicSpline(t, y, axis=0, bc_type="not-a-knot" if len(t) > 3 else "natural")
+        c = spline.c  # (4, m - 1, k): value = sum c[j] s^(3 - j), s = time - t[i]
+        self.times, self.values = t, y
+        self._c = np.ascontiguousarray(np.moveaxis(c, 1, 0))  # (m - 1, 4, k)
+        self._last = 0  # the interval found last
+        super().__init__(lambda time: self._at(time, 0), lambda time: self._at(time, 1),
+                         lambda time: self._at(time, 2), vectorized=True)
+
+    def _interval(self, time):
+        """(interval index, offset s = clip(time) - its start, outside the table) of a
+        scalar time."""
+        t = self.times
+        i = self._last
+        if not t[i] <= time < t[i + 1]:
+            i = min(max(int(np.searchsorted(t, time, side="right")) - 1, 0), len(t) - 2)
+            self._last = i
+        clipped = min(max(time, t[0]), t[-1])
+        return i, clipped - t[i], clipped != time
+
+    def _at(self, time, order):
+        if np.ndim(time) == 0:
+            i, s, outside = self._interval(float(time))
+            c = self._c[i]
+            if order == 0:
+                return ((c[0] * s + c[1]) * s + c[2]) * s + c[3]
+            if outside:
+                return np.zeros(c.shape[1])
+            if order == 1:
+                return (3 * c[0] * s + 2 * c[1]) * s + c[2]
+            return 6 * c[0] * s + 2 * c[1]
+        t = self.times
+        times = np.ravel(np.asarray(time, float))
+        clipped = np.clip(times, t[0], t[-1])
+        i = np.clip(np.searchsorted(t, clipped, side="right") - 1, 0, len(t) - 2)
+        s = (clipped - t[i])[:, None]
+        c = self._c[i]  # (times, 4, k): one search for all the times and columns
+        if order == 0:
+            out = ((c[:, 0] * s + c[:, 1]) * s + c[:, 2]) * s + c[:, 3]
+        elif order == 1:
+            out = (3 * c[:, 0] * s + 2 * c[:, 1]) * s + c[:, 2]
+        else:
+            out = 6 * c[:, 0] * s + 2 * c[:, 1]
+        if order and np.any(clipped != times):
+            out[clipped != times] = 0.0
+        return out.reshape(np.shape(time) + (c.shape[2],))

@@ -392,6 +392,25 @@ def _clamp_tangents(ln: MooringLine, side, clamp, positions, tangents):
     return (direction, b) if side == "a" else (a, direction)
 
 
+def _point_slots(given, where, n):
+    """The vectorized :class:`~skmoor.bodies.motion.Motion` of coupled points' slots from
+    a vectorized network motion: its columns ``where`` (a slice per slot), no per-time
+    Python (what a host's or a record's motion costs per step)."""
+    columns = np.concatenate([np.arange(n)[w] for w in where])
+
+    def pick(f, name):
+        def picked(t):
+            y = np.asarray(f(t), float)
+            if y.shape[-1] != n:
+                raise ValueError(f"motion {name}: expected {n} coupled DOFs, got {y.shape}")
+            return y[..., columns].reshape(y.shape[:-1] + (len(where), 3))
+        return picked
+    acceleration = given.acceleration
+    return Motion(pick(given.position, "position"), pick(given.velocity, "velocity"),
+                  None if acceleration is None else pick(acceleration, "acceleration"),
+                  vectorized=True)
+
+
 def _slot_motion(network: Network, slots):
     """A :class:`~skmoor.bodies.motion.Motion` of the prescribed ends from the network's
     coupled-DOF motion (zeros without one): (nslots, 3) displacements, m; velocities and
@@ -400,6 +419,11 @@ def _slot_motion(network: Network, slots):
     slot is a Point, or (a Point on a coupled body, t0): the change R(t) R0^T t0 - t0 of a
     line's clamped tangent t0 there (turned, not carried)."""
     offsets = coupled_offsets(network)
+    given = network.motion
+    if (isinstance(given, Motion) and given.vectorized and given.velocity is not None
+            and all(not isinstance(p, tuple) and p.kind == "coupled" for p in slots)):
+        return _point_slots(given, [offsets[("Point", p.name)] for p in slots],
+                            network.n_coupled_dofs)
 
     def turned(body, q, r):
         """R(attitude + q) r - R(attitude) r (m) of a point r (body frame) on a body."""

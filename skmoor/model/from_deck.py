@@ -82,7 +82,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bodies.body import Hydrostatics, RigidBody, combined_mass, point_mass_matrix
-from ..bodies.motion import Motion
+from ..bodies.motion import Record
 from ..bodies.rod_loads import RodLoad, RodType, SpinLoad, spring_weight
 from ..coupling import rods
 from ..coupling.network import Body, MooringLine, Network, Point, moordyn_rotation
@@ -582,10 +582,9 @@ def read_motion(path, n_dofs: int):
     """motion(t) from a time-series file: whitespace- or comma-separated columns, the time
     (s) first, then the coupled DOFs' displacements from the deck's positions in MoorDyn's
     order (6 per coupled body: m, m, m, rad, rad, rad; then 3 per coupled point, m); lines
-    starting with '#' are comments. A :class:`~skmoor.bodies.motion.Motion`: linear
-    interpolation between rows, the first and last rows continued along the first / last
-    interval for one interval beyond the table, then held; its velocity each interval's
-    slope at the interval's middle, linear in between, the end slopes held beyond."""
+    starting with '#' are comments. A :class:`~skmoor.bodies.motion.Record`: a cubic
+    spline through the rows with its own velocity and acceleration, held at the first /
+    last row outside the table; a step costs the same for a record of any length."""
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"--motion: no such file {path}")
@@ -599,26 +598,9 @@ def read_motion(path, n_dofs: int):
                          f"{n_dofs} coupled DOFs ({n_dofs + 1})")
     if not np.all(np.isfinite(table)):
         raise ValueError(f"{path.name}: contains NaN or inf")
-    t = table[:, 0]
-    if np.any(np.diff(t) <= 0):
-        raise ValueError(f"{path.name}: the times must increase row by row")
-
-    head = np.vstack([2 * table[0] - table[1], table, 2 * table[-1] - table[-2]]) \
-        if len(table) > 1 else table
-    t = head[:, 0]
-    # the velocity: each interval's slope at its middle, linear in between, the first and
-    # last slopes held beyond (a run ending at the last row sees no jerk there)
-    middles = 0.5 * (t[1:] + t[:-1]) if len(t) > 1 else t
-    slopes = np.diff(head, axis=0) if len(t) > 1 else np.zeros_like(head)
-    slopes = slopes[:, 1:] / (slopes[:, :1] if len(t) > 1 else 1.0)
-
-    def motion(time):
-        return np.array([np.interp(time, t, column) for column in head[:, 1:].T])
-
-    def velocity(time):
-        return np.array([np.interp(time, middles, column) for column in slopes.T])
-
-    return Motion(motion, velocity)
+    if len(table) < 2 or np.any(np.diff(table[:, 0]) <= 0):
+        raise ValueError(f"{path.name}: the times must increase row by row (two rows or more)")
+    return Record(table[:, 0], table[:, 1:])
 
 
 def default_time_step(model, period=None) -> float:

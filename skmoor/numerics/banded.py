@@ -67,8 +67,18 @@ class Band:
         lu, piv, info = lapack.dgbtrf(self.ab, self.kl, self.ku)
         if info > 0:
             return None
-        kl, ku = self.kl, self.ku
-        return lambda b: lapack.dgbtrs(lu, kl, ku, b, piv)[0]
+        return BandSolver(lu, piv, self.kl, self.ku)
+
+
+class BandSolver:
+    """b -> A^-1 b from a band LU (LAPACK gbtrs); an object, so that a checkpoint of the
+    Newton matrix it belongs to can be written (pickled)."""
+
+    def __init__(self, lu, piv, kl, ku):
+        self.lu, self.piv, self.kl, self.ku = lu, piv, kl, ku
+
+    def __call__(self, b):
+        return lapack.dgbtrs(self.lu, self.kl, self.ku, b, self.piv)[0]
 
 
 LAYOUTS = ("sparse", "dense", "band")

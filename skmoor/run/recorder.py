@@ -18,7 +18,7 @@ from ..model.model import Model
 from ..post.results import Results
 from ..post.strength import line_strength_meta
 from ..solvers.compiled_step import lowered_terms
-from ..solvers.dynamics import State, integrate
+from ..solvers.dynamics import State, Stepping, integrate
 from ..solvers.newton import DivergenceError
 from .equilibrium import Equilibrium, equilibrium, steady_water
 
@@ -54,13 +54,20 @@ def _catenary_tension(cat, line, end):
 
 
 def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
-               progress=True, label="", done=None, compiled=True) -> tuple:
+               progress=True, label="", done=None, compiled=True, checkpoint_every=0,
+               on_checkpoint=None, restart=None) -> tuple:
     """Integrate ``system`` from rest at x0 for ``duration`` s with step dt, calling
     ``record(state)`` every ``every`` steps, under a progress bar. Returns (why it stopped
     early or None, the steps done): Ctrl-C or a diverging step keep what was recorded.
     ``done``: a dict whose "steps" follows the steps done (read it after a crash) and
     "subdivided" the steps split in halves on a failed Newton; compiled: the compiled
-    Newton step where it covers the system (:func:`~skmoor.solvers.dynamics.integrate`)."""
+    Newton step where it covers the system (:func:`~skmoor.solvers.dynamics.integrate`).
+    checkpoint_every (steps, 0: none): ``on_checkpoint(checkpoint, state)`` every that
+    many steps, checkpoint {"stepping": a :meth:`~skmoor.solvers.dynamics.Stepping.checkpoint`,
+    "report": the step's (full state, end forces)}; restart: such a checkpoint to go on
+    from (its state recorded first). Either runs the steps one call
+    at a time (:class:`~skmoor.solvers.dynamics.Stepping`), so that a restarted run
+    repeats the uninterrupted one to round-off."""
     n_steps = int(np.ceil(duration / dt - 1e-9))
     done = {} if done is None else done
     done["steps"] = done["subdivided"] = 0
@@ -76,8 +83,12 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     compiling = _CompileNotice(bar, label[:30])
     system.reset_frames()  # x0 has its angles from the global frame
     try:
-        for state in integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
-                               scheme=scheme, compiled=compiled, report_every=every):
+        states = (integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
+                            scheme=scheme, compiled=compiled, report_every=every)
+                  if not (checkpoint_every or restart) else
+                  _stepped(system, x0, dt, n_steps, C, scheme, compiled, every,
+                           checkpoint_every, on_checkpoint, restart))
+        for state in states:
             done["steps"], done["subdivided"] = state.step, state.subdivided
             if state.step % every == 0:
                 record(state)
@@ -135,6 +146,30 @@ class _CompileNotice:
     def cancel(self):
         self.waiting = False
         self.timer.cancel()
+
+
+def _stepped(system, x0, dt, n_steps, C, scheme, compiled, every, checkpoint_every,
+             on_checkpoint, restart):
+    """:func:`integrate`'s states, one :class:`Stepping` call a step, with checkpoints
+    (the state, and the report of its step: the restart records it as it was)."""
+    stepping = Stepping(system, x0, np.zeros(system.n), C=C, scheme=scheme,
+                        compiled=compiled)
+    if restart is not None:
+        stepping.restore(restart["stepping"])
+        report = restart["report"]
+    else:
+        u, ud = system.full_state(stepping.x, stepping.v, stepping.t)
+        report = (u, ud), system.end_forces(u, ud, stepping.t, stepping.a)
+    yield State(stepping.t, stepping.steps, stepping.x, stepping.v, stepping.a, 0,
+                stepping.subdivided, *report)
+    while stepping.steps < n_steps:
+        number = stepping.steps + 1
+        saving = bool(checkpoint_every) and number % checkpoint_every == 0
+        state = stepping.step(dt, report=saving or number % every == 0, to=number * dt)
+        if saving and on_checkpoint is not None:
+            on_checkpoint({"stepping": stepping.checkpoint(),
+                           "report": (state.full_state, state.reactions)}, state)
+        yield state
 
 
 class Recorder:

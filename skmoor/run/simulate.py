@@ -142,7 +142,7 @@ def bed_contact_period(model: Model) -> float | None:
 
 def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
              progress=True, eq: Equilibrium | None = None, start=None,
-             out=None) -> Results:
+             out=None, checkpoint_every=None, checkpoint=None, restart=None) -> Results:
     """Time history of ``model`` from rest; settings (s) default to the model's. start:
     'equilibrium' (the static state), 'given' (free points and bodies released from
     their given positions, the lines in equilibrium between them: a pendulum let go) or
@@ -151,7 +151,13 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     'equilibrium' when ``eq`` (a static state) is given, else the model's
     ``solver["start"]``, else 'equilibrium' (a deck with TmaxIC = 0 says 'reference'). out: an output folder, checked (and cleared of a previous run's files)
     before the solve and written as the run goes (see :class:`OutputWriter`); a crash, a
-    full disk or Ctrl-C keeps what was computed."""
+    full disk or Ctrl-C keeps what was computed.
+
+    checkpoint_every (s): every that much simulated time the whole state (lines, points,
+    bodies, memory terms' history, the integrator's kept matrices) is written to
+    ``checkpoint`` (a path; default ``out/checkpoint.bin``), replacing the one before.
+    restart: such a file: the run goes on from its time (the same model and dt) and
+    repeats the uninterrupted run to round-off; its results start at that time."""
     solver = model.solver
     if start is None:
         start = "equilibrium" if eq is not None else solver.get("start", "equilibrium")
@@ -165,6 +171,8 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
     every = max(1, int(round(interval / dt)))
     scheme = Scheme.named(solver["scheme"], solver.get("rho_inf", 0.8))
     folder = None if out is None else prepare_output(out)
+    saving = _checkpoints(model, dt, checkpoint_every, checkpoint, folder)
+    resumed = None if restart is None else read_checkpoint(restart, model, dt)
     started = time.perf_counter()
     eq = eq or _starting_equilibrium(model, start)
     notes = resolution_notes(model, eq, dt)
@@ -194,7 +202,8 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
                 model.system, x0, dt=dt, duration=duration, every=every,
                 record=recorder.record if writer is None else writer.record, C=eq.C,
                 scheme=scheme, progress=progress, label=model.name, done=outcome,
-                compiled=solver.get("compiled", True))
+                compiled=solver.get("compiled", True), checkpoint_every=saving[0],
+                on_checkpoint=saving[1], restart=resumed)
     except BaseException as error:  # a crash: keep what was computed, then re-raise
         if writer is not None and recorder.rows["t"]:
             outcome["stopped"] = f"crashed: {type(error).__name__}: {error}"
@@ -241,6 +250,53 @@ def _out_of_balance(model: Model) -> str:
     k = int(np.argmax(np.abs(R)))
     return (f"most out of balance as built: {names[k] or f'DOF {k}'} "
             f"({abs(R[k]):.3g} N or N m)")
+
+
+def _checkpoints(model, dt, every, path, folder):
+    """(steps between checkpoints, 0: none; the function writing one)."""
+    if every is None:
+        return 0, None
+    every = run_setting("checkpoint_every", every)
+    path = path if path is not None else (None if folder is None else
+                                          folder / "checkpoint.bin")
+    if path is None:
+        raise ValueError("checkpoint_every: give a checkpoint path or an output folder (out)")
+    from pathlib import Path
+
+    from ..solvers.dynamics import checkpoint_bytes
+
+    path = Path(path)
+
+    def write(saved, state):
+        data = checkpoint_bytes({**saved, "n": model.system.n, "dt": dt,
+                                 "model": model.name})
+        partial = path.with_name(path.name + ".part")
+        partial.write_bytes(data)
+        partial.replace(path)  # a crash while writing keeps the checkpoint before
+    return max(1, int(round(every / dt))), write
+
+
+def read_checkpoint(path, model, dt) -> dict:
+    """The checkpoint in the file ``path`` (written by :func:`simulate` with
+    checkpoint_every: {"stepping", "report", "n", "dt", "model"}) for ``model`` run at dt
+    (s); ValueError when it is another's."""
+    import pickle
+    from pathlib import Path
+
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"restart: no such file {path}")
+    try:
+        saved = pickle.loads(path.read_bytes())
+    except Exception as err:  # noqa: BLE001 - any unreadable file says so
+        raise ValueError(f"restart: {path.name} is not a checkpoint ({err})") from None
+    if not isinstance(saved, dict) or "stepping" not in saved:
+        raise ValueError(f"restart: {path.name} is not a checkpoint")
+    if saved["n"] != model.system.n or abs(saved["dt"] - dt) > 1e-12 * dt:
+        raise ValueError(f"restart: {path.name} is the checkpoint of {saved['model']!r} with "
+                         f"{saved['n']} DOFs at dt = {saved['dt']:g} s, not of this model "
+                         f"({model.system.n} DOFs, dt = {dt:g} s)")
+    return saved
 
 
 def _starting_equilibrium(model: Model, start: str) -> Equilibrium:

@@ -188,6 +188,174 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         yield State(t1, step, x, v, a, it, subdivided, *(reported or (None, None)))
 
 
+class Stepping:
+    """:func:`integrate`'s step one call at a time, for a host that gives the prescribed
+    motion step by step (:mod:`skmoor.moordyn`): ``step(h)`` advances (x, v, a) by h (s)
+    to ``t + h`` with the same Newton (compiled where it covers the system, else in
+    Python, a failed step split in halves) and returns the new :class:`State`.
+    ``checkpoint()`` -> an opaque copy of everything the next steps depend on (the state,
+    the kept Newton matrices, the memory terms' history); ``restore(checkpoint)`` goes
+    back to it, so that the steps after it repeat to round-off."""
+
+    def __init__(self, system, x0, v0, *, t0=0.0, C=None, scheme=None, tol=1e-5, maxiter=20,
+                 subdivide=SUBDIVIDE, compiled=True):
+        scheme = scheme or Scheme.newmark()
+        self.system, self.subdivide = system, subdivide
+        layout = self.layout = matrix_layout(system)
+        bandwidth = getattr(system, "bandwidth", None)
+        M = as_layout(system.M, layout, bandwidth)
+        C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
+        damped = C.count_nonzero() > 0
+        self.fast = _compiled_step(system, C, scheme, tol, maxiter) if compiled else None
+        self.stepper = _Stepper(system, M, as_layout(C, layout, bandwidth), damped, layout,
+                                scheme, tol, maxiter, subdivide)
+        self.matrix = _IterationMatrix(layout)
+        self.x, self.v, self.t = np.array(x0, float), np.array(v0, float), float(t0)
+        self.a, self.force, self.G = self.stepper.start(self.x, self.v, self.t)
+        self.stepper.commit(self.t, self.x, self.v)
+        self.steps = self.subdivided = self.iterations = 0
+
+    def restart(self):
+        """The acceleration and forces again from the balance at the present (x, v, t)
+        (after the prescribed motion was changed at t: a host's Init)."""
+        self.a, self.force, self.G = self.stepper.start(self.x, self.v, self.t)
+
+    def step(self, h, report=False, to=None) -> State:
+        """One step of h (s) (to the time ``to`` when given: t0 + k dt, as :func:`integrate`
+        counts it, rather than a sum of steps); with ``report`` the State carries the
+        lines' full state and end forces as :func:`integrate`'s reports (computed in the
+        compiled step where it runs)."""
+        system, stepper = self.system, self.stepper
+        if not h > 0:
+            raise ValueError(f"Stepping.step h: must be positive, got {h}")
+        if hasattr(system, "acceleration_step"):
+            system.acceleration_step = h
+        t1 = self.t + h if to is None else float(to)
+        level = (self.x, self.v, self.a, self.force, self.G)
+        out = reported = None
+        if self.fast is not None:
+            done, _ = self.fast.steps(*level[:4], np.array([t1]), h,
+                                      report=[True] if report else None)
+            if done:
+                out, it, reported = done[0]
+                stepper.commit(t1, out[0], out[1])
+        if out is None:
+            out, it = stepper.advance(*level, t1, h, self.matrix)
+            if out is not None:
+                stepper.commit(t1, out[0], out[1])
+            elif self.subdivide > 0:
+                why = it
+                out, it = stepper.split(level, self.t, t1, 1, h)
+                if out is None:
+                    raise DivergenceError(_hint(t1, self.steps + 1, h, why), t1, self.steps + 1)
+                self.subdivided += 1
+            else:
+                raise DivergenceError(_hint(t1, self.steps + 1, h, it), t1, self.steps + 1)
+        self.x, self.v, self.a, self.force, self.G = out
+        self.t, self.steps, self.iterations = t1, self.steps + 1, it
+        rebase = getattr(system, "rebase", None) if stepper.nonlinear else None
+        turned = rebase(self.x, self.v) if rebase is not None else None
+        if turned is not None:
+            self.x, self.v = turned
+            self.restart()
+            self.matrix = _IterationMatrix(self.layout)
+            stepper.halves.clear()
+        if report and reported is None:
+            u, ud = system.full_state(self.x, self.v, self.t)
+            reported = (u, ud), system.end_forces(u, ud, self.t, self.a)
+        return State(self.t, self.steps, self.x, self.v, self.a, it, self.subdivided,
+                     *(reported or (None, None)))
+
+    def advance(self, h, count, report=False) -> State:
+        """``count`` steps of h (s) (in one call of the compiled step where it runs: its
+        call costs more than a small system's step); the last State, with the report
+        of :meth:`step` when asked."""
+        done = []
+        if self.fast is not None and count > 1 and not self.stepper.nonlinear:
+            if hasattr(self.system, "acceleration_step"):
+                self.system.acceleration_step = h
+            times = self.t + h * np.arange(1, count + 1)
+            flags = [False] * (count - 1) + [bool(report)]
+            done, _ = self.fast.steps(self.x, self.v, self.a, self.force, times, h,
+                                      report=flags)
+            for k, (out, it, reported) in enumerate(done):
+                self.stepper.commit(times[k], out[0], out[1])
+            if done:
+                out, it, reported = done[-1]
+                self.x, self.v, self.a, self.force, self.G = out
+                self.t, self.iterations = float(times[len(done) - 1]), it
+                self.steps += len(done)
+                if len(done) == count:
+                    return State(self.t, self.steps, self.x, self.v, self.a, it,
+                                 self.subdivided, *(reported or (None, None)))
+        state = None
+        for k in range(len(done), count):
+            state = self.step(h, report=report and k == count - 1)
+        return state
+
+    def checkpoint(self):
+        """A copy of the stepping state (see the class)."""
+        import copy
+
+        fast = None if self.fast is None else (
+            [np.array(f, copy=True) for f in self.fast.factors], self.fast.state.copy())
+        memory = [{k: copy.deepcopy(v) for k, v in term.__dict__.items() if _plain(v)}
+                  for term in getattr(self.system, "committing", [])]
+        frames = (None if not hasattr(self.system, "frames") else
+                  copy.deepcopy((self.system.frames, self.system.frame_r_local,
+                                 self.system._end_offsets)))
+        return {"t": self.t, "steps": self.steps, "subdivided": self.subdivided,
+                "frames": frames,
+                "state": copy.deepcopy((self.x, self.v, self.a, self.force, self.G)),
+                "matrix": copy.copy(self.matrix),  # a factor is replaced, never changed
+                "halves": {k: copy.copy(m) for k, m in self.stepper.halves.items()},
+                "fast": fast,
+                "memory": memory}
+
+    def restore(self, saved):
+        """Back to a :meth:`checkpoint` (kept unchanged: it may be restored again)."""
+        import copy
+
+        self.t, self.steps, self.subdivided = saved["t"], saved["steps"], saved["subdivided"]
+        self.x, self.v, self.a, self.force, self.G = copy.deepcopy(saved["state"])
+        self.matrix = copy.copy(saved["matrix"])
+        self.stepper.halves = {k: copy.copy(m) for k, m in saved["halves"].items()}
+        if saved["fast"] is not None and self.fast is not None:
+            for kept, value in zip(self.fast.factors, saved["fast"][0]):
+                kept[...] = value
+            self.fast.state[...] = saved["fast"][1]
+        for term, memory in zip(getattr(self.system, "committing", []), saved["memory"]):
+            term.__dict__.update(copy.deepcopy(memory))
+        if saved.get("frames") is not None:  # bodies re-based away from the gimbal lock
+            system = self.system
+            system.frames, system.frame_r_local, system._end_offsets = copy.deepcopy(
+                saved["frames"])
+            system._attachment_cache = (None, None, None)
+        if hasattr(self.system, "forget_prescribed"):
+            self.system.forget_prescribed()
+
+
+def checkpoint_bytes(saved) -> bytes:
+    """A :meth:`Stepping.checkpoint` (or a dict holding one under "stepping") as bytes; a
+    kept Newton factor that cannot be pickled (a sparse LU) is left out: the first step
+    after loading factorizes again (equal to Newton's tolerance, not to round-off)."""
+    import pickle
+
+    step = saved.get("stepping", saved)
+    matrices = [step["matrix"], *step["halves"].values()]
+    kept = [m.factor for m in matrices]
+    try:
+        return pickle.dumps(saved)
+    except (TypeError, pickle.PicklingError, AttributeError):
+        for m in matrices:
+            m.factor = None
+        try:
+            return pickle.dumps(saved)
+        finally:
+            for m, factor in zip(matrices, kept):
+                m.factor = factor
+
+
 class _Stepper:
     """One implicit step of :func:`integrate` in Python: the start's acceleration, a step
     of h by Newton on the alpha-level balance, a failed step split in halves."""
@@ -304,6 +472,18 @@ class _Stepper:
                 return None, it
             level_state, total = out, total + it
         return level_state, total
+
+
+def _plain(value) -> bool:
+    """Whether ``value`` is state a memory term keeps (arrays, numbers, None, and tuples,
+    lists or dicts of them), not a reference to the model (lines, sea, laws)."""
+    if value is None or isinstance(value, (np.ndarray, float, int, bool, str, np.number)):
+        return True
+    if isinstance(value, (tuple, list)):
+        return all(_plain(v) for v in value)
+    if isinstance(value, dict):
+        return all(_plain(v) for v in value.values())
+    return False
 
 
 def _compiled_step(system, C, scheme, tol, maxiter):
