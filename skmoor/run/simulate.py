@@ -18,11 +18,17 @@ from ..model.model import Model, build
 from ..post.results import Results
 from ..solvers.dynamics import Scheme
 from ..solvers.newton import ConvergenceError
-from .equilibrium import Equilibrium, equilibrium, reference_state, released_state
+from .equilibrium import (Equilibrium, equilibrium, reference_state, relaxed_equilibrium,
+                          released_state)
 from .outputs import OutputWriter, prepare_output, summary
 from .recorder import INTERRUPTED, Recorder, record_run, run_meta
 
 STARTS = ("equilibrium", "given", "reference")  # simulate's starting states
+
+
+class InitialConditionWarning(UserWarning):
+    """A deck whose static solve found no state: it starts from MoorDyn's dynamic
+    relaxation, or from its given state."""
 
 
 class ResolutionWarning(UserWarning):
@@ -209,6 +215,11 @@ def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
     try:
         return equilibrium(model)
     except ConvergenceError as err:
+        if start == "equilibrium" and "ic" in model.solver:  # a deck: MoorDyn's IC stage
+            eq, note = relaxed_equilibrium(model, str(err).split(";")[0].split(". ")[0])
+            model.notes.append(note)
+            warnings.warn(note, InitialConditionWarning, stacklevel=3)
+            return eq
         if start != "given" or rayleigh:
             raise
         model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "
