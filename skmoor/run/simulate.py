@@ -18,8 +18,13 @@ from ..model.model import Model, build
 from ..post.results import Results
 from ..solvers.dynamics import Scheme
 from ..solvers.newton import ConvergenceError
-from .equilibrium import (Equilibrium, equilibrium, reference_state, relaxed_equilibrium,
-                          released_state)
+from .equilibrium import (
+    Equilibrium,
+    equilibrium,
+    reference_state,
+    relaxed_equilibrium,
+    released_state,
+)
 from .outputs import OutputWriter, prepare_output, summary
 from .recorder import INTERRUPTED, Recorder, record_run, run_meta
 
