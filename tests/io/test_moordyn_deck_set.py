@@ -199,7 +199,10 @@ def test_deck_runs_through_the_cli(deck, tmp_path, capsys):
     deck in one line naming the deck line (status 2); never a traceback. A deck whose
     static solve finds no state starts as MoorDyn's does, from a dynamic relaxation,
     with a one-line warning."""
-    with pytest.warns() as caught:
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         status, err, summary = run_cli(deck, tmp_path, capsys, "--duration", "0.05",
                                        "--dt", "0.01")
     if status == 2:
