@@ -444,6 +444,7 @@ class SeabedKernel(Term):
         self.static_slip = float(seabed.static_slip)
         self._seabed = seabed
         self._laid = None  # the as-laid displacement (ndofs,), made when first asked for
+        self._resting = {}  # held end nodes -> (their half element lengths, springs)
         self._no_velocity = np.zeros(lines.ndofs)
         # Hermite: the position DOFs [node i x, y, z, node j x, y, z] in the element blocks
         self._positions = np.array([0, 1, 2, 6, 7, 8]) if lines.hermite else None
@@ -515,12 +516,16 @@ class SeabedKernel(Term):
             normal = np.broadcast_to(self._seabed.normal, x.shape)
             offset = np.full(len(nodes), float(self._seabed.offset))
         g = offset - np.sum(normal * x, axis=1)
-        t = lines.mesh.t
-        share, k = np.zeros(len(nodes)), np.zeros(len(nodes))
-        for end in range(2):  # the elements at each node: their half lengths and springs
-            at = t[end][None, :] == nodes[:, None]  # (n, nel)
-            share += at @ (0.5 * self.h)
-            k = np.maximum(k, np.max(np.where(at, self.k[None, :], 0.0), axis=1))
+        key = nodes.tobytes()
+        if key not in self._resting:
+            t = lines.mesh.t
+            share, k = np.zeros(len(nodes)), np.zeros(len(nodes))
+            for end in range(2):  # the elements at each node: their half lengths, springs
+                at = t[end][None, :] == nodes[:, None]  # (n, nel)
+                share += at @ (0.5 * self.h)
+                k = np.maximum(k, np.max(np.where(at, self.k[None, :], 0.0), axis=1))
+            self._resting[key] = share, k
+        share, k = self._resting[key]
         pressing = -np.sum(weight[dofs] * normal, axis=1)  # N, into the bed
         carried = np.clip(pressing - k * np.maximum(g, 0.0) * share, 0.0, None)
         carried[g < -1e-6] = 0.0
