@@ -19,6 +19,12 @@ it the tests are skipped. One test per deck:
   with the reason.
 - test_census_counts_match_moordyn (slow): the survey's own reading of each deck counts
   the lines, points, bodies and rods MoorDyn counts.
+- test_deck_runs_through_the_cli (the three decks of issue 27 in the default suite, ~30 s;
+  every other deck slow, ~8 min): ``skmoor run DECK`` for 5 steps, from the folder
+  MoorDyn's tests run it in with its companion files, ends with status 0 and a summary
+  (or a one-line refusal naming the deck line), never a traceback; seafloor.txt, whose
+  static solve finds no state, starts from MoorDyn's dynamic relaxation with a
+  one-line warning.
 """
 import sys
 from pathlib import Path
