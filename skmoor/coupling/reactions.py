@@ -108,8 +108,26 @@ class EndReactions:
         quasi-static)."""
         R_full, _, _ = self.line_residual(u, ud if self.needs_velocity else None, t,
                                           tangent=False)
-        return self.less_inertia((-R_full[self.fairlead_dofs], -R_full[self.anchor_dofs]),
-                                 a, t)
+        forces = self._resting_on_bed(u, (-R_full[self.fairlead_dofs],
+                                          -R_full[self.anchor_dofs]))
+        return self.less_inertia(forces, a, t)
+
+    def _resting_on_bed(self, u, forces):
+        """The (B, A) end forces with the held ends resting on the sea bed relieved of the
+        weight the bed carries there (``SeabedKernel.resting_support``)."""
+        bed = next((term for term in self._terms["lines"]
+                    if hasattr(term, "resting_support")), None)
+        if bed is None:
+            return forces
+        lines, out = self.lines, []
+        for side, (ends, nodes) in enumerate(((self.ends.b, lines.fairlead_nodes),
+                                              (self.ends.a, lines.anchor_nodes))):
+            held = [k for k, end in enumerate(ends) if end[0] in ("fixed", "prescribed")]
+            f = np.array(forces[side], float, copy=True)
+            if held:
+                f[held] += bed.resting_support(u, self.weight, nodes[held])
+            out.append(f)
+        return out[0], out[1]
 
     def less_inertia(self, forces, a, t):
         """(B, A end forces) less the held ends' inertia at the accelerations a (a: None,

@@ -674,6 +674,8 @@ class SeabedSpec(_Table):
     slope_heading_deg: Number = None
     friction_velocity: Positive = None
     damping_onset: OptNonNegative = None
+    static_friction: Annotated[str, _choice("as-laid", "reference")] = None
+    static_slip: Positive = None
     file: Name = None
     x: Annotated[list, PlainValidator(_coordinates)] = None
     y: Annotated[list, PlainValidator(_coordinates)] = None

@@ -286,6 +286,7 @@ class LineSet:
         self.lines = lines
         self.laws = [line.line_type.law or self.law for line in lines]
         self._static = False  # the static laws in force (StaticDynamic lines)
+        self.static_mode = False  # a static solve is on (its terms may act differently)
         self._pushing = 0.0  # compression let through (a static solve's continuation)
         self._mean = None  # per-element (T_mean, e_mean) of StaticDynamic lines
         offsets, coords, cells, node0 = [], [], [], 0
@@ -472,7 +473,9 @@ class LineSet:
 
     def use_static_laws(self, static: bool):
         """Switch the lines' laws to their static (True) or dynamic (False) form; the
-        fields and the kernel's parameters change in place."""
+        fields and the kernel's parameters change in place. ``static_mode`` follows it
+        (the sea bed's static friction acts while it is on)."""
+        self.static_mode = bool(static)
         if self.has_static_laws and bool(static) != self._static:
             self._static = bool(static)
             self._refresh_laws()

@@ -36,7 +36,8 @@ from ..sea.waves import AiryWave, Current, JonswapWave, Sea
 
 LINE_COEFFICIENTS = ("Cd_n", "Cd_t", "Ca_n", "Ca_t")
 SEABED_KEYS = ("stiffness", "damping", "mu_axial", "mu_lateral", "slope_deg",
-               "slope_heading_deg", "friction_velocity", "damping_onset")
+               "slope_heading_deg", "friction_velocity", "damping_onset", "static_friction",
+               "static_slip")
 BATHYMETRY_KEYS = ("file", "x", "y", "heights")
 
 

@@ -453,7 +453,9 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
         network.seabed = _seabed(deck, network, bathymetry)
     dt_out = deck.option("dtOut") or None
     no_ic = "TmaxIC" in deck.options and deck.option("TmaxIC") == 0  # MoorDyn: no IC stage
-    settings = {"solver": {"scheme": "newmark", "duration": 60.0,
+    ic = {"tmax": deck.option("TmaxIC", 120.0), "dt_check": deck.option("dtIC", 1.0),
+          "threshold": deck.option("threshIC", 0.01)}  # MoorDyn's IC stage (its defaults)
+    settings = {"solver": {"scheme": "newmark", "duration": 60.0, "ic": ic,
                            **({"output_interval": dt_out} if dt_out else {}),
                            **({"start": "reference"} if no_ic else {})},
                 "damping": {"ratio": 0.0}, "load": {}}

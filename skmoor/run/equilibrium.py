@@ -10,11 +10,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..bodies import body as rigid
-from ..coupling.network import coupled_size
+from ..coupling.network import coupled_size, coupled_vector
 from ..model.model import Model
-from ..solvers.dynamics import rayleigh_coefficients
+from ..solvers.dynamics import Scheme, integrate, rayleigh_coefficients
 from ..solvers.modes import Modes, eigenmodes
-from ..solvers.newton import ConvergenceError
+from ..solvers.newton import ConvergenceError, DivergenceError
 from ..solvers.statics import solve_static
 
 
@@ -127,7 +127,15 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
             if hint:
                 raise ConvergenceError(f"{err}{hint}") from None
             raise
-        _, K, _ = system.residual(static.x)
+    return about(model, static.x, n_modes)
+
+
+def about(model: Model, x, n_modes: int = 12) -> Equilibrium:
+    """The :class:`Equilibrium` record of the state x (reduced): the tangent there, modes
+    and the model's Rayleigh damping about it."""
+    system = model.system
+    with steady_water(model):
+        _, K, _ = system.residual(x)
     damping = model.damping
     ratio = float(damping.get("ratio", 0.0))
     try:
@@ -143,7 +151,119 @@ def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
     else:
         a0 = a1 = 0.0
     C = a0 * system.M + a1 * K if (a0 or a1) else None
-    return Equilibrium(static.x, K, modes, C, (a0, a1))
+    return Equilibrium(x, K, modes, C, (a0, a1))
+
+
+# MoorDyn's initial-condition options (MoorDyn2.cpp's defaults): its dynamic relaxation
+IC_DEFAULTS = {"tmax": 120.0, "dt_check": 1.0, "threshold": 0.01}
+RELAX_DAMPING = 1.0  # 1/s: mass-proportional damping of the relaxation (C = a0 M)
+RELAX_CHECKS = 3  # consecutive checks within the threshold: settled
+
+
+@dataclass
+class Relaxation:
+    """The end of a dynamic relaxation: state x, time t (s) it ran, whether the line-end
+    tensions settled (``settled``), their last relative change, and why it stopped early
+    (a diverging step) or None."""
+
+    x: np.ndarray
+    t: float
+    settled: bool
+    change: float
+    stopped: str | None = None
+
+
+def relaxed_state(model: Model, x0=None, *, tmax=None, dt_check=None, threshold=None,
+                  dt=None, damping=RELAX_DAMPING) -> Relaxation:
+    """MoorDyn's initial condition: damped dynamics from x0 (default: the reference
+    state as built) with the coupled objects held where they are at t = 0, in the sea's
+    steady part, until the tensions at both ends of every line change by less than
+    ``threshold`` (relative) from one check to the next over RELAX_CHECKS checks
+    ``dt_check`` s apart, or for ``tmax`` s (MoorDyn's TmaxIC, dtIC, threshIC; defaults:
+    the model's ``solver["ic"]``, else MoorDyn's). The damping is a mass-proportional
+    C = damping M (1/s) and the generalized-alpha scheme's largest numerical damping
+    (rho_inf = 0), in place of MoorDyn's scaled drag (CdScaleIC); dt: the step (default:
+    the model's)."""
+    system, network = model.system, model.network
+    ic = {**IC_DEFAULTS, **model.solver.get("ic", {})}
+    tmax = float(ic["tmax"] if tmax is None else tmax)
+    dt_check = float(ic["dt_check"] if dt_check is None else dt_check)
+    threshold = float(ic["threshold"] if threshold is None else threshold)
+    dt = float(model.solver.get("dt", 0.01) if dt is None else dt)
+    dt = min(dt, tmax) if tmax > 0 else dt
+    every = max(1, int(round(dt_check / dt)))
+    x = np.zeros(system.n) if x0 is None else np.asarray(x0, float)
+    if tmax <= 0:
+        return Relaxation(x, 0.0, False, np.inf)
+    given = network.motion
+    if given is not None:
+        held = coupled_vector(network, 0.0)
+        network.motion = lambda t: held
+        system.forget_prescribed()
+    previous, quiet, change, t, stopped = None, 0, np.inf, 0.0, None
+    system.reset_frames()
+    try:
+        with steady_water(model):
+            for state in integrate(system, x, np.zeros(system.n), dt, tmax,
+                                   C=damping * system.M, scheme=Scheme.generalized_alpha(0.0),
+                                   report_every=every):
+                x, t = state.x, state.t
+                if state.reactions is None:
+                    continue
+                tension = np.concatenate([np.linalg.norm(f, axis=1) for f in state.reactions])
+                if not np.all(np.isfinite(tension)):
+                    stopped = "the tensions are not finite"
+                    break
+                if previous is not None:
+                    floor = 1e-3 * max(tension.max(), previous.max(), 1e-9)
+                    change = float(np.max(np.abs(tension - previous)
+                                          / np.maximum(tension, floor)))
+                    quiet = quiet + 1 if change < threshold else 0
+                    if quiet >= RELAX_CHECKS:
+                        break
+                previous = tension
+    except DivergenceError as err:
+        stopped = str(err)
+    finally:
+        system.reset_frames()
+        if given is not None:
+            network.motion = given
+            system.forget_prescribed()
+    return Relaxation(np.array(x), t, quiet >= RELAX_CHECKS, change, stopped)
+
+
+def relaxed_equilibrium(model: Model, why: str) -> tuple[Equilibrium, str]:
+    """(start, note) when the static solve found no state (``why``): MoorDyn's dynamic
+    relaxation (:func:`relaxed_state`), then a static solve from where it ends; the
+    relaxed state itself when that solve fails too, or the given state (the reference
+    as built) when the relaxation diverged; the note says which, in one line."""
+    system = model.system
+    relaxed = relaxed_state(model)
+    if relaxed.stopped is None and relaxed.t > 0:
+        try:
+            with steady_water(model):
+                x = static_state(system, relaxed.x).x
+            return about(model, x), (f"static state found after a dynamic relaxation of "
+                                     f"{relaxed.t:.3g} s (MoorDyn's initial condition; "
+                                     f"the static solve from the given state: {why})")
+        except (ConvergenceError, ValueError):
+            pass
+    if relaxed.stopped is None and np.all(np.isfinite(relaxed.x)) and relaxed.t > 0:
+        how = ("its line tensions settled to within "
+               f"{relaxed.change:.2g}" if relaxed.settled else
+               f"not settled (last change in the line tensions {relaxed.change:.2g})")
+        x, note = relaxed.x, (f"no static state ({why}): started from a dynamic relaxation "
+                              f"of {relaxed.t:.3g} s, {how}, as MoorDyn does")
+    else:
+        x = np.zeros(system.n)
+        note = (f"no static state ({why}) and the dynamic relaxation "
+                f"{'stopped: ' + relaxed.stopped if relaxed.stopped else 'was not run'}: "
+                "started from the given state")
+    try:
+        start = about(model, x)
+    except (ValueError, ConvergenceError):
+        start = Equilibrium(x, None, None, None, (0.0, 0.0))
+    return start, " ".join(note.split())
 
 
 def released_state(model: Model) -> np.ndarray:

@@ -27,6 +27,7 @@ from .equilibrium import (
     dof_names,
     equilibrium,
     reference_state,
+    relaxed_equilibrium,
     released_state,
     steady_water,
 )
@@ -34,6 +35,11 @@ from .outputs import OutputWriter, prepare_output, summary
 from .recorder import INTERRUPTED, Recorder, record_run, run_meta
 
 STARTS = ("equilibrium", "given", "reference")  # simulate's starting states
+
+
+class InitialConditionWarning(UserWarning):
+    """A deck whose static solve found no state: it starts from MoorDyn's dynamic
+    relaxation, or from its given state."""
 
 
 class ResolutionWarning(UserWarning):
@@ -319,6 +325,11 @@ def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
             if culprit is not None:
                 raise ConvergenceError(f"{str(err).split(';')[0]}: {culprit} gives NaN or "
                                        "inf at the state as built") from None
+        if start == "equilibrium" and "ic" in model.solver:  # a deck: MoorDyn's IC stage
+            eq, note = relaxed_equilibrium(model, str(err).split(";")[0].split(". ")[0])
+            model.notes.append(note)
+            warnings.warn(note, InitialConditionWarning, stacklevel=3)
+            return eq
         if start != "given" or rayleigh:
             worst = _out_of_balance(model)
             if worst and "out of balance" not in str(err):

@@ -47,6 +47,7 @@ from ..fem.terms import LineForm, Term
 from ..numerics.validation import check_finite, check_positive
 
 DEFAULT_PENETRATION = 1e-3  # m: the default stiffness lets the heaviest line sink this far
+STATIC_FRICTION = (None, "as-laid", "reference")  # Seabed.static_friction
 _VERTICAL = 1e-12  # |P r'| below which an element stands on the bed: no axial direction
 
 
@@ -133,6 +134,15 @@ class Seabed:
     damping fades in, m (default: a tenth of the largest static penetration w / k;
     0: MoorDyn's jump at touchdown). per_diameter: stiffness and damping are pressures
     (Pa/m, Pa s/m) on each line's diameter, as MoorDyn's kBot and cBot.
+    static_friction: the friction of a static solve, which has no velocities: None (no
+    friction in statics), 'as-laid' (each node's slip counted from the line laid on the
+    bed without tension, straight from its end A along the bed to where the node lies
+    in the reference: MoorPy's catenary with CB = mu_axial, the laid part's tension
+    falling by mu w per metre from the touchdown towards the anchor, down to 0) or
+    'reference' (the slip counted from the reference state as built). The static
+    friction is the dynamic one with the slip (m) in place of the slip velocity and
+    static_slip (m) in place of friction_velocity: the force is 99.5 % of mu N at a slip
+    of 10 static_slip.
     """
 
     depth: float
@@ -146,6 +156,8 @@ class Seabed:
     damping_onset: float | None = None
     per_diameter: bool = False
     bathymetry: Bathymetry | None = None
+    static_friction: str | None = None
+    static_slip: float = 1e-5
 
     def __post_init__(self):
         check_positive("Seabed.depth", self.depth)
@@ -168,6 +180,10 @@ class Seabed:
         if not 0.0 <= self.slope_deg < 90.0:
             raise ValueError(f"Seabed.slope_deg: must lie in [0, 90), got {self.slope_deg!r}")
         check_positive("Seabed.friction_velocity", self.friction_velocity)
+        check_positive("Seabed.static_slip", self.static_slip)
+        if self.static_friction not in STATIC_FRICTION:
+            raise ValueError(f"Seabed.static_friction: {self.static_friction!r} is not one of "
+                             f"{', '.join(map(repr, STATIC_FRICTION))}")
 
     @classmethod
     def from_moordyn(cls, depth, diameter, kBot=3.0e6, cBot=3.0e5, FrictionCoefficient=0.0,
@@ -424,6 +440,11 @@ class SeabedKernel(Term):
             self.offset = np.full(self.X.shape[:2], float(seabed.offset))
         self.friction = self.mu_a > 0 or self.mu_l > 0
         self.moving = bool(np.any(self.c > 0)) or self.friction
+        self.static_friction = seabed.static_friction if self.friction else None
+        self.static_slip = float(seabed.static_slip)
+        self._seabed = seabed
+        self._laid = None  # the as-laid displacement (ndofs,), made when first asked for
+        self._resting = {}  # held end nodes -> (their half element lengths, springs)
         self._no_velocity = np.zeros(lines.ndofs)
         # Hermite: the position DOFs [node i x, y, z, node j x, y, z] in the element blocks
         self._positions = np.array([0, 1, 2, 6, 7, 8]) if lines.hermite else None
@@ -436,7 +457,12 @@ class SeabedKernel(Term):
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
-        blocks (the term protocol, :mod:`skmoor.fem.terms`)."""
+        blocks (the term protocol, :mod:`skmoor.fem.terms`); in a static solve with
+        ``Seabed.static_friction``, the friction of the slip from the as-laid (or the
+        reference) state."""
+        if self.static_friction is not None and self.lines.static_mode:
+            self._add_static(u, R, Ke)
+            return
         if self._positions is not None and Ke is not None:
             ke, ce = np.zeros((len(self.h), 6, 6)), np.zeros((len(self.h), 6, 6))
             self._run(u, ud, R, ke, ce)
@@ -447,13 +473,102 @@ class SeabedKernel(Term):
             return
         self._run(u, ud, R, NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
 
-    def _run(self, u, ud, R, Ke, Ce):
+    def _run(self, u, ud, R, Ke, Ce, c=None, v0=None):
         n, offset = self.n, self.offset
         if self.bathymetry is not None:  # the bed's normal and height under each node
             n, offset = self.bathymetry.plane(self.X + u[self.ends])
-        _seabed(self.X, self.ends, self.h, n, offset, self.k, self.c, self.onset,
-                self.mu_a, self.mu_l, self.v0, self.friction, u,
-                self._no_velocity if ud is None else ud, R, Ke, Ce)
+        _seabed(self.X, self.ends, self.h, n, offset, self.k, self.c if c is None else c,
+                self.onset, self.mu_a, self.mu_l, self.v0 if v0 is None else v0,
+                self.friction, u, self._no_velocity if ud is None else ud, R, Ke, Ce)
+
+    def _add_static(self, u, R, Ke):
+        """The bed in a static solve: its spring, and the friction of the slip s = u -
+        u_laid (m) with the regularization static_slip, whose derivative d/ds is d/du."""
+        slip = u - self.laid_displacement()
+        zero = np.zeros_like(self.c)  # no damping: the slip is no velocity
+        if Ke is None:
+            self._run(u, slip, R, NO_BLOCKS, NO_BLOCKS, zero, self.static_slip)
+            return
+        ke, ce = np.zeros((len(self.h), 6, 6)), np.zeros((len(self.h), 6, 6))
+        self._run(u, slip, R, ke, ce, zero, self.static_slip)
+        if self._positions is None:
+            Ke += ke + ce
+        else:
+            p = self._positions
+            Ke[:, p[:, None], p] += ke + ce
+
+    def resting_support(self, u, weight, nodes) -> np.ndarray:
+        """(len(nodes), 3) support (N) the bed gives the held line-end ``nodes`` resting
+        on it beyond its spring: the part of the node's lumped weight (``weight``, the
+        lines' weight load (ndofs,), N) pressing into the bed that the spring k g does
+        not carry, along the bed's normal; zero for a node above the bed (by more than
+        1e-6 m) or pulled upwards. A held node on the bed at its surface (an anchor at the
+        depth) would otherwise pass its share of the line's weight, w h / 2, into its
+        reaction: half an element's weight, an error in the anchor tension of first order
+        in the element length that the bed, not the anchor, carries."""
+        lines = self.lines
+        nodes = np.asarray(nodes, int)
+        dofs = lines.nodal_dofs[nodes]  # (n, 3)
+        x = lines.points[nodes] + u[dofs]
+        if self.bathymetry is not None:
+            normal, offset = self.bathymetry.plane(x)
+        else:
+            normal = np.broadcast_to(self._seabed.normal, x.shape)
+            offset = np.full(len(nodes), float(self._seabed.offset))
+        g = offset - np.sum(normal * x, axis=1)
+        key = nodes.tobytes()
+        if key not in self._resting:
+            t = lines.mesh.t
+            share, k = np.zeros(len(nodes)), np.zeros(len(nodes))
+            for end in range(2):  # the elements at each node: their half lengths, springs
+                at = t[end][None, :] == nodes[:, None]  # (n, nel)
+                share += at @ (0.5 * self.h)
+                k = np.maximum(k, np.max(np.where(at, self.k[None, :], 0.0), axis=1))
+            self._resting[key] = share, k
+        share, k = self._resting[key]
+        pressing = -np.sum(weight[dofs] * normal, axis=1)  # N, into the bed
+        carried = np.clip(pressing - k * np.maximum(g, 0.0) * share, 0.0, None)
+        carried[g < -1e-6] = 0.0
+        return carried[:, None] * normal
+
+    def laid_displacement(self) -> np.ndarray:
+        """(ndofs,) displacement (m) of the state the static friction counts the slip
+        from: zero ('reference'), or ('as-laid') for the nodes from each line's end A
+        that touch the bed in the reference, the line laid straight along the bed from end
+        A without tension (a node at unstretched arclength s from end A sits at s along
+        the chord from end A to the node's reference position)."""
+        if self._laid is not None:
+            return self._laid
+        lines = self.lines
+        laid = np.zeros(lines.ndofs)
+        if self.static_friction == "as-laid":
+            points = lines.points
+            dofs = lines.nodal_dofs
+            touching = self._seabed.penetration(points) > -1e-6
+            for a, b in zip(lines.anchor_nodes, lines.fairlead_nodes):
+                if not touching[a]:
+                    continue
+                s = np.concatenate([[0.0], np.cumsum(self._node_spacing(a, b))])
+                for k, node in enumerate(range(a, b + 1)):
+                    if not touching[node]:
+                        break
+                    chord = points[node] - points[a]
+                    length = np.linalg.norm(chord)
+                    if length > 0:
+                        laid[dofs[node]] = (s[k] / length - 1.0) * chord
+        self._laid = laid
+        return laid
+
+    def _node_spacing(self, a, b):
+        """Unstretched lengths (m) of the elements between nodes a and b of a line: their
+        reference lengths over the reference stretch at their middles."""
+        lines = self.lines
+        t = lines.mesh.t
+        cells = np.flatnonzero((t[0] >= a) & (t[1] <= b))
+        cells = cells[np.argsort(t[0, cells])]
+        k = int(lines.line_of_cell[cells[0]])
+        middle = 0.5 * (lines.mesh.p[0, t[0, cells]] + lines.mesh.p[0, t[1, cells]])
+        return self.h[cells] / lines.lines[k].stretch(middle - lines._offsets[k])
 
 
 @njit(cache=True)

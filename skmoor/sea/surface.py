@@ -163,6 +163,7 @@ class SurfaceTerm(LineForm):
         height = self._heights(u, t)
         if height is None:
             return
+        v = np.zeros_like(u) if v is None else v  # None: at rest (the drag of the waves alone)
         cells = np.flatnonzero(np.any(height > -self._half, axis=1))
         if not len(cells):  # every Gauss point half a diameter deep: the term is zero
             return

@@ -252,8 +252,11 @@ class CompiledStep:
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
+        resting = getattr(system, "_resting_on_bed", None)  # System.end_forces' bed support
         return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
-                 ((lines_out[0, i], lines_out[1, i]), (ends_out[i, 0], ends_out[i, 1]))
+                 ((lines_out[0, i], lines_out[1, i]),
+                  (ends_out[i, 0], ends_out[i, 1]) if resting is None else
+                  resting(lines_out[0, i], (ends_out[i, 0], ends_out[i, 1])))
                  if report[i] > 0 else None) for i in range(done)], failure
 
 

@@ -19,6 +19,12 @@ it the tests are skipped. One test per deck:
   with the reason.
 - test_census_counts_match_moordyn (slow): the survey's own reading of each deck counts
   the lines, points, bodies and rods MoorDyn counts.
+- test_deck_runs_through_the_cli (the three decks of issue 27 in the default suite, ~30 s;
+  every other deck slow, ~8 min): ``skmoor run DECK`` for 5 steps, from the folder
+  MoorDyn's tests run it in with its companion files, ends with status 0 and a summary
+  (or a one-line refusal naming the deck line), never a traceback; seafloor.txt, whose
+  static solve finds no state, starts from MoorDyn's dynamic relaxation with a
+  one-line warning.
 """
 import sys
 from pathlib import Path
@@ -155,3 +161,67 @@ def test_census_counts_match_moordyn(both_sides, deck):
     c = o.deck.census
     mine = {key: c[key] for key in ("lines", "points", "bodies", "rods")}
     assert mine == o.moordyn["counts"], deck
+
+
+# ------------------------------------------------------------------ `skmoor run DECK`
+
+# decks that once ended in a traceback through the CLI (issue 27): the static solve of
+# seafloor.txt (a pendulum on a slack, weightless line over a sloped 3D sea bed) finds no
+# state and MoorDyn's dynamic relaxation starts it; wavekin_7's waves had no velocity
+# at rest for the surface term
+CLI_DECKS = ("tests/Mooring/BodiesAndRods.dat", "tests/Mooring/seafloor.txt",
+             "bench/Mooring/wavekin_7/wavekin_7.txt")
+CLI_PARAMS = ([deck if deck in CLI_DECKS else pytest.param(deck, marks=pytest.mark.slow)
+               for deck in DECKS] or PARAMS)
+
+
+def run_cli(deck, tmp_path, capsys, *options):
+    """`skmoor run DECK` in this process from the folder MoorDyn's tests run the deck
+    from, its companion files extracted from the mirror beside it: (exit status, stderr,
+    summary.json or None). An exception escaping the CLI fails the test."""
+    import json
+    import os
+
+    from skmoor import cli
+
+    entry = next(d for d in md.find_decks(MIRROR)[0] if d.path == deck)
+    local = md.extract(MIRROR, entry, tmp_path / "repo")
+    out = tmp_path / "out"
+    here = os.getcwd()
+    os.chdir(tmp_path / "repo" / md.run_folder(deck))
+    try:
+        status = cli.main(["run", str(local), "--out", str(out), "--no-export",
+                           "--no-animation", "--quiet", *options])
+    finally:
+        os.chdir(here)
+    err = capsys.readouterr().err
+    summary = out / "summary.json"
+    return status, err, json.loads(summary.read_text()) if summary.exists() else None
+
+
+@pytest.mark.parametrize("deck", CLI_PARAMS)
+def test_deck_runs_through_the_cli(deck, tmp_path, capsys):
+    """`skmoor run DECK` (a short run) ends with status 0 and its summary, or refuses the
+    deck in one line naming the deck line (status 2); never a traceback. A deck whose
+    static solve finds no state starts as MoorDyn's does, from a dynamic relaxation,
+    with a one-line warning."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        status, err, summary = run_cli(deck, tmp_path, capsys, "--duration", "0.05",
+                                       "--dt", "0.01")
+    if status == 2:
+        assert md.refusal_problem(deck, err) is None, err
+        assert deck in CLI_DECKS or len(err.strip().splitlines()) == 1, err
+        assert deck not in CLI_DECKS, f"{deck}: refused: {err}"
+        return
+    assert status == 0, (deck, err)
+    assert summary is not None and summary["stopped"] is None, deck
+    assert summary["steps"] == 5, deck
+    relaxed = [str(w.message) for w in caught
+               if type(w.message).__name__ == "InitialConditionWarning"]
+    assert all("\n" not in note for note in relaxed), relaxed
+    if deck == "tests/Mooring/seafloor.txt":  # no static state: MoorDyn's relaxation
+        assert relaxed and "dynamic relaxation" in relaxed[0], relaxed
+        assert any("dynamic relaxation" in note for note in summary["notes"]), summary
