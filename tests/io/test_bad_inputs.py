@@ -418,9 +418,21 @@ def test_an_exception_in_a_user_form_is_the_users_own(path):
 # ------------------------------------------------------------------ a failing static solve
 
 def test_a_failing_static_solve_is_one_line_naming_the_line(tmp_path, capsys):
-    """A 100 km chain between an anchor and a fairlead 400 m apart has no static state
-    the solve finds: on the command line one line (no traceback) naming the line whose
-    node is most out of balance as built."""
+    """A case whose 330 m bottom chain is made 100 km long has no static state the solve
+    finds: on the command line one line (no traceback) naming the line's nodes that nothing
+    holds and what is most out of balance as built."""
+    text = (Path(__file__).resolve().parents[2] / "examples" / "network_buoy.toml").read_text()
+    (tmp_path / "long.toml").write_text(text.replace("length = 330.0", "length = 100000.0", 1))
+    assert cli.main(["run", str(tmp_path / "long.toml"), "--out", str(tmp_path / "o"),
+                     "--quiet", "--no-export", "--no-animation", "--duration", "1"]) == 2
+    err = one_line_error(capsys, "run")
+    assert "static solve" in err and "leg1.bottom node" in err
+    assert "most out of balance as built:" in err
+
+
+def test_a_deck_without_a_static_state_starts_as_moordyn_does(tmp_path, capsys):
+    """The same 100 km chain in a deck: MoorDyn relaxes it dynamically instead of a static
+    solve; skmoor does as well and says so in one warning line, the run goes on."""
     head, rest = CLUMP.read_text().split("---------------------- POINTS")
     options = rest.split("---------------------- OPTIONS")[1]
     (tmp_path / "span.dat").write_text(head + """---------------------- POINTS ----
@@ -433,10 +445,14 @@ ID  LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 (#) (name)     (#)      (#)      (m)       (-)      (-)
 1   chain      1        2        100000.0  40       -
 ---------------------- OPTIONS""" + options)
-    assert cli.main(["run", str(tmp_path / "span.dat"), "--out", str(tmp_path / "o"),
-                     "--quiet", "--no-export", "--no-animation"]) == 2
-    err = one_line_error(capsys, "run")
-    assert "static solve" in err and "most out of balance as built: line1 node" in err
+    from skmoor.run.simulate import InitialConditionWarning
+
+    with pytest.warns(InitialConditionWarning):
+        assert cli.main(["run", str(tmp_path / "span.dat"), "--out", str(tmp_path / "o"),
+                         "--quiet", "--no-export", "--no-animation", "--duration", "0.1"]) == 0
+    assert "Traceback" not in capsys.readouterr().err
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["stopped"] is None
 
 
 def test_sigterm_in_the_api_keeps_the_results(tmp_path, monkeypatch):
