@@ -114,7 +114,8 @@ class EndReactions:
 
     def _resting_on_bed(self, u, forces):
         """The (B, A) end forces with the held ends resting on the sea bed relieved of the
-        weight the bed carries there (``SeabedKernel.resting_support``)."""
+        weight the bed carries there (``SeabedKernel.resting_support``); u (ndofs,) with
+        forces (nlines, 3) each, or m states: u (m, ndofs), forces (m, nlines, 3)."""
         bed = next((term for term in self._terms["lines"]
                     if hasattr(term, "resting_support")), None)
         if bed is None:
@@ -125,7 +126,7 @@ class EndReactions:
             held = [k for k, end in enumerate(ends) if end[0] in ("fixed", "prescribed")]
             f = np.array(forces[side], float, copy=True)
             if held:
-                f[held] += bed.resting_support(u, self.weight, nodes[held])
+                f[..., held, :] += bed.resting_support(u, self.weight, nodes[held])
             out.append(f)
         return out[0], out[1]
 

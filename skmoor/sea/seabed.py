@@ -499,7 +499,7 @@ class SeabedKernel(Term):
 
     def resting_support(self, u, weight, nodes) -> np.ndarray:
         """(len(nodes), 3) support (N) the bed gives the held line-end ``nodes`` resting
-        on it beyond its spring: the part of the node's lumped weight (``weight``, the
+        on it beyond its spring (u (ndofs,) m; or (m, ndofs): m states, (m, len(nodes), 3)): the part of the node's lumped weight (``weight``, the
         lines' weight load (ndofs,), N) pressing into the bed that the spring k g does
         not carry, along the bed's normal; zero for a node above the bed (by more than
         1e-6 m) or pulled upwards. A held node on the bed at its surface (an anchor at the
@@ -509,13 +509,14 @@ class SeabedKernel(Term):
         lines = self.lines
         nodes = np.asarray(nodes, int)
         dofs = lines.nodal_dofs[nodes]  # (n, 3)
-        x = lines.points[nodes] + u[dofs]
+        x = lines.points[nodes] + np.asarray(u)[..., dofs]  # (..., n, 3): u may be (m, ndofs)
         if self.bathymetry is not None:
-            normal, offset = self.bathymetry.plane(x)
+            normal, offset = self.bathymetry.plane(x.reshape(-1, 3))
+            normal, offset = normal.reshape(x.shape), np.reshape(offset, x.shape[:-1])
         else:
             normal = np.broadcast_to(self._seabed.normal, x.shape)
-            offset = np.full(len(nodes), float(self._seabed.offset))
-        g = offset - np.sum(normal * x, axis=1)
+            offset = np.full(x.shape[:-1], float(self._seabed.offset))
+        g = offset - np.sum(normal * x, axis=-1)
         key = nodes.tobytes()
         if key not in self._resting:
             t = lines.mesh.t
@@ -526,10 +527,10 @@ class SeabedKernel(Term):
                 k = np.maximum(k, np.max(np.where(at, self.k[None, :], 0.0), axis=1))
             self._resting[key] = share, k
         share, k = self._resting[key]
-        pressing = -np.sum(weight[dofs] * normal, axis=1)  # N, into the bed
+        pressing = -np.sum(weight[dofs] * normal, axis=-1)  # N, into the bed
         carried = np.clip(pressing - k * np.maximum(g, 0.0) * share, 0.0, None)
         carried[g < -1e-6] = 0.0
-        return carried[:, None] * normal
+        return carried[..., None] * normal
 
     def laid_displacement(self) -> np.ndarray:
         """(ndofs,) displacement (m) of the state the static friction counts the slip

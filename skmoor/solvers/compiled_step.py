@@ -252,11 +252,15 @@ class CompiledStep:
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
+        ends = (ends_out[:, 0], ends_out[:, 1])
         resting = getattr(system, "_resting_on_bed", None)  # System.end_forces' bed support
+        reported = np.flatnonzero(report[:done] > 0)
+        if resting is not None and len(reported):  # all the reported steps at once
+            B, A = resting(lines_out[0, reported], (ends[0][reported], ends[1][reported]))
+            ends = (ends[0].copy(), ends[1].copy())
+            ends[0][reported], ends[1][reported] = B, A
         return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
-                 ((lines_out[0, i], lines_out[1, i]),
-                  (ends_out[i, 0], ends_out[i, 1]) if resting is None else
-                  resting(lines_out[0, i], (ends_out[i, 0], ends_out[i, 1])))
+                 ((lines_out[0, i], lines_out[1, i]), (ends[0][i], ends[1][i]))
                  if report[i] > 0 else None) for i in range(done)], failure
 
 
