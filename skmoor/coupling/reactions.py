@@ -4,6 +4,8 @@ prescribed (accelerations in m/s2, masses in kg) that the dynamic reactions subt
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -116,19 +118,31 @@ class EndReactions:
         """The (B, A) end forces with the held ends resting on the sea bed relieved of the
         weight the bed carries there (``SeabedKernel.resting_support``); u (ndofs,) with
         forces (nlines, 3) each, or m states: u (m, ndofs), forces (m, nlines, 3)."""
-        bed = next((term for term in self._terms["lines"]
-                    if hasattr(term, "resting_support")), None)
-        if bed is None:
+        plans = self._resting_plans
+        if not plans:
             return forces
-        lines, out = self.lines, []
+        out = [forces[0], forces[1]]
+        for side, held, support in plans:
+            f = np.array(forces[side], float, copy=True)
+            f[..., held, :] += support(u)
+            out[side] = f
+        return out[0], out[1]
+
+    @functools.cached_property
+    def _resting_plans(self) -> list:
+        """(side, held line indices, support(u)) of each end side with held ends, where the
+        lines have a sea bed (none: an empty list)."""
+        bed = next((term for term in self._terms["lines"]
+                    if hasattr(term, "resting_plan")), None)
+        if bed is None:
+            return []
+        lines, plans = self.lines, []
         for side, (ends, nodes) in enumerate(((self.ends.b, lines.fairlead_nodes),
                                               (self.ends.a, lines.anchor_nodes))):
             held = [k for k, end in enumerate(ends) if end[0] in ("fixed", "prescribed")]
-            f = np.array(forces[side], float, copy=True)
             if held:
-                f[..., held, :] += bed.resting_support(u, self.weight, nodes[held])
-            out.append(f)
-        return out[0], out[1]
+                plans.append((side, held, bed.resting_plan(self.weight, nodes[held])))
+        return plans
 
     def less_inertia(self, forces, a, t):
         """(B, A end forces) less the held ends' inertia at the accelerations a (a: None,

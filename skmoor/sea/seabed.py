@@ -517,20 +517,44 @@ class SeabedKernel(Term):
             normal = np.broadcast_to(self._seabed.normal, x.shape)
             offset = np.full(x.shape[:-1], float(self._seabed.offset))
         g = offset - np.sum(normal * x, axis=-1)
+        share, k = self._share_and_spring(nodes)
+        pressing = -np.sum(weight[dofs] * normal, axis=-1)  # N, into the bed
+        carried = np.clip(pressing - k * np.maximum(g, 0.0) * share, 0.0, None)
+        carried[g < -1e-6] = 0.0
+        return carried[..., None] * normal
+
+    def _share_and_spring(self, nodes):
+        """(half element lengths at each node (m), its stiffest bed spring (N/m2)), kept."""
         key = nodes.tobytes()
         if key not in self._resting:
-            t = lines.mesh.t
+            t = self.lines.mesh.t
             share, k = np.zeros(len(nodes)), np.zeros(len(nodes))
             for end in range(2):  # the elements at each node: their half lengths, springs
                 at = t[end][None, :] == nodes[:, None]  # (n, nel)
                 share += at @ (0.5 * self.h)
                 k = np.maximum(k, np.max(np.where(at, self.k[None, :], 0.0), axis=1))
             self._resting[key] = share, k
-        share, k = self._resting[key]
-        pressing = -np.sum(weight[dofs] * normal, axis=-1)  # N, into the bed
-        carried = np.clip(pressing - k * np.maximum(g, 0.0) * share, 0.0, None)
-        carried[g < -1e-6] = 0.0
-        return carried[..., None] * normal
+        return self._resting[key]
+
+    def resting_plan(self, weight, nodes):
+        """:meth:`resting_support` of fixed ``nodes`` as a function of u alone, its
+        constant parts computed once (a flat bed; on a bathymetry the general method)."""
+        nodes = np.asarray(nodes, int)
+        if self.bathymetry is not None:
+            return lambda u: self.resting_support(u, weight, nodes)
+        share, k = self._share_and_spring(nodes)
+        normal = np.asarray(self._seabed.normal, float)
+        dofs = self.lines.nodal_dofs[nodes]
+        height = float(self._seabed.offset) - self.lines.points[nodes] @ normal  # g at u = 0
+        pressing = -(weight[dofs] @ normal)
+        stiffness = k * share
+
+        def plan(u):
+            g = height - np.asarray(u)[..., dofs] @ normal
+            carried = np.clip(pressing - stiffness * np.maximum(g, 0.0), 0.0, None)
+            carried[g < -1e-6] = 0.0
+            return carried[..., None] * normal
+        return plan
 
     def laid_displacement(self) -> np.ndarray:
         """(ndofs,) displacement (m) of the state the static friction counts the slip
