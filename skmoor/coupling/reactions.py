@@ -118,7 +118,7 @@ class EndReactions:
         """The (B, A) end forces with the held ends resting on the sea bed relieved of the
         weight the bed carries there (``SeabedKernel.resting_support``); u (ndofs,) with
         forces (nlines, 3) each, or m states: u (m, ndofs), forces (m, nlines, 3)."""
-        plans = self._resting_plans
+        plans = self.resting_plans
         if not plans:
             return forces
         out = [forces[0], forces[1]]
@@ -129,7 +129,7 @@ class EndReactions:
         return out[0], out[1]
 
     @functools.cached_property
-    def _resting_plans(self) -> list:
+    def resting_plans(self) -> list:
         """(side, held line indices, support(u)) of each end side with held ends, where the
         lines have a sea bed (none: an empty list)."""
         bed = next((term for term in self._terms["lines"]

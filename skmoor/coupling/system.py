@@ -286,7 +286,7 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         """Add a :class:`~skmoor.fem.terms.Term` (lines, a free point or a body) with its mass."""
         self._join(term)
         self._assemble_mass()
-        self.__dict__.pop("_resting_plans", None)  # a sea bed may have come with it
+        self.__dict__.pop("resting_plans", None)  # a sea bed may have come with it
 
     def _join(self, term):
         if not isinstance(term, Term):

@@ -538,7 +538,8 @@ class SeabedKernel(Term):
 
     def resting_plan(self, weight, nodes):
         """:meth:`resting_support` of fixed ``nodes`` as a function of u alone, its
-        constant parts computed once (a flat bed; on a bathymetry the general method)."""
+        constant parts computed once: a :class:`RestingSupport` on a flat bed (arrays the
+        compiled step takes too), the general method on a bathymetry."""
         nodes = np.asarray(nodes, int)
         if self.bathymetry is not None:
             return lambda u: self.resting_support(u, weight, nodes)
@@ -546,15 +547,7 @@ class SeabedKernel(Term):
         normal = np.asarray(self._seabed.normal, float)
         dofs = self.lines.nodal_dofs[nodes]
         height = float(self._seabed.offset) - self.lines.points[nodes] @ normal  # g at u = 0
-        pressing = -(weight[dofs] @ normal)
-        stiffness = k * share
-
-        def plan(u):
-            g = height - np.asarray(u)[..., dofs] @ normal
-            carried = np.clip(pressing - stiffness * np.maximum(g, 0.0), 0.0, None)
-            carried[g < -1e-6] = 0.0
-            return carried[..., None] * normal
-        return plan
+        return RestingSupport(dofs, height, -(weight[dofs] @ normal), k * share, normal)
 
     def laid_displacement(self) -> np.ndarray:
         """(ndofs,) displacement (m) of the state the static friction counts the slip
@@ -672,3 +665,21 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
                     Ke[e, o + p, 3 + q] += scale * G
                     Ce[e, o + p, o + q] += W * N * (mu_a * v0**2 / ra**3 * a[p] * a[q]
                                                     + mu_l * (Q / rho - vl[p] * vl[q] / rho**3))
+
+
+class RestingSupport:
+    """The flat bed's support (N) of held line-end nodes resting on it, as
+    :meth:`SeabedKernel.resting_support` gives it, from their DOFs ``dofs`` (n, 3), gaps
+    at u = 0 ``height`` (m), weights pressing into the bed ``pressing`` (N), spring
+    stiffness times half element lengths ``stiffness`` (N/m) and the bed's ``normal``."""
+
+    def __init__(self, dofs, height, pressing, stiffness, normal):
+        self.dofs, self.height, self.pressing = dofs, height, pressing
+        self.stiffness, self.normal = stiffness, normal
+
+    def __call__(self, u):
+        """(n, 3) support at u (ndofs,), or (m, n, 3) at m states u (m, ndofs)."""
+        g = self.height - np.asarray(u)[..., self.dofs] @ self.normal
+        carried = np.clip(self.pressing - self.stiffness * np.maximum(g, 0.0), 0.0, None)
+        carried[g < -1e-6] = 0.0
+        return carried[..., None] * self.normal

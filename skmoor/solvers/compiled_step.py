@@ -156,6 +156,7 @@ class CompiledStep:
         self.report_dofs = np.concatenate([np.ravel(system.fairlead_dofs),
                                            np.ravel(system.anchor_dofs)]).astype(np.int64)
         self.held = _held_inertia(system)
+        self.resting = _resting(system)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
         drag = np.zeros(len(system.point_masses))
         for term in system.built_in_terms:
@@ -247,27 +248,20 @@ class CompiledStep:
                  self.damped, self.width)
         done, code = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, model,
                           loads, pres_u, pres_v, driven, pres_a, self.factors, self.state,
-                          self.work, out, iterations, report, self.report_dofs, self.held,
-                          lines_out, ends_out.reshape(count, -1))
+                          self.work, out, iterations, report, self.report_dofs,
+                          self.resting, self.held, lines_out, ends_out.reshape(count, -1))
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
-        ends = (ends_out[:, 0], ends_out[:, 1])
-        resting = getattr(system, "_resting_on_bed", None)  # System.end_forces' bed support
-        reported = np.flatnonzero(report[:done] > 0)
-        if resting is not None and len(reported):  # all the reported steps at once
-            B, A = resting(lines_out[0, reported], (ends[0][reported], ends[1][reported]))
-            ends = (ends[0].copy(), ends[1].copy())
-            ends[0][reported], ends[1][reported] = B, A
         return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
-                 ((lines_out[0, i], lines_out[1, i]), (ends[0][i], ends[1][i]))
+                 ((lines_out[0, i], lines_out[1, i]), (ends_out[i, 0], ends_out[i, 1]))
                  if report[i] > 0 else None) for i in range(done)], failure
 
 
 @njit(cache=True)
 def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, driven,
-         pres_a, factors, state, work, out, iterations, report, report_dofs, held, lines_out,
-         ends_out):
+         pres_a, factors, state, work, out, iterations, report, report_dofs, resting, held,
+         lines_out, ends_out):
     """Steps of h from (x, v, a, force = C v + R) with the inputs of step i in loads[i],
     pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free DOFs, N;
     empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
@@ -296,11 +290,32 @@ def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, 
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
         if report[i] > 0:
             report[i] = _report(x1, v1, model, loads[i], pres_u[i], pres_v[i], work,
-                                report_dofs, lines_out[0, i], lines_out[1, i], ends_out[i])
+                                report_dofs, resting, lines_out[0, i], lines_out[1, i],
+                                ends_out[i])
             if report[i] > 0:
                 _less_held_inertia(held, a1, pres_a[i], ends_out[i])
         x, v, a, force = x1, v1, a1, force1
     return out.shape[1], 1
+
+
+def _resting(system):
+    """The arrays of ``system.resting_plans`` (flat bed) for :func:`_report`: the end rows
+    (side x lines + line) and each held node's DOFs, gap at u = 0, pressing weight,
+    stiffness and the bed's normal; empty arrays without a bed or held ends."""
+    nlines = len(system.fairlead_dofs)
+    rows, parts = [], []
+    for side, held, plan in system.resting_plans:
+        rows += [side * nlines + k for k in held]
+        parts.append(plan)
+    if not parts:
+        return (np.zeros(0, np.int64), np.zeros((0, 3), np.int64), np.zeros(0), np.zeros(0),
+                np.zeros(0), np.zeros(3))
+    return (np.asarray(rows, np.int64),
+            np.ascontiguousarray(np.concatenate([p.dofs for p in parts]), np.int64),
+            np.concatenate([p.height for p in parts]).astype(float),
+            np.concatenate([p.pressing for p in parts]).astype(float),
+            np.concatenate([p.stiffness for p in parts]).astype(float),
+            np.asarray(parts[0].normal, float))
 
 
 def _held_inertia(system):
@@ -333,9 +348,10 @@ def _less_held_inertia(held, a, driven, ends):
 
 
 @njit(cache=True)
-def _report(x, v, model, loads, pres_u, pres_v, work, report_dofs, u, ud, ends):
+def _report(x, v, model, loads, pres_u, pres_v, work, report_dofs, resting, u, ud, ends):
     """The full line state (u, ud) at (x, v) and the end forces -R_full[report_dofs]
-    (N): 1, or 0 when a line is at the surface (nothing computed)."""
+    (N) plus the flat bed's support of held ends resting on it (``resting``, from
+    :func:`_resting`): 1, or 0 when a line is at the surface (nothing computed)."""
     (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
      _, _, _, _, _) = model
     if not _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
@@ -345,6 +361,15 @@ def _report(x, v, model, loads, pres_u, pres_v, work, report_dofs, u, ud, ends):
     ud[:] = work[1]
     for k in range(report_dofs.size):
         ends[k] = -work[2][report_dofs[k]]
+    rows, dofs, height, pressing, stiffness, normal = resting
+    for i in range(rows.size):  # as seabed.RestingSupport
+        g = height[i]
+        for c in range(3):
+            g -= u[dofs[i, c]] * normal[c]
+        if g >= -1e-6:
+            carried = max(pressing[i] - stiffness[i] * max(g, 0.0), 0.0)
+            for c in range(3):
+                ends[3 * rows[i] + c] += carried * normal[c]
     return 1
 
 
