@@ -184,7 +184,7 @@ def environment(packages, load=False):
                 "ratios, not times, carry over)" if load
                 else f", {platform.system()} {platform.release()}")
     return {
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d"),
         "commit": commit,
         "versions": ", ".join([f"Python {platform.python_version()}"]
                               + [f"{p} {version(p)}" for p in packages]),
