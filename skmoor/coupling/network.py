@@ -277,29 +277,7 @@ def _vector(name, value) -> np.ndarray:
 # ------------------------------------------------------------ reference states
 
 
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 # ------------------------------------------------------------ network -> System
-
-
-
 
 
 def coupled_offsets(network: Network) -> dict:
@@ -320,9 +298,3 @@ def coupled_vector(network: Network, t) -> np.ndarray:
         raise ValueError(f"motion: expected {n} coupled DOFs "
                          f"({', '.join(o.name for o in network.coupled)}), got {y.shape}")
     return y
-
-
-
-
-
-

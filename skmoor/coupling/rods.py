@@ -25,17 +25,6 @@ __all__ = ["RodType", "rod", "rod_body", "rod_inertia", "mount_rod", "RodLoad", 
            "SpinLoad", "spring_weight", "coupled_rod", "coupled_reaction"]
 
 
-
-
-
-
-
-
-
-
-
-
-
 def rod(name, rod_type: RodType, a, b, *, pin=None, n_segments=1, rho=1025.0, g=9.81,
         sea=None, bed=None, rotations="small"):
     """(Body, [end A, end B]) of a free (``pin`` None) or pinned rod (``pin`` 'fixed' or
@@ -51,18 +40,6 @@ def rod(name, rod_type: RodType, a, b, *, pin=None, n_segments=1, rho=1025.0, g=
     body = Body(name, "dynamic", a, rigid=rigid, terms=terms, pin=pin)
     return body, [Point(f"{name}.A", "body", np.zeros(3), body=name),
                   Point(f"{name}.B", "body", b - a, body=name)]
-
-
-
-
-
-
-
-
-
-
-
-
 
 
 def coupled_rod(name, rod_type: RodType, a, b, *, n_segments=1, rho=1025.0, g=9.81,

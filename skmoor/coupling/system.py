@@ -140,7 +140,6 @@ class Ends:
         return cls([("fixed",)] * nlines, b)
 
 
-
 class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
     """The network's equations: lines (one :class:`~skmoor.lines.line.LineSet`) whose ends sit
     on fixed, prescribed or free points or on rigid bodies, reduced to one nonlinear system.

@@ -658,13 +658,6 @@ _ENGINES = {"assembly": _assembly_engine, "autodiff": _autodiff_engine, "fd": _f
 # --- loads on points and bodies
 
 
-
-
-
-
-
-
-
 # --- the Taylor test
 
 @dataclass

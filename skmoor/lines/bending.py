@@ -55,8 +55,6 @@ def bending_tangent(du, v, w):
     return w.EI * dot(d2_ds2(du), d2_ds2(v))
 
 
-
-
 class HermiteKernel:
     """Internal force and tangent of all lines of a Hermite :class:`~skmoor.lines.line.LineSet`:
     ``forms.cable_force`` + the reference force (Eq. 9), ``forms.axial_damping`` and

@@ -192,27 +192,6 @@ def _settings(case) -> dict:
 # ------------------------------------------------------------ the paper's layout
 
 
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 def _paper_layout(case, motion=None) -> Model:
     network, catenaries, draft = paper_network(case, motion)
     warned = _checked(network)
@@ -222,13 +201,4 @@ def _paper_layout(case, motion=None) -> Model:
                  network.depth, draft, case, notes=warned, positions=positions)
 
 
-
-
-
-
 # ------------------------------------------------------------ the explicit tables
-
-
-
-
-

@@ -308,8 +308,6 @@ def reference_state(model: Model) -> np.ndarray:
         return static_state(system, x0, held=held).x
 
 
-
-
 def mooring_stiffness(model: Model, eq: Equilibrium | None = None, body=None) -> np.ndarray:
     """(6, 6) stiffness of the mooring at a dynamic body's reference point about the
     static state (N/m, N/rad, N m/rad; generalized loads J^T f, q = [x, y, z, rx, ry, rz]):

@@ -28,7 +28,6 @@ INTERRUPTED = "interrupted (Ctrl-C)"
 BLOWN_UP_STRAIN = 0.5  # no mooring material stretches by half (nylon breaks at 20-30 %)
 
 
-
 def run_meta(model: Model, eq: Equilibrium) -> dict:
     """What every run reports of its model and its static state."""
     fair, anchor = model.system.reactions(eq.x)
@@ -332,7 +331,6 @@ class Recorder:
                        curvature=r["curvature"] if bending else None,
                        bending_moment=r["moment"] if bending else None,
                        coupled_loads=r["coupled"].reshape(nt, len(network.bodies), 6))
-
 
 
 def static_results(model: Model, eq: Equilibrium | None = None) -> Results:

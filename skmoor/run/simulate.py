@@ -47,22 +47,6 @@ class ResolutionWarning(UserWarning):
     motion that starts with a velocity jump."""
 
 
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 def run_setting(name, value, default=None) -> float:
     """A run setting in seconds (duration, dt, output_interval): ``default`` when None,
     else a finite number > 0 (ValueError naming the setting otherwise)."""
@@ -338,34 +322,6 @@ def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
         model.notes.append(f"no static equilibrium ({str(err).split(';')[-1].strip()}): "
                            "released from the given state without one")
         return Equilibrium(released_state(model), None, None, None, (0.0, 0.0))
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 
 
 def run_case(case, out="skmoor-out", *, progress=True, **settings) -> tuple[Results, dict]:

@@ -91,10 +91,6 @@ COMPILED_BATCH = 32  # steps per call of the compiled step (its call costs ~30 u
 SUBDIVIDE = 6  # levels of halving a step whose Newton fails (down to dt / 64)
 
 
-
-
-
-
 def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-5,
               maxiter=20, subdivide=SUBDIVIDE, compiled=True, report_every=0):
     """Yield a :class:`State` per step from (x0, v0) at t0 until t_end.
@@ -496,10 +492,6 @@ def _compiled_step(system, C, scheme, tol, maxiter):
     from .compiled_step import build
 
     return build(system, C, scheme, tol, maxiter)
-
-
-
-
 
 
 def _hint(t, step, dt, what):

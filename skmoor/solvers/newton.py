@@ -20,7 +20,6 @@ class StaticSolution:
     residual: float  # final max |R|, N
 
 
-
 class DivergenceError(RuntimeError):
     """The time integration could not continue; the message says when and what to try."""
 
