@@ -270,10 +270,7 @@ def GetNumberLines(instance: Host) -> int:
 
 def GetLine(instance: Host, line: int) -> _Line:
     """Line ``line`` (from 1, MoorDyn's numbering)."""
-    if not 1 <= line <= GetNumberLines(instance):
-        raise ValueError(f"moordyn.GetLine: no line {line} (have 1 to "
-                         f"{GetNumberLines(instance)})")
-    return _Line(instance, line - 1)
+    return _Line(instance, _index("GetLine", "line", line, GetNumberLines(instance)))
 
 
 def GetLineN(instance: _Line) -> int:
@@ -318,10 +315,15 @@ def GetNumberPoints(instance: Host) -> int:
 
 
 def GetPoint(instance: Host, point: int) -> _Point:
-    if not 1 <= point <= GetNumberPoints(instance):
-        raise ValueError(f"moordyn.GetPoint: no point {point} (have 1 to "
-                         f"{GetNumberPoints(instance)})")
-    return _Point(instance, point - 1)
+    """Point ``point`` (from 1, MoorDyn's numbering)."""
+    return _Point(instance, _index("GetPoint", "point", point, GetNumberPoints(instance)))
+
+
+def _index(call, what, number, count) -> int:
+    """The 0-based index of MoorDyn's 1-based ``number`` of ``count`` objects."""
+    if not 1 <= number <= count:
+        raise ValueError(f"moordyn.{call}: no {what} {number} (have 1 to {count})")
+    return number - 1
 
 
 def GetPointPos(instance: _Point) -> np.ndarray:
