@@ -174,7 +174,19 @@ def from_network(network: Network, *, name="network", settings=None, draft=None,
     given = None if settle else {p.name: network.global_position(p) for p in network.points}
     system, lineset, catenaries, positions = build_system(network, given)
     return Model(name, system, lineset, network, catenaries, dict(settings or {}),
-                 network.depth, draft, source, list(notes) + warned + network.notes, positions)
+                 network.depth, draft, source,
+                 list(notes) + warned + network.notes + _statics_notes(network), positions)
+
+
+def _statics_notes(network) -> list:
+    """A note when the sea bed has friction that the static solve leaves out (its
+    ``static_friction`` None): the static state is the frictionless one."""
+    bed = network.seabed
+    if bed is None or not (bed.mu_axial or bed.mu_lateral) or bed.static_friction:
+        return []
+    return ["the static state is frictionless: the sea bed's friction acts in the time "
+            "loop only (Seabed static_friction='as-laid', or seabed.static_friction in a "
+            "case file, puts it in the statics as MoorPy's CB does)"]
 
 
 def _checked(network) -> list:
@@ -198,7 +210,8 @@ def _paper_layout(case, motion=None) -> Model:
     system, lineset, _, positions = build_system(network, positions={
         p.name: network.global_position(p) for p in network.points})
     return Model(case.name, system, lineset, network, catenaries, _settings(case),
-                 network.depth, draft, case, notes=warned, positions=positions)
+                 network.depth, draft, case, notes=warned + _statics_notes(network),
+                 positions=positions)
 
 
 # ------------------------------------------------------------ the explicit tables

@@ -116,3 +116,22 @@ def test_static_friction_input_is_checked():
         Seabed(100.0, static_friction="laid")
     with pytest.raises(ValueError, match="static_slip"):
         Seabed(100.0, static_slip=0.0)
+
+
+def test_a_model_says_when_its_static_state_leaves_the_friction_out():
+    """A bed with friction and frictionless statics (static_friction None, the default)
+    puts a note in the model (and so in summary.json); with 'as-laid', or without
+    friction, there is none."""
+    import warnings
+
+    import skmoor
+
+    def friction_notes(**change):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model = skmoor.build(skmoor.paper_case(**change))
+        return [note for note in model.notes if "frictionless" in note]
+
+    assert len(friction_notes(seabed__mu_axial=0.3)) == 1
+    assert friction_notes(seabed__mu_axial=0.3, seabed__static_friction="as-laid") == []
+    assert friction_notes() == []
