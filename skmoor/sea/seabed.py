@@ -499,29 +499,26 @@ class SeabedKernel(Term):
 
     def resting_support(self, u, weight, nodes) -> np.ndarray:
         """(len(nodes), 3) support (N) the bed gives the held line-end ``nodes`` resting
-        on it beyond its spring (u (ndofs,) m; or (m, ndofs): m states, (m, len(nodes), 3)): the part of the node's lumped weight (``weight``, the
-        lines' weight load (ndofs,), N) pressing into the bed that the spring k g does
-        not carry, along the bed's normal; zero for a node above the bed (by more than
-        1e-6 m) or pulled upwards. A held node on the bed at its surface (an anchor at the
-        depth) would otherwise pass its share of the line's weight, w h / 2, into its
-        reaction: half an element's weight, an error in the anchor tension of first order
-        in the element length that the bed, not the anchor, carries."""
-        lines = self.lines
-        nodes = np.asarray(nodes, int)
-        dofs = lines.nodal_dofs[nodes]  # (n, 3)
-        x = lines.points[nodes] + np.asarray(u)[..., dofs]  # (..., n, 3): u may be (m, ndofs)
-        if self.bathymetry is not None:
-            normal, offset = self.bathymetry.plane(x.reshape(-1, 3))
-            normal, offset = normal.reshape(x.shape), np.reshape(offset, x.shape[:-1])
-        else:
-            normal = np.broadcast_to(self._seabed.normal, x.shape)
-            offset = np.full(x.shape[:-1], float(self._seabed.offset))
-        g = offset - np.sum(normal * x, axis=-1)
+        on it beyond its spring (u (ndofs,) m; or (m, ndofs): m states, (m, len(nodes),
+        3)): the part of the node's lumped weight (``weight``, the lines' weight load
+        (ndofs,), N) pressing into the bed that the spring k g does not carry, along the
+        bed's normal; zero for a node above the bed (by more than 1e-6 m) or pulled
+        upwards. A held node on the bed at its surface (an anchor at the depth) would
+        otherwise pass its share of the line's weight, w h / 2, into its reaction: half an
+        element's weight, an error in the anchor tension of first order in the element
+        length that the bed, not the anchor, carries."""
+        return self.resting_plan(weight, nodes)(u)
+
+    def _resting_on_bathymetry(self, u, weight, nodes) -> np.ndarray:
+        """:meth:`resting_support` on a bathymetry: the bed's plane under each node."""
+        dofs = self.lines.nodal_dofs[nodes]  # (n, 3)
+        x = self.lines.points[nodes] + np.asarray(u)[..., dofs]  # (..., n, 3)
+        normal, offset = self.bathymetry.plane(x.reshape(-1, 3))
+        normal, offset = normal.reshape(x.shape), np.reshape(offset, x.shape[:-1])
         share, k = self._share_and_spring(nodes)
+        g = offset - np.sum(normal * x, axis=-1)
         pressing = -np.sum(weight[dofs] * normal, axis=-1)  # N, into the bed
-        carried = np.clip(pressing - k * np.maximum(g, 0.0) * share, 0.0, None)
-        carried[g < -1e-6] = 0.0
-        return carried[..., None] * normal
+        return _bed_carries(g, pressing, k * share)[..., None] * normal
 
     def _share_and_spring(self, nodes):
         """(half element lengths at each node (m), its stiffest bed spring (N/m2)), kept."""
@@ -542,7 +539,7 @@ class SeabedKernel(Term):
         compiled step takes too), the general method on a bathymetry."""
         nodes = np.asarray(nodes, int)
         if self.bathymetry is not None:
-            return lambda u: self.resting_support(u, weight, nodes)
+            return lambda u: self._resting_on_bathymetry(u, weight, nodes)
         share, k = self._share_and_spring(nodes)
         normal = np.asarray(self._seabed.normal, float)
         dofs = self.lines.nodal_dofs[nodes]
@@ -668,8 +665,9 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
 
 
 class RestingSupport:
-    """The flat bed's support (N) of held line-end nodes resting on it, as
-    :meth:`SeabedKernel.resting_support` gives it, from their DOFs ``dofs`` (n, 3), gaps
+    """The flat bed's support (N) of held line-end nodes resting on it
+    (:meth:`SeabedKernel.resting_support`; the compiled step's report holds the same
+    arithmetic), from their DOFs ``dofs`` (n, 3), gaps
     at u = 0 ``height`` (m), weights pressing into the bed ``pressing`` (N), spring
     stiffness times half element lengths ``stiffness`` (N/m) and the bed's ``normal``."""
 
@@ -680,6 +678,12 @@ class RestingSupport:
     def __call__(self, u):
         """(n, 3) support at u (ndofs,), or (m, n, 3) at m states u (m, ndofs)."""
         g = self.height - np.asarray(u)[..., self.dofs] @ self.normal
-        carried = np.clip(self.pressing - self.stiffness * np.maximum(g, 0.0), 0.0, None)
-        carried[g < -1e-6] = 0.0
-        return carried[..., None] * self.normal
+        return _bed_carries(g, self.pressing, self.stiffness)[..., None] * self.normal
+
+
+def _bed_carries(g, pressing, stiffness):
+    """The weight (N) pressing into the bed at gaps g (m) that springs of ``stiffness``
+    (N/m) do not carry: none where the node is above the bed by more than 1e-6 m."""
+    carried = np.clip(pressing - stiffness * np.maximum(g, 0.0), 0.0, None)
+    carried[g < -1e-6] = 0.0
+    return carried
