@@ -117,15 +117,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     """
     if not dt > 0:
         raise ValueError(f"integrate dt: must be positive, got {dt}")
-    scheme = scheme or Scheme.newmark()
-    layout = matrix_layout(system)
-    bandwidth = getattr(system, "bandwidth", None)
-    M = as_layout(system.M, layout, bandwidth)
-    C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
-    damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
-    fast = _compiled_step(system, C, scheme, tol, maxiter) if compiled else None
-    stepper = _Stepper(system, M, as_layout(C, layout, bandwidth), damped, layout, scheme,
-                       tol, maxiter, subdivide)
+    layout, fast, stepper = _steppers(system, C, scheme, tol, maxiter, subdivide, compiled)
     if hasattr(system, "acceleration_step"):  # driven ends' accelerations over the step
         system.acceleration_step = dt
     x, v, t = np.array(x0, float), np.array(v0, float), float(t0)
@@ -184,6 +176,21 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         yield State(t1, step, x, v, a, it, subdivided, *(reported or (None, None)))
 
 
+def _steppers(system, C, scheme, tol, maxiter, subdivide, compiled):
+    """(matrix layout, the compiled step or None, the Python :class:`_Stepper`) of a
+    system with constant damping C (None: none) under ``scheme`` (None: Newmark)."""
+    scheme = scheme or Scheme.newmark()
+    layout = matrix_layout(system)
+    bandwidth = getattr(system, "bandwidth", None)
+    M = as_layout(system.M, layout, bandwidth)
+    C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
+    damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
+    fast = _compiled_step(system, C, scheme, tol, maxiter) if compiled else None
+    stepper = _Stepper(system, M, as_layout(C, layout, bandwidth), damped, layout, scheme,
+                       tol, maxiter, subdivide)
+    return layout, fast, stepper
+
+
 class Stepping:
     """:func:`integrate`'s step one call at a time, for a host that gives the prescribed
     motion step by step (:mod:`skmoor.moordyn`): ``step(h)`` advances (x, v, a) by h (s)
@@ -195,17 +202,10 @@ class Stepping:
 
     def __init__(self, system, x0, v0, *, t0=0.0, C=None, scheme=None, tol=1e-5, maxiter=20,
                  subdivide=SUBDIVIDE, compiled=True):
-        scheme = scheme or Scheme.newmark()
         self.system, self.subdivide = system, subdivide
-        layout = self.layout = matrix_layout(system)
-        bandwidth = getattr(system, "bandwidth", None)
-        M = as_layout(system.M, layout, bandwidth)
-        C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
-        damped = C.count_nonzero() > 0
-        self.fast = _compiled_step(system, C, scheme, tol, maxiter) if compiled else None
-        self.stepper = _Stepper(system, M, as_layout(C, layout, bandwidth), damped, layout,
-                                scheme, tol, maxiter, subdivide)
-        self.matrix = _IterationMatrix(layout)
+        self.layout, self.fast, self.stepper = _steppers(system, C, scheme, tol, maxiter,
+                                                         subdivide, compiled)
+        self.matrix = _IterationMatrix(self.layout)
         self.x, self.v, self.t = np.array(x0, float), np.array(v0, float), float(t0)
         self.a, self.force, self.G = self.stepper.start(self.x, self.v, self.t)
         self.stepper.commit(self.t, self.x, self.v)
