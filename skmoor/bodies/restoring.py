@@ -17,16 +17,18 @@ from .loads import BodyTerm
 
 class BodyRestoring(BodyTerm):
     """Hydrostatic restoring and linear damping of dynamic body ``body`` (index) of a
-    System, with their exact derivatives."""
+    System, with their exact derivatives; stiffness (6, 6) and static_force (6,): the
+    body's generalized hydrostatic stiffness and static load (computed when not given)."""
 
     acts_on = "bodies"
     frame_aware = True  # the pose from the System's frame of the body
 
-    def __init__(self, body, rigid):
+    def __init__(self, body, rigid, stiffness=None, static_force=None):
         self.body, self.rigid = int(body), rigid
         self.exact = rigid.rotations == "exact"
-        self.stiffness = rigid.hydrostatic_stiffness(generalized=True)
-        self.static_force = rigid.static_force()
+        self.stiffness = (rigid.hydrostatic_stiffness(generalized=True) if stiffness is None
+                          else stiffness)
+        self.static_force = rigid.static_force() if static_force is None else static_force
         self.damping = rigid.linear_damping
 
     def lowered(self):

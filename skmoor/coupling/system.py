@@ -231,7 +231,8 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         terms += [PointDrag(p, point.CdA, point.rho, self.sea)
                   for p, point in enumerate(self.point_masses) if point.CdA]
         for k, body in enumerate(self.bodies):
-            terms += [BodyRestoring(k, body), AppliedLoad(k, body)]
+            terms += [BodyRestoring(k, body, self.K_bodies[k], self.F_bodies0[k]),
+                      AppliedLoad(k, body)]
         return terms
 
     def _dead_load(self):
