@@ -25,15 +25,18 @@ one process; a path whose time per call, extrapolated from the sizes before, wou
 SLOW seconds is left out at that size (said so in the table). Every path's R, K, C
 are compared with the built-in's (largest difference over the largest entry).
 
-Then the paper's case (skmoor.build(skmoor.paper_case())) run 200 s with that user drag
-added by ``model.add(LineForm(..., path='compiled'))`` against the same case with the
-built-in drag (line type steel: Cd_n, Cd_t set); wall time of the time loop only (the
+Then the paper's case (skmoor.build(skmoor.paper_case())) run 200 s three ways, each
+user term against its built-in equivalent: the user drag above added by
+``model.add(LineForm(..., path='compiled'))`` against the line type's Cd_n, Cd_t (the
+built-in Morison kernel); the engineering strain law written as a ``skmoor.UserLaw``
+against the built-in Engineering law; a distributed load in time written as a LineForm
+against the case without it (what the term costs). Wall time of the time loop only (the
 static state and modes computed before, ``simulate(..., eq=eq)``), best of three, runs
 alternated; the two runs' fairlead tension and surge histories compared.
 
 Run: ``python benchmarks/user_forms.py [--quick] [--out docs/user_forms.md]``
 (about 5 min; --quick: 11 and 100 elements, 20 s of the paper's case, under a minute
-once the kernel is cached); prints the tables and writes them to --out.
+once the kernel is cached); prints the tables, and writes the report to --out when given.
 """
 from __future__ import annotations
 
@@ -61,7 +64,6 @@ from skmoor.lines.catenary import solve_catenary
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.sea.hydro import LineHydroKernel
 
-ROOT = Path(__file__).resolve().parents[1]
 ELEMENTS = (11, 100, 1_000, 10_000)
 PATHS = ("assembly", "fd", "autodiff", "compiled")
 CD_N, CD_T = 1.2, 0.008  # MoorDyn's Cd and CdAx
@@ -220,16 +222,40 @@ def term_table(sizes=ELEMENTS, budget=1.0):
 
 # ------------------------------------------------------------------ the paper's case
 
+@LinearForm
+def swaying_load(v, w):
+    """- q0 sin(omega t) e_y . du: a distributed load in time on every line (N/m)."""
+    return -w.q0 * ops.sin(w.omega * w.t) * v.value[1]
+
+
+def linear_steel(EA):
+    """The user's law: tension EA e of the engineering strain (the built-in Engineering)."""
+    def steel(strain, rate):
+        return EA * strain
+    return steel
+
+
 def paper_models():
-    """(built-in drag model, user drag model): the paper's case with line type steel's
-    Cd_n, Cd_t set; the paper's case with the user's form added (compiled path)."""
+    """{name: (built-in model, user model, the user's term or law)}: the paper's case with
+
+    - drag: line type steel's Cd_n, Cd_t set (the built-in Morison kernel) / the user's
+      drag form added (compiled path);
+    - law: the engineering strain law (built-in) / the same tension as a UserLaw;
+    - load: no load / the user's swaying distributed load (its cost over the case)."""
     case = skmoor.paper_case()
     builtin = skmoor.build(case.replace("line_types.steel.Cd_n", CD_N)
                            .replace("line_types.steel.Cd_t", CD_T))
     user = skmoor.build(case)
     steel = user.lines.lines[0].line_type
-    term = user.add(user_drag(steel, "compiled"))
-    return builtin, user, term
+    drag_term = user.add(user_drag(steel, "compiled"))
+    engineering = case.replace("mooring.strain_law", "engineering")
+    law = skmoor.UserLaw(linear_steel(steel.EA))
+    loaded = skmoor.build(case)
+    load = loaded.add(LineForm(swaying_load, fields={"q0": 200.0, "omega": 0.5},
+                               path="compiled", name="swaying_load"))
+    return {"drag": (builtin, user, drag_term),
+            "law": (skmoor.build(engineering), skmoor.build(engineering, law=law), law),
+            "load": (skmoor.build(case), loaded, load)}
 
 
 def histories(results):
@@ -237,32 +263,29 @@ def histories(results):
     return results.body_series("surge"), results.fairlead_tension
 
 
-def paper_case_comparison(duration=DURATION, repeat=3):
-    """Wall times of the time loops (best of ``repeat``, alternated) and the distance
-    between the two runs' histories (largest difference over the range)."""
-    models = paper_models()
-    builtin, user, term = models
-    eqs = [skmoor.equilibrium(m) for m in (builtin, user)]
-    walls, runs = [[], []], [None, None]
-    for _ in range(repeat):
-        for k, (model, eq) in enumerate(zip((builtin, user), eqs)):
-            started = time.perf_counter()
-            runs[k] = skmoor.simulate(model, duration=duration, eq=eq, progress=False)
-            walls[k].append(time.perf_counter() - started)
-    (surge_b, tension_b), (surge_u, tension_u) = (histories(r) for r in runs)
-    agree = {"surge": float(np.max(np.abs(surge_u - surge_b)) / np.ptp(surge_b)),
-             "fairlead tension": float(np.max(np.abs(tension_u - tension_b))
-                                       / np.ptp(tension_b))}
-    period = builtin.forcing_period
-    amplitude = {name: (runs[0].amplitude(series_b, period, 3),
-                        runs[1].amplitude(series_u, period, 3))
-                 for name, series_b, series_u in (("surge", surge_b, surge_u),
-                                                  ("fairlead tension", tension_b[:, 0],
-                                                   tension_u[:, 0]))}
-    steps = len(runs[0].t)
-    return {"builtin": min(walls[0]), "user": min(walls[1]), "agree": agree,
-            "amplitude": amplitude, "backend": term.backend, "outputs": steps,
-            "steps": runs[0].meta["steps"], "duration": duration}
+def paper_case_comparison(duration=DURATION, repeat=3, models=None):
+    """Per user term: wall times of the two time loops (best of ``repeat``, alternated)
+    and the distance between the two runs' histories (largest difference over the
+    range), whether the user's run took the compiled step."""
+    from skmoor.solvers.compiled_step import lowered_terms
+
+    out = {}
+    for name, (builtin, user, term) in (models or paper_models()).items():
+        eqs = [skmoor.equilibrium(m) for m in (builtin, user)]
+        walls, runs = [[], []], [None, None]
+        for _ in range(repeat):
+            for k, (model, eq) in enumerate(zip((builtin, user), eqs)):
+                started = time.perf_counter()
+                runs[k] = skmoor.simulate(model, duration=duration, eq=eq, progress=False)
+                walls[k].append(time.perf_counter() - started)
+        (surge_b, tension_b), (surge_u, tension_u) = (histories(r) for r in runs)
+        agree = {"surge": float(np.max(np.abs(surge_u - surge_b)) / np.ptp(surge_b)),
+                 "fairlead tension": float(np.max(np.abs(tension_u - tension_b))
+                                           / np.ptp(tension_b))}
+        out[name] = {"builtin": min(walls[0]), "user": min(walls[1]), "agree": agree,
+                     "compiled": lowered_terms(user.system)[0] is None,
+                     "steps": runs[0].meta["steps"], "duration": duration}
+    return out
 
 
 # ------------------------------------------------------------------ report
@@ -295,22 +318,26 @@ def format_terms(rows) -> str:
     return "\n".join(lines)
 
 
+ROWS = {"drag": ("user drag form, `model.add(LineForm(drag))`",
+                 f"built-in drag (line type Cd_n = {CD_N}, Cd_t = {CD_T})"),
+        "law": ("user law, `build(case, law=UserLaw(steel))`", "built-in Engineering law"),
+        "load": ("user distributed load, `model.add(LineForm(swaying_load))`",
+                 "the case without the load")}
+
+
 def format_case(case) -> str:
-    ratio = case["user"] / case["builtin"]
-    a = case["amplitude"]
-    return "\n".join([
-        "| run of the paper's case | time loop / built-in drag's | surge amplitude [m] "
-        "| fairlead tension amplitude [kN] |",
-        "|---|---|---|---|",
-        f"| built-in drag (line type Cd_n = {CD_N}, Cd_t = {CD_T}) | 1 | "
-        f"{a['surge'][0]:.4f} | {a['fairlead tension'][0] / 1e3:.2f} |",
-        f"| user form, `model.add(LineForm(drag))`, compiled | **{ratio:.2f}** | "
-        f"{a['surge'][1]:.4f} | {a['fairlead tension'][1] / 1e3:.2f} |",
-        "",
-        f"Largest difference between the two runs over the history's range: surge "
-        f"{case['agree']['surge']:.1e}, fairlead tension {case['agree']['fairlead tension']:.1e} "
-        f"({case['duration']:g} s, {case['steps']} steps; amplitudes over the last 3 periods).",
-    ])
+    lines = ["| user term | compared with | time loop / the other's | compiled step "
+             "| histories apart (surge, fairlead tension) |", "|---|---|---|---|---|"]
+    for name, row in case.items():
+        user, builtin = ROWS[name]
+        apart = ("(the load moves it)" if name == "load" else
+                 f"{row['agree']['surge']:.1e}, {row['agree']['fairlead tension']:.1e}")
+        lines.append(f"| {user} | {builtin} | **{row['user'] / row['builtin']:.2f}** | "
+                     f"{'yes' if row['compiled'] else 'no'} | {apart} |")
+    first = next(iter(case.values()))
+    lines += ["", f"{first['duration']:g} s of the paper's case, {first['steps']} steps; "
+              "histories apart: the largest difference over the history's range."]
+    return "\n".join(lines)
 
 
 def report(rows, case, env, quick, seconds) -> str:
@@ -320,7 +347,8 @@ def report(rows, case, env, quick, seconds) -> str:
     return "\n".join([
         "# A user's form against the built-in kernel",
         "",
-        f"Generated by `python benchmarks/user_forms.py{' --quick' if quick else ''}`; "
+        f"Generated by `python benchmarks/user_forms.py{' --quick' if quick else ''} "
+        "--out docs/user_forms.md`; "
         "do not edit by hand. Every number below comes from that run (the script's "
         "docstring has the method).",
         "",
@@ -339,11 +367,12 @@ def report(rows, case, env, quick, seconds) -> str:
         "disk cache), at most over the sizes: "
         + ", ".join(f"{p} {s:.1f} s" for p, s in first.items()) + ".",
         "",
-        "## The paper's case with the user's drag",
+        "## The paper's case with a user's drag, law and load",
         "",
-        "Wall time of the time loop (best of three), the user's form added by `model.add` "
-        "against the built-in drag switched on by the line type's Cd_n, Cd_t. "
-        "Goal: within 1.5." if not quick else "Wall time of the time loop (one run).",
+        "Wall time of the time loop (best of three, the two runs alternated) with each "
+        "user term over the built-in equivalent (the load: over the case without it). "
+        "Goal: within 1.3, histories equal to 1e-10." if not quick
+        else "Wall time of the time loop (one run).",
         "",
         format_case(case),
         "",
@@ -354,7 +383,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
                         help="11 and 100 elements, 20 s of the paper's case")
-    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "user_forms.md")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="write the report there (docs/user_forms.md); default: print only")
     args = parser.parse_args(argv)
     started, env = time.perf_counter(), environment()
     sizes = ELEMENTS[:2] if args.quick else ELEMENTS
@@ -364,8 +394,9 @@ def main(argv=None):
     print()
     print(format_case(case))
     text = report(rows, case, env, args.quick, time.perf_counter() - started)
-    args.out.write_text(text)
-    print(f"\nwritten: {args.out}")
+    if args.out is not None:
+        args.out.write_text(text)
+        print(f"\nwritten: {args.out}")
 
 
 if __name__ == "__main__":

@@ -35,6 +35,7 @@ from .lines import laws
 from .lines.catenary import Catenary, solve_catenary
 from .lines.laws import Curve, Engineering, Paper, StaticDynamic
 from .lines.line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
+from .lines.user_law import UserLaw
 from .model.from_deck import heave_motion, read_motion
 from .model.model import Model, build, from_network
 from .post.results import Results
@@ -58,7 +59,7 @@ __all__ = [
     "read_line_mesh", "write_line_mesh", "Catenary", "solve_catenary", "RigidBody",
     "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
     "Scheme", "DivergenceError", "BodyLoad", "PointLoad", "LineForm", "check_tangent",
-    "TangentCheck", "laws", "Paper", "Engineering", "Curve", "StaticDynamic", "Sea", "Current", "AiryWave", "JonswapWave",
+    "TangentCheck", "laws", "Paper", "Engineering", "Curve", "StaticDynamic", "UserLaw", "Sea", "Current", "AiryWave", "JonswapWave",
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
     "from_network", "mooring_stiffness", "Ends", "PointMass", "bem", "Hydrodynamics",

@@ -122,12 +122,17 @@ def test_user_forms_benchmark_sets_up_the_drag_on_every_path():
     for path, tolerance in (("assembly", 1e-12), ("fd", 1e-6), ("compiled", 1e-12)):
         seconds, _, difference, _ = row[path]
         assert seconds > 0 and difference < tolerance, (path, difference)
-    builtin, user, term = user_forms.paper_models()
+    models = user_forms.paper_models()
+    builtin, user, term = models["drag"]
     assert [type(t).__name__ for t in builtin.system.terms] == ["LineHydroKernel"]
     assert user.system.terms == (term,) and term.path == "compiled"
     steel = user.lines.lines[0].line_type
     assert skmoor.check_tangent(user, user_forms.user_drag(steel, "assembly")).ok
-    case = user_forms.paper_case_comparison(duration=12.0, repeat=1)
-    assert case["agree"]["surge"] < 1e-8 and case["agree"]["fairlead tension"] < 1e-8
+    case = user_forms.paper_case_comparison(duration=12.0, repeat=1, models=models)
+    for name in ("drag", "law"):  # the same physics as the built-in: the same history
+        assert case[name]["agree"]["surge"] < 1e-10, name
+        assert case[name]["agree"]["fairlead tension"] < 1e-10, name
+    assert case["load"]["agree"]["surge"] > 1e-3  # the load does move the body
+    assert all(row["compiled"] for row in case.values())
     text = user_forms.report([(11, row)], case, user_forms.environment(), True, 0.0)
-    assert "| 11 | " in text and "left out" in text and "user form" in text
+    assert "| 11 | " in text and "left out" in text and "user law" in text

@@ -49,6 +49,55 @@ class _PointwiseLoad(BodyTerm):
                 setattr(new, name, getattr(new, method.__name__))
         return new
 
+    step_load = None  # the generated C function the compiled time step calls
+    _lowering = None  # why it has none, once tried
+
+    def lowered(self):
+        """'point load' / 'body load' when the load traces with JAX (written with
+        :mod:`skmoor.fem.ops` / ``jax.numpy``) into code the compiled step runs."""
+        if self._lowering is None:
+            self._lowering = self._generate()
+        return None if self.step_load is None else {"points": "point load", "bodies": "body load"}[self.acts_on]
+
+    def _generate(self):
+        """Generates the load's compiled kernel (F and both Jacobians from one trace);
+        returns '' or why not."""
+        if type(self) not in (PointLoad, BodyLoad):  # skmoor's own: Python, as written
+            return f"{type(self).__name__} has no compiled kernel"
+        if self.tangent_by == "hand":
+            return "a hand-written tangent (Python)"
+        if not HAS_JAX:
+            return "JAX is not installed (pip install 'skmoor[autodiff]')"
+        import jax
+        import jax.numpy as jnp
+        import skfem.autodiff  # noqa: F401 - turns on float64 in JAX
+
+        from ..fem.form_compiler import Unsupported, build_pointwise
+
+        n = self.size
+
+        def outputs(z):
+            q, qdot, t = z[:n], z[n:2 * n], z[2 * n]
+            F = jnp.asarray(self.load(q, qdot, t), float).reshape(n)
+            dq, dv = jax.jacfwd(lambda a, b: jnp.asarray(self.load(a, b, t), float)
+                                .reshape(n), (0, 1))(q, qdot)
+            return jnp.concatenate([F, dq.ravel(), dv.ravel()])
+
+        try:
+            traced = jax.make_jaxpr(outputs)(jnp.zeros(2 * n + 1))
+        except Exception as error:  # NumPy-only code does not trace
+            return f"the load does not trace with JAX ({type(error).__name__})"
+        try:
+            self.step_load = build_pointwise(traced.jaxpr, traced.consts, 2 * n + 1,
+                                             f"{type(self).__name__} {self.load!r}")
+        except Unsupported as why:
+            return f"the code generator lacks {why}"
+        return ""
+
+    @property
+    def why_python(self):
+        return self._lowering or "no compiled kernel (a user term)"
+
     def add_to(self, u, v, t, R, K=None, C=None):
         F = np.asarray(self.load(u, v, t), float)
         R -= F

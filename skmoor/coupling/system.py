@@ -34,6 +34,7 @@ from ..bodies.restoring import AppliedLoad, BodyRestoring
 from ..fem.patterns import ElementPattern
 from ..fem.terms import Term
 from ..lines.cable import CableTerm
+from ..lines.user_law import law_terms
 from ..numerics.banded import LAYOUTS, as_layout
 from ..sea.hydro import PointDrag
 from .dofs import DofMap
@@ -225,9 +226,11 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         self._assemble_mass()
 
     def _built_in_terms(self):
-        """The physics every System has, as terms: the cable, the free points' drag, the
-        bodies' restoring and applied loads (their dead loads: :attr:`dead_load`)."""
+        """The physics every System has, as terms: the cable (and the users' laws), the
+        free points' drag, the bodies' restoring and applied loads (their dead loads:
+        :attr:`dead_load`)."""
         terms = [self.cable] if self.cable is not None else []
+        terms += law_terms(self.lines) if self.lines.lines else []  # the users' laws
         terms += [PointDrag(p, point.CdA, point.rho, self.sea)
                   for p, point in enumerate(self.point_masses) if point.CdA]
         for k, body in enumerate(self.bodies):

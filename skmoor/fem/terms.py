@@ -194,6 +194,7 @@ class LineForm(Term):
         self.fields = {} if fields is None else fields
         self.name = name or getattr(_raw(residual), "__name__", "form")
         self._engine = None
+        self.step_kernel = None  # (C function, ints, floats) the compiled time step calls
         if lines is not None:
             self.lines = lines
 
@@ -228,7 +229,26 @@ class LineForm(Term):
             notes = getattr(error, "__notes__", None)
             if notes:
                 notes[:] = [n for n in notes if "JAX" not in n]
+            if f"in the user term {self!r}" not in (notes or ()):
+                error.add_note(f"in the user term {self!r}")
             raise
+
+    def lowered(self):
+        """'form' when the compiled time step can call this form's generated kernel: path
+        'compiled' on the numba backend, fields that do not change in time."""
+        if self.path != "compiled" or self.lines is None:
+            return None
+        if self._engine is None:
+            self.add_to(*(np.zeros(self.lines.ndofs),) * 2, 0.0, np.zeros(self.lines.ndofs))
+        return "form" if self.step_kernel is not None else None
+
+    @property
+    def why_python(self):
+        if self.path != "compiled":
+            return f"path {self.path!r} (only path 'compiled' runs in the compiled step)"
+        if getattr(self, "backend", "numba") != "numba":
+            return f"backend {self.backend}"
+        return "fields given as a function of time or displacement (evaluated in Python)"
 
     def mass_matrix(self):
         if self.mass is None:
@@ -505,7 +525,7 @@ def _numba_engine(term):
     import jax.numpy as jnp
     import skfem.autodiff  # noqa: F401 - turns on float64 in JAX
 
-    from .form_compiler import STATE, Unsupported, build_kernel
+    from .form_compiler import STATE, Unsupported, build_kernel, packed
     from .patterns import NO_BLOCKS
 
     local = _Local(term)
@@ -546,9 +566,10 @@ def _numba_engine(term):
     z0 = jnp.zeros(n_inputs)
     residual_jaxpr = jax.make_jaxpr(flux)(z0)
     tangent_jaxpr = jax.make_jaxpr(with_tangent)(z0)
-    kernel, term.source = build_kernel((residual_jaxpr.jaxpr, residual_jaxpr.consts),
+    module, term.source = build_kernel((residual_jaxpr.jaxpr, residual_jaxpr.consts),
                                        (tangent_jaxpr.jaxpr, tangent_jaxpr.consts), n_inputs,
                                        hermite=local.hermite)
+    kernel = module.kernel
     edofs = np.ascontiguousarray(local.edofs, dtype=np.int64)
     h, dx, phi = local.h, np.ascontiguousarray(local.dx), np.ascontiguousarray(local.phi)
     if local.hermite:  # each element's cubics and their d/ds: (2, nel, nqp, 4)
@@ -562,6 +583,8 @@ def _numba_engine(term):
                    blocks.copy(), tangent)
     except Exception as error:  # numba's typing and lowering errors
         raise Unsupported(f"numba: {str(error).strip().splitlines()[0][:120]}") from error
+    if not varying:  # the compiled time step calls it with these arrays
+        term.step_kernel = (module.step_kernel, *packed(edofs, h, dx, phi, x, P0, D0))
 
     def run(u, v, t, R, K, C):
         P, D = P0, D0

@@ -6,7 +6,8 @@ from .catenary import Catenary, solve_catenary
 from .creep import CreepTerm
 from .laws import Curve, Engineering, Paper, StaticDynamic, Viscoelastic
 from .line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
+from .user_law import UserLaw
 
 __all__ = ["LineType", "Line", "LineSet", "read_line_mesh", "write_line_mesh", "CableTerm",
            "Catenary", "solve_catenary", "Paper", "Engineering", "Curve", "StaticDynamic",
-           "Viscoelastic", "CreepTerm"]
+           "Viscoelastic", "CreepTerm", "UserLaw"]

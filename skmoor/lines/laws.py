@@ -372,7 +372,8 @@ def as_law(law, where="law") -> Law:
     if isinstance(law, str) and law in LAWS:
         return LAWS[law]()
     raise ValueError(f"{where}: unknown strain law {law!r}, use one of {list(LAWS)} or a "
-                     "skmoor.lines.laws.Law (Paper, Engineering, Curve, StaticDynamic)")
+                     "skmoor.lines.laws.Law (Paper, Engineering, Curve, StaticDynamic, or "
+                     "skmoor.UserLaw for a law of your own)")
 
 
 def _hinges(hinges, shape):

@@ -28,6 +28,7 @@ from ..numerics.validation import check_finite, check_positive
 from . import bending, laws
 from . import cable_forms as forms
 from .fatigue_curves import curve as fatigue_curve
+from .user_law import UserLaw, law_tension
 
 RHO_WATER = 1025.0
 G = 9.81
@@ -569,14 +570,20 @@ class LineSet:
         (MoorDyn's reported T + BA x strain rate); without it, the elastic tension."""
         if self._kernels or self.hermite:  # the compiled copy of the forms below
             kernel = self._bending_kernel() if self.hermite else self._kernels[0]
-            return kernel.element_tension_and_strain(u, ud)
+            tension, strain = kernel.element_tension_and_strain(u, ud)
+            if any(isinstance(law, UserLaw) for law in self.laws):
+                tension = tension + law_tension(self, u, ud)
+            return tension, strain
         f, up = self.cable_fields, self.element_slopes(u)
         Xp = f["Xp"][:, :, 0]
         point = {name: value[..., 0] for name, value in f.items() if name != "Xp"}
         rate = None
         if ud is not None:
             rate = forms.dot(Xp + up, self.element_slopes(ud))
-        return forms.tension(Xp, up, point, rate), forms.strain(Xp, up)
+        tension = forms.tension(Xp, up, point, rate)
+        if any(isinstance(law, UserLaw) for law in self.laws):
+            tension = tension + law_tension(self, u, ud)
+        return tension, forms.strain(Xp, up)
 
     def curvature(self, u):
         """(nel,) curvature |r' x r''| / |r'|^3 of the deformed line at each element's

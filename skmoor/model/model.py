@@ -107,12 +107,21 @@ class Model:
         return term
 
 
-def build(source, *, motion=None, sea=None, rotations=None) -> Model:
+def build(source, *, motion=None, sea=None, rotations=None, law=None) -> Model:
     """The model of a Case, a Deck or a path to either (``.toml``: a case; else a deck).
     motion: fn(t) -> coupled-DOF displacements (see :mod:`skmoor.coupling.network`); sea: a
     :class:`~skmoor.sea.waves.Sea` for a deck (default: still water of its depth);
     rotations: 'small' (default) or 'exact' for a deck's free bodies (a case sets it per
-    body, ``rotations`` in ``[body]`` / ``[[bodies]]``)."""
+    body, ``rotations`` in ``[body]`` / ``[[bodies]]``); law: a
+    :class:`~skmoor.lines.laws.Law` (a :class:`~skmoor.lines.user_law.UserLaw` of yours)
+    for every line, in place of the case's or deck's laws."""
+    if law is not None:
+        from ..lines.laws import Law
+
+        if not isinstance(law, Law):
+            raise ValueError(f"build law: expected a skmoor Law (such as skmoor.UserLaw), "
+                             f"got {type(law).__name__}")
+        return _with_law(source, law, motion=motion, sea=sea, rotations=rotations)
     from ..io.case import Case
     from ..io.deck import Deck, read_deck
 
@@ -147,6 +156,20 @@ def build(source, *, motion=None, sea=None, rotations=None) -> Model:
         return from_network(network, name=source.name, settings=_settings(source),
                             source=source)
     return _paper_layout(source, motion)
+
+
+def _with_law(source, law, **options) -> Model:
+    """:func:`build` of ``source`` with every line type's law replaced by ``law`` (the
+    points where the first build put them)."""
+    import dataclasses
+
+    model = build(source, **options)
+    network = model.network
+    network.strain_law = law
+    for line in network.lines:
+        line.line_type = dataclasses.replace(line.line_type, law=law)
+    system, lineset, _, positions = build_system(network, positions=model.positions)
+    return dataclasses.replace(model, system=system, lines=lineset, positions=positions)
 
 
 def _on_deck_line(deck, err) -> ValueError:

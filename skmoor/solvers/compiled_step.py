@@ -24,12 +24,15 @@ Python path's; results are the same to round-off as long as neither path falls b
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import scipy.sparse as sp
-from numba import njit
+from numba import cfunc, njit
+from numba.core.errors import NumbaExperimentalFeatureWarning
 
 from ..bodies.body import rotation_and_slopes
+from ..fem.form_compiler import POINTWISE_SIGNATURE, STEP_SIGNATURE
 from ..fem.patterns import ElementPattern
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
@@ -55,23 +58,70 @@ def _refuse(why):
 
 
 # the kernels a term may lower to (Term.lowered), and those the step holds one of
-LOWERED = ("cable", "morison", "seabed", "surface", "point drag", "body restoring", "time load")
+LOWERED = ("cable", "morison", "seabed", "surface", "point drag", "body restoring", "time load",
+           "form", "point load", "body load")
 ONCE = ("cable", "morison", "seabed", "surface")
+FORMS = 4  # user LineForms the compiled step calls (their generated kernels), at most
+LOADS = 4  # user point and body loads likewise
+
+
+@cfunc(STEP_SIGNATURE, cache=True)
+def _no_form(u, ud, ndofs, t, ints, floats, R, K, C, tangent):
+    """An empty slot of the user forms' kernels."""
+
+
+@cfunc(POINTWISE_SIGNATURE, cache=True)
+def _no_load(z, out):
+    """An empty slot of the user point and body loads."""
+
+
+def _pointwise(terms):
+    """The user point and body loads as the compiled loop takes them: (LOADS functions,
+    the count, each load's [0 point / 1 body, its index] (LOADS, 2), their derivatives
+    (LOADS, 2, 6, 6) as the last residual left them)."""
+    functions = tuple(t.step_load for t in terms) + (_no_load,) * (LOADS - len(terms))
+    targets = np.zeros((LOADS, 2), np.int64)
+    for k, term in enumerate(terms):
+        targets[k] = (0, term.point) if term.acts_on == "points" else (1, term.body)
+    return functions, len(terms), targets, np.zeros((LOADS, 2, 6, 6))
+
+
+def _forms(terms):
+    """The user LineForms' kernels as the compiled loop takes them: (FORMS functions, the
+    count, their packed ints and floats (one buffer each), each form's start in both
+    (FORMS, 2))."""
+    kernels = [term.step_kernel for term in terms]
+    functions = tuple(k[0] for k in kernels) + (_no_form,) * (FORMS - len(kernels))
+    starts = np.zeros((FORMS, 2), np.int64)
+    for i, (_, ints, floats) in enumerate(kernels[:-1]):
+        starts[i + 1] = starts[i] + (ints.size, floats.size)
+    ints = np.concatenate([k[1] for k in kernels] or [np.zeros(1, np.int64)])
+    floats = np.concatenate([k[2] for k in kernels] or [np.zeros(1)])
+    return functions, len(kernels), ints.astype(np.int64), floats.astype(float), starts
 
 
 def lowered_terms(system):
     """(why not, kinds): why the compiled step cannot take ``system``'s terms (the first
     term that lowers to no compiled kernel, named, with its reason) or None, and the
     lowered kinds with their terms."""
-    kinds = {}  # each lowered kind the compiled step knows, once: its term
+    kinds = {"form": [], "load": []}  # each lowered kind the step knows: its term(s)
     for term in system.built_in_terms + system.terms:
         kind = term.lowered()
+        name = getattr(term, "name", None) or type(term).__name__
         if kind is None:
-            return f"{type(term).__name__} on the {term.acts_on}: {term.why_python}", kinds
+            return f"{name} on the {term.acts_on}: {term.why_python}", kinds
         if kind not in LOWERED:
-            return f"{type(term).__name__}: a '{kind}' kernel is not in the compiled step", kinds
+            return f"{name}: a '{kind}' kernel is not in the compiled step", kinds
         if kind in ONCE and kind in kinds:
-            return f"{type(term).__name__}: a second '{kind}' term", kinds
+            return f"{name}: a second '{kind}' term", kinds
+        if kind == "form":
+            kinds["form"].append(term)
+            if len(kinds["form"]) > FORMS:
+                return f"{name}: more than {FORMS} user LineForms", kinds
+        if kind in ("point load", "body load"):
+            kinds["load"].append(term)
+            if len(kinds["load"]) > LOADS:
+                return f"{name}: more than {LOADS} user point and body loads", kinds
         kinds.setdefault(kind, term)
     if "cable" not in kinds:
         return "no lines", kinds
@@ -102,8 +152,8 @@ def build(system, C, scheme, tol, maxiter):
         return _refuse("mass or damping coupling line DOFs beyond the lines' band")
     damped = C is not None and C.count_nonzero() > 0
     C_matrix = C if C is not None else sp.csr_matrix(system.M.shape)
-    return CompiledStep(system, hydro, bed, surface, M, Cs, C_matrix, damped, width, scheme,
-                        tol, maxiter)
+    return CompiledStep(system, hydro, bed, surface, kinds, M, Cs, C_matrix, damped, width,
+                        scheme, tol, maxiter)
 
 
 def _contiguous(arrays):
@@ -127,9 +177,10 @@ class CompiledStep:
 
     handed_back = TO_PYTHON  # the failure of a step that is the Python step's to take
 
-    def __init__(self, system, hydro, bed, surface, M, C, C_matrix, damped, width, scheme,
-                 tol, maxiter):
+    def __init__(self, system, hydro, bed, surface, kinds, M, C, C_matrix, damped, width,
+                 scheme, tol, maxiter):
         self.system, self.hydro, self.bed = system, hydro, bed
+        self.forms = _forms(kinds["form"]) + _pointwise(kinds["load"])
         self.M, self.C, self.damped, self.width = M, C, damped, width
         self.products = (_csr(system.M), _csr(C_matrix))
         self.scheme = (scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma)
@@ -245,11 +296,14 @@ class CompiledStep:
         cable, hydro, has_hydro, bed, has_bed = self._terms()
         model = (self.topology, cable, hydro, has_hydro, bed, has_bed, self._still,
                  self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
-                 self.damped, self.width)
-        done, code = _run(x, v, a, force_old, h, self.scheme, self.tol, self.maxiter, model,
-                          loads, pres_u, pres_v, driven, pres_a, self.factors, self.state,
-                          self.work, out, iterations, report, self.report_dofs,
-                          self.resting, self.held, lines_out, ends_out.reshape(count, -1))
+                 self.damped, self.width, self.forms)
+        with warnings.catch_warnings():  # numba: "first-class function type is experimental"
+            warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
+            done, code = _run(x, v, a, force_old, h, np.asarray(times, float), self.scheme,
+                              self.tol, self.maxiter, model, loads, pres_u, pres_v, driven,
+                              pres_a, self.factors, self.state, self.work, out, iterations,
+                              report, self.report_dofs, self.resting, self.held, lines_out,
+                              ends_out.reshape(count, -1))
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
@@ -259,17 +313,17 @@ class CompiledStep:
 
 
 @njit(cache=True)
-def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, driven,
-         pres_a, factors, state, work, out, iterations, report, report_dofs, resting, held,
-         lines_out, ends_out):
-    """Steps of h from (x, v, a, force = C v + R) with the inputs of step i in loads[i],
-    pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free DOFs, N;
-    empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
+def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, pres_v,
+         driven, pres_a, factors, state, work, out, iterations, report, report_dofs, resting,
+         held, lines_out, ends_out):
+    """Steps of h from (x, v, a, force = C v + R), step i to times[i] (s) with the inputs
+    loads[i], pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free
+    DOFs, N; empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
     iterations into iterations[i]; where report[i], the lines' full displacement and
     velocity into lines_out[:, i] and the end forces (minus the full residual at
     report_dofs, minus the held ends' inertia ``held`` with the prescribed ends'
-    accelerations pres_a[i]) into ends_out[i] (report[i] set to 0 when a line is at the surface: the
-    caller computes them). Returns (the steps done, the failed step's code: 0 Newton did
+    accelerations pres_a[i]) into ends_out[i] (report[i] set to 0 when a line is at the
+    surface: the caller computes them). Returns (the steps done, the failed step's code: 0 Newton did
     not converge, -1 a correction not finite, -2 a line at the surface, 1 none failed)."""
     am, af, beta, gamma = scheme
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
@@ -277,7 +331,8 @@ def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, 
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         it = _advance(x, v, a, force, h, scheme, tol, maxiter, model,
-                      (loads[i], pres_u[i], pres_v[i]), driven[i], factors, state, work, x1)
+                      (loads[i], pres_u[i], pres_v[i], times[i]), driven[i], factors, state,
+                      work, x1)
         if it <= 0:
             return i, it
         iterations[i] = it
@@ -289,9 +344,9 @@ def _run(x, v, a, force, h, scheme, tol, maxiter, model, loads, pres_u, pres_v, 
         for j in range(x.size):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
         if report[i] > 0:
-            report[i] = _report(x1, v1, model, loads[i], pres_u[i], pres_v[i], work,
-                                report_dofs, resting, lines_out[0, i], lines_out[1, i],
-                                ends_out[i])
+            report[i] = _report(x1, v1, model, (loads[i], pres_u[i], pres_v[i], times[i]),
+                                work, report_dofs, resting, lines_out[0, i],
+                                lines_out[1, i], ends_out[i])
             if report[i] > 0:
                 _less_held_inertia(held, a1, pres_a[i], ends_out[i])
         x, v, a, force = x1, v1, a1, force1
@@ -348,14 +403,11 @@ def _less_held_inertia(held, a, driven, ends):
 
 
 @njit(cache=True)
-def _report(x, v, model, loads, pres_u, pres_v, work, report_dofs, resting, u, ud, ends):
+def _report(x, v, model, inputs, work, report_dofs, resting, u, ud, ends):
     """The full line state (u, ud) at (x, v) and the end forces -R_full[report_dofs]
     (N) plus the flat bed's support of held ends resting on it (``resting``, from
     :func:`_resting`): 1, or 0 when a line is at the surface (nothing computed)."""
-    (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
-     _, _, _, _, _) = model
-    if not _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
-                     bodies, loads, prescribed_dofs, pres_u, pres_v, False, work, work[7]):
+    if not _residual(x, v, model, inputs, False, work, work[7]):
         return 0
     u[:] = work[0]
     ud[:] = work[1]
@@ -406,13 +458,17 @@ def _rotation_second_slopes(angles):
 
 # (over 100 lines: the residual of every lowered kind in one compiled pass over the state)
 @njit(cache=True)
-def _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies,
-              loads, prescribed_dofs, pres_u, pres_v, tangent, work, R):
-    """R(x, v) reduced (N, N m) into R; with ``tangent`` the element blocks d/du, d/dv in
+def _residual(x, v, model, inputs, tangent, work, R):
+    """R(x, v, t) reduced (N, N m) into R, with the inputs (body loads, prescribed
+    displacements and velocities, the time t) of the step; with ``tangent`` the element
+    blocks d/du, d/dv in
     work[3], work[4] and the body ends' J, d(J qdot)/dq in work[5], work[6]; the full
     cable residual in work[2] (``coupling.System.residual``, one body per 6 DOFs). False
     (nothing computed) when a node of a line with a SurfaceTerm comes within half a
     diameter of the surface: the step is then Python's."""
+    (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
+     _, _, _, _, _, forms) = model
+    loads, pres_u, pres_v, t = inputs
     position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     u[:] = 0.0
@@ -474,6 +530,12 @@ def _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, poin
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
                 ud, full, blocks_K, blocks_C)
+    functions, count, ints, floats, starts = forms[:5]
+    for k in range(count):  # the user LineForms' generated kernels
+        form = functions[k]
+        form(u.ctypes, ud.ctypes, u.size, t, ints[starts[k, 0]:].ctypes,
+             floats[starts[k, 1]:].ctypes, full.ctypes, blocks_K.ctypes, blocks_C.ctypes,
+             1 if tangent else 0)
     R[:] = 0.0
     for g in range(full.size):
         if position[g] >= 0:
@@ -501,6 +563,25 @@ def _residual(x, v, topology, cable, hydro, has_hydro, bed, has_bed, still, poin
             for j in range(6):
                 s += K_body[k, i, j] * x[base + j] + D_body[k, i, j] * v[base + j]
             R[base + i] += s
+    loads_at, count, targets, slopes = forms[5:]
+    if count:  # the user point and body loads' generated kernels: R -= F
+        z, out = np.empty(13), np.empty(78)
+        for k in range(count):
+            n = 3 if targets[k, 0] == 0 else 6
+            for c in range(n):
+                g = columns[targets[k, 1], c] if n == 3 else nf + 6 * targets[k, 1] + c
+                z[c] = x[g]
+                z[n + c] = v[g]
+            z[2 * n] = t
+            load = loads_at[k]
+            load(z.ctypes, out.ctypes)
+            for c in range(n):
+                g = columns[targets[k, 1], c] if n == 3 else nf + 6 * targets[k, 1] + c
+                R[g] -= out[c]
+                if tangent:
+                    for d in range(n):
+                        slopes[k, 0, c, d] = out[n + n * c + d]
+                        slopes[k, 1, c, d] = out[n + n * n + n * c + d]
     if tangent and nends:
         for p in range(nends):
             k = end_body[p]
@@ -537,7 +618,7 @@ def _combine(out, a, A, b, B):
 
 
 @njit(cache=True)
-def _assemble(x, v, topology, points, bodies, work, cx, cv, af, M, C, damped, width,
+def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, damped, width,
               factors):
     """The Newton matrix cx M + (1 - af)(cv (C + Kv) + K) into the factor arrays, from
     the blocks and Jacobians :func:`_residual` left in ``work``."""
@@ -603,6 +684,17 @@ def _assemble(x, v, topology, points, bodies, work, cx, cv, af, M, C, damped, wi
                     for l in range(3):
                         s += d2[a, b, c, l] * f[c] * r_local[p, l]
                 D[6 * k + 3 + a, 6 * k + 3 + b] += wK * s
+    _, count, targets, slopes = forms[5:]
+    for k in range(count):  # the user point and body loads: -(dF/dq, dF/dqdot)
+        n = 3 if targets[k, 0] == 0 else 6
+        for c in range(n):
+            for d in range(n):
+                value = -(wK * slopes[k, 0, c, d] + wV * slopes[k, 1, c, d])
+                if n == 3:
+                    rc, rd = points[0][targets[k, 1], c], points[0][targets[k, 1], d]
+                    ab[kv + rc - rd, rd] += value
+                else:
+                    D[6 * targets[k, 1] + c, 6 * targets[k, 1] + d] += value
     columns, _, drag = points
     for p in range(columns.shape[0]):
         if drag[p] > 0.0:
@@ -626,15 +718,13 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
     with ``tangent`` its Newton matrix into ``factors``, factorized. Returns SOLVED,
     SINGULAR (the matrix) or SURFACE (a line reached the free surface: Python's step)."""
     am, af, beta, gamma = scheme
-    (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
-     products, M, C, damped, width) = model
-    loads, pres_u, pres_v = inputs
+    topology, points, bodies, products, M, C, damped, width = (
+        model[0], model[7], model[8], model[10], model[11], model[12], model[13], model[14])
     R, a1, v1, Ma, Cv = work[7], work[9], work[10], work[11], work[12]
     for i in range(y.size):
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
         v1[i] = v_pred[i] + gamma * h * a1[i]
-    if not _residual(y, v1, topology, cable, hydro, has_hydro, bed, has_bed, still, points,
-                     bodies, loads, prescribed_dofs, pres_u, pres_v, tangent, work, R):
+    if not _residual(y, v1, model, inputs, tangent, work, R):
         return SURFACE
     _product(products[0], a1, Ma)
     if damped:
@@ -644,7 +734,7 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
                  + inertia_old[i])
     if not tangent:
         return SOLVED
-    _assemble(y, v1, topology, points, bodies, work, (1 - am) / (beta * h * h),
+    _assemble(y, v1, topology, points, bodies, model[15], work, (1 - am) / (beta * h * h),
               gamma / (beta * h), af, M, C, damped, width, factors)
     ab, E, F, D, piv_band, piv_schur = factors
     state[2] += 1.0

@@ -223,14 +223,14 @@ def test_bordered_band_solves_as_lapack():
 
 def test_the_compiled_step_names_the_first_term_that_does_not_lower():
     """Every term answers lowered(): the paper case's own physics (cable, restoring, the
-    time-only load) all lower; a user's body load does not, and the refusal names it and
-    says why."""
+    time-only load) all lower; a user's body load in NumPy (JAX cannot trace it) does not,
+    and the refusal names it and says why."""
     model = skmoor.build(skmoor.paper_case())
     system = model.system
     kinds = sorted(term.lowered() for term in system.built_in_terms)
     assert kinds == ["body restoring", "cable", "time load"]
     assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is not None
-    body_load = skmoor.BodyLoad(lambda q, qdot, t: -1e3 * qdot, body=0)
+    body_load = skmoor.BodyLoad(lambda q, qdot, t: -1e3 * np.asarray(qdot), body=0)
     model.add(body_load)
     assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is None
     assert compiled_step.last_refusal.startswith("BodyLoad on the bodies")

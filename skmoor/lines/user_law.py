@@ -1,0 +1,185 @@
+"""A constitutive law written by the user: the tension of a line type as a function of
+its strain and strain rate, N(e, de/dt).
+
+The law is one function written with :mod:`skmoor.fem.ops` (or plain arithmetic), so that
+JAX can trace it; skmoor derives what the cable needs from it:
+
+- the static state: the catenary and the reference strain ``e_ref`` of each point from
+  N(e, 0) (the law inverted at the reference tension);
+- the time loop: the axial force of Eq. 11 with the user's tension, written as a line
+  form (:func:`law_residual`) whose tangents come from automatic differentiation and whose
+  kernel is generated (:mod:`skmoor.fem.form_compiler`), so that it runs in the compiled
+  time step like a built-in law;
+- the reported tension (``LineSet.element_tension``).
+
+Which strain the law sees: ``e`` is the engineering strain of the UNSTRETCHED line
+(stretched length over unstretched length, minus 1), as the built-in laws and MoorDyn
+use it, so a threshold written in the law (a kink at 1 % strain) is at 1 % from the
+unstretched line, not from the static state: at a point of reference (static) stretch
+1 + e_ref stretched further by lambda = |X' + u'|, e = (1 + e_ref) lambda - 1, and
+de/dt = (1 + e_ref) (r' . udot') / lambda. A line type's BA (internal damping) still
+adds BA de/dt in the cable kernel; a law with its own rate term can leave BA at 0.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..fem import ops
+from ..fem.ops import d_ds, dot
+from ..fem.terms import LineForm
+from .laws import Law
+
+__all__ = ["UserLaw", "law_terms"]
+
+
+@dataclass(frozen=True, eq=False)
+class UserLaw(Law):
+    """A law from its tension function ``tension(strain, rate)`` (N; strain e -, rate
+    de/dt 1/s, arrays), written with :mod:`skmoor.fem.ops`. The static law N(e, 0) must
+    start at 0 N and increase over [0, max_strain]; the catenary uses it sampled at
+    ``samples`` strains there (beyond: the last slope). tension_only: a slack cable
+    carries no compression (N < 0 is cut to 0)."""
+
+    function: object = None
+    label: str = "user law"
+    max_strain: float = 0.3
+    samples: int = 301
+    name = "user"
+
+    def __init__(self, tension, *, name=None, tension_only=True, max_strain=0.3,
+                 samples=301):
+        if not callable(tension):
+            raise ValueError("UserLaw tension: need a function tension(strain, rate) -> N")
+        label = name or getattr(tension, "__name__", "user law")
+        if not (np.isfinite(max_strain) and max_strain > 0):
+            raise ValueError(f"UserLaw {label} max_strain: must be a strain > 0, got "
+                             f"{max_strain!r}")
+        if int(samples) < 2:
+            raise ValueError(f"UserLaw {label} samples: need at least 2, got {samples!r}")
+        for key, value in dict(function=tension, label=label, tension_only=bool(tension_only),
+                               max_strain=float(max_strain), samples=int(samples)).items():
+            object.__setattr__(self, key, value)
+        e = np.linspace(0.0, self.max_strain, self.samples)
+        try:
+            with np.errstate(all="ignore"):  # a NaN or inf is named below
+                T = np.asarray(self.function(e, np.zeros_like(e)), float) * np.ones_like(e)
+        except Exception as error:
+            raise ValueError(f"UserLaw {label}: tension(strain, rate) failed on arrays of "
+                             f"strains: {error}") from error
+        if not np.all(np.isfinite(T)):
+            raise ValueError(f"UserLaw {label}: tension(strain, 0) is not finite at strain "
+                             f"{e[~np.isfinite(T)][0]:g}")
+        if abs(T[0]) > 1e-9 * max(np.max(np.abs(T)), 1.0):
+            raise ValueError(f"UserLaw {label}: the tension at zero strain must be 0 N, got "
+                             f"{T[0]:g}")
+        bad = np.nonzero(np.diff(T) <= 0)[0]
+        if bad.size:
+            raise ValueError(f"UserLaw {label}: the static tension must increase with the "
+                             f"strain; it does not between strains {e[bad[0]]:g} and "
+                             f"{e[bad[0] + 1]:g}")
+        object.__setattr__(self, "_table", (e, T))
+
+    def __repr__(self):
+        return f"UserLaw({self.label})"
+
+    # --- statics
+    def static_pieces(self, EA=None):
+        e, T = self._table
+        s = np.diff(T) / np.diff(e)
+        return T[:-1], e[:-1] - T[:-1] / s, 1.0 / s
+
+    def nominal_EA(self, EA=None):
+        """The secant at max_strain, N."""
+        e, T = self._table
+        return float(T[-1] / e[-1])
+
+    def static_tension(self, e, EA=None):
+        e = np.asarray(e, float)
+        T = np.asarray(self.function(e, np.zeros_like(e)), float) * np.ones_like(e)
+        return np.maximum(T, 0.0) if self.tension_only else T
+
+    def static_strain(self, T, EA=None):
+        """The strain e >= 0 with N(e, 0) = T: the sampled table's strain refined by
+        safeguarded Newton steps on the law itself."""
+        T = np.asarray(T, float)
+        e = super().static_strain(T)
+        low, high = np.zeros_like(e), np.maximum(2.0 * e, self.max_strain)
+        for _ in range(60):
+            f = self.static_tension(e) - T
+            low, high = np.where(f < 0, e, low), np.where(f > 0, e, high)
+            step = 1e-7 * np.maximum(e, 1e-3)
+            slope = (self.static_tension(e + step) - self.static_tension(e - step)) / (2 * step)
+            trial = e - f / np.where(slope > 0, slope, np.inf)
+            e_new = np.where((trial > low) & (trial < high), trial, 0.5 * (low + high))
+            if np.all(np.abs(e_new - e) <= 1e-15 * np.maximum(e, 1.0)):
+                return e_new
+            e = e_new
+        return e
+
+    def tension(self, e, EA=None):
+        return self.static_tension(e)
+
+    def slope(self, e, EA=None):
+        e = np.asarray(e, float)
+        step = 1e-7 * np.maximum(np.abs(e), 1e-3)
+        return (self.tension(e + step) - self.tension(e - step)) / (2 * step)
+
+    # --- dynamics: the cable kernel keeps the reference tension T along the line (its
+    # reference part balanced, as for Viscoelastic); law_terms adds the rest, N - T
+    def parameters(self, EA, T, e_ref, static=False):
+        p, _ = super().parameters(EA, T, e_ref)
+        p.update(T0=np.asarray(T, float) * 1.0, e0=e_ref * np.ones_like(T), k=0.0 * p["k"])
+        return p, None
+
+    def axial(self, e, rate):
+        """The tension N(e, de/dt) (N) as the cable sees it (cut at 0 when tension-only)."""
+        N = self.function(e, rate)
+        return ops.maximum(N, 0.0) if self.tension_only else N
+
+
+def law_residual(v, w):
+    # Eq. 11 with the user's tension: int (N(e, de/dt) - T) / |r'| r' . dv' ds on its lines
+    # (the cable kernel carries T r' / |r'|)
+    rp = w.Xp + d_ds(w.u)
+    stretch = ops.norm(rp)
+    grow = 1.0 + w.e_ref
+    strain = grow * stretch - 1.0
+    rate = grow * dot(rp, d_ds(w.du)) / stretch
+    return w.on * (w.law.axial(strain, rate) - w.T) / stretch * dot(rp, d_ds(v))
+
+
+def law_terms(lines) -> list:
+    """One line form per user law of ``lines`` (a LineSet), on that law's lines, at the
+    element mid-points as the cable kernel; none without user laws."""
+    terms, seen = [], []
+    for law in lines.laws:
+        if isinstance(law, UserLaw) and not any(law is s for s in seen):
+            seen.append(law)
+            cells = np.isin(lines.line_of_cell,
+                            [k for k, other in enumerate(lines.laws) if other is law])
+            on = np.repeat(cells.astype(float)[:, None],
+                           lines.cable_fields["T"].shape[1], axis=1)
+            terms.append(LineForm(law_residual, fields={"on": on, "law": law},
+                                  quadrature="midpoint", lines=lines, name=law.label))
+    return terms
+
+
+def law_tension(lines, u, ud=None) -> np.ndarray:
+    """(nel,) the user laws' tension at the element mid-points less the reference
+    tension the cable kernel reports there (N; 0 on other lines)."""
+    out = np.zeros(len(lines.line_of_cell))
+    f = lines.cable_fields
+    Xp = f["Xp"][:, :, 0]
+    rp = Xp + lines.element_slopes(u)
+    stretch = np.sqrt(np.einsum("i...,i...", rp, rp))
+    grow = 1.0 + f["e_ref"][:, 0]
+    rate = (np.zeros_like(stretch) if ud is None else
+            grow * np.einsum("i...,i...", rp, lines.element_slopes(ud)) / stretch)
+    for k, law in enumerate(lines.laws):
+        if isinstance(law, UserLaw):
+            cells = lines.line_of_cell == k
+            e = grow[cells] * stretch[cells] - 1.0
+            out[cells] = law.axial(e, rate[cells]) - f["T"][cells, 0]
+    return out

@@ -1,0 +1,118 @@
+"""A user's constitutive law (skmoor.UserLaw) against the built-in laws of the same tension.
+
+Independent numbers: the built-in Engineering law (tension EA e, the hand-written cable
+kernel) and a built-in Curve (a piecewise-linear table) of the same tension as the user's
+function. A law that saw the strain from the static state instead of the unstretched
+line, a dropped reference strain, a factor of the stretch in the force or a user law left
+out of the reported tension would make the histories or the tensions differ.
+"""
+import numpy as np
+import pytest
+from test_compiled_step import run
+
+import skmoor
+from skmoor.fem import ops
+from skmoor.lines.catenary import solve_catenary
+from skmoor.solvers import compiled_step
+from skmoor.solvers.dynamics import Scheme
+
+pytest.importorskip("jax")
+
+EA = 7.5e8  # N, a studless chain of 90 mm
+KINK = 1.8e-3  # strain where the curved law stiffens (above the static state, 1.25e-3 at most)
+LENGTH = 336.0  # m: a taut chain (its motion is not chaotic: round-off stays round-off)
+AMPLITUDE = 1.0  # m, the fairlead's surge and heave
+
+
+def _chain(law):
+    """A 20-element chain from an anchor to a fairlead heaved 3 m (prescribed), and its
+    static state: (system, x0)."""
+    chain = skmoor.LineType(EA=EA, mass=140.0, diameter=0.09, BA=0.0, law=law)
+    cat = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, chain.EA,
+                         length=LENGTH)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 20)])
+    system = skmoor.System(lines, fairleads="prescribed",
+                           motion=lambda t: np.array([[AMPLITUDE * np.sin(0.8 * t), 0.0,
+                                                       AMPLITUDE * np.sin(0.8 * t)]]))
+    return system, skmoor.solve_static(system).x
+
+
+def hooke(strain, rate):
+    return EA * strain
+
+
+def stiffening(strain, rate):
+    return EA * strain + 2.0 * EA * ops.maximum(strain - KINK, 0.0)
+
+
+def _history(system, x0, compiled=True, steps=50):
+    states, _ = run(system, x0, np.zeros(system.n), 0.1, steps, compiled=compiled,
+                    scheme=Scheme.newmark())
+    u, _ = system.full_state(states[-1], np.zeros(system.n), 5.0)
+    return states, system.lines.element_tension(u)
+
+
+@pytest.mark.parametrize("user, builtin", [
+    (hooke, skmoor.Engineering()),
+    (stiffening, skmoor.Curve([0.0, KINK, 2 * KINK], [0.0, EA * KINK, 4 * EA * KINK])),
+])
+def test_user_law_moves_the_chain_as_the_built_in_law(user, builtin):
+    law = skmoor.UserLaw(user)
+    system_user, x_user = _chain(law)
+    system_builtin, x_builtin = _chain(builtin)
+    assert np.abs(x_user - x_builtin).max() < 1e-9  # the static state
+    why, kinds = compiled_step.lowered_terms(system_user.system
+                                             if hasattr(system_user, "system")
+                                             else system_user)
+    assert why is None and [t.name for t in kinds["form"]] == [user.__name__]
+    got, tension = _history(system_user, x_user)
+    expected, tension_builtin = _history(system_builtin, x_builtin)
+    motion = np.abs(expected - expected[0]).max()
+    assert motion > 1.0
+    assert np.abs(got - expected).max() < 1e-9 * motion
+    assert np.abs(tension - tension_builtin).max() < 1e-9 * tension_builtin.max()
+
+
+def test_the_kink_is_crossed_so_the_strain_measure_matters():
+    """The stiffening law against the same kink placed on the strain from the static
+    state: far apart (so the test above tells the two strains apart)."""
+    system, x0 = _chain(skmoor.UserLaw(stiffening))
+    e_ref = system.lines.cable_fields["e_ref"][:, 0]
+    assert 0.5 * KINK < e_ref.max() < KINK  # the static state is below the kink ...
+    states, _ = _history(system, x0)
+    largest = max(np.max((1 + e_ref) * np.sqrt(1 + 2 * system.lines.element_strain(
+        system.full_state(x, np.zeros(system.n), 0.1 * k)[0])) - 1)
+        for k, x in enumerate(states))
+    assert largest > KINK  # ... and the motion crosses it
+
+    def from_static(strain, rate):  # the mistake: the kink on the strain beyond e_ref
+        return EA * strain + 2.0 * EA * ops.maximum(strain - e_ref.max() - KINK, 0.0)
+
+    other, x_other = _chain(skmoor.UserLaw(from_static))
+    wrong, _ = _history(other, x_other)
+    assert np.abs(wrong - states).max() > 1e-3
+
+
+def test_the_python_step_of_a_user_law_is_the_compiled_one():
+    system, x0 = _chain(skmoor.UserLaw(stiffening))
+    fast, _ = _history(system, x0, compiled=True, steps=30)
+    slow, _ = _history(system, x0, compiled=False, steps=30)
+    assert np.abs(fast - slow).max() < 1e-9 * np.abs(slow - slow[0]).max()
+
+
+@pytest.mark.parametrize("tension, message", [
+    (lambda e, r: EA * e + 5.0, "at zero strain must be 0 N"),
+    (lambda e, r: -EA * e, "must increase with the strain"),
+    (lambda e, r: EA * e / np.maximum(0.1 - e, 0.0), "not finite"),
+    ("EA e", "need a function"),
+])
+def test_a_bad_law_is_refused_with_its_reason(tension, message):
+    with pytest.raises(ValueError, match=message):
+        skmoor.UserLaw(tension)
+
+
+def test_the_static_strain_inverts_the_law():
+    law = skmoor.UserLaw(stiffening)
+    T = np.array([0.0, 1e5, EA * KINK, 3e6])
+    e = law.static_strain(T)
+    assert np.allclose(law.tension(e), T, rtol=1e-12, atol=1e-6)

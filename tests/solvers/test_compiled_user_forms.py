@@ -1,0 +1,165 @@
+"""A user's LineForm inside the compiled time step (its generated kernel called there).
+
+Independent numbers: the Python step of ``dynamics.integrate`` on the same model (the
+form evaluated by its own engine through ``System.residual``), and the built-in Morison
+drag (a hand-written kernel of the same physics). A form the compiled step did not call,
+called at the wrong time (the step's start instead of its end), with another form's
+arrays, or with its tangent dropped would make the histories differ by far more than
+round-off.
+"""
+import numpy as np
+import pytest
+from skfem import LinearForm
+from test_compiled_step import run
+
+import skmoor
+from skmoor.fem import ops
+from skmoor.fem.ops import d_ds, dot
+from skmoor.solvers import compiled_step
+from skmoor.solvers.dynamics import Scheme
+
+pytest.importorskip("jax")
+
+CD = 1.2  # MoorDyn's normal drag coefficient
+
+
+@LinearForm
+def normal_drag(v, w):
+    # + 1/2 rho Cd d |v_n| v_n . du per unit reference length (w.m / mass: 1 / stretch)
+    rp = w.Xp + d_ds(w.u)
+    tau = rp / ops.norm(rp)
+    vn = w.du - dot(w.du, tau) * tau
+    return w.k * (w.m / w.mass) * ops.norm(vn) * dot(vn, v)
+
+
+@LinearForm
+def swaying_load(v, w):
+    # - q0 sin(omega t) e_y . du: a distributed load in time (N/m)
+    return -w.q0 * ops.sin(w.omega * w.t) * v.value[1]
+
+
+def drag_term(model):
+    steel = model.lines.lines[0].line_type
+    k = 0.5 * skmoor.paper_case().water["density"] * CD * steel.diameter
+    return skmoor.LineForm(normal_drag, fields={"k": k, "mass": steel.mass}, path="compiled")
+
+
+def load_term():
+    return skmoor.LineForm(swaying_load, fields={"q0": 300.0, "omega": 2.0},
+                           path="compiled")
+
+
+def _paper(*terms):
+    model = skmoor.build(skmoor.paper_case())
+    for make in terms:
+        model.add(make(model) if make is drag_term else make())
+    return model
+
+
+@pytest.fixture(scope="module")
+def models():
+    """Paper case + user drag; + the swaying load; + both; the built-in drag."""
+    builtin = skmoor.build(skmoor.paper_case().replace("line_types.steel.Cd_n", CD))
+    return (_paper(drag_term), _paper(load_term), _paper(drag_term, load_term), builtin)
+
+
+def _runs(model, steps=60, dt=0.05):
+    eq = skmoor.equilibrium(model)
+    v0 = np.zeros(model.system.n)
+    v0[model.system.nf:model.system.nf + 2] = [0.3, -0.2]  # a push: the drag works
+    fast, it_fast = run(model.system, eq.x, v0, dt, steps, C=eq.C, compiled=True,
+                        scheme=Scheme.newmark())
+    slow, it_slow = run(model.system, eq.x, v0, dt, steps, C=eq.C, compiled=False,
+                        scheme=Scheme.newmark())
+    # the same Newton iterations: the terms' tangents are in the compiled Newton matrix
+    assert np.array_equal(it_fast, it_slow)
+    return fast, slow
+
+
+@pytest.mark.parametrize("which", ["drag", "load", "both"])
+def test_user_forms_run_in_the_compiled_step_as_in_python(models, which):
+    model = models[("drag", "load", "both").index(which)]
+    why, kinds = compiled_step.lowered_terms(model.system)
+    assert why is None and len(kinds["form"]) == (2 if which == "both" else 1)
+    fast, slow = _runs(model)
+    motion = np.abs(slow - slow[0]).max()
+    assert motion > 1e-2
+    assert np.abs(fast - slow).max() < 1e-9 * motion
+
+
+def test_user_drag_in_the_compiled_step_is_the_built_in_drag(models):
+    """The generated kernel of the user's drag against the hand-written Morison kernel:
+    both runs compiled, the same history to round-off (and unlike the run without drag)."""
+    user, builtin = models[0], models[3]
+    assert compiled_step.lowered_terms(builtin.system)[0] is None
+    user_run, _ = _runs(user, steps=40)
+    eq = skmoor.equilibrium(builtin)
+    v0 = np.zeros(builtin.system.n)
+    v0[builtin.system.nf:builtin.system.nf + 2] = [0.3, -0.2]
+    reference, _ = run(builtin.system, eq.x, v0, 0.05, 40, C=eq.C, scheme=Scheme.newmark())
+    undamped, _ = run(skmoor.build(skmoor.paper_case()).system, eq.x, v0, 0.05, 40, C=eq.C,
+                      scheme=Scheme.newmark())
+    motion = np.abs(reference - reference[0]).max()
+    assert np.abs(user_run - reference).max() < 1e-9 * motion
+    assert np.abs(undamped - reference).max() > 1e-4 * motion  # the drag matters
+
+
+def test_a_form_with_fields_in_time_is_named_as_python():
+    """Fields given as a function of time are evaluated in Python: the step says so."""
+    model = skmoor.build(skmoor.paper_case())
+    model.add(skmoor.LineForm(swaying_load, path="compiled", name="sway",
+                              fields=lambda t: {"q0": 300.0, "omega": 2.0}))
+    why, _ = compiled_step.lowered_terms(model.system)
+    assert why.startswith("sway on the lines") and "function of time" in why
+
+
+# --- user point and body loads (their generated C functions called in the step)
+
+DAMPING = np.diag([4e4, 4e4, 1e5, 2e6, 2e6, 1e6])  # N s/m, N m s
+
+
+def damper(q, qdot, t):
+    # a linear damper on the body, F = -B qdot (N, N m), written with jax.numpy-friendly ops
+    return -(ops.xp(qdot).asarray(DAMPING) @ qdot)
+
+
+def test_a_user_body_load_is_the_built_in_linear_damping():
+    """The paper case with a user's body damper runs compiled, as its Python step, and as
+    the same damping given as the body's linear_damping (the built-in restoring kernel)."""
+    user = skmoor.build(skmoor.paper_case())
+    term = user.add(skmoor.BodyLoad(damper, body=0))
+    assert term.lowered() == "body load", term.why_python
+    assert compiled_step.lowered_terms(user.system)[0] is None
+    builtin = skmoor.build(skmoor.paper_case())
+    builtin.system.bodies[0].linear_damping[:] = DAMPING  # read by its restoring term
+    fast, slow = _runs(user, steps=40)
+    reference, _ = _runs(builtin, steps=40)
+    motion = np.abs(slow - slow[0]).max()
+    assert np.abs(fast - slow).max() < 1e-9 * motion
+    assert np.abs(fast - reference).max() < 1e-9 * motion
+    plain, _ = _runs(skmoor.build(skmoor.paper_case()), steps=40)
+    assert np.abs(plain - reference).max() > 1e-3 * motion  # the damper matters
+
+
+def test_a_user_point_load_runs_in_the_compiled_step_as_in_python():
+    """A free clump pushed sideways in time and held by a spring on its own position: the
+    load's value, its derivative in the Newton matrix and the time it is called at."""
+    from test_network import network_two_bodies
+
+    model = skmoor.from_network(network_two_bodies())
+
+    def push(x, v, t):
+        return ops.xp(x).stack([3e3 * ops.sin(1.5 * t) - 2e3 * x[0], -2e3 * x[1],
+                                0.0 * x[2]])
+
+    term = model.add(skmoor.PointLoad(push, point="J"))
+    assert term.lowered() == "point load", term.why_python
+    system = model.system
+    eq = skmoor.equilibrium(model)
+    v0 = np.zeros(system.n)
+    fast, it_fast = run(system, eq.x, v0, 0.05, 60, compiled=True)
+    slow, it_slow = run(system, eq.x, v0, 0.05, 60, compiled=False)
+    assert np.array_equal(it_fast, it_slow)
+    motion = np.abs(slow - slow[0]).max()
+    assert motion > 1e-2
+    assert np.abs(fast - slow).max() < 1e-9 * motion
