@@ -24,12 +24,10 @@ Python path's; results are the same to round-off as long as neither path falls b
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import scipy.sparse as sp
 from numba import cfunc, njit
-from numba.core.errors import NumbaExperimentalFeatureWarning
 
 from ..bodies.body import rotation_and_slopes
 from ..fem.form_compiler import POINTWISE_SIGNATURE, STEP_SIGNATURE
@@ -38,6 +36,7 @@ from ..lines.cable_kernel import _cable
 from ..numerics import bordered
 from ..sea.hydro import _morison
 from ..sea.seabed import _seabed
+from .native_calls import call_form, call_load
 from .newton import CONTRACTION, LINE_SEARCH
 
 last_refusal = ""  # why the last build() returned None
@@ -76,10 +75,11 @@ def _no_load(z, out):
 
 
 def _pointwise(terms):
-    """The user point and body loads as the compiled loop takes them: (LOADS functions,
-    the count, each load's [0 point / 1 body, its index] (LOADS, 2), their derivatives
-    (LOADS, 2, 6, 6) as the last residual left them)."""
-    functions = tuple(t.step_load for t in terms) + (_no_load,) * (LOADS - len(terms))
+    """The user point and body loads as the compiled loop takes them: (their C functions'
+    addresses (LOADS,), the count, each load's [0 point / 1 body, its index] (LOADS, 2),
+    their derivatives (LOADS, 2, 6, 6) as the last residual left them)."""
+    functions = np.array([t.step_load.address for t in terms]
+                         + [_no_load.address] * (LOADS - len(terms)), np.int64)
     targets = np.zeros((LOADS, 2), np.int64)
     for k, term in enumerate(terms):
         targets[k] = (0, term.point) if term.acts_on == "points" else (1, term.body)
@@ -87,11 +87,12 @@ def _pointwise(terms):
 
 
 def _forms(terms):
-    """The user LineForms' kernels as the compiled loop takes them: (FORMS functions, the
-    count, their packed ints and floats (one buffer each), each form's start in both
-    (FORMS, 2))."""
+    """The user LineForms' kernels as the compiled loop takes them: (their C functions'
+    addresses (FORMS,), the count, their packed ints and floats (one buffer each), each
+    form's start in both (FORMS, 2))."""
     kernels = [term.step_kernel for term in terms]
-    functions = tuple(k[0] for k in kernels) + (_no_form,) * (FORMS - len(kernels))
+    functions = np.array([k[0].address for k in kernels]
+                         + [_no_form.address] * (FORMS - len(kernels)), np.int64)
     starts = np.zeros((FORMS, 2), np.int64)
     for i, (_, ints, floats) in enumerate(kernels[:-1]):
         starts[i + 1] = starts[i] + (ints.size, floats.size)
@@ -181,6 +182,7 @@ class CompiledStep:
                  scheme, tol, maxiter):
         self.system, self.hydro, self.bed = system, hydro, bed
         self.forms = _forms(kinds["form"]) + _pointwise(kinds["load"])
+        self._kept = kinds["form"] + kinds["load"]  # their C functions stay while called
         self.M, self.C, self.damped, self.width = M, C, damped, width
         self.products = (_csr(system.M), _csr(C_matrix))
         self.scheme = (scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma)
@@ -297,13 +299,11 @@ class CompiledStep:
         model = (self.topology, cable, hydro, has_hydro, bed, has_bed, self._still,
                  self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
                  self.damped, self.width, self.forms)
-        with warnings.catch_warnings():  # numba: "first-class function type is experimental"
-            warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
-            done, code = _run(x, v, a, force_old, h, np.asarray(times, float), self.scheme,
-                              self.tol, self.maxiter, model, loads, pres_u, pres_v, driven,
-                              pres_a, self.factors, self.state, self.work, out, iterations,
-                              report, self.report_dofs, self.resting, self.held, lines_out,
-                              ends_out.reshape(count, -1))
+        done, code = _run(x, v, a, force_old, h, np.asarray(times, float), self.scheme,
+                          self.tol, self.maxiter, model, loads, pres_u, pres_v, driven, pres_a,
+                          self.factors, self.state, self.work, out, iterations, report,
+                          self.report_dofs, self.resting, self.held, lines_out,
+                          ends_out.reshape(count, -1))
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
@@ -532,10 +532,10 @@ def _residual(x, v, model, inputs, tangent, work, R):
                 ud, full, blocks_K, blocks_C)
     functions, count, ints, floats, starts = forms[:5]
     for k in range(count):  # the user LineForms' generated kernels
-        form = functions[k]
-        form(u.ctypes, ud.ctypes, u.size, t, ints[starts[k, 0]:].ctypes,
-             floats[starts[k, 1]:].ctypes, full.ctypes, blocks_K.ctypes, blocks_C.ctypes,
-             1 if tangent else 0)
+        call_form(functions[k], u.ctypes.data, ud.ctypes.data, u.size, t,
+                  ints[starts[k, 0]:].ctypes.data, floats[starts[k, 1]:].ctypes.data,
+                  full.ctypes.data, blocks_K.ctypes.data, blocks_C.ctypes.data,
+                  1 if tangent else 0)
     R[:] = 0.0
     for g in range(full.size):
         if position[g] >= 0:
@@ -573,8 +573,7 @@ def _residual(x, v, model, inputs, tangent, work, R):
                 z[c] = x[g]
                 z[n + c] = v[g]
             z[2 * n] = t
-            load = loads_at[k]
-            load(z.ctypes, out.ctypes)
+            call_load(loads_at[k], z.ctypes.data, out.ctypes.data)
             for c in range(n):
                 g = columns[targets[k, 1], c] if n == 3 else nf + 6 * targets[k, 1] + c
                 R[g] -= out[c]

@@ -1,0 +1,62 @@
+"""Calls from compiled code to the generated C functions of user terms, by address.
+
+The compiled time step calls each user LineForm's and pointwise load's generated kernel
+(:mod:`skmoor.fem.form_compiler`: ``step_kernel``, ``step_load``, numba ``cfunc``s) through
+its address, an integer: the step then takes plain arrays (its compiled code and numba's
+disk cache serve every form alike, and a call from Python costs no typing of function
+objects). Pointers are passed as addresses (``array.ctypes.data``).
+"""
+from __future__ import annotations
+
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
+
+_DOUBLE = ir.DoubleType().as_pointer()
+_INT = ir.IntType(64)
+
+
+def _pointers(builder, values, kinds):
+    """The call's arguments: addresses cast to the C signature's pointers ('d': double*,
+    'i': int64*), other values as they are ('-')."""
+    out = []
+    for value, kind in zip(values, kinds):
+        if kind == "d":
+            out.append(builder.inttoptr(value, _DOUBLE))
+        elif kind == "i":
+            out.append(builder.inttoptr(value, _INT.as_pointer()))
+        else:
+            out.append(value)
+    return out
+
+
+@intrinsic
+def call_form(typingctx, address, u, ud, ndofs, t, ints, floats, R, K, C, tangent):
+    """step_kernel(u, ud, ndofs, t, ints, floats, R, K, C, tangent) of the C function at
+    ``address`` (:data:`skmoor.fem.form_compiler.STEP_SIGNATURE`); arrays by address."""
+    signature = types.void(address, u, ud, ndofs, t, ints, floats, R, K, C, tangent)
+
+    def codegen(context, builder, sig, args):  # ndofs, tangent: int64; t: float64
+        function = ir.FunctionType(ir.VoidType(), [_DOUBLE, _DOUBLE, _INT, ir.DoubleType(),
+                                                   _INT.as_pointer(), _DOUBLE, _DOUBLE,
+                                                   _DOUBLE, _DOUBLE, _INT])
+        target = builder.inttoptr(args[0], function.as_pointer())
+        builder.call(target, _pointers(builder, args[1:], "dd--idddd-"))
+        return context.get_dummy_value()
+
+    return signature, codegen
+
+
+@intrinsic
+def call_load(typingctx, address, z, out):
+    """step_load(z, out) of the C function at ``address``
+    (:data:`skmoor.fem.form_compiler.POINTWISE_SIGNATURE`); arrays by address."""
+    signature = types.void(address, z, out)
+
+    def codegen(context, builder, sig, args):
+        function = ir.FunctionType(ir.VoidType(), [_DOUBLE, _DOUBLE])
+        target = builder.inttoptr(args[0], function.as_pointer())
+        builder.call(target, _pointers(builder, args[1:], "dd"))
+        return context.get_dummy_value()
+
+    return signature, codegen
