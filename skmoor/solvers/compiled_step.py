@@ -407,7 +407,8 @@ def _report(x, v, model, inputs, work, report_dofs, resting, u, ud, ends):
     """The full line state (u, ud) at (x, v) and the end forces -R_full[report_dofs]
     (N) plus the flat bed's support of held ends resting on it (``resting``, from
     :func:`_resting`): 1, or 0 when a line is at the surface (nothing computed)."""
-    if not _residual(x, v, model, inputs, False, work, work[7]):
+    no = x.size < 0  # False as a plain bool: a literal False would compile _residual again
+    if not _residual(x, v, model, inputs, no, work, work[7]):
         return 0
     u[:] = work[0]
     ud[:] = work[1]
@@ -808,7 +809,8 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     # full Newton with the line search (dynamics._newton with full=True)
     y = x0 + h * v0
     trial = work[13]
-    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True, factors,
+    yes = n >= 0  # True as a plain bool: a literal True would compile _balance again
+    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, yes, factors,
                     state, work, B)
     norm = _norm(B)
     for it in range(1, maxiter + 1):
@@ -842,7 +844,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
                 trial[i] = y[i] + length * dx[i]
         y[:] = trial
         if length != 1.0 and math.isfinite(norm_try):  # the tangent where the search stopped
-            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, True,
+            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, yes,
                             factors, state, work, B)
         norm = norm_try
     return 0
