@@ -525,8 +525,9 @@ def _residual(x, v, model, inputs, tangent, work, R):
     blocks_C = Ce if tangent else np.zeros((0, 6, 6))
     if has_hydro:
         hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
+        waves = x.size < 0  # still water: False as a plain bool (a literal compiles again)
         _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
-                 False, full, blocks_K, blocks_C)
+                 waves, full, blocks_K, blocks_C)
     if has_bed:
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
