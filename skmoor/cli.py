@@ -60,12 +60,16 @@ def cmd_run(args) -> int:
         from .run.report import summary_table
         print(summary_table(info), flush=True)  # the numbers first, then files and renders
         _plots(results, out)
-        return _finish(results, info, out, args)
+        code, render_later = _finish(results, info, out, args)
+    if render_later:  # once the lock is free: the renderer takes it
+        _render_in_background(out)
+    return code
 
 
-def _finish(results, info, out, args) -> int:
-    """ParaView files and renders unless switched off; the summary; exit status 1 when the
-    run stopped early."""
+def _finish(results, info, out, args) -> tuple:
+    """ParaView files and (with --wait) renders unless switched off; the summary. Returns
+    (exit status, 1 when the run stopped early; whether to render in the background)."""
+    later = False
     if results.meta.get("interrupted") and not (args.no_export and args.no_animation):
         print(f"interrupted: ParaView files and animations skipped (make them with "
               f"`skmoor export {out}` and `skmoor render {out}`)")
@@ -73,10 +77,32 @@ def _finish(results, info, out, args) -> int:
         if not args.no_export:
             _export(results, out, args.frames)
         if not args.no_animation:
-            _animate(results, out, args.quiet)
+            if args.wait:
+                _animate(results, out, args.quiet)
+            else:
+                later = True
     print(json.dumps(info, indent=2))
     print(f"wrote {out}/")
-    return 0 if results.meta.get("stopped") is None else 1
+    return (0 if results.meta.get("stopped") is None else 1), later
+
+
+def _render_in_background(out):
+    """``skmoor render OUT`` started apart from this process (it outlives it), its output
+    in OUT/render.log: the run returns with its numbers while the animations render."""
+    import os
+    import subprocess
+
+    root = str(Path(__file__).resolve().parents[1])  # where this skmoor is imported from
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [root] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
+    log = open(Path(out) / "render.log", "w")  # noqa: SIM115 - the child writes it
+    with log:
+        process = subprocess.Popen([sys.executable, "-m", "skmoor.cli", "render", str(out),
+                                    "--quiet"], stdout=log, stderr=subprocess.STDOUT,
+                                   stdin=subprocess.DEVNULL, env=env, start_new_session=True)
+    print(f"rendering snapshot.png, animation.mp4 and animation.gif in the background "
+          f"(process {process.pid}, about a minute; log: {Path(out) / 'render.log'}); "
+          f"--wait renders them before returning")
 
 
 def cmd_sweep(args) -> int:
@@ -97,9 +123,11 @@ def cmd_export(args) -> int:
 
 
 def cmd_render(args) -> int:
+    from .run.outputs import output_lock
+
     out = Path(args.outdir)
-    _animate(_load_results(out), out, args.quiet, scale=args.scale,
-             camera=args.camera)
+    with output_lock(out):  # a run into the folder waits for it
+        _animate(_load_results(out), out, args.quiet, scale=args.scale, camera=args.camera)
     return 0
 
 
@@ -225,6 +253,8 @@ def parser() -> argparse.ArgumentParser:
                      help="sampling interval of the results, s (default: the case's)")
     run.add_argument("--no-export", action="store_true", help="skip the XDMF / PVD export")
     run.add_argument("--no-animation", action="store_true", help="skip snapshot and animations")
+    run.add_argument("--wait", action="store_true", help="render the snapshot and animations "
+                     "before returning (default: in the background once the numbers are out)")
     run.add_argument("--frames", type=int, default=1000, help="ParaView series: at most this "
                      "many samples, evenly strided (0: all; default: %(default)s)")
     run.add_argument("--quiet", action="store_true", help="no progress bars")

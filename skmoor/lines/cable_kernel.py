@@ -48,6 +48,10 @@ class CableKernel:
         self.constant = lineset.reference_force()
         self._call(np.zeros(self.ndofs), self._no_velocity, False, self.constant,
                    NO_BLOCKS, NO_BLOCKS, -1.0)
+        # the elements of lines with a user's law carry no force here: its term
+        # (skmoor.lines.user_law) carries all of their axial force (the constant above
+        # counts them, as the term's force at u = 0 is their reference force)
+        self.weight = np.where(lineset.user_law_cells, 0.0, self.weight)
 
     def refresh_laws(self):
         """Read the strain laws' parameters from the LineSet's fields, rearranged for
@@ -177,6 +181,8 @@ def _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped
     rate_slopes = np.empty(3)
     k = np.empty((3, 3))
     for e in range(h.size):
+        if weight[e] == 0.0:  # a user law's element (its own term)
+            continue
         # the element's slopes in scalars (registers), 3-vectors only for the tangent
         i0, i1, i2, j0, j1, j2 = (dofs_i[e, 0], dofs_i[e, 1], dofs_i[e, 2],
                                   dofs_j[e, 0], dofs_j[e, 1], dofs_j[e, 2])

@@ -451,6 +451,12 @@ class LineSet:
         return out
 
     @property
+    def user_law_cells(self) -> np.ndarray:
+        """(nel,) True on the elements of lines with a :class:`UserLaw`."""
+        return np.isin(self.line_of_cell, [k for k, law in enumerate(self.laws)
+                                           if isinstance(law, UserLaw)])
+
+    @property
     def tension_only(self) -> bool:
         """True when a line's law carries no compression."""
         return any(law.tension_only for law in self.laws)

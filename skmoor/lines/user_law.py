@@ -126,8 +126,9 @@ class UserLaw(Law):
         step = 1e-7 * np.maximum(np.abs(e), 1e-3)
         return (self.tension(e + step) - self.tension(e - step)) / (2 * step)
 
-    # --- dynamics: the cable kernel keeps the reference tension T along the line (its
-    # reference part balanced, as for Viscoelastic); law_terms adds the rest, N - T
+    # --- dynamics: the cable kernel skips this law's elements (law_terms carries their
+    # axial force); its parameters keep the reference tension T along the line for the
+    # kernel's reference part and its reported tension (law_tension adds N - T)
     def parameters(self, EA, T, e_ref, static=False):
         p, _ = super().parameters(EA, T, e_ref)
         p.update(T0=np.asarray(T, float) * 1.0, e0=e_ref * np.ones_like(T), k=0.0 * p["k"])
@@ -140,20 +141,24 @@ class UserLaw(Law):
 
 
 def law_residual(v, w):
-    # Eq. 11 with the user's tension: int (N(e, de/dt) - T) / |r'| r' . dv' ds on its lines
-    # (the cable kernel carries T r' / |r'|)
+    # Eq. 11 with the user's tension, and the line type's axial damping BA as the cable
+    # kernel has it: int [N(e, de/dt) / |r'| + BA r' . udot'] r' . dv' ds on its lines
     rp = w.Xp + d_ds(w.u)
     stretch = ops.norm(rp)
     grow = 1.0 + w.e_ref
     strain = grow * stretch - 1.0
-    rate = grow * dot(rp, d_ds(w.du)) / stretch
-    return w.on * (w.law.axial(strain, rate) - w.T) / stretch * dot(rp, d_ds(v))
+    green_rate = dot(rp, d_ds(w.du))  # d/dt of the strain of Eq. 3
+    axial = w.law.axial(strain, grow * green_rate / stretch) / stretch + w.BA * green_rate
+    return w.on * axial * dot(rp, d_ds(v))
 
 
 def law_terms(lines) -> list:
     """One line form per user law of ``lines`` (a LineSet), on that law's lines, at the
     element mid-points as the cable kernel; none without user laws."""
     terms, seen = [], []
+    if lines.hermite and any(isinstance(law, UserLaw) for law in lines.laws):
+        raise ValueError("UserLaw: a user's law on bending (Hermite) lines is not supported "
+                         "yet; give the line type EI = 0 or a built-in law")
     for law in lines.laws:
         if isinstance(law, UserLaw) and not any(law is s for s in seen):
             seen.append(law)

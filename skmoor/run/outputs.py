@@ -20,7 +20,7 @@ from ..post.strength import strength
 # what a run writes into its output folder (a reused folder is cleared of these first)
 OUTPUTS = ("results.npz", "summary.json", "timeseries.csv", "time_histories.png",
            "snapshot.png", "animation.mp4", "animation.gif", "lines.xdmf", "lines.h5",
-           "motion.pvd", "strength.png", "fatigue.json", "results.nc")
+           "motion.pvd", "strength.png", "fatigue.json", "results.nc", "render.log")
 
 
 def summary(results: Results) -> dict:

@@ -24,10 +24,10 @@ LENGTH = 336.0  # m: a taut chain (its motion is not chaotic: round-off stays ro
 AMPLITUDE = 1.0  # m, the fairlead's surge and heave
 
 
-def _chain(law):
-    """A 20-element chain from an anchor to a fairlead heaved 3 m (prescribed), and its
-    static state: (system, x0)."""
-    chain = skmoor.LineType(EA=EA, mass=140.0, diameter=0.09, BA=0.0, law=law)
+def _chain(law, BA=0.0):
+    """A 20-element chain from an anchor to a fairlead moved AMPLITUDE (prescribed), with
+    internal damping BA (N s), and its static state: (system, x0)."""
+    chain = skmoor.LineType(EA=EA, mass=140.0, diameter=0.09, BA=BA, law=law)
     cat = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, chain.EA,
                          length=LENGTH)
     lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 20)])
@@ -52,14 +52,15 @@ def _history(system, x0, compiled=True, steps=50):
     return states, system.lines.element_tension(u)
 
 
-@pytest.mark.parametrize("user, builtin", [
-    (hooke, skmoor.Engineering()),
-    (stiffening, skmoor.Curve([0.0, KINK, 2 * KINK], [0.0, EA * KINK, 4 * EA * KINK])),
+@pytest.mark.parametrize("user, builtin, BA", [
+    (hooke, skmoor.Engineering(), 0.0),
+    (hooke, skmoor.Engineering(), 3e7),  # with the line type's internal damping
+    (stiffening, skmoor.Curve([0.0, KINK, 2 * KINK], [0.0, EA * KINK, 4 * EA * KINK]), 0.0),
 ])
-def test_user_law_moves_the_chain_as_the_built_in_law(user, builtin):
+def test_user_law_moves_the_chain_as_the_built_in_law(user, builtin, BA):
     law = skmoor.UserLaw(user)
-    system_user, x_user = _chain(law)
-    system_builtin, x_builtin = _chain(builtin)
+    system_user, x_user = _chain(law, BA)
+    system_builtin, x_builtin = _chain(builtin, BA)
     assert np.abs(x_user - x_builtin).max() < 1e-9  # the static state
     why, kinds = compiled_step.lowered_terms(system_user.system
                                              if hasattr(system_user, "system")
