@@ -196,6 +196,8 @@ class _Evaluator:
                         return y
         elif op == "div" and _number(b) and b == 1:
             return a
+        elif op == "div" and _number(a) and a == 0 and not isinstance(a, bool):
+            return 0.0  # JAX's tangent of a term free of one input (0 / x, x != 0 there)
         elif op == "pow" and _number(b) and b == 2:
             return self.code.emit(f"({_text(a)} * {_text(a)})", [a])
         return self.code.emit(template.format(_text(a), _text(b)), [a, b])

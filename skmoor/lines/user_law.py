@@ -22,13 +22,16 @@ adds BA de/dt in the cable kernel; a law with its own rate term can leave BA at 
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from ..fem import ops
+from ..fem.native_calls import call_load
 from ..fem.ops import d_ds, dot
-from ..fem.terms import LineForm
+from ..fem.terms import HAS_JAX, LineForm
 from .laws import Law
 
 __all__ = ["UserLaw", "law_terms"]
@@ -139,6 +142,27 @@ class UserLaw(Law):
         N = self.function(e, rate)
         return ops.maximum(N, 0.0) if self.tension_only else N
 
+    def compiled(self):
+        """The generated C function z = [e, de/dt] -> [N] of :meth:`axial` (its
+        ``address`` for compiled callers), or None where JAX or the generator cannot
+        take the law (then NumPy evaluates it)."""
+        if "_compiled" not in self.__dict__:
+            object.__setattr__(self, "_compiled", None)
+            if HAS_JAX:
+                import jax
+                import jax.numpy as jnp
+                import skfem.autodiff  # noqa: F401 - turns on float64 in JAX
+
+                from ..fem.form_compiler import build_pointwise
+                try:
+                    traced = jax.make_jaxpr(lambda z: jnp.reshape(
+                        self.axial(z[0], z[1]), (1,)))(jnp.zeros(2))
+                    object.__setattr__(self, "_compiled", build_pointwise(
+                        traced.jaxpr, traced.consts, 2, f"UserLaw {self.label}"))
+                except Exception:  # JAX cannot trace it, or Unsupported: NumPy evaluates it
+                    pass
+        return self._compiled
+
 
 def law_residual(v, w):
     # Eq. 11 with the user's tension, and the line type's axial damping BA as the cable
@@ -174,17 +198,49 @@ def law_terms(lines) -> list:
 def law_tension(lines, u, ud=None) -> np.ndarray:
     """(nel,) the user laws' tension at the element mid-points less the reference
     tension the cable kernel reports there (N; 0 on other lines)."""
+    plan = lines.__dict__.get("_user_law_plan")
+    if plan is None:  # per law: its elements' DOFs, lengths, X', 1 + e_ref and T
+        f, t, nodal = lines.cable_fields, lines.mesh.t, lines.nodal_dofs
+        laws = []  # each law once, with all its lines' elements
+        for law in lines.laws:
+            if isinstance(law, UserLaw) and not any(law is seen for seen in laws):
+                laws.append(law)
+        plan = lines.__dict__["_user_law_plan"] = [
+            (law, cells, nodal[t[0]][cells].astype(np.int64),
+             nodal[t[1]][cells].astype(np.int64), lines.element_lengths[cells][:, None],
+             np.ascontiguousarray(f["Xp"][:, cells, 0].T), 1.0 + f["e_ref"][cells, 0],
+             np.ascontiguousarray(f["T"][cells, 0]))
+            for law, cells in ((law, np.nonzero(np.isin(lines.line_of_cell, [
+                k for k, other in enumerate(lines.laws) if other is law]))[0])
+                for law in laws)]
     out = np.zeros(len(lines.line_of_cell))
-    f = lines.cable_fields
-    Xp = f["Xp"][:, :, 0]
-    rp = Xp + lines.element_slopes(u)
-    stretch = np.sqrt(np.einsum("i...,i...", rp, rp))
-    grow = 1.0 + f["e_ref"][:, 0]
-    rate = (np.zeros_like(stretch) if ud is None else
-            grow * np.einsum("i...,i...", rp, lines.element_slopes(ud)) / stretch)
-    for k, law in enumerate(lines.laws):
-        if isinstance(law, UserLaw):
-            cells = lines.line_of_cell == k
-            e = grow[cells] * stretch[cells] - 1.0
-            out[cells] = law.axial(e, rate[cells]) - f["T"][cells, 0]
+    for law, cells, dofs_i, dofs_j, h, Xp, grow, T in plan:
+        compiled = law.compiled()
+        if compiled is not None:
+            _tensions(compiled.address, u, u if ud is None else ud, ud is not None, cells,
+                      dofs_i, dofs_j, h[:, 0], Xp, grow, T, out)
+            continue
+        rp = Xp + (u[dofs_j] - u[dofs_i]) / h
+        stretch = np.sqrt(np.einsum("ij,ij->i", rp, rp))
+        rate = (np.zeros_like(stretch) if ud is None else
+                grow * np.einsum("ij,ij->i", rp, (ud[dofs_j] - ud[dofs_i]) / h) / stretch)
+        out[cells] = law.axial(grow * stretch - 1.0, rate) - T
     return out
+
+
+@njit(cache=True)
+def _tensions(address, u, ud, moving, cells, dofs_i, dofs_j, h, Xp, grow, T, out):
+    """out[cells] = N(e, de/dt) - T at the elements' mid-points, N by the law's C
+    function at ``address`` (de/dt 0 unless ``moving``)."""
+    z, N = np.empty(2), np.empty(1)
+    for k in range(cells.size):
+        squared = rate = 0.0
+        for c in range(3):
+            rp = Xp[k, c] + (u[dofs_j[k, c]] - u[dofs_i[k, c]]) / h[k]
+            squared += rp * rp
+            rate += rp * (ud[dofs_j[k, c]] - ud[dofs_i[k, c]]) / h[k]
+        stretch = math.sqrt(squared)
+        z[0] = grow[k] * stretch - 1.0
+        z[1] = grow[k] * rate / stretch if moving else 0.0
+        call_load(address, z.ctypes.data, N.ctypes.data)
+        out[cells[k]] = N[0] - T[k]

@@ -31,12 +31,12 @@ from numba import cfunc, njit
 
 from ..bodies.body import rotation_and_slopes
 from ..fem.form_compiler import POINTWISE_SIGNATURE, STEP_SIGNATURE
+from ..fem.native_calls import call_form, call_load
 from ..fem.patterns import ElementPattern
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
 from ..sea.hydro import _morison
 from ..sea.seabed import _seabed
-from .native_calls import call_form, call_load
 from .newton import CONTRACTION, LINE_SEARCH
 
 last_refusal = ""  # why the last build() returned None

@@ -2,9 +2,10 @@
 
 The compiled time step calls each user LineForm's and pointwise load's generated kernel
 (:mod:`skmoor.fem.form_compiler`: ``step_kernel``, ``step_load``, numba ``cfunc``s) through
-its address, an integer: the step then takes plain arrays (its compiled code and numba's
-disk cache serve every form alike, and a call from Python costs no typing of function
-objects). Pointers are passed as addresses (``array.ctypes.data``).
+its address, an integer, and so does a user law's reported tension: the compiled caller
+then takes plain arrays (its code and numba's disk cache serve every form alike, and a
+call from Python costs no typing of function objects). Pointers are passed as addresses
+(``array.ctypes.data``).
 """
 from __future__ import annotations
 
