@@ -38,8 +38,14 @@ def test_run_prints_the_table_before_files_and_renders(tmp_path, monkeypatch, ca
     monkeypatch.setattr(skmoor, "simulate", lambda *a, **k: results)
     monkeypatch.setattr(cli, "_export", lambda *a: print("EXPORTING"))
     monkeypatch.setattr(cli, "_animate", lambda *a, **k: print("RENDERING"))
-    assert main(["run", "--out", str(tmp_path), "--quiet"]) == 0
+    monkeypatch.setattr(cli, "_render_in_background", lambda out: print("BACKGROUND"))
+    assert main(["run", "--out", str(tmp_path), "--quiet"]) == 0  # renders in the background
     out = capsys.readouterr().out
+    assert "RENDERING" not in out
+    assert out.index("max tension:") < out.index("EXPORTING") < out.index("BACKGROUND")
+    assert main(["run", "--out", str(tmp_path), "--quiet", "--wait"]) == 0  # renders here
+    out = capsys.readouterr().out
+    assert "BACKGROUND" not in out
     tmax = max(results.tension[:, :11].max(), results.fairlead_tension[:, 0].max(),
                results.anchor_tension[:, 0].max())
     assert f"line1  {tmax / 1e3:.4g}" in out
