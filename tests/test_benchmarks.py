@@ -132,7 +132,7 @@ def test_user_forms_benchmark_sets_up_the_drag_on_every_path():
     for name in ("drag", "law"):  # the same physics as the built-in: the same history
         assert case[name]["agree"]["surge"] < 1e-10, name
         assert case[name]["agree"]["fairlead tension"] < 1e-10, name
-    assert case["load"]["agree"]["surge"] > 1e-3  # the load does move the body
+    assert case["load"]["agree"]["surge"] > 1e-8  # the small load does move the body
     assert all(row["compiled"] for row in case.values())
     text = user_forms.report([(11, row)], case, user_forms.environment(), True, 0.0)
     assert "| 11 | " in text and "left out" in text and "user law" in text

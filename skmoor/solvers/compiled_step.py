@@ -7,18 +7,21 @@ cable kernel and the line terms, the reduction to the bodies and free points (Eq
 coupling), the Newton matrix, its factorization (:mod:`skmoor.numerics.bordered`) and the solve --
 is one numba function, so that a step costs what its arithmetic costs.
 
-It covers P1 lines with any built-in strain law, MoorDyn-style or skmoor's Morison terms in
-still water, a plane sea bed, the dry part of the lines in still water (``SurfaceTerm``:
-zero while every node stays half a diameter deep; a step that brings one up is handed to
-the Python step), fixed, prescribed and free points (buoyancy, drag in still water) and
-small-rotation rigid bodies whose applied load depends on time only
-(``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
-loads in one call). :func:`build` asks every term of the System
-which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first that lowers to
-none (bending lines, user forms, waves or currents, a bathymetry, user point or body loads,
-radiation memory, exact rotations) makes it return None, its name and reason in
-:data:`last_refusal`, and the step then runs in Python. When modified Newton does not converge the step falls back to the
-Python step (full Newton with a line search, then subdivision), so robustness is the
+It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`),
+MoorDyn-style or skmoor's Morison terms in still water, a plane sea bed, the dry part of
+the lines in still water (``SurfaceTerm``: zero while every node stays half a diameter
+deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
+points (buoyancy, drag in still water), small-rotation rigid bodies whose applied load
+depends on time only (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has
+one, gives a batch's loads in one call), and the users' LineForms, point and body loads
+whose code is generated (:mod:`skmoor.fem.form_compiler`), called by address
+(:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
+the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
+that lowers to none (bending lines, a form on another path or with fields given as a
+function, waves or currents, a bathymetry, a load in NumPy, radiation memory, exact
+rotations) makes it return None, its name and reason in :data:`last_refusal`, and the
+step then runs in Python. When modified Newton does not converge the step falls back to
+the Python step (full Newton with a line search, then subdivision), so robustness is the
 Python path's; results are the same to round-off as long as neither path falls back.
 """
 from __future__ import annotations
