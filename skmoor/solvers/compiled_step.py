@@ -430,6 +430,41 @@ def _report(x, v, model, inputs, work, report_dofs, resting, u, ud, ends):
 
 
 @njit(cache=True)
+def _user_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C):
+    """Adds the user LineForms (their C functions, by address) into the full residual
+    and the element blocks."""
+    functions, count, ints, floats, starts = forms[:5]
+    for k in range(count):
+        call_form(functions[k], u.ctypes.data, ud.ctypes.data, u.size, t,
+                  ints[starts[k, 0]:].ctypes.data, floats[starts[k, 1]:].ctypes.data,
+                  full.ctypes.data, blocks_K.ctypes.data, blocks_C.ctypes.data,
+                  1 if tangent else 0)
+
+
+@njit(cache=True)
+def _user_loads(forms, x, v, t, tangent, columns, nf, R):
+    """R -= F of the user point and body loads (their C functions, by address) and, with
+    ``tangent``, their dF/dq, dF/dqdot into the forms' slopes for :func:`_assemble`."""
+    loads_at, count, targets, slopes = forms[5:]
+    z, out = np.empty(13), np.empty(78)
+    for k in range(count):
+        n = 3 if targets[k, 0] == 0 else 6
+        for c in range(n):
+            g = columns[targets[k, 1], c] if n == 3 else nf + 6 * targets[k, 1] + c
+            z[c] = x[g]
+            z[n + c] = v[g]
+        z[2 * n] = t
+        call_load(loads_at[k], z.ctypes.data, out.ctypes.data)
+        for c in range(n):
+            g = columns[targets[k, 1], c] if n == 3 else nf + 6 * targets[k, 1] + c
+            R[g] -= out[c]
+            if tangent:
+                for d in range(n):
+                    slopes[k, 0, c, d] = out[n + n * c + d]
+                    slopes[k, 1, c, d] = out[n + n * n + n * c + d]
+
+
+@njit(cache=True)
 def _rotation_second_slopes(angles):
     """d2R / d angle_a d angle_b (3, 3, 3, 3) of R = Rz Ry Rx (rad)."""
     axes = np.zeros((3, 3, 3, 3))  # [axis, derivative order, 3, 3]
@@ -535,12 +570,8 @@ def _residual(x, v, model, inputs, tangent, work, R):
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
                 ud, full, blocks_K, blocks_C)
-    functions, count, ints, floats, starts = forms[:5]
-    for k in range(count):  # the user LineForms' generated kernels
-        call_form(functions[k], u.ctypes.data, ud.ctypes.data, u.size, t,
-                  ints[starts[k, 0]:].ctypes.data, floats[starts[k, 1]:].ctypes.data,
-                  full.ctypes.data, blocks_K.ctypes.data, blocks_C.ctypes.data,
-                  1 if tangent else 0)
+    if forms[1]:  # the user LineForms' generated kernels
+        _user_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C)
     R[:] = 0.0
     for g in range(full.size):
         if position[g] >= 0:
@@ -568,24 +599,8 @@ def _residual(x, v, model, inputs, tangent, work, R):
             for j in range(6):
                 s += K_body[k, i, j] * x[base + j] + D_body[k, i, j] * v[base + j]
             R[base + i] += s
-    loads_at, count, targets, slopes = forms[5:]
-    if count:  # the user point and body loads' generated kernels: R -= F
-        z, out = np.empty(13), np.empty(78)
-        for k in range(count):
-            n = 3 if targets[k, 0] == 0 else 6
-            for c in range(n):
-                g = columns[targets[k, 1], c] if n == 3 else nf + 6 * targets[k, 1] + c
-                z[c] = x[g]
-                z[n + c] = v[g]
-            z[2 * n] = t
-            call_load(loads_at[k], z.ctypes.data, out.ctypes.data)
-            for c in range(n):
-                g = columns[targets[k, 1], c] if n == 3 else nf + 6 * targets[k, 1] + c
-                R[g] -= out[c]
-                if tangent:
-                    for d in range(n):
-                        slopes[k, 0, c, d] = out[n + n * c + d]
-                        slopes[k, 1, c, d] = out[n + n * n + n * c + d]
+    if forms[6]:  # the user point and body loads' generated kernels
+        _user_loads(forms, x, v, t, tangent, columns, nf, R)
     if tangent and nends:
         for p in range(nends):
             k = end_body[p]
@@ -689,7 +704,7 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
                         s += d2[a, b, c, l] * f[c] * r_local[p, l]
                 D[6 * k + 3 + a, 6 * k + 3 + b] += wK * s
     _, count, targets, slopes = forms[5:]
-    for k in range(count):  # the user point and body loads: -(dF/dq, dF/dqdot)
+    for k in range(count):  # the user point and body loads: -(dF/dq, dF/dqdot) (if any)
         n = 3 if targets[k, 0] == 0 else 6
         for c in range(n):
             for d in range(n):
