@@ -465,6 +465,23 @@ def _user_loads(forms, x, v, t, tangent, columns, nf, R):
 
 
 @njit(cache=True)
+def _user_load_slopes(forms, columns, wK, wV, kv, ab, D):
+    """-(wK dF/dq + wV dF/dqdot) of the user point and body loads into the Newton
+    matrix: a point's into the band ``ab`` (kv: its diagonal row), a body's into D."""
+    _, count, targets, slopes = forms[5:]
+    for k in range(count):
+        n = 3 if targets[k, 0] == 0 else 6
+        for c in range(n):
+            for d in range(n):
+                value = -(wK * slopes[k, 0, c, d] + wV * slopes[k, 1, c, d])
+                if n == 3:
+                    rc, rd = columns[targets[k, 1], c], columns[targets[k, 1], d]
+                    ab[kv + rc - rd, rd] += value
+                else:
+                    D[6 * targets[k, 1] + c, 6 * targets[k, 1] + d] += value
+
+
+@njit(cache=True)
 def _rotation_second_slopes(angles):
     """d2R / d angle_a d angle_b (3, 3, 3, 3) of R = Rz Ry Rx (rad)."""
     axes = np.zeros((3, 3, 3, 3))  # [axis, derivative order, 3, 3]
@@ -703,17 +720,8 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
                     for l in range(3):
                         s += d2[a, b, c, l] * f[c] * r_local[p, l]
                 D[6 * k + 3 + a, 6 * k + 3 + b] += wK * s
-    _, count, targets, slopes = forms[5:]
-    for k in range(count):  # the user point and body loads: -(dF/dq, dF/dqdot) (if any)
-        n = 3 if targets[k, 0] == 0 else 6
-        for c in range(n):
-            for d in range(n):
-                value = -(wK * slopes[k, 0, c, d] + wV * slopes[k, 1, c, d])
-                if n == 3:
-                    rc, rd = points[0][targets[k, 1], c], points[0][targets[k, 1], d]
-                    ab[kv + rc - rd, rd] += value
-                else:
-                    D[6 * targets[k, 1] + c, 6 * targets[k, 1] + d] += value
+    if forms[6]:  # the user point and body loads: -(dF/dq, dF/dqdot)
+        _user_load_slopes(forms, points[0], wK, wV, kv, ab, D)
     columns, _, drag = points
     for p in range(columns.shape[0]):
         if drag[p] > 0.0:
