@@ -57,7 +57,9 @@ class _PointwiseLoad(BodyTerm):
         :mod:`skmoor.fem.ops` / ``jax.numpy``) into code the compiled step runs."""
         if self._lowering is None:
             self._lowering = self._generate()
-        return None if self.step_load is None else {"points": "point load", "bodies": "body load"}[self.acts_on]
+        if self.step_load is None:
+            return None
+        return "point load" if self.acts_on == "points" else "body load"
 
     def _generate(self):
         """Generates the load's compiled kernel (F and both Jacobians from one trace);

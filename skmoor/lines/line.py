@@ -577,19 +577,15 @@ class LineSet:
         if self._kernels or self.hermite:  # the compiled copy of the forms below
             kernel = self._bending_kernel() if self.hermite else self._kernels[0]
             tension, strain = kernel.element_tension_and_strain(u, ud)
-            if any(isinstance(law, UserLaw) for law in self.laws):
-                tension = tension + law_tension(self, u, ud)
-            return tension, strain
-        f, up = self.cable_fields, self.element_slopes(u)
-        Xp = f["Xp"][:, :, 0]
-        point = {name: value[..., 0] for name, value in f.items() if name != "Xp"}
-        rate = None
-        if ud is not None:
-            rate = forms.dot(Xp + up, self.element_slopes(ud))
-        tension = forms.tension(Xp, up, point, rate)
-        if any(isinstance(law, UserLaw) for law in self.laws):
+        else:
+            f, up = self.cable_fields, self.element_slopes(u)
+            Xp = f["Xp"][:, :, 0]
+            point = {name: value[..., 0] for name, value in f.items() if name != "Xp"}
+            rate = None if ud is None else forms.dot(Xp + up, self.element_slopes(ud))
+            tension, strain = forms.tension(Xp, up, point, rate), forms.strain(Xp, up)
+        if any(isinstance(law, UserLaw) for law in self.laws):  # their N - T
             tension = tension + law_tension(self, u, ud)
-        return tension, forms.strain(Xp, up)
+        return tension, strain
 
     def curvature(self, u):
         """(nel,) curvature |r' x r''| / |r'|^3 of the deformed line at each element's
