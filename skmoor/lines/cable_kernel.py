@@ -177,9 +177,8 @@ def _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped
     (when those have rows); one mid-point per element, weight[e] / h[e] = 1 for P1."""
     tangent = Ke.shape[0] > 0
     hinged = knots.shape[1] > 0
-    rp = np.empty(3)
-    rate_slopes = np.empty(3)
-    k = np.empty((3, 3))
+    if tangent:  # the tangent's scratch (a residual alone allocates nothing)
+        rp, rate_slopes, k = np.empty(3), np.empty(3), np.empty((3, 3))
     for e in range(h.size):
         if weight[e] == 0.0:  # a user law's element (its own term)
             continue

@@ -255,8 +255,10 @@ def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acce
     An element's nodal values are read once into scalars (the Gauss-point loop runs in
     registers: twice as fast as with 3-vectors)."""
     tangent = Ke.shape[0] > 0
-    tau, vn, an, y = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force (tangent)
+    if tangent:  # the tangent's scratch (a residual alone allocates nothing)
+        tau, vn, y = np.empty(3), np.empty(3), np.empty(3)
+        B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force
+    wnx = wny = wnz = 0.0  # the water's acceleration normal to tau (waves)
     ax = ay = az = bx = by = bz = 0.0  # the water's acceleration at the nodes (waves)
     for e in range(h.size):
         i0, i1, i2 = edofs[e, 0], edofs[e, 1], edofs[e, 2]
@@ -286,11 +288,11 @@ def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acce
             if has_waves:
                 cx, cy, cz = pa * ax + pb * bx, pa * ay + pb * by, pa * az + pb * bz
                 aa = cx * tx + cy * ty + cz * tz
-                an[0], an[1], an[2] = cx - aa * tx, cy - aa * ty, cz - aa * tz
+                wnx, wny, wnz = cx - aa * tx, cy - aa * ty, cz - aa * tz
                 m, mt = mn[e, q], (mn[e, q] + dm[e, q]) * aa
-                fx += m * an[0] + mt * tx
-                fy += m * an[1] + mt * ty
-                fz += m * an[2] + mt * tz
+                fx += m * wnx + mt * tx
+                fy += m * wny + mt * ty
+                fz += m * wnz + mt * tz
             wa, wb = wphi[e, 0, q], wphi[e, 1, q]
             R[i0] -= wa * fx
             R[i1] -= wa * fy
@@ -307,8 +309,9 @@ def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acce
             gamma = kn[e, q] / speed if speed > 0 else kn[e, q]
             # d/du' |r'|: c1 I + tau y^T - gamma a v_n v_n^T, y = beta v_n - c1 tau (+ dm a_n)
             c1 = (kt[e, q] * abs(a) - cn) * a + (dm[e, q] * aa if has_waves else 0.0)
-            for c in range(3):
-                y[c] = beta * vn[c] - c1 * tau[c] + (dm[e, q] * an[c] if has_waves else 0.0)
+            y[0] = beta * nx - c1 * tx + (dm[e, q] * wnx if has_waves else 0.0)
+            y[1] = beta * ny - c1 * ty + (dm[e, q] * wny if has_waves else 0.0)
+            y[2] = beta * nz - c1 * tz + (dm[e, q] * wnz if has_waves else 0.0)
             for p in range(3):
                 for s in range(3):
                     B[p, s] = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]

@@ -592,8 +592,8 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
     the two ends of each element (weights h / 2), the bed's upward unit normal and n.P
     (P a point of the bed) at each end in normals (2, nel, 3) and offsets (2, nel)."""
     tangent = Ke.shape[0] > 0
-    vel, rp = np.zeros(3), np.zeros(3)
-    a, vl, F = np.zeros(3), np.zeros(3), np.zeros(3)
+    scratch = np.zeros(15)  # one allocation for the five 3-vectors
+    vel, rp, a, vl, F = scratch[:3], scratch[3:6], scratch[6:9], scratch[9:12], scratch[12:]
     for e in range(h.size):
         W = 0.5 * h[e]
         for end in range(2):

@@ -228,10 +228,13 @@ class CompiledStep:
         self.factors = (bordered.band_storage(width, nf), np.zeros((nf, nb)),
                         np.zeros((nb, nf)), np.zeros((nb, nb)), np.zeros(nf, np.int64),
                         np.zeros(nb, np.int64))
-        self.work = (np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs), np.zeros((nel, 6, 6)),
-                     np.zeros((nel, 6, 6)), np.zeros((len(system.dofs.body_flat), 6)),
-                     np.zeros((len(system.dofs.body_flat), 6)), np.zeros(n), np.zeros(n),
-                     np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+        # the step's scratch (a step allocates nothing): the lines' u, ud, full residual and
+        # element blocks, the body ends' J and S; R, B, a1, v1, M a, C v, the line search's
+        # trial and correction, the predictors x_pred, v_pred, the old inertia, the iterate
+        ends = len(system.dofs.body_flat)
+        self.work = ((np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs), np.zeros((nel, 6, 6)),
+                      np.zeros((nel, 6, 6)), np.zeros((ends, 6)), np.zeros((ends, 6)))
+                     + tuple(np.zeros(n) for _ in range(12)))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self._still = np.zeros((len(lines.points), 3))
         self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
@@ -512,6 +515,35 @@ def _rotation_second_slopes(angles):
     return out
 
 
+@njit(cache=True)
+def _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud):
+    """The body ends' displacements q[:3] + R r - r and velocities into u, ud, their
+    Jacobian d/dq into J (one body per 6 DOFs from nf)."""
+    last = -1
+    rotation, slopes = np.eye(3), np.zeros((3, 3, 3))
+    for p in range(r_local.shape[0]):  # ends come body by body
+        k = end_body[p]
+        base = nf + 6 * k
+        if k != last:
+            rotation, slopes = rotation_and_slopes(x[base + 3: base + 6])
+            last = k
+        for c in range(3):
+            g = end_dofs[p, c]
+            moved = x[base + c] - r_local[p, c]
+            for j in range(6):
+                J[3 * p + c, j] = 0.0
+            J[3 * p + c, c] = 1.0
+            for l in range(3):
+                moved += rotation[c, l] * r_local[p, l]
+                for a in range(3):
+                    J[3 * p + c, 3 + a] += slopes[a, c, l] * r_local[p, l]
+            u[g] = moved
+            s = 0.0
+            for j in range(6):
+                s += J[3 * p + c, j] * v[base + j]
+            ud[g] = s
+
+
 # (over 100 lines: the residual of every lowered kind in one compiled pass over the state)
 @njit(cache=True)
 def _residual(x, v, model, inputs, tangent, work, R):
@@ -534,29 +566,8 @@ def _residual(x, v, model, inputs, tangent, work, R):
             u[g] = x[position[g]]
             ud[g] = v[position[g]]
     nends = r_local.shape[0]
-    last = -1
-    rotation, slopes = np.eye(3), np.zeros((3, 3, 3))
-    for p in range(nends):  # each body end: q[:3] + R r - r and its Jacobian d/dq
-        k = end_body[p]
-        base = nf + 6 * k
-        if k != last:  # ends come body by body
-            rotation, slopes = rotation_and_slopes(x[base + 3: base + 6])
-            last = k
-        for c in range(3):
-            g = end_dofs[p, c]
-            moved = x[base + c] - r_local[p, c]
-            for j in range(6):
-                J[3 * p + c, j] = 0.0
-            J[3 * p + c, c] = 1.0
-            for l in range(3):
-                moved += rotation[c, l] * r_local[p, l]
-                for a in range(3):
-                    J[3 * p + c, 3 + a] += slopes[a, c, l] * r_local[p, l]
-            u[g] = moved
-            s = 0.0
-            for j in range(6):
-                s += J[3 * p + c, j] * v[base + j]
-            ud[g] = s
+    if nends:
+        _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud)
     for m in range(prescribed_dofs.size):
         u[prescribed_dofs[m]] = pres_u[m]
         ud[prescribed_dofs[m]] = pres_v[m]
@@ -573,11 +584,11 @@ def _residual(x, v, model, inputs, tangent, work, R):
         _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
                Ke, Ce, 1.0)
     else:
-        none = np.zeros((0, 6, 6))
+        none = Ke[:0]  # no blocks (a view: the residual allocates nothing)
         _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
                none, none, 1.0)
-    blocks_K = Ke if tangent else np.zeros((0, 6, 6))
-    blocks_C = Ce if tangent else np.zeros((0, 6, 6))
+    blocks_K = Ke if tangent else Ke[:0]
+    blocks_C = Ce if tangent else Ce[:0]
     if has_hydro:
         hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
         waves = x.size < 0  # still water: False as a plain bool (a literal compiles again)
@@ -797,18 +808,21 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     am, af, beta, gamma = scheme
     width = model[14]
     n = x0.size
-    x_pred = x0 + h * v0 + h * h * (0.5 - beta) * a0
-    v_pred = v0 + h * (1 - gamma) * a0
-    B, Ma = work[8], work[11]
+    B, Ma, trial, dx = work[8], work[11], work[13], work[14]
+    x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
     _product(model[10][0], a0, Ma)
-    inertia_old = am * Ma + af * force_old
+    for i in range(n):  # (work arrays: a step allocates nothing)
+        x_pred[i] = x0[i] + h * v0[i] + h * h * (0.5 - beta) * a0[i]
+        v_pred[i] = v0[i] + h * (1 - gamma) * a0[i]
+        inertia_old[i] = am * Ma[i] + af * force_old[i]
     for i in range(driven.size):  # M_fp a_p at t1: a load given in time, at the alpha_f
         inertia_old[i] += (1 - af) * driven[i]  # level as R (constant over the iterations)
     if state[1] != h:  # a factorization of another step's matrix: make a new one
         state[0] = 0.0
         state[1] = h
     # modified Newton: the factors kept until a correction shrinks slower than CONTRACTION
-    y = x0 + h * v0 + 0.5 * h * h * a0
+    for i in range(n):
+        y[i] = x0[i] + h * v0[i] + 0.5 * h * h * a0[i]
     tangent = state[0] == 0.0
     previous = scale = np.inf
     used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
@@ -834,8 +848,8 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
         tangent = size > CONTRACTION * previous
         previous = size
     # full Newton with the line search (dynamics._newton with full=True)
-    y = x0 + h * v0
-    trial = work[13]
+    for i in range(n):
+        y[i] = x0[i] + h * v0[i]
     yes = n >= 0  # True as a plain bool: a literal True would compile _balance again
     code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, yes, factors,
                     state, work, B)
@@ -845,7 +859,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
             return -2
         if code == SINGULAR:
             return -1
-        dx = B.copy()
+        dx[:] = B
         size = _solve(dx, factors, width)
         if not math.isfinite(size):
             return -1
