@@ -29,6 +29,7 @@ class NoLines:
     damped = False
     tension_only = True
     has_static_laws = False
+    has_user_law = False
     ndofs = 0
     slope_dofs = None
 

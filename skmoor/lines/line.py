@@ -286,6 +286,7 @@ class LineSet:
         self.law_name = self.law.name
         self.lines = lines
         self.laws = [line.line_type.law or self.law for line in lines]
+        self.has_user_law = any(isinstance(law, UserLaw) for law in self.laws)
         self._static = False  # the static laws in force (StaticDynamic lines)
         self.static_mode = False  # a static solve is on (its terms may act differently)
         self._pushing = 0.0  # compression let through (a static solve's continuation)
@@ -583,7 +584,7 @@ class LineSet:
             point = {name: value[..., 0] for name, value in f.items() if name != "Xp"}
             rate = None if ud is None else forms.dot(Xp + up, self.element_slopes(ud))
             tension, strain = forms.tension(Xp, up, point, rate), forms.strain(Xp, up)
-        if any(isinstance(law, UserLaw) for law in self.laws):  # their N - T
+        if self.has_user_law:  # their N - T
             tension = tension + law_tension(self, u, ud)
         return tension, strain
 

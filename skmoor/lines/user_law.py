@@ -180,7 +180,7 @@ def law_terms(lines) -> list:
     """One line form per user law of ``lines`` (a LineSet), on that law's lines, at the
     element mid-points as the cable kernel; none without user laws."""
     terms, seen = [], []
-    if lines.hermite and any(isinstance(law, UserLaw) for law in lines.laws):
+    if lines.hermite and lines.has_user_law:
         raise ValueError("UserLaw: a user's law on bending (Hermite) lines is not supported "
                          "yet; give the line type EI = 0 or a built-in law")
     for law in lines.laws:
