@@ -60,10 +60,30 @@ def cmd_run(args) -> int:
         from .run.report import summary_table
         print(summary_table(info), flush=True)  # the numbers first, then files and renders
         _plots(results, out)
+        if args.moordyn_outputs:
+            _moordyn_outputs(results, source, args.case, out)
         code, render_later = _finish(results, info, out, args)
     if render_later:  # once the lock is free: the renderer takes it
         _render_in_background(out)
     return code
+
+
+def _moordyn_outputs(results, source, path, out):
+    """MoorDyn's output files of the run in ``out``: a deck's line flags and OUTPUTS, named
+    after the deck; for a case, every line's positions and tensions and its end tensions."""
+    from .io.deck import Deck
+    from .post.moordyn_outputs import write_moordyn_outputs
+
+    if isinstance(source, Deck):
+        stem = Path(path).stem
+        flags = {line.id: line.outputs for line in source.lines}
+        notes = write_moordyn_outputs(results, out, stem, flags, source.outputs or None)
+    else:
+        stem = Path(path).stem if path else "paper"
+        notes = write_moordyn_outputs(results, out, stem)
+    for note in notes:
+        print(f"--moordyn-outputs: {note}")
+    print(f"wrote MoorDyn-style outputs {out}/{stem}.out and {stem}_LineN.out")
 
 
 def _finish(results, info, out, args) -> tuple:
@@ -237,7 +257,7 @@ def _animate(results, out, quiet, scale=None, camera="iso"):
 
 
 def parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="skmoor", description=__doc__)
+    p = argparse.ArgumentParser(prog="skmoor", description=__doc__.replace("``", ""))
     sub = p.add_subparsers(dest="command", required=True)
 
     run = sub.add_parser("run", help="run a case (default: the paper's case)",
@@ -258,6 +278,9 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--frames", type=int, default=1000, help="ParaView series: at most this "
                      "many samples, evenly strided (0: all; default: %(default)s)")
     run.add_argument("--quiet", action="store_true", help="no progress bars")
+    run.add_argument("--moordyn-outputs", dest="moordyn_outputs", action="store_true",
+                     help="also write MoorDyn's output files (NAME.out, NAME_LineN.out: "
+                          "the deck's OUTPUTS and line flags p, v, t)")
     run.add_argument("--heave", type=float, metavar="AMP",
                      help="deck only: heave the coupled points / bodies AMP m (faded in over "
                      "one period; without it they stay still)")

@@ -82,15 +82,15 @@ def plot_body_and_tensions(results, path, body=None, lines=None, title=None,
 
 
 def plot_line_tensions(results, path, title=None, figsize=(8.0, 5.0), dpi=120) -> Path:
-    """The tension at end B (solid) and end A (dashed) of every line (kN) against time
-    (s): the time-history plot of a network without bodies."""
+    """The tension at the fairlead, end B (solid) and at the anchor, end A (dashed) of
+    every line (kN) against time (s): the time-history plot of a network without bodies."""
     fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
     ax = fig.subplots(1, 1)
     for k, name in enumerate(results.line_names):
         ax.plot(results.t, np.asarray(results.fairlead_tension)[:, k] / 1e3, color=f"C{k}",
-                lw=1.2, label=f"{name} end B")
+                lw=1.2, label=f"{name} fairlead (end B)")
         ax.plot(results.t, np.asarray(results.anchor_tension)[:, k] / 1e3, color=f"C{k}",
-                lw=1.0, ls="--", label=f"{name} end A")
+                lw=1.0, ls="--", label=f"{name} anchor (end A)")
     ax.set_ylabel("tension [kN]")
     ax.ticklabel_format(axis="y", useOffset=False)
     ax.grid(alpha=0.3)

@@ -63,6 +63,7 @@ def test_every_command_documents_its_options(capsys):
         main(["--help"])
     assert stop.value.code == 0
     top = squeeze(capsys.readouterr().out)
+    assert "``" not in top  # reST markup of a docstring is not shown as such
     for command in COMMANDS:
         sub = choices[command]
         assert sub.description and len(sub.description) > 20, command
@@ -71,6 +72,7 @@ def test_every_command_documents_its_options(capsys):
         assert stop.value.code == 0
         text = squeeze(capsys.readouterr().out)
         assert squeeze(sub.description) in text, command
+        assert "``" not in text, command
         documented = 0
         for action in sub._actions:
             if action.dest == "help":
