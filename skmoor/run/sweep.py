@@ -542,10 +542,7 @@ def _plot(study, rows, out):
             and all(math.isfinite(r[k]) for k in (*AMPLITUDES, "max_tension_steady"))]
     if not good:
         return None
-    try:
-        from ..post.plots import plot_study
-    except ImportError:
-        plot_study = _plot_study
+    from ..post.plots import plot_study
     title = study.name + (" (" + ", ".join(f"{p.rsplit('.', 1)[-1]} = {_short(v)}"
                                           for p, v in study.fixed.items()) + ")"
                           if study.fixed else "")
@@ -556,28 +553,6 @@ def _plot(study, rows, out):
         print(f"sweep: warning: no figure for study {study.name!r}: {_describe(err)}",
               file=sys.stderr)
         return None
-
-
-def _plot_study(rows, path, parameter_label, title=None):
-    """Fallback when skmoor.post.plots is absent: the 4 panels of plot_study, plainly."""
-    from matplotlib.figure import Figure
-
-    rows = sorted(rows, key=lambda r: r["value"])
-    x = [r["value"] for r in rows]
-    fig = Figure(figsize=(9.0, 7.0), layout="constrained")
-    axes = fig.subplots(2, 2, sharex=True)
-    for ax, (key, factor, label) in zip(axes.flat, [
-            ("surge", 1.0, "surge amplitude [m]"), ("heave", 1.0, "heave amplitude [m]"),
-            ("pitch", 1.0, "pitch amplitude [rad]"), ("max_tension_steady", 1e-3, "steady max tension [kN]")]):
-        ax.plot(x, [factor * r[key] for r in rows], "o-")
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
-    for ax in axes[1]:
-        ax.set_xlabel(parameter_label)
-    if title:
-        fig.suptitle(title)
-    fig.savefig(path)
-    return Path(path)
 
 
 # ---------------------------------------------------------------- helpers
