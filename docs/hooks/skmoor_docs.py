@@ -2,7 +2,8 @@
 
 - The gallery: one page per ``examples/*.py``, made at build time from the file itself
   (its docstring, its source included by pymdownx.snippets, its pictures from
-  ``docs/images/``), listed in the nav under "Gallery". The examples are not run.
+  ``docs/images/``, what it prints from ``docs/gallery_output/``), listed in the nav under
+  "Gallery". The examples are not run.
 - README sections: ``<!-- readme: HEADING -->`` in a page is replaced by that section of
   README.md (up to the next heading of the same or a higher level), links into ``docs/``
   rewritten for the page; ``<!-- readme: HEADING | code -->`` by its code blocks alone,
@@ -102,6 +103,11 @@ def _example_page(path: Path, images: Path) -> str:
     parts = [f"# {_title(path.stem)}", "", f"`{rel}`", "", _docstring(path), ""]
     for name in _pictures(path, images):
         parts += [f"![{name}](../images/{name})", ""]
+    printed = images.parent / "gallery_output" / f"{path.stem}.txt"
+    if printed.is_file():  # what a text-only example prints (docs/make_gallery_output.py)
+        parts += ["## Output", "", f"What `python {rel}` prints "
+                  "(saved by `docs/make_gallery_output.py`):", "", "```text",
+                  printed.read_text(encoding="utf-8").rstrip(), "```", ""]
     parts += ["## Source", "", "```python", f'--8<-- "{rel}"', "```", ""]
     return "\n".join(parts)
 
@@ -109,8 +115,9 @@ def _example_page(path: Path, images: Path) -> str:
 def _index_page(examples: list[Path], images: Path) -> str:
     rows = ["# Gallery", "",
             "The scripts in `examples/`, each a short computation at module level (the tests "
-            "import them with shorter runs). The pictures are the ones in the repository; the "
-            "documentation build does not run the examples.", "",
+            "import them with shorter runs). The pictures and printed outputs are the ones in the "
+            "repository (`docs/images`, `docs/gallery_output`); the documentation build does "
+            "not run the examples.", "",
             "| example | what it does |", "|---|---|"]
     for path in examples:
         first = " ".join(_docstring(path).split("\n\n")[0].split())
