@@ -28,6 +28,7 @@ EXTRA_IMAGES = {
     "02_paper_case": ["paper_fig6.png", "paper_snapshot.png"],
     "04_export_and_animation": ["mode1_frame.png"],
     "05_parameter_studies": ["study_sag_ratio.png", "study_chord_angle.png"],
+    "08_box_in_jonswap": ["jonswap_motions.png", "jonswap_tension_spectra.png"],
 }
 _MARKER = re.compile(r"^<!--\s*readme:\s*(.+?)\s*(\|\s*code\s*)?-->[ \t]*$", re.MULTILINE)
 _PICTURE = re.compile(r"[\w.-]+\.(?:png|gif|jpg|jpeg|svg)")
