@@ -228,7 +228,7 @@ class CompiledStep:
         self.factors = (bordered.band_storage(width, nf), np.zeros((nf, nb)),
                         np.zeros((nb, nf)), np.zeros((nb, nb)), np.zeros(nf, np.int64),
                         np.zeros(nb, np.int64))
-        # the step's scratch (a step allocates nothing): the lines' u, ud, full residual and
+        # the step's scratch (made once, not per step): the lines' u, ud, full residual and
         # element blocks, the body ends' J and S; R, B, a1, v1, M a, C v, the line search's
         # trial and correction, the predictors x_pred, v_pred, the old inertia, the iterate
         ends = len(system.dofs.body_flat)
@@ -811,7 +811,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     B, Ma, trial, dx = work[8], work[11], work[13], work[14]
     x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
     _product(model[10][0], a0, Ma)
-    for i in range(n):  # (work arrays: a step allocates nothing)
+    for i in range(n):  # (into work arrays: no allocation per step)
         x_pred[i] = x0[i] + h * v0[i] + h * h * (0.5 - beta) * a0[i]
         v_pred[i] = v0[i] + h * (1 - gamma) * a0[i]
         inertia_old[i] = am * Ma[i] + af * force_old[i]
