@@ -518,10 +518,11 @@ def _rotation_second_slopes(angles):
 @njit(cache=True)
 def _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud):
     """The body ends' displacements q[:3] + R r - r and velocities into u, ud, their
-    Jacobian d/dq into J (one body per 6 DOFs from nf)."""
-    last = -1
-    rotation, slopes = np.eye(3), np.zeros((3, 3, 3))
-    for p in range(r_local.shape[0]):  # ends come body by body
+    Jacobian d/dq into J (one body per 6 DOFs from nf; at least one end)."""
+    last = end_body[0]  # ends come body by body
+    first = nf + 6 * last
+    rotation, slopes = rotation_and_slopes(x[first + 3: first + 6])
+    for p in range(r_local.shape[0]):
         k = end_body[p]
         base = nf + 6 * k
         if k != last:
