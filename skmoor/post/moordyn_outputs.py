@@ -22,26 +22,12 @@ LINE_FLAGS = "pvt"  # the per-line flags written here, in MoorDyn's column order
 _NODE_CHANNEL = re.compile(r"^L(?:INE)?(\d+)N(\d+)(P|V)([XYZ])$")
 
 
-def line_nodes(results, k) -> np.ndarray:
-    """The node numbers of line k from end A (node 0, the anchor end) to end B."""
-    cells = np.asarray(results.cells)[np.asarray(results.line_of_cell) == k]
-    follows = {int(a): int(b) for a, b in cells}
-    start = set(follows) - set(follows.values())
-    if len(start) != 1:
-        raise ValueError(f"line {results.line_names[k]}: its elements do not form one chain")
-    node, nodes = start.pop(), []
-    nodes.append(node)
-    while node in follows:
-        node = follows[node]
-        nodes.append(node)
-    return np.array(nodes)
-
-
-def line_elements(results, k, nodes) -> np.ndarray:
-    """The element numbers of line k in the order of ``nodes`` (segment 1 at end A)."""
-    cells = np.asarray(results.cells)
-    index = {(int(a), int(b)): e for e, (a, b) in enumerate(cells)}
-    return np.array([index[(int(a), int(b))] for a, b in zip(nodes[:-1], nodes[1:])])
+def line_nodes(results, k) -> tuple:
+    """(node numbers, element numbers) of line k from end A (node 0, the anchor end) to
+    end B: a line's elements follow each other in the one mesh, from end A."""
+    cells = np.flatnonzero(np.asarray(results.line_of_cell) == k)
+    ends = np.asarray(results.cells)[cells]
+    return np.append(ends[:, 0], ends[-1, 1]), cells
 
 
 def _row(time, values) -> str:
@@ -62,7 +48,7 @@ def _write(path, names, units, t, columns):
 
 
 def _line_file(results, k, flags, path):
-    nodes = line_nodes(results, k)
+    nodes, elements = line_nodes(results, k)
     names, units, columns = [], [], []
     if "p" in flags:
         position = results.points[nodes][None] + results.displacement[:, nodes]
@@ -78,7 +64,7 @@ def _line_file(results, k, flags, path):
                 units.append("(m/s)")
                 columns.append(results.velocity[:, node, c])
     if "t" in flags:
-        for i, e in enumerate(line_elements(results, k, nodes)):
+        for i, e in enumerate(elements):
             names.append(f"Seg{i + 1}Te")
             units.append("(N)")
             columns.append(results.tension[:, e])
@@ -100,7 +86,7 @@ def _channel(results, name, line_of):
         k = line_of.get(int(match.group(1)))
         if k is None:
             return None
-        nodes = line_nodes(results, k)
+        nodes = line_nodes(results, k)[0]
         i = int(match.group(2))
         if i >= len(nodes):
             return None
