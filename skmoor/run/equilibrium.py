@@ -30,13 +30,13 @@ class Equilibrium:
     rayleigh: tuple
 
 
-def static_state(system, x0=None, held=None):
+def static_state(system, x0=None, held=None, march=True):
     """The static solution of a System: Newton from the reference state, then with load
-    continuation, then also with a vanishing tension stiffness (for slack lines), then as
-    a pseudo-transient march on the mass matrix (networks whose Newton wanders). held:
-    reduced DOFs kept where x0 has them."""
-    attempts = [dict(), dict(steps=8), dict(steps=8, pretension=_pretension(system)),
-                dict(relax=True, maxiter=300)]
+    continuation, then also with a vanishing tension stiffness (for slack lines), then
+    (``march``) as a pseudo-transient march on the mass matrix (networks whose Newton
+    wanders; the slowest attempt). held: reduced DOFs kept where x0 has them."""
+    attempts = [dict(), dict(steps=8), dict(steps=8, pretension=_pretension(system))]
+    attempts += [dict(relax=True, maxiter=300)] if march else []
     error = None
     for options in attempts:
         try:
@@ -106,15 +106,16 @@ def steady_water(model: Model):
     return sea.steady() if sea is not None else contextlib.nullcontext()
 
 
-def equilibrium(model: Model, n_modes: int = 12) -> Equilibrium:
+def equilibrium(model: Model, n_modes: int = 12, march: bool = True) -> Equilibrium:
     """Static solve of the whole network in the sea's steady part (its currents, no waves:
     :meth:`skmoor.sea.waves.Sea.steady`), modes about it and Rayleigh damping (the settings'
     ``damping.ratio`` at the first two natural frequencies, or ``damping.alpha`` /
-    ``damping.beta``)."""
+    ``damping.beta``). march: whether the static solve may end in its pseudo-transient
+    march (see :func:`static_state`)."""
     system = model.system
     with steady_water(model):
         try:
-            static = static_state(system)
+            static = static_state(system, march=march)
         except ConvergenceError as err:
             free = unrestrained(model)
             hint = (". The deck asks for no initial-condition solve (TmaxIC = 0): "

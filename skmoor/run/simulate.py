@@ -292,7 +292,9 @@ def read_checkpoint(path, model, dt) -> dict:
 def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
     """The model's equilibrium; for a release from the given state (``start='given'``)
     without Rayleigh damping, a model with no static equilibrium (a buoyant rod pinned
-    below the surface turns over, nothing holds it horizontal) starts without one; from
+    below the surface turns over, nothing holds it horizontal) starts without one (the
+    static solve tries Newton and continuation only, not its long march: the run needs
+    no static state); from
     the reference state (``start='reference'``) without Rayleigh damping, no static
     state is sought (x = 0: the reference itself)."""
     damping = model.damping
@@ -301,8 +303,8 @@ def _starting_equilibrium(model: Model, start: str) -> Equilibrium:
         model.notes.append("started from the reference state as built, no static solve "
                            "(start='reference'; a deck's TmaxIC = 0 asks for it)")
         return Equilibrium(np.zeros(model.system.n), None, None, None, (0.0, 0.0))
-    try:
-        return equilibrium(model)
+    try:  # a release only reports the static state: no long march to find one
+        return equilibrium(model, march=start != "given" or rayleigh)
     except ConvergenceError as err:
         if "not finite" in str(err):  # name the term that gives NaN at the start
             culprit = model.system.non_finite(np.zeros(model.system.n))
