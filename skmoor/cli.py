@@ -77,7 +77,7 @@ def _moordyn_outputs(results, source, path, out):
     if isinstance(source, Deck):
         stem = Path(path).stem
         flags = {line.id: line.outputs for line in source.lines}
-        notes = write_moordyn_outputs(results, out, stem, flags, source.outputs or None)
+        notes = write_moordyn_outputs(results, out, stem, flags, list(source.outputs))
     else:
         stem = Path(path).stem if path else "paper"
         notes = write_moordyn_outputs(results, out, stem)

@@ -32,6 +32,9 @@ Differences from MoorDyn:
   coupled body also the moments about its reference point,
   :func:`~skmoor.coupling.rods.coupled_reaction`). A coupled point's own mass, volume
   and drag in the deck are not added (MoorDyn adds their weight and buoyancy).
+- **Line failures**: a deck's FAILURE entries fire in :func:`Step` (at a time, or at a
+  line end's tension, MoorDyn having no tension trigger), and :func:`BreakLine` detaches
+  a line from a point now; the host's list of them is ``instance.line_failures``.
 - **Checkpoints**: :func:`SaveState` / :func:`LoadState` keep the whole state in memory
   (no path) or in a file; :func:`Serialize` / :func:`Deserialize` give and take bytes,
   :func:`Save` / :func:`Load` a file (unlike MoorDyn's SaveState / LoadState, which
@@ -52,10 +55,11 @@ from .bodies.motion import Motion
 from .coupling.network import Point, coupled_offsets, coupled_size
 from .coupling.rods import coupled_reaction
 from .model.model import build
+from .run import failures
 from .run.equilibrium import equilibrium
 from .solvers.dynamics import Scheme, Stepping, checkpoint_bytes
 
-__all__ = ["Create", "Init", "Step", "Close", "NCoupledDOF", "GetNumberLines", "GetLine",
+__all__ = ["Create", "Init", "Step", "Close", "BreakLine", "NCoupledDOF", "GetNumberLines", "GetLine",
            "GetLineN", "GetLineNumberNodes", "GetLineFairTen", "GetLineNodePos",
            "GetLineNodeVel", "GetLineNodeTen", "GetNumberPoints", "GetPoint",
            "GetPointPos", "GetPointVel", "GetPointForce", "GetNumberBodies", "SaveState",
@@ -113,6 +117,9 @@ class Host:
                                                            lines.fairlead_nodes)]
         self._ends = self._point_ends()
         self._offsets = coupled_offsets(network)
+        self._rayleigh = (0.0, 0.0)
+        self.line_failures = []  # the deck's failures so far: failures.Event.as_dict() each
+        self._broken = 0  # BreakLine calls so far
 
     def _host_motion(self):
         self._motion = _HostMotion(0)
@@ -146,6 +153,7 @@ class Host:
         solver = self.model.solver
         self.stepping = Stepping(system, eq.x, np.zeros(system.n), C=eq.C, scheme=self.scheme,
                                  compiled=solver.get("compiled", True))
+        self._rayleigh = eq.rayleigh
         u, ud = system.full_state(eq.x, self.stepping.v, 0.0)
         self._last = (u, ud, system.end_forces(u, ud, 0.0, self.stepping.a))
         return ERRCODE_SUCCESS
@@ -158,7 +166,34 @@ class Host:
         state = self.stepping.advance(float(dt) / self.substeps, self.substeps, report=True)
         (u, ud), ends = state.full_state, state.reactions
         self._last = (u, ud, ends)
+        watch = failures.watch(self.model, float(dt))
+        try:
+            if watch is not None:
+                watch(state)
+        except failures.Released as fired:  # the deck's FAILURE entry: go on released
+            failure = fired.event.failure
+            self.release(failure.point, failure.lines, [
+                f for f in self.model.network.failures if f is not failure])
+            self.line_failures.append(fired.event.as_dict())
         return self.coupled_forces()
+
+    def release(self, point, lines, remaining=None):
+        """Release the ends of ``lines`` (names) from ``point`` (a name) at the present
+        state (:func:`skmoor.run.failures.released`): the run goes on with the new model,
+        its positions and velocities carried over."""
+        before, st = self.model, self.stepping
+        why_not = failures.refused(before, False)
+        if why_not:
+            raise ValueError(f"moordyn: {why_not}")
+        self.model = failures.released(before, point, lines, remaining)
+        system = self.model.system
+        x, v = failures.carried_state(before, self.model, st.x, st.v, st.t)
+        C = failures.released_damping(self.model, self._rayleigh, x, st.t)
+        self.stepping = Stepping(system, x, v, t0=st.t, C=C, scheme=self.scheme,
+                                 compiled=self.model.solver.get("compiled", True))
+        u, ud = system.full_state(x, v, st.t)
+        self._last = (u, ud, system.end_forces(u, ud, st.t, self.stepping.a))
+        self._ends = self._point_ends()
 
     def coupled_forces(self) -> np.ndarray:
         """The lines' forces (N) and moments (N m) on the coupled DOFs, MoorDyn's order."""
@@ -201,9 +236,13 @@ class Host:
     def checkpoint(self):
         m = self._motion
         return {"stepping": self.stepping.checkpoint(), "last": self._last,
-                "motion": (m.t0, m.y0.copy(), m.yd.copy())}
+                "motion": (m.t0, m.y0.copy(), m.yd.copy()),
+                "released": len(self.line_failures) + self._broken}
 
     def restore(self, saved):
+        if saved.get("released", 0) != len(self.line_failures) + self._broken:
+            raise ValueError("moordyn: this checkpoint was taken before a line failure of "
+                             "this run; restoring across a release is not supported")
         self.stepping.restore(saved["stepping"])
         self._last = saved["last"]
         self._motion.set(*saved["motion"])
@@ -308,6 +347,18 @@ def GetLineNodeTen(instance: _Line, i: int) -> float:
     tension, _ = lines.element_tension_and_strain(host._last[0], host._last[1])
     cells = np.nonzero(lines.line_of_cell == k)[0]
     return float(0.5 * (tension[cells[i - 1]] + tension[cells[i]]))
+
+
+def BreakLine(instance: Host, point: _Point, line: _Line) -> None:
+    """Detach ``line`` from ``point`` now: its end goes on, on a new free point of no
+    mass where the point is (added after the others, as MoorDyn adds it)."""
+    network = instance.model.network
+    p, ln = network.points[point.i], network.lines[line.k]
+    if p.name not in (ln.a, ln.b):
+        raise ValueError(f"moordyn.BreakLine: line {line.k + 1} does not end at point "
+                         f"{point.i + 1}")
+    instance.release(p.name, [ln.name])
+    instance._broken += 1
 
 
 def GetNumberPoints(instance: Host) -> int:

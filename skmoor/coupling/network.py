@@ -147,6 +147,32 @@ class Body:
 
 
 @dataclass
+class LineFailure:
+    """A release of the ends of ``lines`` (names) from ``point`` (a name): at ``time`` (s)
+    or when the tension at one of those ends reaches ``tension`` (N), whichever comes
+    first (None: no such trigger); MoorDyn v2's FAILURE entry. The released ends stay
+    joined at a new massless free point, which starts where the point is."""
+
+    point: str
+    lines: tuple
+    time: float | None = None
+    tension: float | None = None
+
+    def __post_init__(self):
+        self.lines = tuple(self.lines)
+        where = f"failure at point {self.point}"
+        if not self.lines:
+            raise ValueError(f"{where} lines: name at least one line")
+        for name, value in (("time", self.time), ("tension", self.tension)):
+            if value is not None and not (isinstance(value, (int, float))
+                                          and math.isfinite(value) and value > 0):
+                raise ValueError(f"{where} {name}: must be a positive number (s, N) or "
+                                 f"None, got {value!r}")
+        if self.time is None and self.tension is None:
+            raise ValueError(f"{where}: give a time or a tension that triggers it")
+
+
+@dataclass
 class Network:
     """Points, lines and bodies in water of ``depth`` (m), density rho, gravity g.
 
@@ -181,6 +207,7 @@ class Network:
     surface: bool = False
     viv_rms_time: float | None = None
     notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
+    failures: list = field(default_factory=list)  # LineFailure events of the run
 
     def __post_init__(self):
         for kind, items in (("point", self.points), ("line", self.lines), ("body", self.bodies)):
@@ -201,6 +228,8 @@ class Network:
         for p in self.points:
             if p.kind == "free" and not any(p.name in (ln.a, ln.b) for ln in self.lines):
                 raise ValueError(f"point {p.name}: a free point with no line")
+        for failure in self.failures:
+            _check_failure(failure, points, self.lines)
         for b in self.bodies:
             if b.pin in PINS:
                 continue
@@ -247,6 +276,22 @@ class Network:
         parts = [np.r_[c.position, c.attitude] if coupled_size(c) == 6 else c.position
                  for c in self.coupled]
         return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def _check_failure(failure: LineFailure, points: dict, lines: list):
+    """Refuse a failure whose point or lines do not exist or do not meet, or that leaves
+    a free point with no line."""
+    where = f"failure at point {failure.point}"
+    if failure.point not in points:
+        raise ValueError(f"{where}: no such point ({len(points)} points)")
+    attached = {ln.name for ln in lines if failure.point in (ln.a, ln.b)}
+    for name in failure.lines:
+        if name not in attached:
+            raise ValueError(f"{where} lines: line {name!r} does not end at {failure.point} "
+                             f"(lines there: {sorted(attached) or 'none'})")
+    if points[failure.point].kind == "free" and attached <= set(failure.lines):
+        raise ValueError(f"{where}: it releases every line of the free point, which would "
+                         "be left with none (release all but one, or the line's other end)")
 
 
 def coupled_size(obj) -> int:

@@ -13,9 +13,10 @@ with ``BA|BA_D``; EI, Cd, Ca, CdAx, CaAx, optional VIV Cl dF cF), ROD TYPES (Nam
 Mass/m Cd Ca CdEnd CaEnd), BODIES, RODS (ID RodType Attachment Xa Ya Za Xb Yb Zb NumSegs
 RodOutputs), POINTS (9 columns, or 12 with a constant force), LINES between points and
 rod ends (``R<N>A``, ``R<N>B``), OPTIONS (names as MoorDyn-C spells them, aliases
-mapped; unknown options kept with a note) and OUTPUTS. Refused with the deck line and
-the reason: damping and bending curve files and the MoorDyn-F-only
-sections (FAILURE, CONTROL, EXTERNAL LOADS). Syrope polyester (EA
+mapped; unknown options kept with a note), OUTPUTS and FAILURE (FailureID Point
+Line(s) FailTime FailTen: line ends released in the run). Refused with the deck line and
+the reason: damping and bending curve files and the MoorDyn-F-only sections CONTROL and
+EXTERNAL LOADS. Syrope polyester (EA
 ``SYROPE:file|EA_Dc|EA_D_Lm``, the settings file naming the OWC table, WCType, k1, k2,
 relative to the deck) with its SYROPE IC section (Line(s) Tmax0 Tmean0) is read too. The reader checks the format only; what
 skmoor can simulate is checked when the model is built (:mod:`skmoor.model.from_deck`).
@@ -55,7 +56,6 @@ SECTIONS = {
     "SYROPE IC": "SYROPE IC",
 }
 REFUSED_SECTIONS = {
-    "FAILURE": "line failures are not supported",
     "CONTROL": "line control channels are not supported",
     "EXTERNAL LOADS": "external loads on points / bodies are not supported",
 }
@@ -214,6 +214,20 @@ class DeckLine:
 
 
 @dataclass
+class DeckFailure:
+    """A FAILURE entry: the ends of ``lines`` (numbers) released from ``point`` (a point
+    number, or a rod end ``'R<N>A'`` / ``'R<N>B'``) at ``time`` (s) or when their tension
+    reaches ``tension`` (N), whichever first (0: no such trigger)."""
+
+    id: int
+    point: int | str
+    lines: tuple
+    time: float
+    tension: float
+    where: int = field(default=0, compare=False)
+
+
+@dataclass
 class DeckBody:
     """A BODIES entry. kind: 'fixed', 'coupled', 'pinned' or 'free'. r6: x, y, z (m) and
     roll, pitch, yaw (deg). cg, inertia, CdA, Ca: tuples as written (MoorDyn expands 1 or
@@ -254,6 +268,7 @@ class Deck:
     notes: list = field(default_factory=list, compare=False)
     option_lines: dict = field(default_factory=dict, compare=False)
     syrope_ic: dict = field(default_factory=dict)  # line id -> (Tmax0, Tmean0) N, SYROPE IC
+    failures: list = field(default_factory=list)  # DeckFailure entries
 
     def option(self, name: str, default=None):
         """The option ``name`` (MoorDyn-C spelling) as a float, or ``default``
@@ -392,6 +407,8 @@ def read_deck(path) -> Deck:
                          "would not fit in memory)")
     for entry in entries.get("SYROPE IC", []):
         _syrope_ic(entry, deck)
+    for entry in entries.get("FAILURE", []):
+        _failure(entry, deck)
     for entry in entries.get("OPTIONS", []):
         _option(entry, deck)
     for entry in entries.get("OUTPUTS", []):
@@ -712,20 +729,7 @@ def _line(e, deck):
                       f"({', '.join(deck.line_types) or 'none'})")
     ends = []
     for column, word in (("AttachA", e.words[2]), ("AttachB", e.words[3])):
-        letters, point, rest = _decompose(word)
-        if letters in ("R", "ROD"):
-            if point is None or rest not in ("A", "B"):
-                raise e.error(f"{column}: {word!r} is not a rod end R<N>A or R<N>B")
-            if not 1 <= point <= len(deck.rods):
-                raise e.error(f"{column}: rod {point} is not in RODS ({len(deck.rods)} rods)")
-            ends.append(f"R{point}{rest}")
-            continue
-        if letters not in ("", "C", "CON", "P", "POINT") or point is None:
-            raise e.error(f"{column}: {word!r} is not a point number")
-        if not 1 <= point <= len(deck.points):
-            raise e.error(f"{column}: point {point} is not in POINTS "
-                          f"({len(deck.points)} points)")
-        ends.append(point)
+        ends.append(_attachment(e, deck, column, word))
     length = e.number_at(4, "UnstrLen")
     segments = e.integer_at(5, "NumSegs")
     if length <= 0:
@@ -739,6 +743,45 @@ def _line(e, deck):
     deck.lines.append(DeckLine(id=number, type=e.words[1], a=ends[0], b=ends[1],
                                length=length, n_segments=segments, outputs=e.words[6],
                                where=e.number))
+
+
+def _attachment(e, deck, column, word):
+    """A point number, or a rod end 'R<N>A' / 'R<N>B', as a LINES or FAILURE entry
+    names it."""
+    letters, point, rest = _decompose(word)
+    if letters in ("R", "ROD"):
+        if point is None or rest.upper() not in ("A", "B"):
+            raise e.error(f"{column}: {word!r} is not a rod end R<N>A or R<N>B")
+        if not 1 <= point <= len(deck.rods):
+            raise e.error(f"{column}: rod {point} is not in RODS ({len(deck.rods)} rods)")
+        return f"R{point}{rest.upper()}"
+    if letters not in ("", "C", "CON", "P", "POINT") or point is None:
+        raise e.error(f"{column}: {word!r} is not a point number")
+    if not 1 <= point <= len(deck.points):
+        raise e.error(f"{column}: point {point} is not in POINTS ({len(deck.points)} points)")
+    return point
+
+
+def _failure(e, deck):
+    if len(e.words) < 5:
+        raise e.error("entry: needs the 5 columns FailureID Point Line(s) FailTime FailTen, "
+                      f"got {len(e.words)}")
+    point = _attachment(e, deck, "Point", e.words[1])
+    lines = []
+    for word in e.words[2].split(","):
+        if not re.fullmatch(r"\d+", word) or not 1 <= int(word) <= len(deck.lines):
+            raise e.error(f"Line(s): {word!r} is not a line number of LINES "
+                          f"({len(deck.lines)} lines)")
+        lines.append(int(word))
+    time, tension = e.number_at(3, "FailTime"), e.number_at(4, "FailTen")
+    for name, value in (("FailTime", time), ("FailTen", tension)):
+        if value < 0:
+            raise e.error(f"{name}: must be >= 0 (0: no such trigger), got {value:g}")
+    if time == 0 and tension == 0:
+        raise e.error("FailTime, FailTen: both 0, the failure never happens")
+    deck.failures.append(DeckFailure(id=len(deck.failures) + 1, point=point,
+                                     lines=tuple(lines), time=time, tension=tension,
+                                     where=e.number))
 
 
 def _option(e, deck):
@@ -838,6 +881,11 @@ def write_deck(deck: Deck, path) -> Path:
     for line in deck.lines:
         out.append(f"{line.id} {line.type} {line.a} {line.b} {_num(line.length)} "
                    f"{line.n_segments} {line.outputs}")
+    if deck.failures:
+        out += [rule("FAILURE"), "FailureID Point Line(s) FailTime FailTen",
+                "() () (,) (s) (N)"]
+        out += [f"{f.id} {f.point} {','.join(map(str, f.lines))} {_num(f.time)} "
+                f"{_num(f.tension)}" for f in deck.failures]
     out += [rule("OPTIONS")]
     out += [f"{value} {name}" for name, value in deck.options.items()]
     if deck.outputs:

@@ -903,6 +903,24 @@ class NetworkLine(_Table):
         return self
 
 
+class FailureSpec(_Table):
+    """A [[failures]] entry: the ends of ``lines`` released from ``point`` at ``time`` (s)
+    or when the tension at one of them reaches ``tension`` (N), whichever first."""
+
+    point: Name
+    lines: list[Name]
+    time: OptPositive = None
+    tension: OptPositive = None
+
+    @model_validator(mode="after")
+    def _trigger(self):
+        if not self.lines:
+            _fail("name at least one line", "lines")
+        if self.time is None and self.tension is None:
+            _fail("give time (s) or tension (N), or both: what triggers the failure", "time")
+        return self
+
+
 class NetworkMooring(_Table):
     """The network layout's [mooring]: the strain law (default 'engineering'), whether
     the cables are tension-only (default true) and the lines' default n_elements (20
@@ -935,6 +953,7 @@ class NetworkCase(_CaseBase):
     solver: Solver = None
     sea: SeaSpec = None
     seabed: SeabedSpec = None
+    failures: list[FailureSpec] = None
 
     _OTHER_LAYOUT: ClassVar[dict] = {
         "body": "unknown section in the network layout (selected by [[points]]): describe "
@@ -960,6 +979,14 @@ class NetworkCase(_CaseBase):
             for end in ("a", "b"):
                 if getattr(line, end) not in points:
                     _fail(_one_of(getattr(line, end), points, "points"), "lines", i, end)
+        lines = {line.name: line for line in self.lines}
+        for i, failure in enumerate(self.failures or []):
+            if failure.point not in points:
+                _fail(_one_of(failure.point, points, "points"), "failures", i, "point")
+            for name in failure.lines:
+                if name not in lines or failure.point not in (lines[name].a, lines[name].b):
+                    _fail(f"line {name!r} does not end at point {failure.point!r}",
+                          "failures", i, "lines")
         if self.load is not None:
             dynamic = [b.name for b in self.bodies or [] if b.kind == "dynamic"]
             if self.load.body is not None:

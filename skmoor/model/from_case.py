@@ -15,7 +15,7 @@ from ..bodies.body import (
     uniform_box_inertia,
 )
 from ..bodies.large_rotations import box_triangles
-from ..coupling.network import Body, MooringLine, Network, Point
+from ..coupling.network import Body, LineFailure, MooringLine, Network, Point
 from ..io.paths import resolve_inside
 from ..lines.catenary import solve_catenary
 from ..lines.line import LineType
@@ -235,10 +235,12 @@ def explicit_network(case) -> Network:
     lines = [MooringLine(ln["name"], line_type(case, ln["type"]), ln["a"], ln["b"],
                          float(ln["length"]), int(ln.get("n_elements", shared.get("n_elements", 20))))
              for ln in data["lines"]]
+    failures = [LineFailure(f["point"], f["lines"], f.get("time"), f.get("tension"))
+                for f in data.get("failures", [])]
     return Network(points, lines, bodies, depth=depth, rho=rho, g=g,
                    seabed=environment.seabed(data, case.directory), sea=water_sea,
                    hydro=environment.has_line_hydrodynamics(data),
-                   strain_law=_network_law(shared))
+                   strain_law=_network_law(shared), failures=failures)
 
 
 def _network_law(shared):

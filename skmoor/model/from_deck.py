@@ -85,7 +85,14 @@ from ..bodies.body import Hydrostatics, RigidBody, combined_mass, point_mass_mat
 from ..bodies.motion import Record
 from ..bodies.rod_loads import RodLoad, RodType, SpinLoad, spring_weight
 from ..coupling import rods
-from ..coupling.network import Body, MooringLine, Network, Point, moordyn_rotation
+from ..coupling.network import (
+    Body,
+    LineFailure,
+    MooringLine,
+    Network,
+    Point,
+    moordyn_rotation,
+)
 from ..io.deck import Deck, read_deck
 from ..io.sea_files import deck_bathymetry, deck_sea
 from ..lines import laws
@@ -441,10 +448,13 @@ def deck_network(deck: Deck | str | Path, *, motion=None, sea=None, hydro=True,
         lines.append(MooringLine(f"line{line.id}", line_type, _end_name(deck, line.a),
                                  _end_name(deck, line.b), line.length, int(line.n_segments),
                                  **clamps))
+    failures = [LineFailure(_end_name(deck, f.point), [f"line{k}" for k in f.lines],
+                            f.time or None, f.tension or None) for f in deck.failures]
     try:
         network = Network(points, lines, bodies, depth=deck.depth, rho=deck.rho, g=deck.g,
                           sea=sea, hydro=hydro, strain_law="engineering",
-                          motion=_network_motion(deck, motion), surface=True)
+                          motion=_network_motion(deck, motion), surface=True,
+                          failures=failures)
     except ValueError as err:
         raise ValueError(f"{deck.source}: {err}") from None
     if "dtM" in deck.options:  # MoorDyn's VIV rms runs over 500 of its steps dtM

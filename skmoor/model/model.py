@@ -46,6 +46,7 @@ class Model:
     source: object = None
     notes: list = field(default_factory=list)
     positions: dict = field(default_factory=dict)  # point name -> reference position, m
+    added: list = field(default_factory=list)  # the terms given to add(), in order
 
     @property
     def case(self):
@@ -104,6 +105,7 @@ class Model:
                                      f"{index!r} (have {names or 'none'})")
                 setattr(term, attribute, names.index(index))
         self.system.add_term(term)
+        self.added.append(term)
         return term
 
 

@@ -30,7 +30,8 @@ def summary(results: Results) -> dict:
     ``strength`` each line's largest tension, MBL, safety factor and utilisation
     (:func:`skmoor.post.strength.strength`); ``fatigue`` each line's damage at its
     fairlead on its type's curve and the DELs for m = 3 and 5 at 1 Hz
-    (:func:`skmoor.post.fatigue.fatigue`)."""
+    (:func:`skmoor.post.fatigue.fatigue`); ``line_failures`` the releases of the run
+    (point, lines, trigger, time s, tension N; :mod:`skmoor.run.failures`)."""
     meta = results.meta
     period = meta.get("forcing_period")
     n = int(meta.get("steady_periods", 5))
@@ -54,6 +55,7 @@ def summary(results: Results) -> dict:
             "subdivided_steps": meta.get("subdivided_steps", 0),
             "dt": meta.get("dt"), "stopped": meta.get("stopped"),
             "interrupted": bool(meta.get("interrupted")), "notes": meta.get("notes", []),
+            **({"line_failures": meta["line_failures"]} if "line_failures" in meta else {}),
             **({"max_curvature": results.line_maxima("curvature"),
                 "max_bending_moment": results.line_maxima("bending_moment")}
                if results.bending else {}),

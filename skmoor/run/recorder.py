@@ -54,7 +54,8 @@ def _catenary_tension(cat, line, end):
 
 def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
                progress=True, label="", done=None, compiled=True, checkpoint_every=0,
-               on_checkpoint=None, restart=None) -> tuple:
+               on_checkpoint=None, restart=None, t0=0.0, v0=None, first_step=0, watch=None,
+               report_every=None) -> tuple:
     """Integrate ``system`` from rest at x0 for ``duration`` s with step dt, calling
     ``record(state)`` every ``every`` steps, under a progress bar. Returns (why it stopped
     early or None, the steps done): Ctrl-C or a diverging step keep what was recorded.
@@ -66,10 +67,15 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
     "report": the step's (full state, end forces)}; restart: such a checkpoint to go on
     from (its state recorded first). Either runs the steps one call
     at a time (:class:`~skmoor.solvers.dynamics.Stepping`), so that a restarted run
-    repeats the uninterrupted one to round-off."""
+    repeats the uninterrupted one to round-off. t0, v0, first_step: go on from (x0, v0)
+    at t0, the run's step ``first_step`` (its state not recorded again; ``duration`` is
+    still the run's end time). watch: called with every step's state (it may raise to
+    stop the loop, e.g. :class:`~skmoor.run.failures.Released`); report_every: the steps
+    whose states carry the end forces (default ``every``)."""
     n_steps = int(np.ceil(duration / dt - 1e-9))
     done = {} if done is None else done
-    done["steps"] = done["subdivided"] = 0
+    split_before = done.get("subdivided", 0) if first_step else 0
+    done["steps"], done["subdivided"] = first_step, split_before
     from tqdm.auto import tqdm  # (imported here: it pulls in asyncio, ~40 ms)
 
     if compiled:
@@ -78,21 +84,27 @@ def record_run(system, x0, *, dt, duration, every, record, C=None, scheme=None,
             warnings.warn(f"the time step runs in Python, not compiled: {why} (a Python step "
                           "costs several times a compiled one)", PythonStepWarning,
                           stacklevel=3)
-    bar = tqdm(total=n_steps, disable=not progress, unit="step", desc=label[:30])
+    bar = tqdm(total=n_steps, initial=first_step, disable=not progress, unit="step",
+               desc=label[:30])
     compiling = _CompileNotice(bar, label[:30])
-    system.reset_frames()  # x0 has its angles from the global frame
+    if not first_step:
+        system.reset_frames()  # x0 has its angles from the global frame
+    v0 = np.zeros(system.n) if v0 is None else v0
     try:
-        states = (integrate(system, x0, np.zeros(system.n), dt, duration, C=C,
-                            scheme=scheme, compiled=compiled, report_every=every)
+        states = (integrate(system, x0, v0, dt, duration, C=C, t0=t0, scheme=scheme,
+                            compiled=compiled, report_every=report_every or every)
                   if not (checkpoint_every or restart) else
                   _stepped(system, x0, dt, n_steps, C, scheme, compiled, every,
                            checkpoint_every, on_checkpoint, restart))
         for state in states:
-            done["steps"], done["subdivided"] = state.step, state.subdivided
-            if state.step % every == 0:
+            step = first_step + state.step
+            done["steps"], done["subdivided"] = step, split_before + state.subdivided
+            if step % every == 0 and not (first_step and not state.step):
                 record(state)
+            if watch is not None:
+                watch(state)
             if state.step and compiling.waiting:
-                compiling.first_step(state.step)
+                compiling.first_step(step)
             bar.update(1 if state.step else 0)
     except KeyboardInterrupt:
         return INTERRUPTED, done["steps"]
@@ -176,10 +188,17 @@ class Recorder:
     and every point of the network."""
 
     def __init__(self, model: Model):
-        self.model = model
-        network = model.network
         self.rows = {k: [] for k in ("t", "bodies", "points", "u", "v", "tension", "strain",
                                      "fair", "anchor", "curvature", "moment", "coupled")}
+        self.points = list(model.network.points)
+        self.follow(model)
+
+    def follow(self, model: Model):
+        """Record ``model`` from now on: the model after a line failure
+        (:func:`~skmoor.run.failures.released`), same lines and bodies. The points stay
+        those recorded so far (a released end is its line's end node)."""
+        self.model = model
+        network = model.network
         self._dynamic = {b.name: k for k, b in enumerate(
             b for b in network.bodies if b.kind == "dynamic")}
         self._coupled, start = {}, 0
@@ -187,7 +206,7 @@ class Recorder:
             size = coupled_size(obj)
             self._coupled[obj.name] = slice(start, start + size)
             start += size
-        self._point_reference = np.array([model.positions[p.name] for p in network.points]
+        self._point_reference = np.array([model.positions[p.name] for p in self.points]
                                          ).reshape(-1, 3)
         self._system = system = model.system
         nodes = model.lines.nodal_dofs  # node-major P1 DOFs: a node's x, y, z in a row
@@ -201,7 +220,7 @@ class Recorder:
         free = iter(range(len(system.point_masses)))
         self._plan = []  # per point: how its displacement is found (not on dynamic bodies)
         rows, columns, on_body = [], [], {}
-        for i, p in enumerate(network.points):
+        for i, p in enumerate(self.points):
             body = network.body(p.body) if p.kind == "body" else None
             if p.kind == "free":
                 rows.append(i)
@@ -308,8 +327,8 @@ class Recorder:
         drawn = model.body  # the first dynamic body's RigidBody, drawn as its box
         bending = bool(lines.hermite)
         meta = {**meta, "has_body": bool(network.bodies), "bending": bending,
-                "point_kinds": [p.kind for p in network.points],
-                "point_masses": [p.mass for p in network.points],
+                "point_kinds": [p.kind for p in self.points],
+                "point_masses": [p.mass for p in self.points],
                 **line_strength_meta(lines.lines)}
         return Results(t=r["t"], body=bodies[:, 0] if network.bodies else np.zeros((nt, 6)),
                        points=lines.points, cells=lines.mesh.t.T.copy(),
@@ -325,9 +344,9 @@ class Recorder:
                        depth=model.depth, meta=meta,
                        body_names=[b.name for b in network.bodies],
                        body_reference=np.array([b.position for b in network.bodies]).reshape(-1, 3),
-                       bodies=bodies, point_names=[p.name for p in network.points],
+                       bodies=bodies, point_names=[p.name for p in self.points],
                        point_reference=self._point_reference,
-                       point_displacement=r["points"].reshape(nt, len(network.points), 3),
+                       point_displacement=r["points"].reshape(nt, len(self.points), 3),
                        curvature=r["curvature"] if bending else None,
                        bending_moment=r["moment"] if bending else None,
                        coupled_loads=r["coupled"].reshape(nt, len(network.bodies), 6))

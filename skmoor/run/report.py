@@ -9,7 +9,8 @@ __all__ = ["summary_table", "fatigue_table"]
 
 def summary_table(info: dict) -> str:
     """``summary.json``'s key numbers (:func:`skmoor.run.outputs.summary`) as text: the
-    case, draft, natural periods, steady amplitudes and the largest tension, then one row
+    case, draft, natural periods, steady amplitudes, the largest tension and the line
+    failures, then one row
     per line: its largest tension, MBL, safety factor and utilisation, and at its
     fairlead the fatigue damage per year, the life and the DEL for m = 3."""
     out = [f"case: {info.get('case') or '-'}"]
@@ -28,6 +29,10 @@ def summary_table(info: dict) -> str:
         steady = info.get("max_tension_steady")
         out.append(f"max tension: {info['max_tension'] / 1e3:.6g} kN"
                    + (f" (steady {steady / 1e3:.6g} kN)" if steady is not None else ""))
+    for event in info.get("line_failures") or []:
+        out.append(f"line failure: {', '.join(event['lines'])} released from "
+                   f"{event['point']} at t = {event['time']:.6g} s ({event['trigger']}, "
+                   f"{event['tension'] / 1e3:.6g} kN)")
     strength = info.get("strength") or {}
     fatigue = (info.get("fatigue") or {}).get("lines", {})
     if strength:

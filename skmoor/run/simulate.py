@@ -22,6 +22,7 @@ from ..numerics.validation import user_stacklevel
 from ..post.results import Results
 from ..solvers.dynamics import Scheme
 from ..solvers.newton import ConvergenceError
+from . import failures
 from .equilibrium import (
     Equilibrium,
     dof_names,
@@ -186,14 +187,38 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
                      "interrupted": outcome["stopped"] == INTERRUPTED})
         return recorder.results(meta)
 
+    why_not = failures.refused(model, bool(saving[0] or resumed))
+    if why_not:
+        raise ValueError(f"{model.name}: {why_not}")
+    if model.network.failures:
+        meta["line_failures"] = []
+    running, v0, t0, first, C = model, None, 0.0, 0, eq.C
     try:
         with terminate_as_interrupt():  # SIGTERM keeps what was computed, as Ctrl-C
-            outcome["stopped"], outcome["steps"] = record_run(
-                model.system, x0, dt=dt, duration=duration, every=every,
-                record=recorder.record if writer is None else writer.record, C=eq.C,
-                scheme=scheme, progress=progress, label=model.name, done=outcome,
-                compiled=solver.get("compiled", True), checkpoint_every=saving[0],
-                on_checkpoint=saving[1], restart=resumed)
+            while True:
+                try:
+                    outcome["stopped"], outcome["steps"] = record_run(
+                        running.system, x0, dt=dt, duration=duration, every=every,
+                        record=recorder.record if writer is None else writer.record, C=C,
+                        scheme=scheme, progress=progress, label=model.name, done=outcome,
+                        compiled=solver.get("compiled", True), checkpoint_every=saving[0],
+                        on_checkpoint=saving[1], restart=resumed, t0=t0, v0=v0,
+                        first_step=first, watch=failures.watch(running, dt),
+                        report_every=1 if failures.needs_tensions(running) else None)
+                    break
+                except failures.Released as fired:  # go on with the line ends released
+                    state, before = fired.state, running
+                    failure = fired.event.failure
+                    running = failures.released(before, failure.point, failure.lines, [
+                        f for f in before.network.failures if f is not failure])
+                    x0, v0 = failures.carried_state(before, running, state.x, state.v, state.t)
+                    C = failures.released_damping(running, eq.rayleigh, x0, state.t)
+                    t0, first = state.t, first + state.step
+                    recorder.follow(running)
+                    meta["line_failures"].append(fired.event.as_dict())
+                    meta["notes"].append(
+                        f"t = {state.t:.6g} s: line(s) {', '.join(fired.event.failure.lines)} "
+                        f"released from {fired.event.failure.point} ({fired.event.trigger})")
     except BaseException as error:  # a crash: keep what was computed, then re-raise
         if writer is not None and recorder.rows["t"]:
             outcome["stopped"] = f"crashed: {type(error).__name__}: {error}"

@@ -117,3 +117,21 @@ def test_left_out_flags_are_named(files, tmp_path):
     assert any("'K'" in n for n in notes) and any("Con1Fx" in n for n in notes)
     names, _ = read_out(tmp_path / "x.out")
     assert names == ["Time", "FairTen1"]
+
+
+def test_a_deck_without_outputs_gives_what_moordyn_gives(tmp_path):
+    """No OUTPUTS section: MoorDyn's NAME.out has its time column alone; so has skmoor's."""
+    deck = tmp_path / "bare.dat"
+    head, tail = DECK.split("---------------------- OUTPUTS")
+    deck.write_text(head + "---------------------- END" + tail.split("---------------------- END")[1])
+    md = moordyn.Create(str(deck))
+    try:
+        assert moordyn.Init(md, list(FAIRLEAD), [0.0, 0.0, 0.0]) == 0
+        moordyn.Step(md, list(FAIRLEAD), [0.0, 0.0, 0.0], 0.0, 0.5)
+    finally:
+        moordyn.Close(md)
+    out = tmp_path / "skmoor-out"
+    assert main(["run", str(deck), "--out", str(out), "--duration", "1", "--dt", "0.05",
+                 "--output-interval", "0.5", "--no-export", "--no-animation", "--quiet",
+                 "--moordyn-outputs"]) == 0
+    assert read_out(out / "bare.out")[0] == read_out(tmp_path / "bare.out")[0]

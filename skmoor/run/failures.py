@@ -1,0 +1,159 @@
+"""Line failures in a run (MoorDyn v2's FAILURE section; the accidental limit state).
+
+A :class:`~skmoor.coupling.network.LineFailure` releases line ends from a point at a
+time or when the tension at one of them reaches a threshold. The run watches every
+step (:func:`watch`); when one fires, the model is rebuilt with those ends on a new
+massless free point where the point was (:func:`released`: every line keeps its
+reference mesh, so the state carries over node for node, :func:`carried_state`), and
+the time loop goes on from the state of that step with the acceleration of the new
+balance (a release is a jump in the acceleration, not in the position or velocity).
+"""
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..coupling.build import build_system
+from ..coupling.network import LineFailure, Point
+from ..model.model import Model
+from .equilibrium import steady_water
+
+
+class Released(Exception):
+    """A failure fired at ``state`` (a :class:`~skmoor.solvers.dynamics.State`): raised out
+    of the time loop by :func:`watch`."""
+
+    def __init__(self, event, state):
+        super().__init__(f"{event.failure.point}: released at t = {state.t:g} s")
+        self.event, self.state = event, state
+
+
+@dataclass
+class Event:
+    """A failure that happened: what fired it (``trigger``: 'time' or 'tension'), when
+    (``t``, s) and the largest tension (N) of its line ends at that step."""
+
+    failure: LineFailure
+    trigger: str
+    t: float
+    tension: float
+
+    def as_dict(self) -> dict:
+        return {"point": self.failure.point, "lines": list(self.failure.lines),
+                "trigger": self.trigger, "time": self.t, "tension": self.tension}
+
+
+def end_tensions(model: Model, failure: LineFailure, reactions) -> np.ndarray:
+    """Tension (N) at each of the failure's line ends, from a step's end forces
+    ((fairlead, anchor): the lines' B and A ends, (nlines, 3) N each)."""
+    fair, anchor = reactions
+    names = [ln.name for ln in model.network.lines]
+    out = []
+    for name in failure.lines:
+        k = names.index(name)
+        force = anchor[k] if model.network.lines[k].a == failure.point else fair[k]
+        out.append(float(np.linalg.norm(force)))
+    return np.array(out)
+
+
+def watch(model: Model, dt: float):
+    """A function of a State that raises :class:`Released` for the first of the model's
+    failures that fires at it (time reached within round-off of the step, or a line end's
+    tension at or above the threshold); None when the model has none."""
+    failures = list(model.network.failures)
+    if not failures:
+        return None
+
+    def check(state):
+        for failure in failures:
+            tensions = (end_tensions(model, failure, state.reactions)
+                        if state.reactions is not None else np.zeros(0))
+            largest = float(tensions.max(initial=0.0))
+            if failure.time is not None and state.t >= failure.time - 1e-6 * dt:
+                raise Released(Event(failure, "time", state.t, largest), state)
+            if failure.tension is not None and largest >= failure.tension:
+                raise Released(Event(failure, "tension", state.t, largest), state)
+    return check
+
+
+def needs_tensions(model: Model) -> bool:
+    """Whether a failure of the model is triggered by tension (the steps must report
+    their end forces)."""
+    return any(f.tension is not None for f in model.network.failures)
+
+
+def released(model: Model, point: str, lines, failures=None) -> Model:
+    """The model with the ends of ``lines`` (names) on ``point`` moved to a new massless
+    free point at the point's reference position (named ``<point>.released``, numbered
+    when several); its failures ``failures`` (default: the model's). Lines, bodies and
+    their reference states are as in ``model``."""
+    network = model.network
+    missing = [ln for ln in lines if not any(
+        n.name == ln and point in (n.a, n.b) for n in network.lines)]
+    if point not in model.positions or missing:
+        raise ValueError(f"release: line(s) {', '.join(map(str, missing)) or lines} do not "
+                         f"end at point {point!r}")
+    names = {p.name for p in network.points}
+    name, k = f"{point}.released", 2
+    while name in names:
+        name, k = f"{point}.released{k}", k + 1
+    position = np.array(model.positions[point], float)
+    moved = [replace(ln, a=name if ln.name in lines and ln.a == point else ln.a,
+                     b=name if ln.name in lines and ln.b == point else ln.b)
+             for ln in network.lines]
+    new = replace(network, points=[*network.points, Point(name, "free", position)],
+                  lines=moved, notes=list(network.notes),
+                  failures=list(network.failures if failures is None else failures))
+    system, lineset, catenaries, positions = build_system(
+        new, {**model.positions, name: position})
+    if model.lines.has_static_laws:  # the dynamic laws act about the run's static state
+        lineset._mean = model.lines._mean
+    return Model(model.name, system, lineset, new, catenaries, model.settings, model.depth,
+                 model.draft, model.source, list(model.notes), positions)
+
+
+def released_damping(model: Model, rayleigh, x, t):
+    """Rayleigh damping a0 M + a1 K (``rayleigh`` = (a0, a1)) of the model after a
+    release, K at the state of the release (the intact equilibrium's K has other DOFs);
+    None without."""
+    a0, a1 = rayleigh
+    if not (a0 or a1):
+        return None
+    C = a0 * model.system.M
+    if a1:
+        with steady_water(model):
+            C = C + a1 * model.system.residual(x, t=t)[1]
+    return C
+
+
+def carried_state(old: Model, new: Model, x, v, t) -> tuple:
+    """(x, v) of ``new`` with every line node, point and body where ``old`` has them at
+    (x, v, t); the bodies' re-based frames carried over."""
+    before, after = old.system, new.system
+    u, ud = before.full_state(x, v, t)
+    x_new, v_new = np.zeros(after.n), np.zeros(after.n)
+    dofs = after.dofs
+    x_new[dofs.columns], v_new[dofs.columns] = u[dofs.free], ud[dofs.free]
+    x_new[after.nf:], v_new[after.nf:] = x[before.nf:], v[before.nf:]
+    if any(frame is not None for frame in getattr(before, "frames", ())):
+        after.frames, after.frame_r_local, after._end_offsets = copy.deepcopy(
+            (before.frames, before.frame_r_local, before._end_offsets))
+        after._attachment_cache = (None, None, None)
+    return x_new, v_new
+
+
+def refused(model: Model, checkpointing: bool) -> str | None:
+    """Why the model's failures cannot run (None when they can)."""
+    if not model.network.failures:
+        return None
+    if checkpointing:
+        return "line failures and checkpoints or restarts do not go together yet"
+    memory = [type(term).__name__ for term in getattr(model.system, "committing", [])]
+    if memory:
+        return (f"a line failure in a model with terms that keep a history ({', '.join(memory)}) "
+                "is not supported yet")
+    if model.added:
+        return "a line failure in a model with terms of your own is not supported yet"
+    return None

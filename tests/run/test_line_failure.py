@@ -1,0 +1,226 @@
+"""Line failures (skmoor.run.failures; MoorDyn v2's FAILURE section, [[failures]] in a case).
+
+The transient is checked side by side with MoorDyn on tests/decks/free_points/hanging.dat
+(two chains from two vessels joined at a clump): line 1 is released from vessel 1 at
+t = 1 s, in skmoor by the deck's FAILURE entry, in MoorDyn by its ``BreakLine`` between
+two Step() calls (MoorDyn 2.7 reads FAILURE but fires an entry at its first step, whatever
+its FailTime, and has no tension trigger). The clump and both chains then swing down
+under vessel 2. MoorDyn's end-segment tension is compared with skmoor's end-element
+tension (see test_free_points_moordyn.py for why), as magnitudes.
+
+    compared (1 - 20 s)                                  measured at dt 2 ms
+    line 2 at vessel 2, history                          1.4 % of MoorDyn's range
+    line 2 at vessel 2, peak in the release's stress wave 0.1 %
+    line 2 at vessel 2 and at the clump, peak             0.04 %, 0.09 %
+    line 1 at its released end                           < 1.5 kN (25 kN before)
+"""
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import skmoor
+from skmoor import cli
+from skmoor.coupling.network import LineFailure
+from skmoor.io.deck import read_deck, write_deck
+
+DECKS = Path(__file__).parents[1] / "decks"
+HANGING = DECKS / "free_points" / "hanging.dat"
+RELEASE = 1.0  # s
+FAILURE = ("---------------------- FAILURE ----\n"
+           "FailureID  Point  Line(s)  FailTime  FailTen\n"
+           "()         ()     (,)      (s)       (N)\n{rows}\n"
+           "---------------------- OPTIONS")
+
+
+def deck_with(tmp_path, rows, name="hanging_fail.dat"):
+    text = HANGING.read_text().replace("---------------------- OPTIONS",
+                                       FAILURE.format(rows=rows), 1)
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def end_element_tensions(results):
+    """(A, B): |tension| of each line's first and last element (nt, nlines), N."""
+    cells = [np.flatnonzero(results.line_of_cell == j) for j in range(len(results.line_names))]
+    T = np.abs(results.tension)
+    return T[:, [c[0] for c in cells]], T[:, [c[-1] for c in cells]]
+
+
+def moordyn_release(path, duration, coupling=0.01):
+    """MoorDyn on ``path`` (no FAILURE section), line 1 broken off point 1 at RELEASE:
+    (t, TA, TB) end-segment tensions (nt, nlines), N."""
+    moordyn = pytest.importorskip("moordyn")
+    md = moordyn.Create(str(path))
+    vessels = [-40.0, 0.0, -5.0, 40.0, 0.0, -5.0]
+    try:
+        assert moordyn.Init(md, vessels, [0.0] * 6) == 0
+        lines = [moordyn.GetLine(md, i + 1) for i in range(2)]
+        ends = [moordyn.GetLineN(line) for line in lines]
+        t, TA, TB = [], [], []
+        for k in range(int(round(duration / coupling))):
+            tk = k * coupling
+            if abs(tk - RELEASE) < 1e-9:
+                moordyn.BreakLine(md, moordyn.GetPoint(md, 1), lines[0])
+            moordyn.Step(md, vessels, [0.0] * 6, tk, coupling)
+            t.append(tk + coupling)
+            TA.append([np.linalg.norm(moordyn.GetLineNodeTen(line, 0)) for line in lines])
+            TB.append([np.linalg.norm(moordyn.GetLineNodeTen(line, n))
+                       for line, n in zip(lines, ends)])
+    finally:
+        moordyn.Close(md)
+    return np.array(t), np.array(TA), np.array(TB)
+
+
+def test_release_transient_against_moordyn(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    duration = 20.0
+    md_deck = tmp_path / "hanging.dat"
+    md_deck.write_text(HANGING.read_text())
+    t_md, TA_md, TB_md = moordyn_release(md_deck, duration)
+    model = skmoor.build(deck_with(tmp_path, f"1  1  1  {RELEASE}  0"))
+    results = skmoor.simulate(model, duration=duration, dt=0.002, output_interval=0.01,
+                              progress=False)
+    assert results.meta["stopped"] is None
+    (event,) = results.meta["line_failures"]
+    assert event["point"] == "point1" and event["lines"] == ["line1"]
+    assert event["trigger"] == "time" and event["time"] == pytest.approx(RELEASE)
+    TA, TB = end_element_tensions(results)
+    after = results.t >= RELEASE
+    md_after = t_md >= RELEASE
+    top = np.interp(results.t[after], t_md, TA_md[:, 1])
+    span = np.ptp(TA_md[md_after, 1])
+    assert np.max(np.abs(TA[after, 1] - top)) < 0.02 * span
+    wave, md_wave = after & (results.t <= 3.0), md_after & (t_md <= 3.0)
+    assert TA[wave, 1].max() == pytest.approx(TA_md[md_wave, 1].max(), rel=0.02)
+    assert TA[after, 1].max() == pytest.approx(TA_md[md_after, 1].max(), rel=0.02)
+    assert TB[after, 1].max() == pytest.approx(TB_md[md_after, 1].max(), rel=0.02)
+    # before: the intact state; after: line 1's released end carries (almost) nothing
+    assert TA[results.t < RELEASE, 0].min() > 24e3
+    assert results.anchor_tension[results.t >= RELEASE + 0.5, 0].max() < 1.5e3
+    # the released end moves off vessel 1 (its first node is the line's end node)
+    first = np.flatnonzero(results.line_of_cell == 0)[0]
+    node = results.cells[first, 0]
+    drop = results.displacement[-1, node]
+    assert drop[2] < -5.0 and np.allclose(results.displacement[0, node], 0.0, atol=1e-9)
+
+
+def test_tension_trigger_fires_where_the_tension_crosses(tmp_path):
+    """A second failure at vessel 2 triggered by line 2's tension there (its end A):
+    it fires at the first step where the run without it crosses the threshold."""
+    threshold = 30e3  # N: line 2's top tension crosses it as the chains swing down
+    single = skmoor.simulate(skmoor.build(deck_with(tmp_path, f"1  1  1  {RELEASE}  0")),
+                             duration=15.0, dt=0.005, output_interval=0.005, progress=False)
+    crossed = single.t[np.argmax(single.anchor_tension[:, 1] >= threshold)]
+    assert 5.0 < crossed < 15.0
+    both = skmoor.simulate(skmoor.build(deck_with(
+        tmp_path, f"1  1  1  {RELEASE}  0\n2  2  2  0  {threshold}", "two.dat")),
+        duration=15.0, dt=0.005, output_interval=0.005, progress=False)
+    first, second = both.meta["line_failures"]
+    assert first["trigger"] == "time" and second["trigger"] == "tension"
+    assert second["point"] == "point2" and second["lines"] == ["line2"]
+    assert second["time"] == pytest.approx(crossed, abs=1e-9)
+    assert second["tension"] >= threshold
+    k = np.searchsorted(both.t, crossed)
+    np.testing.assert_allclose(both.anchor_tension[:k, 1], single.anchor_tension[:k, 1])
+    assert both.anchor_tension[k + 20:, 1].max() < 2e3  # let go: the chains fall free
+    # the clump's velocity (line 2's end node) goes on through the release: no jump
+    clump = both.cells[np.flatnonzero(both.line_of_cell == 1)[-1], 1]
+    assert np.linalg.norm(both.velocity[k, clump]) > 1.0
+    assert np.linalg.norm(both.velocity[k + 1, clump] - both.velocity[k, clump]) < 0.02
+
+
+def test_deck_failure_section_read_written_and_refused(tmp_path):
+    deck = read_deck(deck_with(tmp_path, "1  1  1  12  0"))
+    (failure,) = deck.failures
+    assert (failure.point, failure.lines, failure.time, failure.tension) == (1, (1,), 12.0, 0.0)
+    again = read_deck(write_deck(deck, tmp_path / "again.dat"))
+    assert again.failures == deck.failures
+    network = skmoor.build(tmp_path / "again.dat").network
+    assert network.failures == [LineFailure("point1", ("line1",), 12.0, None)]
+    for row, what in (("1  1  3  12  0", "Line(s): '3' is not a line number"),
+                      ("1  7  1  12  0", "Point: point 7 is not in POINTS"),
+                      ("1  1  1  0  0", "FailTime, FailTen: both 0"),
+                      ("1  1  1  -1  0", "FailTime: must be >= 0")):
+        with pytest.raises(ValueError, match=r"hanging_fail\.dat line \d+: FAILURE " + re.escape(what)):
+            read_deck(deck_with(tmp_path, row))
+    with pytest.raises(ValueError, match="line 'line2' does not end at point1"):
+        skmoor.build(deck_with(tmp_path, "1  1  2  12  0"))
+    with pytest.raises(ValueError, match="every line of the free point"):
+        skmoor.build(deck_with(tmp_path, "1  3  1,2  12  0"))
+
+
+def test_case_file_failures_and_the_summary(tmp_path, capsys):
+    """[[failures]] in a case file; the event in summary.json and in the printed table."""
+    text = (Path(__file__).resolve().parents[2] / "examples" / "network_buoy.toml").read_text()
+    lines = re.findall(r'(?m)^\[\[lines\]\]\s*\nname = "([^"]+)"\s*\ntype = "[^"]+"\s*\n'
+                       r'a = "([^"]+)"\s*\nb = "([^"]+)"', text)
+    name, a, _b = lines[0]
+    case = tmp_path / "failing.toml"
+    case.write_text(text + f'\n[[failures]]\npoint = "{a}"\nlines = ["{name}"]\ntime = 0.5\n')
+    out = tmp_path / "out"
+    assert cli.main(["run", str(case), "--out", str(out), "--quiet", "--no-export",
+                     "--no-animation", "--duration", "1"]) == 0
+    said = capsys.readouterr().out
+    assert f"line failure: {name} released from {a} at t = 0.5 s (time" in said
+    info = json.loads((out / "summary.json").read_text())
+    assert info["line_failures"][0]["time"] == pytest.approx(0.5)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text + '\n[[failures]]\npoint = "nowhere"\nlines = ["x"]\ntime = 0.5\n')
+    assert cli.main(["run", str(bad), "--out", str(tmp_path / "o2"), "--quiet"]) == 2
+    assert "failures[0].point" in capsys.readouterr().err
+
+
+def test_what_a_failure_does_not_run_with_is_refused_up_front(tmp_path):
+    """Checkpoints and terms of one's own cannot follow a release yet: refused before the
+    run, naming why (not a crash at the failure)."""
+    path = deck_with(tmp_path, f"1  1  1  {RELEASE}  0")
+    with pytest.raises(ValueError, match="line failures and checkpoints"):
+        skmoor.simulate(skmoor.build(path), duration=2.0, dt=0.01, progress=False,
+                        out=tmp_path / "o", checkpoint_every=1.0)
+    model = skmoor.build(path)
+    model.add(skmoor.PointLoad(lambda x, v, t: 0.0 * x, point="point3"))
+    with pytest.raises(ValueError, match="terms of your own"):
+        skmoor.simulate(model, duration=2.0, dt=0.01, progress=False)
+
+
+def host_run(module, path, duration, coupling=0.01, break_at=None, **create):
+    """A host's loop on ``path`` (MoorDyn's Python interface, or skmoor's): line 2's
+    force at vessel 2 (N) after each Step, line 1 broken off point 1 at ``break_at``."""
+    md = module.Create(str(path), **create)
+    vessels = [-40.0, 0.0, -5.0, 40.0, 0.0, -5.0]
+    module.Init(md, vessels, [0.0] * 6)
+    out = []
+    for k in range(int(round(duration / coupling))):
+        tk = k * coupling
+        if break_at is not None and abs(tk - break_at) < 1e-9:
+            module.BreakLine(md, module.GetPoint(md, 1), module.GetLine(md, 1))
+        module.Step(md, vessels, [0.0] * 6, tk, coupling)
+        out.append(np.linalg.norm(module.GetLineNodeTen(module.GetLine(md, 2), 0)))
+    return md, np.array(out)
+
+
+def test_a_host_breaks_a_line_or_the_deck_does(tmp_path, monkeypatch):
+    """skmoor's MoorDyn interface: BreakLine between two Steps (MoorDyn's call) and a
+    deck's FAILURE entry firing inside Step give the run skmoor.simulate makes of the
+    deck (5 substeps of 2 ms per 10 ms call: the same steps); BreakLine adds a point."""
+    from skmoor import moordyn as host
+
+    monkeypatch.chdir(tmp_path)
+    failing = deck_with(tmp_path, f"1  1  1  {RELEASE}  0")
+    results = skmoor.simulate(skmoor.build(failing), duration=3.0, dt=0.002,
+                              output_interval=0.01, progress=False)
+    expected = results.anchor_tension[1:, 1]
+    broken, by_call = host_run(host, HANGING, 3.0, break_at=RELEASE, substeps=5)
+    assert host.GetNumberPoints(broken) == 4
+    assert broken.model.network.points[-1].name == "point1.released"
+    by_deck, fired = host_run(host, failing, 3.0, substeps=5)
+    assert [e["time"] for e in by_deck.line_failures] == [pytest.approx(RELEASE)]
+    for series in (by_call, fired):
+        np.testing.assert_allclose(series, expected, rtol=1e-4)
+    assert expected[int(RELEASE / 0.01) + 3] < 0.6 * expected[0]  # the release's stress wave
+    with pytest.raises(ValueError, match="does not end at point 1"):
+        host.BreakLine(broken, host.GetPoint(broken, 1), host.GetLine(broken, 2))
