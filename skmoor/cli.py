@@ -249,7 +249,7 @@ def _animate(results, out, quiet, scale=None, camera="iso"):
 
     scale = default_scale(results) if scale is None else scale
     snapshot(results, len(results.t) - 1, out / "snapshot.png", scale=scale, camera=camera)
-    for name, frames, size in (("animation.mp4", 300, (1024, 768)), ("animation.gif", 80, (480, 360))):
+    for name, frames, size in (("animation.mp4", 300, (1024, 768)), ("animation.gif", 80, (800, 600))):
         every = max(1, len(results.t) // frames)
         n = animate(results, out / name, every=every, scale=scale, camera=camera, window_size=size,
                     progress=not quiet)

@@ -326,18 +326,44 @@ class _ModeScene(_Scene):
 
 def _record(scene, frames, path, fps, progress):
     pl = scene.plotter
+    gif = path.suffix == ".gif"
+    images = []
     try:
-        if path.suffix == ".gif":
-            pl.open_gif(str(path), fps=fps)
-        else:
+        if not gif:
             pl.open_movie(str(path), framerate=fps, quality=7)
         for k in tqdm(frames, desc=f"render {path.name}", unit="frame",
                       disable=not progress or len(frames) < 30):
             scene.show(k)
-            pl.write_frame()
+            if gif:
+                if images:  # (the first screenshot renders the scene itself)
+                    pl.render()
+                images.append(pl.screenshot(return_img=True))
+            else:
+                pl.write_frame()
     finally:
         pl.close()
+    if gif:
+        write_gif(images, path, fps)
     return len(frames)
+
+
+def write_gif(images, path, fps):
+    """A looping GIF of RGB frames (h, w, 3 uint8) at ``fps``: one 256-colour palette
+    for every frame (taken from frames across the run: no flicker between frames) and
+    Floyd-Steinberg dithering, so that the colour bar's gradient stays continuous
+    instead of falling into bands."""
+    from PIL import Image
+
+    frames = [Image.fromarray(np.ascontiguousarray(image[..., :3])) for image in images]
+    picked = frames[:: max(1, len(frames) // 8)][:8]  # the palette's sample of the run
+    sample = Image.new("RGB", (picked[0].width, picked[0].height * len(picked)))
+    for k, frame in enumerate(picked):
+        sample.paste(frame, (0, k * frame.height))
+    palette = sample.quantize(colors=256, method=Image.Quantize.MEDIANCUT)
+    coded = [frame.quantize(palette=palette, dither=Image.Dither.FLOYDSTEINBERG)
+             for frame in frames]
+    coded[0].save(path, save_all=True, append_images=coded[1:], loop=0,
+                  duration=round(1000 / fps), optimize=False)
 
 
 def _nice_range(lo, hi):

@@ -82,6 +82,32 @@ def test_animate_gif(results, tmp_path):
     assert np.abs(frames[0].astype(float) - frames[3]).mean() > 0.1
 
 
+def test_gif_colour_bar_is_continuous(results, tmp_path):
+    """The GIF's colour bar keeps its gradient (one palette for the run, dithered): along
+    the bar, smoothed over 9 rows, the colour changes on most rows, as in the true-colour
+    snapshot. A GIF quantized per frame without dithering (pyvista's own writer) bands the
+    bar into ~5 steps: over 80 % of its rows flat, steps of 12 levels."""
+    from scipy.ndimage import uniform_filter1d
+
+    size = (480, 360)
+    true = _rgb(render.snapshot(results, 0, tmp_path / "true.png", window_size=size))
+    render.animate(results, tmp_path / "run.gif", every=8, window_size=size, progress=False)
+    gif = iio.imread(tmp_path / "run.gif", index=None)[0][..., :3].astype(float)
+    saturation = true.max(axis=2) - true.min(axis=2)
+    right = np.arange(int(0.75 * size[0]), size[0])
+    x = int(right[np.argmax([(saturation[:, c] > 80).sum() for c in right])])
+    rows = np.flatnonzero(saturation[:, x] > 80)
+    assert len(rows) > 0.3 * size[1]  # the bar, found in the snapshot
+    bar = np.s_[rows.min() + 3:rows.max() - 3, x - 1:x + 2]
+
+    def steps(image):
+        along = uniform_filter1d(image[bar].mean(axis=1), 9, axis=0)
+        return np.abs(np.diff(along, axis=0)).sum(axis=1)
+
+    assert (steps(true) < 0.5).mean() < 0.05
+    assert (steps(gif) < 0.5).mean() < 0.6 and steps(gif).max() < 9
+
+
 def test_animate_mp4_real_time_default(results, tmp_path):
     # samples every 0.2 s at 5 frames per second: every sample, in real time
     n = render.animate(results, tmp_path / "run.mp4", fps=5, window_size=SIZE, progress=False)
