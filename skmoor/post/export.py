@@ -11,7 +11,8 @@ go into the VTU series as a third part, one vertex per point, with point data ``
 1 free, 2 coupled, 3 on a body; -1 unknown), ``displacement`` (m, from
 ``results.point_reference``) and ``mass`` (kg, from ``results.meta["point_masses"]``
 when the run has it, else 0). In ``motion.pvd`` the lines are part 0, the body's box
-part 1 and the points part 2 (``motion/lines_*.vtu``, ``body_*.vtu``, ``points_*.vtu``);
+part 1 and the points part 2 (``motion/lines_*.vtu``, ``body_*.vtu``, ``points_*.vtu``),
+named ``lines``, the body's name and ``points`` (ParaView's block names);
 ParaView shows the points with the Point Gaussian representation or the Glyph filter.
 """
 from __future__ import annotations
@@ -86,7 +87,8 @@ def write_vtu_series(results, folder, samples=None) -> Path:
     """One VTU of the moved lines per sample (``samples``: the indices, default all), of
     the body's box when it has one and of the network's points when the results have them
     (see the module docstring), in ``folder/motion/`` (cleared of earlier frames first),
-    indexed by ``folder/motion.pvd`` (parts 0, 1, 2: lines, body, points). Returns the
+    indexed by ``folder/motion.pvd`` (parts 0, 1, 2: lines, body, points; ParaView's blocks
+    named ``lines``, the body's name and ``points``). Returns the
     path of the PVD."""
     folder = Path(folder)
     (folder / "motion").mkdir(parents=True, exist_ok=True)
@@ -94,6 +96,9 @@ def write_vtu_series(results, folder, samples=None) -> Path:
         old.unlink()
     entries = []
     points = _network_points(results)
+    dynamic = [n for n, k in zip(results.body_names, results.meta.get("body_kinds", []))
+               if k == "dynamic"]
+    body_name = (dynamic or list(results.body_names) or ["body"])[0]
     samples = range(len(results.t)) if samples is None else samples
     for i in samples:
         t = results.t[i]
@@ -101,18 +106,18 @@ def write_vtu_series(results, folder, samples=None) -> Path:
         meshio.write(folder / name, meshio.Mesh(
             results.positions(i), [("line", results.cells)],
             point_data=_point_data(results, i), cell_data=_cell_data(results, i)))
-        entries.append((t, 0, name))
+        entries.append((t, 0, name, "lines"))
         if has_box(results):
             name = f"motion/body_{i:04d}.vtu"
             meshio.write(folder / name, meshio.Mesh(box_points(results, i), [("quad", BOX_FACES)]))
-            entries.append((t, 1, name))
+            entries.append((t, 1, name, body_name))
         if points is not None:
             name = f"motion/points_{i:04d}.vtu"
             displacement = np.asarray(results.point_displacement[i], float)
             meshio.write(folder / name, meshio.Mesh(
                 results.point_reference + displacement, [("vertex", points["vertices"])],
                 point_data={**points["data"], "displacement": displacement}))
-            entries.append((t, 2, name))
+            entries.append((t, 2, name, "points"))
     return _write_pvd(folder / "motion.pvd", entries)
 
 
@@ -163,7 +168,7 @@ def write_mode_series(points, cells, shape, period, folder, n_frames=24, scale=N
         file = f"{name}/{name}_{k:04d}.vtu"
         meshio.write(folder / file, meshio.Mesh(points + u, [("line", cells)],
                                                 point_data={"displacement": u, "shape": shape}))
-        entries.append((t, 0, file))
+        entries.append((t, 0, file, name))
     return _write_pvd(folder / f"{name}.pvd", entries)
 
 
@@ -211,12 +216,13 @@ def _cell_data(results, i):
 
 
 def _write_pvd(path, entries):
-    """PVD index of (time s, part, relative file) entries."""
+    """PVD index of (time s, part, relative file, name) entries: ParaView names each
+    part's block after its ``name`` attribute."""
     root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
     collection = ET.SubElement(root, "Collection")
-    for t, part, file in entries:
+    for t, part, file, name in entries:
         ET.SubElement(collection, "DataSet", timestep=repr(float(t)), group="",
-                      part=str(part), file=file)
+                      part=str(part), name=name, file=file)
     ET.indent(root)
     ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
     return Path(path)

@@ -328,6 +328,7 @@ class Recorder:
         bending = bool(lines.hermite)
         meta = {**meta, "has_body": bool(network.bodies), "bending": bending,
                 "point_kinds": [p.kind for p in self.points],
+                "body_kinds": [b.kind for b in network.bodies],
                 "point_masses": [p.mass for p in self.points],
                 **line_strength_meta(lines.lines)}
         return Results(t=r["t"], body=bodies[:, 0] if network.bodies else np.zeros((nt, 6)),

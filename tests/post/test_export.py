@@ -68,6 +68,23 @@ def test_pvd_series_read_by_pyvista(results, tmp_path):
         np.testing.assert_allclose(body.points, box_points(results, i), rtol=1e-14)
 
 
+def test_pvd_blocks_are_named_after_what_they_hold(results, tmp_path):
+    """ParaView names a PVD part's block after its DataSet's ``name``: the lines, the
+    drawn body (the first dynamic one) and the points, not Block-00..02."""
+    import dataclasses
+    import xml.etree.ElementTree as ET
+
+    named = dataclasses.replace(
+        results, body_names=["hull", "tower"], body_reference=np.zeros((2, 3)),
+        bodies=np.zeros((len(results.t), 2, 6)),
+        meta={**results.meta, "body_kinds": ["fixed", "dynamic"]},
+        point_names=["anchor", "fairlead"], point_reference=np.zeros((2, 3)),
+        point_displacement=np.zeros((len(results.t), 2, 3)))
+    pvd = write_vtu_series(named, tmp_path, samples=[0, 1])
+    names = {(d.get("part"), d.get("name")) for d in ET.parse(pvd).iter("DataSet")}
+    assert names == {("0", "lines"), ("1", "tower"), ("2", "points")}
+
+
 def test_box_moves_rigidly(results):
     for i in (0, 5, 20):
         corners = box_points(results, i)
