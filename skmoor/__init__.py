@@ -26,7 +26,7 @@ from .bodies.loads import BodyLoad, PointLoad
 from .bodies.motion import Motion, Record, fade_in
 from .bodies.radiation import PotentialFlow
 from .coupling import rods
-from .coupling.network import Body, MooringLine, Network, Point
+from .coupling.network import Body, LineFailure, MooringLine, Network, Point
 from .coupling.system import Ends, PointMass, System
 from .fem.terms import LineForm, TangentCheck, Term, check_tangent
 from .io.case import Case, paper_case
@@ -58,7 +58,7 @@ __all__ = [
     "write_outputs", "equilibrium", "static_results", "Results", "LineType", "Line", "LineSet",
     "read_line_mesh", "write_line_mesh", "Catenary", "solve_catenary", "RigidBody",
     "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
-    "Scheme", "DivergenceError", "BodyLoad", "PointLoad", "LineForm", "check_tangent",
+    "LineFailure", "Scheme", "DivergenceError", "BodyLoad", "PointLoad", "LineForm", "check_tangent",
     "TangentCheck", "laws", "Paper", "Engineering", "Curve", "StaticDynamic", "UserLaw", "Sea", "Current", "AiryWave", "JonswapWave",
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
