@@ -394,7 +394,7 @@ def _held_inertia(system):
                      for A, shape in zip((on_free, on_driven), shapes)))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _less_held_inertia(held, a, driven, ends):
     """ends[slots] -= M[e] P0 a + M[e, p] driven (N) for held = (slots, M[e] P0, M[e, p])
     in CSR (a: reduced accelerations, driven: the prescribed ends', m/s2)."""
@@ -408,7 +408,7 @@ def _less_held_inertia(held, a, driven, ends):
         ends[slots[j]] -= s
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _report(x, v, model, inputs, work, report_dofs, resting, u, ud, ends):
     """The full line state (u, ud) at (x, v) and the end forces -R_full[report_dofs]
     (N) plus the flat bed's support of held ends resting on it (``resting``, from
@@ -432,7 +432,7 @@ def _report(x, v, model, inputs, work, report_dofs, resting, u, ud, ends):
     return 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _user_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C):
     """Adds the user LineForms (their C functions, by address) into the full residual
     and the element blocks."""
@@ -444,7 +444,7 @@ def _user_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C):
                   1 if tangent else 0)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _user_loads(forms, x, v, t, tangent, columns, nf, R):
     """R -= F of the user point and body loads (their C functions, by address) and, with
     ``tangent``, their dF/dq, dF/dqdot into the forms' slopes for :func:`_assemble`."""
@@ -467,7 +467,7 @@ def _user_loads(forms, x, v, t, tangent, columns, nf, R):
                     slopes[k, 1, c, d] = out[n + n * n + n * c + d]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _user_load_slopes(forms, columns, wK, wV, kv, ab, D):
     """-(wK dF/dq + wV dF/dqdot) of the user point and body loads into the Newton
     matrix: a point's into the band ``ab`` (kv: its diagonal row), a body's into D."""
@@ -484,7 +484,7 @@ def _user_load_slopes(forms, columns, wK, wV, kv, ab, D):
                     D[6 * targets[k, 1] + c, 6 * targets[k, 1] + d] += value
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _rotation_second_slopes(angles):
     """d2R / d angle_a d angle_b (3, 3, 3, 3) of R = Rz Ry Rx (rad)."""
     axes = np.zeros((3, 3, 3, 3))  # [axis, derivative order, 3, 3]
@@ -515,7 +515,7 @@ def _rotation_second_slopes(angles):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud):
     """The body ends' displacements q[:3] + R r - r and velocities into u, ud, their
     Jacobian d/dq into J (one body per 6 DOFs from nf; at least one end)."""
@@ -546,7 +546,7 @@ def _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud):
 
 
 # (over 100 lines: the residual of every lowered kind in one compiled pass over the state)
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _residual(x, v, model, inputs, tangent, work, R):
     """R(x, v, t) reduced (N, N m) into R, with the inputs (body loads, prescribed
     displacements and velocities, the time t) of the step; with ``tangent`` the element
@@ -646,7 +646,7 @@ def _residual(x, v, model, inputs, tangent, work, R):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _product(matrix, x, out):
     """out = A x for A = (data, indices, indptr) in CSR."""
     data, indices, indptr = matrix
@@ -657,7 +657,7 @@ def _product(matrix, x, out):
         out[i] = s
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _combine(out, a, A, b, B):
     """out = a A + b B (2-D arrays of one shape)."""
     for i in range(out.shape[0]):
@@ -665,7 +665,7 @@ def _combine(out, a, A, b, B):
             out[i, j] = a * A[i, j] + b * B[i, j]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, damped, width,
               factors):
     """The Newton matrix cx M + (1 - af)(cv (C + Kv) + K) into the factor arrays, from
@@ -750,7 +750,7 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
                         ab[kv + rc - rd, rd] += wV * value
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, factors,
              state, work, B):
     """-(the alpha-level balance at x1 = y) into B (``dynamics.integrate``'s balance), and
@@ -784,7 +784,7 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
     return SOLVED
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _solve(B, factors, width):
     """B <- A^-1 B with the factorized Newton matrix: the largest entry, inf when one is
     not finite."""
@@ -798,7 +798,7 @@ def _solve(B, factors, width):
     return size
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driven, factors,
              state, work, x1):
     """One step of ``dynamics.integrate`` (its ``advance``) with the prescribed ends'
@@ -892,7 +892,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _distance(a, b):
     """max |a - b|."""
     out = 0.0
@@ -901,7 +901,7 @@ def _distance(a, b):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _norm(b):
     s = 0.0
     for i in range(b.size):
