@@ -117,6 +117,10 @@ class Host:
                                                            lines.fairlead_nodes)]
         self._ends = self._point_ends()
         self._offsets = coupled_offsets(network)
+        # MoorDyn's points, numbered as it does: the deck's POINTS (the network also holds
+        # the rods' ends), then the points a failure adds
+        names = [p.name for p in network.points]
+        self.points = [names.index(f"point{p.id}") for p in self.model.source.points]
         self._rayleigh = (0.0, 0.0)
         self.line_failures = []  # the deck's failures so far: failures.Event.as_dict() each
         self._broken = 0  # BreakLine calls so far
@@ -194,6 +198,7 @@ class Host:
         u, ud = system.full_state(x, v, st.t)
         self._last = (u, ud, system.end_forces(u, ud, st.t, self.stepping.a))
         self._ends = self._point_ends()
+        self.points.append(len(self.model.network.points) - 1)
 
     def coupled_forces(self) -> np.ndarray:
         """The lines' forces (N) and moments (N m) on the coupled DOFs, MoorDyn's order."""
@@ -362,12 +367,14 @@ def BreakLine(instance: Host, point: _Point, line: _Line) -> None:
 
 
 def GetNumberPoints(instance: Host) -> int:
-    return len(instance.model.network.points)
+    """The deck's points and those line failures added (MoorDyn's count)."""
+    return len(instance.points)
 
 
 def GetPoint(instance: Host, point: int) -> _Point:
-    """Point ``point`` (from 1, MoorDyn's numbering)."""
-    return _Point(instance, _index("GetPoint", "point", point, GetNumberPoints(instance)))
+    """Point ``point`` (from 1, MoorDyn's numbering: the deck's POINTS IDs)."""
+    index = _index("GetPoint", "point", point, GetNumberPoints(instance))
+    return _Point(instance, instance.points[index])
 
 
 def _index(call, what, number, count) -> int:

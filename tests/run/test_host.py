@@ -195,3 +195,26 @@ def test_coupled_body_forces_against_moordyn(workdir):
     assert force > 5e6 and moment > 1e7  # the chains' weight and the pitched pose's moment
     assert np.max(np.abs(sk_f[:3] - md_f[:3])) < 0.01 * force
     assert np.max(np.abs(sk_f[3:] - md_f[3:])) < 0.01 * moment
+
+
+def test_points_are_numbered_as_moordyn_numbers_them(tmp_path, monkeypatch):
+    """A deck with a rod: MoorDyn's points are the deck's POINTS (the rod's ends are not
+    among them), so GetPoint(md, 2) is POINTS ID 2 in both libraries."""
+    monkeypatch.chdir(tmp_path)
+    deck = ROOT / "tests" / "decks" / "rods" / "buoy_on_a_rod.dat"
+    (tmp_path / deck.name).write_text(deck.read_text())
+    found = {}
+    for lib in (moordyn, skmoordyn):
+        md = lib.Create(str(tmp_path / deck.name))
+        try:
+            lib.Init(md, [], [])
+            found[lib] = (lib.GetNumberPoints(md),
+                          [np.asarray(lib.GetPointPos(lib.GetPoint(md, k)), float)
+                           for k in (1, 2)])
+        finally:
+            lib.Close(md)
+    assert found[skmoordyn][0] == found[moordyn][0] == 2
+    for ours, theirs, given in zip(found[skmoordyn][1], found[moordyn][1],
+                                   ([-2.0, 0.0, -50.0], [2.0, 0.0, -50.0])):
+        np.testing.assert_allclose(theirs, given, atol=1e-9)
+        np.testing.assert_allclose(ours, given, atol=1e-9)
