@@ -5,6 +5,7 @@ tolerance must read FAIL. Its run time is the report's own line, never asserted 
 """
 import re
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -136,3 +137,20 @@ def test_user_forms_benchmark_sets_up_the_drag_on_every_path():
     assert all(row["compiled"] for row in case.values())
     text = user_forms.report([(11, row)], case, user_forms.environment(), True, 0.0)
     assert "| 11 | " in text and "left out" in text and "user law" in text
+
+
+def test_farm_benchmark_builds_the_farm_it_says(capsys):
+    """benchmarks/farm.py on 4 platforms of 10-segment lines: 4 x 3 lines x 9 inner nodes
+    x 3 DOFs unknowns; the 12 lowest modes are the 12 lines' first modes: one platform's
+    three lowest periods, each four times (its lines differ by the deck's mm rounding)."""
+    import farm
+
+    farm.main(["--platforms", "4", "--segments", "10"])
+    out = capsys.readouterr().out
+    assert "4 platforms, 12 lines of 10 segments: 324 unknowns" in out
+    with tempfile.TemporaryDirectory() as folder:
+        one = skmoor.equilibrium(skmoor.build(farm.farm_deck(1, 10, Path(folder))))
+        four = skmoor.equilibrium(skmoor.build(farm.farm_deck(4, 10, Path(folder))))
+    lowest = np.sort(np.repeat(one.modes.periods[:3], 4))  # each line's first mode, 4 times
+    np.testing.assert_allclose(np.sort(four.modes.periods), lowest, rtol=1e-8)
+    assert one.modes.periods[3] < 0.99 * one.modes.periods[2]  # the next mode is apart
