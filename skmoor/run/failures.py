@@ -45,32 +45,29 @@ class Event:
                 "trigger": self.trigger, "time": self.t, "tension": self.tension}
 
 
-def end_tensions(model: Model, failure: LineFailure, reactions) -> np.ndarray:
-    """Tension (N) at each of the failure's line ends, from a step's end forces
-    ((fairlead, anchor): the lines' B and A ends, (nlines, 3) N each)."""
-    fair, anchor = reactions
-    names = [ln.name for ln in model.network.lines]
-    out = []
-    for name in failure.lines:
-        k = names.index(name)
-        force = anchor[k] if model.network.lines[k].a == failure.point else fair[k]
-        out.append(float(np.linalg.norm(force)))
-    return np.array(out)
+def end_sides(model: Model, failure: LineFailure) -> list:
+    """(line index, 1 for its end A / 0 for its end B) of each of the failure's lines at
+    its point."""
+    lines = model.network.lines
+    index = {ln.name: k for k, ln in enumerate(lines)}
+    return [(index[name], int(lines[index[name]].a == failure.point)) for name in failure.lines]
 
 
 def watch(model: Model, dt: float):
     """A function of a State that raises :class:`Released` for the first of the model's
     failures that fires at it (time reached within round-off of the step, or a line end's
-    tension at or above the threshold); None when the model has none."""
-    failures = list(model.network.failures)
-    if not failures:
+    tension at or above the threshold: the end forces (fairlead, anchor) of the step's
+    report, the lines' B and A ends); None when the model has none."""
+    plan = [(failure, end_sides(model, failure)) for failure in model.network.failures]
+    if not plan:
         return None
 
     def check(state):
-        for failure in failures:
-            tensions = (end_tensions(model, failure, state.reactions)
-                        if state.reactions is not None else np.zeros(0))
-            largest = float(tensions.max(initial=0.0))
+        for failure, sides in plan:
+            largest = 0.0
+            if state.reactions is not None:
+                largest = max(float(np.linalg.norm(state.reactions[side][k]))
+                              for k, side in sides)
             if failure.time is not None and state.t >= failure.time - 1e-6 * dt:
                 raise Released(Event(failure, "time", state.t, largest), state)
             if failure.tension is not None and largest >= failure.tension:
