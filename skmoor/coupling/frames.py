@@ -63,6 +63,21 @@ class BodyFrames:
         """Count every body's angles from the global frame again (as built)."""
         self._init_frames()
 
+    def use_frames(self, frames):
+        """Count the bodies' angles from ``frames`` (per body a rotation (3, 3) or None,
+        as :attr:`frames` holds them; another system's of the same bodies, e.g. before a
+        line failure), the line ends on them placed as :meth:`rebase` places them."""
+        self._init_frames()
+        for k, frame in enumerate(frames):
+            if frame is None:
+                continue
+            self.frames[k] = np.array(frame, float)
+            rows = self.dofs.body_rows[k]
+            if len(rows):
+                r0 = self.dofs.r_local0[k]
+                self.frame_r_local[k] = r0 @ self.frames[k].T
+                self._end_offsets[rows] = self.frame_r_local[k] - r0
+
     def body_rotation(self, x, body=0) -> np.ndarray:
         """The attitude R (3, 3) of body ``body`` in the reduced state x (its angles
         counted from its re-based frame, :meth:`rebase`)."""

@@ -10,7 +10,6 @@ balance (a release is a jump in the acceleration, not in the position or velocit
 """
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -23,11 +22,12 @@ from .equilibrium import steady_water
 
 class Released(Exception):
     """A failure fired at ``state`` (a :class:`~skmoor.solvers.dynamics.State`): raised out
-    of the time loop by :func:`watch`."""
+    of the time loop by :func:`watch`. ``frames``: the system's body frames then (the loop
+    resets them as it ends; the state's body angles are counted from them)."""
 
-    def __init__(self, event, state):
+    def __init__(self, event, state, frames):
         super().__init__(f"{event.failure.point}: released at t = {state.t:g} s")
-        self.event, self.state = event, state
+        self.event, self.state, self.frames = event, state, frames
 
 
 @dataclass
@@ -62,6 +62,9 @@ def watch(model: Model, dt: float):
     if not plan:
         return None
 
+    def fired(event, state):
+        return Released(event, state, frames_of(model.system))
+
     def check(state):
         for failure, sides in plan:
             largest = 0.0
@@ -69,9 +72,9 @@ def watch(model: Model, dt: float):
                 largest = max(float(np.linalg.norm(state.reactions[side][k]))
                               for k, side in sides)
             if failure.time is not None and state.t >= failure.time - 1e-6 * dt:
-                raise Released(Event(failure, "time", state.t, largest), state)
+                raise fired(Event(failure, "time", state.t, largest), state)
             if failure.tension is not None and largest >= failure.tension:
-                raise Released(Event(failure, "tension", state.t, largest), state)
+                raise fired(Event(failure, "tension", state.t, largest), state)
     return check
 
 
@@ -125,19 +128,30 @@ def released_damping(model: Model, rayleigh, x, t):
     return C
 
 
-def carried_state(old: Model, new: Model, x, v, t) -> tuple:
+def frames_of(system):
+    """A copy of a system's re-based body frames (:attr:`~skmoor.coupling.frames.BodyFrames.frames`),
+    None when no body is re-based."""
+    frames = getattr(system, "frames", ())
+    if not any(frame is not None for frame in frames):
+        return None
+    return [None if frame is None else frame.copy() for frame in frames]
+
+
+def carried_state(old: Model, new: Model, x, v, t, frames=None) -> tuple:
     """(x, v) of ``new`` with every line node, point and body where ``old`` has them at
-    (x, v, t); the bodies' re-based frames carried over."""
+    (x, v, t); the bodies' angles counted from ``frames`` (:func:`frames_of` the old
+    system at that state; default: its present ones) in both systems."""
     before, after = old.system, new.system
+    frames = frames_of(before) if frames is None else frames
+    if frames is not None:
+        before.use_frames(frames)
     u, ud = before.full_state(x, v, t)
     x_new, v_new = np.zeros(after.n), np.zeros(after.n)
     dofs = after.dofs
     x_new[dofs.columns], v_new[dofs.columns] = u[dofs.free], ud[dofs.free]
     x_new[after.nf:], v_new[after.nf:] = x[before.nf:], v[before.nf:]
-    if any(frame is not None for frame in getattr(before, "frames", ())):
-        after.frames, after.frame_r_local, after._end_offsets = copy.deepcopy(
-            (before.frames, before.frame_r_local, before._end_offsets))
-        after._attachment_cache = (None, None, None)
+    if frames is not None:
+        after.use_frames(frames)
     return x_new, v_new
 
 

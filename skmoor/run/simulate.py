@@ -211,7 +211,8 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
                     failure = fired.event.failure
                     running = failures.released(before, failure.point, failure.lines, [
                         f for f in before.network.failures if f is not failure])
-                    x0, v0 = failures.carried_state(before, running, state.x, state.v, state.t)
+                    x0, v0 = failures.carried_state(before, running, state.x, state.v,
+                                                    state.t, fired.frames)
                     C = failures.released_damping(running, eq.rayleigh, x0, state.t)
                     t0, first = state.t, first + state.step
                     recorder.follow(running)

@@ -224,3 +224,32 @@ def test_a_host_breaks_a_line_or_the_deck_does(tmp_path, monkeypatch):
     assert expected[int(RELEASE / 0.01) + 3] < 0.6 * expected[0]  # the release's stress wave
     with pytest.raises(ValueError, match="does not end at point 1"):
         host.BreakLine(broken, host.GetPoint(broken, 1), host.GetLine(broken, 2))
+
+
+def test_a_rebased_body_keeps_its_frame_in_the_released_model():
+    """A failure after a body was re-based (exact rotations past 60 deg of pitch): the
+    released model counts the body's angles from the same frame (``use_frames``) with its
+    own line ends placed on it, so that every line node and the body sit where they were.
+    Here: buoy_on_a_rod.dat's body pitched 70 deg and re-based, line 2 released from the
+    rod's end B."""
+    from skmoor.run import failures
+
+    model = skmoor.build(DECKS / "rods" / "buoy_on_a_rod.dat", rotations="exact")
+    system = model.system
+    x, v = np.zeros(system.n), np.zeros(system.n)
+    x[system.nf:system.nf + 6] = [0.3, 0.0, 0.2, 0.1, np.radians(70.0), 0.2]
+    v[system.nf:system.nf + 6] = [0.1, 0.0, 0.0, 0.0, 0.5, 0.0]
+    turned = system.rebase(x, v)
+    assert turned is not None and system.frames[0] is not None
+    x, v = turned
+    u_before, ud_before = system.full_state(x, v)
+    pose = system.body_pose(x)
+    frames = failures.frames_of(system)
+    system.reset_frames()  # as the time loop leaves it when a failure stops it
+    after = failures.released(model, "rod1.B", ["line2"])
+    x_new, v_new = failures.carried_state(model, after, x, v, 0.0, frames)
+    u_after, ud_after = after.system.full_state(x_new, v_new)
+    np.testing.assert_allclose(u_after, u_before, atol=1e-12)
+    np.testing.assert_allclose(ud_after, ud_before, atol=1e-12)
+    np.testing.assert_allclose(after.system.body_pose(x_new), pose, atol=1e-12)
+    assert np.abs(u_before).max() > 1.0  # the body did turn the lines' ends
