@@ -59,8 +59,8 @@ from .run import failures
 from .run.equilibrium import equilibrium
 from .solvers.dynamics import Scheme, Stepping, checkpoint_bytes
 
-__all__ = ["Create", "Init", "Step", "Close", "BreakLine", "NCoupledDOF", "GetNumberLines", "GetLine",
-           "GetLineN", "GetLineNumberNodes", "GetLineFairTen", "GetLineNodePos",
+__all__ = ["Create", "Init", "Step", "Close", "BreakLine", "NCoupledDOF", "GetNumberLines",
+           "GetLine", "GetLineN", "GetLineNumberNodes", "GetLineFairTen", "GetLineNodePos",
            "GetLineNodeVel", "GetLineNodeTen", "GetNumberPoints", "GetPoint",
            "GetPointPos", "GetPointVel", "GetPointForce", "GetNumberBodies", "SaveState",
            "LoadState", "Serialize", "Deserialize", "Save", "Load", "Host"]
@@ -122,8 +122,9 @@ class Host:
         names = [p.name for p in network.points]
         self.points = [names.index(f"point{p.id}") for p in self.model.source.points]
         self._rayleigh = (0.0, 0.0)
+        self._watch = failures.watch(self.model)  # the deck's FAILURE entries
         self.line_failures = []  # the deck's failures so far: failures.Event.as_dict() each
-        self._broken = 0  # BreakLine calls so far
+        self._releases = 0  # line ends let go so far (FAILURE entries and BreakLine calls)
 
     def _host_motion(self):
         self._motion = _HostMotion(0)
@@ -170,14 +171,13 @@ class Host:
         state = self.stepping.advance(float(dt) / self.substeps, self.substeps, report=True)
         (u, ud), ends = state.full_state, state.reactions
         self._last = (u, ud, ends)
-        watch = failures.watch(self.model, float(dt))
         try:
-            if watch is not None:
-                watch(state)
+            if self._watch is not None:
+                self._watch(state)
         except failures.Released as fired:  # the deck's FAILURE entry: go on released
             failure = fired.event.failure
-            self.release(failure.point, failure.lines, [
-                f for f in self.model.network.failures if f is not failure])
+            self.release(failure.point, failure.lines,
+                         failures.still_to_come(self.model, failure))
             self.line_failures.append(fired.event.as_dict())
         return self.coupled_forces()
 
@@ -185,20 +185,21 @@ class Host:
         """Release the ends of ``lines`` (names) from ``point`` (a name) at the present
         state (:func:`skmoor.run.failures.released`): the run goes on with the new model,
         its positions and velocities carried over."""
-        before, st = self.model, self.stepping
-        why_not = failures.refused(before, False)
+        st = self.stepping
+        why_not = failures.refused(self.model, False)
         if why_not:
             raise ValueError(f"moordyn: {why_not}")
-        self.model = failures.released(before, point, lines, remaining)
+        self.model, x, v, C = failures.release(self.model, point, lines, st.x, st.v, st.t,
+                                               self._rayleigh, remaining)
         system = self.model.system
-        x, v = failures.carried_state(before, self.model, st.x, st.v, st.t)
-        C = failures.released_damping(self.model, self._rayleigh, x, st.t)
         self.stepping = Stepping(system, x, v, t0=st.t, C=C, scheme=self.scheme,
                                  compiled=self.model.solver.get("compiled", True))
         u, ud = system.full_state(x, v, st.t)
         self._last = (u, ud, system.end_forces(u, ud, st.t, self.stepping.a))
         self._ends = self._point_ends()
         self.points.append(len(self.model.network.points) - 1)
+        self._watch = failures.watch(self.model)
+        self._releases += 1
 
     def coupled_forces(self) -> np.ndarray:
         """The lines' forces (N) and moments (N m) on the coupled DOFs, MoorDyn's order."""
@@ -242,10 +243,10 @@ class Host:
         m = self._motion
         return {"stepping": self.stepping.checkpoint(), "last": self._last,
                 "motion": (m.t0, m.y0.copy(), m.yd.copy()),
-                "released": len(self.line_failures) + self._broken}
+                "released": self._releases}
 
     def restore(self, saved):
-        if saved.get("released", 0) != len(self.line_failures) + self._broken:
+        if saved.get("released", 0) != self._releases:
             raise ValueError("moordyn: this checkpoint was taken before a line failure of "
                              "this run; restoring across a release is not supported")
         self.stepping.restore(saved["stepping"])
@@ -363,7 +364,6 @@ def BreakLine(instance: Host, point: _Point, line: _Line) -> None:
         raise ValueError(f"moordyn.BreakLine: line {line.k + 1} does not end at point "
                          f"{point.i + 1}")
     instance.release(p.name, [ln.name])
-    instance._broken += 1
 
 
 def GetNumberPoints(instance: Host) -> int:

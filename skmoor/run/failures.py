@@ -53,9 +53,9 @@ def end_sides(model: Model, failure: LineFailure) -> list:
     return [(index[name], int(lines[index[name]].a == failure.point)) for name in failure.lines]
 
 
-def watch(model: Model, dt: float):
+def watch(model: Model):
     """A function of a State that raises :class:`Released` for the first of the model's
-    failures that fires at it (time reached within round-off of the step, or a line end's
+    failures that fires at it (its time reached, to 1e-9 s of round-off, or a line end's
     tension at or above the threshold: the end forces (fairlead, anchor) of the step's
     report, the lines' B and A ends); None when the model has none."""
     plan = [(failure, end_sides(model, failure)) for failure in model.network.failures]
@@ -71,7 +71,7 @@ def watch(model: Model, dt: float):
             if state.reactions is not None:
                 largest = max(float(np.linalg.norm(state.reactions[side][k]))
                               for k, side in sides)
-            if failure.time is not None and state.t >= failure.time - 1e-6 * dt:
+            if failure.time is not None and state.t >= failure.time - 1e-9:
                 raise fired(Event(failure, "time", state.t, largest), state)
             if failure.tension is not None and largest >= failure.tension:
                 raise fired(Event(failure, "tension", state.t, largest), state)
@@ -129,8 +129,8 @@ def released_damping(model: Model, rayleigh, x, t):
 
 
 def frames_of(system):
-    """A copy of a system's re-based body frames (:attr:`~skmoor.coupling.frames.BodyFrames.frames`),
-    None when no body is re-based."""
+    """A copy of a system's re-based body frames
+    (:attr:`~skmoor.coupling.frames.BodyFrames.frames`), None when no body is re-based."""
     frames = getattr(system, "frames", ())
     if not any(frame is not None for frame in frames):
         return None
@@ -153,6 +153,22 @@ def carried_state(old: Model, new: Model, x, v, t, frames=None) -> tuple:
     if frames is not None:
         after.use_frames(frames)
     return x_new, v_new
+
+
+def release(model: Model, point: str, lines, x, v, t, rayleigh, remaining=None,
+            frames=None) -> tuple:
+    """What a run goes on with after the ends of ``lines`` let go of ``point`` at the
+    state (x, v, t): (the :func:`released` model, its x and v (:func:`carried_state`, the
+    bodies' ``frames``), its Rayleigh damping from ``rayleigh`` = (a0, a1) or None).
+    remaining: the failures still to come (default: the model's)."""
+    after = released(model, point, lines, remaining)
+    x, v = carried_state(model, after, x, v, t, frames)
+    return after, x, v, released_damping(after, rayleigh, x, t)
+
+
+def still_to_come(model: Model, failure: LineFailure) -> list:
+    """The model's failures other than ``failure`` (the one that fired)."""
+    return [f for f in model.network.failures if f is not failure]
 
 
 def refused(model: Model, checkpointing: bool) -> str | None:

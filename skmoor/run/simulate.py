@@ -203,17 +203,14 @@ def simulate(model: Model, *, duration=None, dt=None, output_interval=None,
                         scheme=scheme, progress=progress, label=model.name, done=outcome,
                         compiled=solver.get("compiled", True), checkpoint_every=saving[0],
                         on_checkpoint=saving[1], restart=resumed, t0=t0, v0=v0,
-                        first_step=first, watch=failures.watch(running, dt),
+                        first_step=first, watch=failures.watch(running),
                         report_every=1 if failures.needs_tensions(running) else None)
                     break
                 except failures.Released as fired:  # go on with the line ends released
-                    state, before = fired.state, running
-                    failure = fired.event.failure
-                    running = failures.released(before, failure.point, failure.lines, [
-                        f for f in before.network.failures if f is not failure])
-                    x0, v0 = failures.carried_state(before, running, state.x, state.v,
-                                                    state.t, fired.frames)
-                    C = failures.released_damping(running, eq.rayleigh, x0, state.t)
+                    state, failure = fired.state, fired.event.failure
+                    running, x0, v0, C = failures.release(
+                        running, failure.point, failure.lines, state.x, state.v, state.t,
+                        eq.rayleigh, failures.still_to_come(running, failure), fired.frames)
                     t0, first = state.t, first + state.step
                     recorder.follow(running)
                     meta["line_failures"].append(fired.event.as_dict())

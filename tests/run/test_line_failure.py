@@ -224,6 +224,14 @@ def test_a_host_breaks_a_line_or_the_deck_does(tmp_path, monkeypatch):
     assert expected[int(RELEASE / 0.01) + 3] < 0.6 * expected[0]  # the release's stress wave
     with pytest.raises(ValueError, match="does not end at point 1"):
         host.BreakLine(broken, host.GetPoint(broken, 1), host.GetLine(broken, 2))
+    before = host.SaveState(by_deck)  # taken after the release: restores
+    host.LoadState(by_deck, before)
+    md = host.Create(str(HANGING), substeps=5)
+    host.Init(md, [-40.0, 0.0, -5.0, 40.0, 0.0, -5.0], [0.0] * 6)
+    intact = host.SaveState(md)
+    host.BreakLine(md, host.GetPoint(md, 1), host.GetLine(md, 1))
+    with pytest.raises(ValueError, match="before a line failure"):
+        host.LoadState(md, intact)
 
 
 def test_a_rebased_body_keeps_its_frame_in_the_released_model():
