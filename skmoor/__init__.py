@@ -38,6 +38,7 @@ from .lines.line import Line, LineSet, LineType, read_line_mesh, write_line_mesh
 from .lines.user_law import UserLaw
 from .model.from_deck import heave_motion, read_motion
 from .model.model import Model, build, from_network
+from .model.openfast_motion import openfast_motion
 from .post.results import Results
 from .run.equilibrium import equilibrium, mooring_stiffness
 from .run.outputs import summary, write_outputs
@@ -61,7 +62,7 @@ __all__ = [
     "LineFailure", "Scheme", "DivergenceError", "BodyLoad", "PointLoad", "LineForm", "check_tangent",
     "TangentCheck", "laws", "Paper", "Engineering", "Curve", "StaticDynamic", "UserLaw", "Sea", "Current", "AiryWave", "JonswapWave",
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
-    "write_deck", "heave_motion", "read_motion", "Network", "Point", "MooringLine", "Body",
+    "write_deck", "heave_motion", "read_motion", "openfast_motion", "Network", "Point", "MooringLine", "Body",
     "from_network", "mooring_stiffness", "Ends", "PointMass", "bem", "Hydrodynamics",
     "PotentialFlow", "rods", "Motion", "Record", "fade_in",
 ]

@@ -26,6 +26,7 @@ def _motion(args, source):
     """The coupled objects' motion of a deck run: --motion FILE or --heave AMP --period T."""
     from .io.deck import Deck
     from .model.from_deck import heave_motion, read_motion
+    from .model.openfast_motion import is_openfast_output, openfast_motion
 
     if args.motion is None and args.heave is None:
         return None
@@ -35,8 +36,9 @@ def _motion(args, source):
     if args.motion is not None and args.heave is not None:
         raise ValueError("--motion, --heave: give one of them")
     if args.motion is not None:
-        n = sum(source.coupled_sizes)
-        return read_motion(args.motion, n)
+        if is_openfast_output(args.motion):
+            return openfast_motion(args.motion, source)
+        return read_motion(args.motion, sum(source.coupled_sizes))
     if args.period is None:
         raise ValueError("--heave: give the heave period with --period T (s)")
     return heave_motion(source, args.heave, args.period)[0]
@@ -288,7 +290,8 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--motion", metavar="FILE",
                      help="deck only: motion of the coupled bodies and points, a table: time "
                      "(s), then their displacements in MoorDyn's coupled-DOF order (6 per "
-                     "coupled body: m, m, m, rad, rad, rad; then 3 per coupled point, m)")
+                     "coupled body: m, m, m, rad, rad, rad; then 3 per coupled point, m), or an "
+                     "OpenFAST output file (.out, .outb) whose platform motion moves them")
     run.add_argument("--rotations", choices=("small", "exact"),
                      help="deck only: the free bodies' rotations, 'exact' for bodies that "
                      "turn far (default: small; a case file sets it per body)")

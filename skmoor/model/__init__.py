@@ -2,5 +2,7 @@
 """
 from .from_deck import heave_motion, read_motion
 from .model import Model, build, from_network
+from .openfast_motion import openfast_motion
 
-__all__ = ["Model", "build", "from_network", "heave_motion", "read_motion"]
+__all__ = ["Model", "build", "from_network", "heave_motion", "read_motion",
+           "openfast_motion"]

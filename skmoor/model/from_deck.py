@@ -600,6 +600,9 @@ def read_motion(path, n_dofs: int):
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"--motion: no such file {path}")
+    if path.suffix.lower() in (".out", ".outb"):
+        raise ValueError(f"{path.name}: an OpenFAST output file; its platform motion is "
+                         "read with skmoor.openfast_motion(path, deck)")
     try:
         text = path.read_text().replace(",", " ")
         table = np.loadtxt(text.splitlines(), comments="#", ndmin=2)

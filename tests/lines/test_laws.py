@@ -323,7 +323,7 @@ def test_laws_trace_under_jax_and_their_slopes_are_the_derivatives():
     here = Path(__file__).resolve().parent
     path = os.pathsep.join([str(here.parents[1]), str(here), os.environ.get("PYTHONPATH", "")])
     out = subprocess.run([sys.executable, "-c", JAX_CHECK], capture_output=True, text=True,
-                         cwd=here, env={**os.environ, "PYTHONPATH": path}, check=False)
+                         cwd=here.parents[1], env={**os.environ, "PYTHONPATH": path}, check=False)
     assert out.returncode == 0, out.stderr[-2000:]
     assert float(out.stdout.split()[-1]) <= 1e-9
 
@@ -380,3 +380,49 @@ def test_stress_resultants_slope_is_the_central_difference_of_it():
     fd = (S(eps + h) - S(eps - h)) / (2 * h)
     slope = laws.stress_resultant(eps, p["T"], p)[1]
     assert np.max(np.abs(slope - fd)) <= 1e-5 * np.max(np.abs(fd))
+
+
+def test_papers_law_from_a_stress_free_state_is_eq_6():
+    """Eq. 6 from a stress-free state: the Green strain eps = (lambda^2 - 1) / 2 of the
+    stretch lambda = 1 + e carries S = EA eps per reference length, N = S lambda; its
+    slope is EA (lambda^2 + eps). Slack (N < 0) carries nothing under tension_only."""
+    EA = 3.0e8
+    e = np.array([-0.02, 0.0, 0.001, 0.01, 0.05])
+    lam = 1.0 + e
+    eps = 0.5 * (lam**2 - 1.0)
+    taut = laws.Paper(tension_only=False)
+    np.testing.assert_allclose(taut.tension(e, EA), EA * eps * lam, rtol=1e-12, atol=1e-6)
+    np.testing.assert_allclose(taut.slope(e, EA), EA * (lam**2 + eps), rtol=1e-12)
+    cable = laws.Paper()
+    np.testing.assert_allclose(cable.tension(e, EA), np.maximum(EA * eps * lam, 0.0),
+                               rtol=1e-12, atol=1e-6)
+    assert cable.slope(e, EA)[0] == 0.0 and cable.slope(e, EA)[-1] > 0
+
+
+def test_curve_statics_invert_the_table_on_every_piece():
+    """A curve's static tension at a strain is the table's linear interpolation, continued
+    beyond the last point with the last slope; the static strain is its inverse, at the
+    knots and between them; a taut-and-slack (tension_only=False) curve keeps going below
+    zero with the first slope."""
+    strain = np.array([0.0, 0.01, 0.03, 0.06])
+    tension = np.array([0.0, 2.0e5, 1.0e6, 3.4e6])
+    curve = laws.Curve(strain, tension)
+    e = np.array([0.0, 0.004, 0.01, 0.02, 0.03, 0.05, 0.06, 0.08])
+    last_slope = (tension[-1] - tension[-2]) / (strain[-1] - strain[-2])
+    expected = np.where(e <= strain[-1], np.interp(e, strain, tension),
+                        tension[-1] + last_slope * (e - strain[-1]))
+    np.testing.assert_allclose(curve.static_tension(e), expected, rtol=1e-12, atol=1e-6)
+    np.testing.assert_allclose(curve.static_strain(expected), e, rtol=1e-12, atol=1e-15)
+    assert curve.static_tension(-0.01) == 0.0
+    both = laws.Curve(strain, tension, tension_only=False)
+    assert both.static_tension(-0.01) == pytest.approx(-0.01 * tension[1] / strain[1])
+
+
+def test_dynamic_stiffness_grows_with_the_mean_tension():
+    """MoorDyn's EA_d = alpha_MBL + beta T_mean (N) for a rope given alpha and beta; a
+    fixed EA_dynamic does not depend on the mean tension."""
+    rope = laws.StaticDynamic(alpha_MBL=1.2e8, beta=20.0)
+    T_mean = np.array([0.0, 1.0e6, 4.0e6])
+    np.testing.assert_allclose(rope.dynamic_EA(T_mean), 1.2e8 + 20.0 * T_mean, rtol=1e-14)
+    fixed = laws.StaticDynamic(EA_dynamic=3.0e8)
+    np.testing.assert_allclose(fixed.dynamic_EA(T_mean), 3.0e8, rtol=1e-14)
