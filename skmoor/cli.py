@@ -138,6 +138,16 @@ def cmd_sweep(args) -> int:
     return 1 if failed else 0
 
 
+def cmd_loadcases(args) -> int:
+    from .run.load_cases import LoadCaseMatrix, run_load_cases
+
+    matrix, settings = LoadCaseMatrix.from_toml(args.file)
+    settings.update({k: getattr(args, k) for k in ("duration", "dt") if getattr(args, k)})
+    data = run_load_cases(matrix, args.out, workers=args.workers, scheduler=args.scheduler,
+                          progress=not args.quiet, **settings)
+    return 1 if (data["error"].values != "").any() else 0
+
+
 def cmd_export(args) -> int:
     out = Path(args.outdir)
     _export(_load_results(out), out, args.frames)
@@ -321,13 +331,17 @@ def parser() -> argparse.ArgumentParser:
     sw.add_argument("--study-file", help="TOML file with [[study]] tables")
     sw.add_argument("--case", help="base case file for --param (default: the paper's case)")
     sw.add_argument("--points", type=int, default=8, help="points per paper study (default: 8)")
-    sw.add_argument("--out", default=DEFAULT_OUT, help="output folder (default: %(default)s)")
-    sw.add_argument("--workers", type=int, help="local processes (default: one per core)")
-    sw.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
-    sw.add_argument("--duration", type=float, help="simulated time per point, s")
-    sw.add_argument("--dt", type=float, help="time step, s")
-    sw.add_argument("--quiet", action="store_true", help="no progress bar")
+    _batch_options(sw, "point")
     sw.set_defaults(func=cmd_sweep)
+
+    lc = sub.add_parser("loadcases", help="a design-load-case matrix into one dataset",
+                        description="Runs the [load_cases] matrix of a TOML file (sea states "
+                        "x headings x seeds x conditions) in parallel processes or on a Dask "
+                        "cluster; writes load_cases.nc and load_cases.csv into --out; "
+                        "finished cases are kept and a rerun does only the missing ones.")
+    lc.add_argument("file", help="TOML file with a [load_cases] table")
+    _batch_options(lc, "case")
+    lc.set_defaults(func=cmd_loadcases)
 
     ex = sub.add_parser("export", help="(re)write ParaView files from saved results",
                         description="Reads OUTDIR/results.nc (or results.npz) and writes lines.xdmf (+ .h5) and "
@@ -375,6 +389,16 @@ def parser() -> argparse.ArgumentParser:
 def _one_line_warning(message, category, filename, lineno, line=None):
     """A warning as one line naming its kind, not the source line that raised it."""
     return f"skmoor: {category.__name__}: {message}\n"
+
+
+def _batch_options(parser, what):
+    """The options of a batch of runs (sweep, loadcases): output, where and how long."""
+    parser.add_argument("--out", default=DEFAULT_OUT, help="output folder (default: %(default)s)")
+    parser.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    parser.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
+    parser.add_argument("--duration", type=float, help=f"simulated time per {what}, s")
+    parser.add_argument("--dt", type=float, help="time step, s")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def main(argv=None) -> int:

@@ -468,8 +468,10 @@ def write_csv(rows, path) -> Path:
     return path
 
 
-def _on_processes(pending, workers):
-    """(index, result) of each pending point as it finishes, on local processes."""
+def _on_processes(pending, workers, work=None):
+    """(index, result) of each pending point as it finishes, on local processes;
+    ``work(task)`` runs a point (default :func:`run_point`)."""
+    work = work or run_point
     if not pending:
         return
     # JAX (user forms) runs threads: forking a process that imported it may deadlock, so
@@ -478,7 +480,7 @@ def _on_processes(pending, workers):
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
     complete = False
     try:
-        futures = {pool.submit(run_point, task): i for i, task, _, _ in pending}
+        futures = {pool.submit(work, task): i for i, task, _, _ in pending}
         for future in as_completed(futures):
             try:
                 result = future.result()
@@ -490,8 +492,10 @@ def _on_processes(pending, workers):
         pool.shutdown(wait=complete, cancel_futures=not complete)
 
 
-def _on_dask(pending, scheduler):
-    """(index, result) of each pending point as it finishes, on a Dask cluster."""
+def _on_dask(pending, scheduler, work=None):
+    """(index, result) of each pending point as it finishes, on a Dask cluster;
+    ``work(task)`` runs a point (default :func:`run_point`)."""
+    work = work or run_point
     if not pending:
         return
     try:
@@ -513,7 +517,7 @@ def _on_dask(pending, scheduler):
         if other:
             print(f"sweep: warning: workers run other skmoor versions than {_version()}: "
                   f"{other}", file=sys.stderr)
-        futures = {client.submit(run_point, task, key=f"skmoor-point-{key}"): i
+        futures = {client.submit(work, task, key=f"skmoor-point-{key}"): i
                    for i, task, key, _ in pending}
         for future in dask_completed(futures):
             try:
