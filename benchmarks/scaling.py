@@ -20,14 +20,26 @@ a common reference would charge those spatial differences to the time step; what
 measured here is the step each code needs to converge in time on its own mesh. The
 codes' references are compared with each other as well (last columns of the table).
 
-Each code's step is found by halving from a large one (1 s for the implicit codes,
-2^-6 s for MoorDyn) until the run is finite and within 1 %. Wall times are
-time.perf_counter around the time loop only (no deck parsing, statics or initial
-conditions), the best of three runs at the found step, all in this one process.
+Each code's step: every step 2^k from a large one (1 s for the implicit codes, 2^-6 s for
+MoorDyn) down to the reference is run, and the largest step is picked whose run and every
+smaller step's run are finite and within 1 % (benchmarks/steps.py: the error need not fall
+monotonically with the step).
 
-Run: ``python benchmarks/scaling.py [--segments 10 20 50 100 200] [--no-plot]``
-(about 5 min on 2 cores); prints the table, the log-log slope of skmoor's cost and a
-cProfile of skmoor's largest case, and writes docs/images/scaling.png.
+Times, each code at its step:
+
+- time loop: time.perf_counter around the loop only (no deck parsing, statics or initial
+  conditions), the best of three runs, in this one process; MoorDyn's is its Step calls
+  alone, the script's Python between them (the fairlead's position and velocity) is
+  printed apart;
+- whole process: a new Python process that imports the code, makes the line, its static
+  state (MoorDyn: its settled initial state) and runs the loop, timed from start to exit,
+  with its peak memory; skmoor's first compile (the same process with an empty numba
+  cache, as after an install) is printed apart.
+
+Run: ``python benchmarks/scaling.py [--segments 10 20 50 100 200] [--no-plot]
+[--write-docs]`` (about 15 min on 2 cores); prints the tables, the log-log slope of
+skmoor's cost and a cProfile of skmoor's largest case, writes docs/images/scaling.png and,
+with --write-docs, the tables into README.md and docs/speed.md.
 """
 from __future__ import annotations
 
@@ -42,7 +54,11 @@ import argparse  # noqa: E402
 import cProfile  # noqa: E402
 import functools  # noqa: E402
 import io  # noqa: E402
+import json  # noqa: E402
 import pstats  # noqa: E402
+import resource  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -82,6 +98,7 @@ TOLERANCE = 0.01  # of the reference's tension range
 START = {"skmoor": 0, "cabledyn": 0, "moordyn": -6}  # log2 of the first (largest) step
 REFERENCE = {"skmoor": -9, "cabledyn": -9, "moordyn": -14}  # log2 of the reference step
 CODES = ("skmoor", "moordyn", "cabledyn")
+MOORDYN_GLUE = {}  # (segments, dt) -> s of the script's Python between MoorDyn's Step calls
 
 
 def output_stride(dt):
@@ -167,18 +184,22 @@ def run_moordyn(n, dt, workdir):
         moordyn.Init_NoIC(md, list(fairlead), [0.0, 0.0, 0.0])
         moordyn.LoadState(md, state)
     try:
-        tension = [static]
-        started = time.perf_counter()
+        tension, wall, glue = [static], 0.0, 0.0
         with quiet(), np.errstate(over="ignore", invalid="ignore"):
             for k in range(int(round(DURATION / OUTPUT))):
+                started = time.perf_counter()
                 z0, z1 = heave(k * OUTPUT)[0], heave((k + 1) * OUTPUT)[0]
-                force = moordyn.Step(md, list(fairlead + [0.0, 0.0, z0]),
-                                     [0.0, 0.0, (z1 - z0) / OUTPUT], k * OUTPUT, OUTPUT)
+                r, u = list(fairlead + [0.0, 0.0, z0]), [0.0, 0.0, (z1 - z0) / OUTPUT]
+                before = time.perf_counter()
+                force = moordyn.Step(md, r, u, k * OUTPUT, OUTPUT)
+                after = time.perf_counter()
                 tension.append(np.linalg.norm(force))
-        wall = time.perf_counter() - started
+                wall += after - before  # MoorDyn's own time: its Step calls
+                glue += before - started + time.perf_counter() - after
     finally:
         with quiet():
             moordyn.Close(md)
+    MOORDYN_GLUE[(n, dt)] = glue
     return wall, np.array(tension)
 
 
@@ -260,7 +281,83 @@ def reference_difference(results, a, b):
     return float(np.max(np.abs(T_a - T_b)) / np.ptp(results[a]["ref"]))
 
 
+# ------------------------------------------------------------------ whole processes
+
+def one_process(code, n, dt):
+    """The child of :func:`whole_process`: this case as a user runs it in a new process
+    (imports, the line, its static state or MoorDyn's settled start, the time loop);
+    prints the loop's time and the peak memory as JSON."""
+    with tempfile.TemporaryDirectory() as workdir, inside(workdir):
+        wall, tension = run(code, n, dt, workdir)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # MB (kB on Linux)
+    print(json.dumps({"loop": wall, "peak_mb": peak, "ok": tension is not None}))
+
+
+def whole_process(code, n, dt, cold=False):
+    """dict(whole (s: the process from start to exit), loop (s), peak_mb) of the case in a
+    new process; cold: with an empty numba cache (skmoor's first-compile cost)."""
+    env = dict(os.environ)
+    if cold:
+        env["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="skmoor-cold-")
+    started = time.perf_counter()
+    out = subprocess.run([sys.executable, __file__, "--one", code, str(n), repr(dt)],
+                         capture_output=True, text=True, env=env, check=False)
+    whole = time.perf_counter() - started
+    try:
+        info = json.loads(out.stdout.strip().splitlines()[-1])
+    except (IndexError, ValueError):
+        raise RuntimeError(f"{code} n={n} dt={dt}: the process failed: {out.stderr[-800:]}")
+    return dict(whole=whole, loop=info["loop"], peak_mb=info["peak_mb"])
+
+
 # ------------------------------------------------------------------ report
+
+TABLE_START, TABLE_END = "<!-- scaling.py table -->", "<!-- end of scaling.py table -->"
+
+
+def markdown_table(table, short=False):
+    """The table as markdown: each code's step, time loop and whole process, the ratios
+    (short: segments and the ratios only, for the README)."""
+    names = {"skmoor": "skmoor", "moordyn": "MoorDyn", "cabledyn": "CableDyn"}
+    if short:
+        rows = ["| segments | time loop skmoor/MoorDyn | skmoor/CableDyn | whole process "
+                "skmoor/MoorDyn | skmoor/CableDyn |", "|---|---|---|---|---|"]
+        for row in table:
+            sk, md, cd = row["skmoor"], row["moordyn"], row["cabledyn"]
+            rows.append(f"| {row['n']} | **{sk['wall'] / md['wall']:.2f}** | "
+                        f"**{sk['wall'] / cd['wall']:.2f}** | "
+                        f"{sk['whole'] / md['whole']:.2f} | {sk['whole'] / cd['whole']:.2f} |")
+        return "\n".join(rows)
+    head = "| segments | " + " | ".join(
+        f"{names[c]} dt / loop / whole [s] / peak [MB]" for c in CODES) + (
+        " | loop sk/MD | loop sk/CD | whole sk/MD | whole sk/CD |")
+    rows = [head, "|" + "---|" * (len(CODES) + 5)]
+    for row in table:
+        cells = [f"{row[c]['dt']:.3g} / {row[c]['wall']:.3f} / {row[c]['whole']:.2f} / "
+                 f"{row[c]['peak_mb']:.0f}" for c in CODES]
+        sk, md, cd = row["skmoor"], row["moordyn"], row["cabledyn"]
+        cells += [f"**{sk['wall'] / md['wall']:.2f}**", f"**{sk['wall'] / cd['wall']:.2f}**",
+                  f"{sk['whole'] / md['whole']:.2f}", f"{sk['whole'] / cd['whole']:.2f}"]
+        rows.append(f"| {row['n']} | " + " | ".join(cells) + " |")
+    return "\n".join(rows)
+
+
+def write_tables(table, cold):
+    """The tables into README.md (short) and docs/speed.md, between the markers."""
+    note = (f"\n\nskmoor's first compile (an empty numba cache, paid once per install): "
+            f"{cold:.0f} s more than a warm process.") if cold is not None else ""
+    for path, short in ((ROOT / "README.md", True), (ROOT / "docs" / "speed.md", False)):
+        text = path.read_text()
+        if TABLE_START not in text or TABLE_END not in text:
+            print(f"{path}: no {TABLE_START} ... {TABLE_END} block; not written")
+            continue
+        head, rest = text.split(TABLE_START, 1)
+        _, tail = rest.split(TABLE_END, 1)
+        body = markdown_table(table, short) + ("" if short else note)
+        path.write_text(f"{head}{TABLE_START}\n{body}\n{TABLE_END}{tail}")
+        print(f"wrote the table into {path}")
+
+
 
 def profile_skmoor(n, dt, top=15):
     """cProfile of skmoor's time loop: the top entries by internal time, as text."""
@@ -307,7 +404,13 @@ def main(argv=None):
     parser.add_argument("--segments", type=int, nargs="+", default=list(SEGMENTS))
     parser.add_argument("--no-plot", action="store_true")
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "images" / "scaling.png")
+    parser.add_argument("--write-docs", action="store_true", help="write the tables into "
+                        "README.md and docs/speed.md")
+    parser.add_argument("--one", nargs=3, metavar=("CODE", "N", "DT"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
+    if args.one:  # the child of whole_process
+        code, n, dt = args.one
+        return one_process(code, int(n), float(dt))
 
     table = []
     with tempfile.TemporaryDirectory() as workdir, inside(workdir):
@@ -321,6 +424,14 @@ def main(argv=None):
                 print(f"  n={n:4d} {code:9s} dt={found['dt']:.3g} s  error={found['error']:.2%}"
                       f"  wall={found['wall']:.3f} s  reference dt={found['ref_dt']:g} s"
                       f"  (tried {tried})", flush=True)
+            for code in CODES:  # the whole process at the step found, peak memory
+                row[code].update(whole_process(code, n, row[code]["dt"]))
+                print(f"  n={n:4d} {code:9s} whole process {row[code]['whole']:.2f} s (its "
+                      f"time loop {row[code]['loop']:.3f} s), peak memory "
+                      f"{row[code]['peak_mb']:.0f} MB"
+                      + (f"; the script's glue between Step calls "
+                         f"{MOORDYN_GLUE.get((n, row[code]['dt']), 0.0):.3f} s, not counted"
+                         if code == "moordyn" else ""), flush=True)
             row["sk-md"] = reference_difference(row, "skmoor", "moordyn")
             row["sk-cd"] = reference_difference(row, "skmoor", "cabledyn")
             row["md-cd"] = reference_difference(row, "moordyn", "cabledyn")
@@ -340,6 +451,18 @@ def main(argv=None):
               f"{md['wall']:>8.3f} | {cd['dt']:>11.4g} {cd['wall']:>8.3f} | "
               f"{sk['wall'] / md['wall']:>6.2f} {sk['wall'] / cd['wall']:>6.2f} | "
               f"{row['sk-md']:>10.1%} {row['sk-cd']:>6.1%} {row['md-cd']:>6.1%}")
+    cold = None
+    if table:  # skmoor's first compile: a process with an empty numba cache, once
+        first = table[0]
+        cold = whole_process("skmoor", first["n"], first["skmoor"]["dt"], cold=True)["whole"]
+        cold -= first["skmoor"]["whole"]
+        print(f"\nskmoor's first compile (empty numba cache): {cold:.1f} s more than a warm "
+              "process")
+    print("\ntime loop (MoorDyn: its Step calls alone) / whole process (interpreter start, "
+          "imports, the line, its static state or settled start, the loop) / peak memory:\n")
+    print(markdown_table(table))
+    if args.write_docs:
+        write_tables(table, cold)
     n = np.array([row["n"] for row in table], float)
     wall = np.array([row["skmoor"]["wall"] for row in table])
     if len(n) > 1:

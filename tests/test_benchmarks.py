@@ -157,3 +157,28 @@ def test_farm_benchmark_builds_the_farm_it_says(capsys):
     lowest = np.sort(np.repeat(one.modes.periods[:3], 4))  # each line's first mode, 4 times
     np.testing.assert_allclose(np.sort(four.modes.periods), lowest, rtol=1e-8)
     assert one.modes.periods[3] < 0.99 * one.modes.periods[2]  # the next mode is apart
+
+
+def test_step_search_checks_every_smaller_step():
+    """The benchmarks' step search picks the largest step whose run and every smaller
+    step's run are within the tolerance: with errors 5 %, 0.5 %, 2 %, 0.3 %, 0.2 % at
+    1, 1/2, 1/4, 1/8, 1/16 s it picks 1/8 s (halving alone would stop at 1/2 s), runs
+    every step once and the pick three times; no step when the smallest fails."""
+    import steps
+
+    errors = {1.0: 0.05, 0.5: 0.005, 0.25: 0.02, 0.125: 0.003, 0.0625: 0.002}
+    runs = []
+
+    def run(dt):
+        runs.append(dt)
+        return 10.0 / dt, dt  # (wall, outputs)
+
+    found = steps.find_step(run, lambda dt, out, ref_dt, ref: errors[dt], start=0,
+                            reference=-5, tolerance=0.01)
+    assert found["dt"] == 0.125 and found["error"] == 0.003 and found["wall"] == 80.0
+    assert [dt for dt, _ in found["tried"]] == [1.0, 0.5, 0.25, 0.125, 0.0625]
+    assert runs == [2.0**-5, 1.0, 0.5, 0.25, 0.125, 0.0625, 0.125, 0.125]
+    errors[0.0625] = 0.5
+    none = steps.find_step(run, lambda dt, out, ref_dt, ref: errors[dt], start=0,
+                           reference=-5, tolerance=0.01)
+    assert np.isnan(none["dt"])

@@ -508,12 +508,17 @@ def _on_dask(pending, scheduler, work=None):
     client = Client(scheduler) if own else scheduler
     futures, complete = {}, False
     try:
-        try:
-            versions = client.run(_worker_version)
-        except Exception as err:
-            raise RuntimeError(f"the Dask workers cannot run skmoor ({_describe(err)}); "
-                               "install skmoor on every worker") from err
-        other = {addr: v for addr, v in versions.items() if v != _version()}
+        # a worker that cannot import skmoor answers with its error; one that is lost
+        # meanwhile (its comm closed) is left to the scheduler, which moves its work
+        versions = client.run(_worker_version, on_error="return")
+        broken = {addr: v for addr, v in versions.items() if isinstance(v, ImportError)}
+        if broken or not any(isinstance(v, str) for v in versions.values()):
+            err = next(iter(broken.values()), None) or next(iter(versions.values()), None)
+            why = "no workers" if err is None else _describe(err)
+            raise RuntimeError(f"the Dask workers cannot run skmoor ({why}); install "
+                               "skmoor on every worker")
+        other = {addr: v for addr, v in versions.items()
+                 if isinstance(v, str) and v != _version()}
         if other:
             print(f"sweep: warning: workers run other skmoor versions than {_version()}: "
                   f"{other}", file=sys.stderr)

@@ -140,8 +140,10 @@ def test_dask_survives_a_killed_worker(local, tmp_path):
         pids = client.run(os.getpid)
         victim = sorted(pids.values())[0]
 
-        def kill_soon():
-            time.sleep(4.0)  # the workers are on their first cases (build and statics)
+        def kill_soon():  # once the victim works on a case (build, statics or the run)
+            while not any(client.processing().values()):
+                time.sleep(0.1)
+            time.sleep(1.0)
             os.kill(victim, signal.SIGKILL)
 
         threading.Thread(target=kill_soon, daemon=True).start()
