@@ -28,26 +28,29 @@ for _path in (ROOT, _TESTS, *_FOLDERS):
     if str(_path) not in sys.path:
         sys.path.insert(0, str(_path))
 
-from skmoor.lines.catenary import solve_catenary
-from skmoor.lines.line import LineType
-
 CHAIN = dict(diameter=0.252, mass=390.0, EA=1.674e9)
 HYDRO = dict(Cd_n=1.37, Ca_n=1.0, Cd_t=0.64, Ca_t=0.0)  # MoorDyn's Cd, Ca, CdAx, CaAx
 KBOT, CBOT = 1e5, 1e4  # sea-bed pressure per metre of penetration (Pa/m) and per m/s
 DEPTH, SPAN, LENGTH = 50.0, 400.0, 410.0  # m
 HEAVE, PERIOD = 2.0, 10.0  # fairlead heave amplitude (m) and period (s)
 RAMP = PERIOD  # s, the heave amplitude rises smoothly from 0 over the first period
+FAIRLEAD = np.zeros(3)  # m, where the chain's fairlead rests (the origin)
 
 
 def chain_type(BA=0.0):
     """The chain as a skmoor LineType: submerged weight from the volume-equivalent D,
     drag and added-mass coefficients, internal (axial) damping BA (N s)."""
+    # skmoor's imports here: a peer's whole process (benchmarks/scaling.py) need not
+    from skmoor.lines.line import LineType
+
     return LineType(**CHAIN, **HYDRO, BA=BA)
 
 
 def chain_catenary():
     """Static state of the 50 m chain: anchor at (-SPAN, 0, -DEPTH), fairlead at the
     origin, on a frictionless sea bed at -DEPTH (analytic catenary with touchdown)."""
+    from skmoor.lines.catenary import solve_catenary
+
     lt = chain_type()
     return solve_catenary([-SPAN, 0.0, -DEPTH], [0.0, 0.0, 0.0], lt.weight, lt.EA,
                           length=LENGTH, seabed_z=-DEPTH)

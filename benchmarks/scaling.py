@@ -69,6 +69,7 @@ from _cases import (  # noqa: E402
     CBOT,
     CHAIN,
     DEPTH,
+    FAIRLEAD,
     KBOT,
     ROOT,
     chain_catenary,
@@ -79,15 +80,6 @@ from _cases import (  # noqa: E402
     line_deck,
     quiet,
 )
-
-from skmoor.bodies.motion import Motion
-from skmoor.coupling.system import System
-from skmoor.lines.line import Line, LineSet
-from skmoor.sea.hydro import line_hydrodynamics
-from skmoor.sea.seabed import Seabed, seabed_term
-from skmoor.solvers.dynamics import Scheme, integrate
-from skmoor.solvers.newton import DivergenceError
-from skmoor.solvers.statics import solve_static
 
 SEGMENTS = (10, 20, 50, 100, 200)
 DURATION = 20.0  # s
@@ -111,6 +103,14 @@ def output_stride(dt):
 def skmoor_system(n):
     """One-line System with a prescribed (heaving) fairlead, the sea bed, the line's drag
     and added mass, and its static state."""
+    # skmoor's imports here and in run_skmoor: a peer's whole process does not import it
+    from skmoor.bodies.motion import Motion
+    from skmoor.coupling.system import System
+    from skmoor.lines.line import Line, LineSet
+    from skmoor.sea.hydro import line_hydrodynamics
+    from skmoor.sea.seabed import Seabed, seabed_term
+    from skmoor.solvers.statics import solve_static
+
     lt = chain_type(BA=BETA * CHAIN["EA"])
     lines = LineSet([Line.from_catenary(chain_catenary(), lt, n)], law="engineering")
     bed = Seabed.from_moordyn(DEPTH, lt.diameter, kBot=KBOT, cBot=CBOT)
@@ -130,6 +130,8 @@ def skmoor_system(n):
 
 def run_skmoor(n, dt, profile=None):
     """(wall time s, fairlead tension at the output times N)."""
+    from skmoor.solvers.dynamics import Scheme, integrate
+
     system, x0 = skmoor_system(n)
     stride = output_stride(dt)
     tension = []
@@ -146,7 +148,12 @@ def run_skmoor(n, dt, profile=None):
 
 
 def _deck(code, n, dt, workdir):
-    return line_deck(Path(workdir) / f"{code}_{n}.dat", code=code,
+    """The code's deck of the n-segment line at step dt in workdir (written once: a whole
+    process reads the one its parent wrote)."""
+    path = Path(workdir) / f"{code}_{n}_{dt!r}.dat"
+    if path.exists():
+        return path
+    return line_deck(path, code=code,
                      catenary=chain_catenary(), line_type=chain_type(BA=BETA * CHAIN["EA"]),
                      n_segments=n, dt=dt, duration=DURATION, depth=DEPTH, rho_inf=RHO_INF)
 
@@ -164,7 +171,7 @@ def moordyn_initial_state(n, workdir):
     path = Path(workdir) / f"moordyn_{n}_ic.bin"
     with quiet():
         md = moordyn.Create(str(_deck("moordyn", n, IC_STEP, workdir)))
-        moordyn.Init(md, list(chain_catenary().fairlead), [0.0, 0.0, 0.0])
+        moordyn.Init(md, list(FAIRLEAD), [0.0, 0.0, 0.0])
         tension = float(np.linalg.norm(moordyn.GetPointForce(moordyn.GetPoint(md, 2))))
         moordyn.SaveState(md, str(path))
         moordyn.Close(md)
@@ -178,7 +185,7 @@ def run_moordyn(n, dt, workdir):
     import moordyn
 
     state, static = moordyn_initial_state(n, workdir)
-    fairlead = chain_catenary().fairlead
+    fairlead = FAIRLEAD
     with quiet():
         md = moordyn.Create(str(_deck("moordyn", n, dt, workdir)))
         moordyn.Init_NoIC(md, list(fairlead), [0.0, 0.0, 0.0])
@@ -236,7 +243,7 @@ def run(code, n, dt, workdir):
             wall, tension = run_moordyn(n, dt, workdir)
         else:
             wall, tension = run_cabledyn(n, dt, workdir)
-    except (DivergenceError, RuntimeError, ValueError) as error:
+    except (RuntimeError, ValueError) as error:  # skmoor's DivergenceError among them
         print(f"    {code} n={n} dt={dt:g}: failed ({type(error).__name__}: {error})")
         return np.nan, None
     return wall, tension
@@ -283,24 +290,41 @@ def reference_difference(results, a, b):
 
 # ------------------------------------------------------------------ whole processes
 
-def one_process(code, n, dt):
+def one_process(code, n, dt, workdir):
     """The child of :func:`whole_process`: this case as a user runs it in a new process
-    (imports, the line, its static state or MoorDyn's settled start, the time loop);
-    prints the loop's time and the peak memory as JSON."""
-    with tempfile.TemporaryDirectory() as workdir, inside(workdir):
+    (imports, the line, its static state or MoorDyn's settled start, the time loop) from
+    the deck its parent wrote in workdir; prints the loop's time and the peak memory as
+    JSON."""
+    with inside(workdir):
         wall, tension = run(code, n, dt, workdir)
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # MB (kB on Linux)
-    print(json.dumps({"loop": wall, "peak_mb": peak, "ok": tension is not None}))
+    print(json.dumps({"loop": wall, "peak_mb": peak_memory(), "ok": tension is not None}))
 
 
-def whole_process(code, n, dt, cold=False):
+def peak_memory() -> float:
+    """This process's peak resident memory, MB: VmHWM of its own address space (getrusage's
+    maxrss would start from the parent's at the fork)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return float(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def whole_process(code, n, dt, workdir, cold=False):
     """dict(whole (s: the process from start to exit), loop (s), peak_mb) of the case in a
-    new process; cold: with an empty numba cache (skmoor's first-compile cost)."""
+    new process that imports only its code; cold: with an empty numba cache (skmoor's
+    first-compile cost)."""
+    if code != "skmoor":  # the peer's decks, written here (their set-up uses skmoor)
+        _deck(code, n, dt, workdir)
+        _deck(code, n, IC_STEP, workdir)
     env = dict(os.environ)
     if cold:
         env["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="skmoor-cold-")
     started = time.perf_counter()
-    out = subprocess.run([sys.executable, __file__, "--one", code, str(n), repr(dt)],
+    out = subprocess.run([sys.executable, __file__, "--one", code, str(n), repr(dt),
+                          str(workdir)],
                          capture_output=True, text=True, env=env, check=False)
     whole = time.perf_counter() - started
     try:
@@ -406,11 +430,12 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "images" / "scaling.png")
     parser.add_argument("--write-docs", action="store_true", help="write the tables into "
                         "README.md and docs/speed.md")
-    parser.add_argument("--one", nargs=3, metavar=("CODE", "N", "DT"), help=argparse.SUPPRESS)
+    parser.add_argument("--one", nargs=4, metavar=("CODE", "N", "DT", "WORKDIR"),
+                        help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.one:  # the child of whole_process
-        code, n, dt = args.one
-        return one_process(code, int(n), float(dt))
+        code, n, dt, workdir = args.one
+        return one_process(code, int(n), float(dt), workdir)
 
     table = []
     with tempfile.TemporaryDirectory() as workdir, inside(workdir):
@@ -425,7 +450,7 @@ def main(argv=None):
                       f"  wall={found['wall']:.3f} s  reference dt={found['ref_dt']:g} s"
                       f"  (tried {tried})", flush=True)
             for code in CODES:  # the whole process at the step found, peak memory
-                row[code].update(whole_process(code, n, row[code]["dt"]))
+                row[code].update(whole_process(code, n, row[code]["dt"], workdir))
                 print(f"  n={n:4d} {code:9s} whole process {row[code]['whole']:.2f} s (its "
                       f"time loop {row[code]['loop']:.3f} s), peak memory "
                       f"{row[code]['peak_mb']:.0f} MB"
@@ -454,7 +479,9 @@ def main(argv=None):
     cold = None
     if table:  # skmoor's first compile: a process with an empty numba cache, once
         first = table[0]
-        cold = whole_process("skmoor", first["n"], first["skmoor"]["dt"], cold=True)["whole"]
+        with tempfile.TemporaryDirectory() as workdir:
+            cold = whole_process("skmoor", first["n"], first["skmoor"]["dt"], workdir,
+                                 cold=True)["whole"]
         cold -= first["skmoor"]["whole"]
         print(f"\nskmoor's first compile (empty numba cache): {cold:.1f} s more than a warm "
               "process")

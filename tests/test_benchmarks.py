@@ -182,3 +182,31 @@ def test_step_search_checks_every_smaller_step():
     none = steps.find_step(run, lambda dt, out, ref_dt, ref: errors[dt], start=0,
                            reference=-5, tolerance=0.01)
     assert np.isnan(none["dt"])
+
+
+def test_scaling_peers_processes_do_not_import_skmoor():
+    """A peer's whole process (benchmarks/scaling.py --one) imports its own code only:
+    importing the benchmark leaves skmoor out (its imports sit in the skmoor functions),
+    so MoorDyn's and CableDyn's start-up and memory are not charged with skmoor's."""
+    import subprocess
+
+    out = subprocess.run([sys.executable, "-c", "import sys; import scaling; "
+                          "print(any(m.split('.')[0] == 'skmoor' for m in sys.modules))"],
+                         cwd=BENCHMARKS, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_scaling_tables_show_the_ratios():
+    """The tables scaling.py writes: each code's step, loop, whole process and memory, and
+    the ratios of skmoor's times to each peer's."""
+    import scaling
+
+    def code(dt, wall, whole):
+        return dict(dt=dt, wall=wall, whole=whole, peak_mb=100.0)
+
+    table = [dict(n=10, skmoor=code(0.0625, 1.0, 3.0), moordyn=code(0.002, 4.0, 2.0),
+                  cabledyn=code(0.0625, 2.0, 6.0))]
+    full, short = scaling.markdown_table(table), scaling.markdown_table(table, short=True)
+    assert "| 10 | 0.0625 / 1.000 / 3.00 / 100 | 0.002 / 4.000 / 2.00 / 100 |" in full
+    assert full.endswith("| **0.25** | **0.50** | 1.50 | 0.50 |")
+    assert short.splitlines()[-1] == "| 10 | **0.25** | **0.50** | 1.50 | 0.50 |"
