@@ -156,6 +156,22 @@ def inside(directory):
         os.chdir(previous)
 
 
+def write_block(path, name, text) -> bool:
+    """Replace what stands between ``<!-- NAME -->`` and ``<!-- end of NAME -->`` in the
+    file ``path`` (a page whose numbers this script makes) by ``text``; False (and a
+    message) when the file has no such block."""
+    start, end = f"<!-- {name} -->", f"<!-- end of {name} -->"
+    path = Path(path)
+    page = path.read_text()
+    if start not in page or end not in page:
+        print(f"{path}: no {start} ... {end} block; not written")
+        return False
+    head, rest = page.split(start, 1)
+    path.write_text(f"{head}{start}\n{text.strip()}\n{end}{rest.split(end, 1)[1]}")
+    print(f"wrote {name} into {path}")
+    return True
+
+
 def version(package):
     """The installed version of ``package``, or 'not installed'."""
     try:

@@ -37,7 +37,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from _cases import quiet
+from _cases import ROOT, quiet, write_block
 
 import skmoor
 
@@ -166,6 +166,8 @@ def main(argv=None):
     parser.add_argument("--shared", action="store_true", help="shared lines between neighbours")
     parser.add_argument("--run", type=float, metavar="S", help="also time S s of motion in "
                         "skmoor and MoorDyn")
+    parser.add_argument("--write-docs", action="store_true", help="with --run: write the "
+                        "table into docs/speed.md")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as folder, warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -195,6 +197,17 @@ def main(argv=None):
                   f"{stepping:.1f} s (the script's glue {glue:.1f} s apart); line 1 fairlead "
                   f"tension {md_tension / 1e3:.0f} kN; peak memory {peak_memory():.0f} MB")
             print(f"time loop skmoor/MoorDyn = {wall / stepping:.2f}")
+            shared = lines - 3 * args.platforms
+            table = ("| farm | unknowns | build | statics + 12 modes | time loop skmoor / "
+                     "MoorDyn | line 1 fairlead tension skmoor / MoorDyn | peak memory |\n"
+                     "|---|---|---|---|---|---|---|\n"
+                     f"| {args.platforms} platforms, {3 * args.platforms} chains + {shared} "
+                     f"shared ropes, {args.segments} segments, {args.run:g} s | "
+                     f"{model.system.n:,} | {built:.1f} s | {solved:.1f} s | {wall:.1f} s / "
+                     f"{stepping:.1f} s = **{wall / stepping:.2f}** | {tension / 1e3:.0f} / "
+                     f"{md_tension / 1e3:.0f} kN | {peak_memory():.0f} MB |")
+            if args.write_docs:
+                write_block(ROOT / "docs" / "speed.md", "farm.py table", table)
 
 
 if __name__ == "__main__":

@@ -79,6 +79,7 @@ from _cases import (  # noqa: E402
     inside,
     line_deck,
     quiet,
+    write_block,
 )
 
 SEGMENTS = (10, 20, 50, 100, 200)
@@ -336,9 +337,6 @@ def whole_process(code, n, dt, workdir, cold=False):
 
 # ------------------------------------------------------------------ report
 
-TABLE_START, TABLE_END = "<!-- scaling.py table -->", "<!-- end of scaling.py table -->"
-
-
 def markdown_table(table, short=False):
     """The table as markdown: each code's step, time loop and whole process, the ratios
     (short: segments and the ratios only, for the README)."""
@@ -367,19 +365,11 @@ def markdown_table(table, short=False):
 
 
 def write_tables(table, cold):
-    """The tables into README.md (short) and docs/speed.md, between the markers."""
+    """The tables into README.md (short) and docs/speed.md, between their markers."""
     note = (f"\n\nskmoor's first compile (an empty numba cache, paid once per install): "
             f"{cold:.0f} s more than a warm process.") if cold is not None else ""
-    for path, short in ((ROOT / "README.md", True), (ROOT / "docs" / "speed.md", False)):
-        text = path.read_text()
-        if TABLE_START not in text or TABLE_END not in text:
-            print(f"{path}: no {TABLE_START} ... {TABLE_END} block; not written")
-            continue
-        head, rest = text.split(TABLE_START, 1)
-        _, tail = rest.split(TABLE_END, 1)
-        body = markdown_table(table, short) + ("" if short else note)
-        path.write_text(f"{head}{TABLE_START}\n{body}\n{TABLE_END}{tail}")
-        print(f"wrote the table into {path}")
+    write_block(ROOT / "README.md", "scaling.py table", markdown_table(table, short=True))
+    write_block(ROOT / "docs" / "speed.md", "scaling.py table", markdown_table(table) + note)
 
 
 

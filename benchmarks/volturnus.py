@@ -62,7 +62,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import steps  # noqa: E402
-from _cases import quiet  # noqa: E402
+from _cases import ROOT, quiet, write_block  # noqa: E402
 
 import skmoor  # noqa: E402
 from skmoor.solvers.newton import DivergenceError
@@ -295,6 +295,8 @@ def main(argv=None):
     parser.add_argument("--segments", type=int, nargs="+", default=list(SEGMENTS))
     parser.add_argument("--codes", nargs="+", default=list(CODES), choices=CODES)
     parser.add_argument("--duration", type=float, default=DURATION)
+    parser.add_argument("--write-docs", action="store_true", help="write the table into "
+                        "docs/speed.md (after the last segment count)")
     parser.add_argument("--steps", nargs="+", default=(), metavar="CODE=DT",
                         help="time each code at these steps (s) without the search (steps "
                              "an earlier search found; one segment count; the references "
@@ -314,7 +316,7 @@ def main(argv=None):
                                  if given else find_step(code, n, workdir))
             interleaved_walls(results, n, workdir)
             rows.append((n, results))
-            report(rows, args.codes)
+            report(rows, args.codes, args.write_docs and n == args.segments[-1])
 
 
 def interleaved_walls(results, n, workdir):
@@ -331,18 +333,22 @@ def interleaved_walls(results, n, workdir):
               f"{REPEATS}, interleaved)", flush=True)
 
 
-def report(rows, codes):
+def report(rows, codes, write_docs=False):
+    """Print the table (and with write_docs, write it into docs/speed.md)."""
     head = " | ".join(f"{c} step / wall" for c in codes)
     ratios = [c for c in codes if c != "skmoor"] if "skmoor" in codes else []
-    print(f"\n| segments | {head} | " + " | ".join(f"skmoor/{c}" for c in ratios)
-          + " | references: " + ", ".join(f"skmoor-{c}" for c in ratios) + " |")
-    print("|---" * (2 + len(codes) + 2 * len(ratios)) + "|")
+    lines = [f"| segments | {head} | " + " | ".join(f"skmoor/{c}" for c in ratios)
+             + " | references: " + ", ".join(f"skmoor-{c}" for c in ratios) + " |",
+             "|---" * (1 + len(codes) + 2 * len(ratios)) + "|"]
     for n, res in rows:
         cells = [f"{1e3 * res[c]['dt']:g} ms / {res[c]['wall']:.2f} s" for c in codes]
-        cells += [f"{res['skmoor']['wall'] / res[c]['wall']:.2f}" for c in ratios]
+        cells += [f"**{res['skmoor']['wall'] / res[c]['wall']:.2f}**" for c in ratios]
         cells += [f"{error(res['skmoor']['ref'], res[c]['ref']):.4f}" for c in ratios]
-        print(f"| {n} | " + " | ".join(cells) + " |")
+        lines.append(f"| {n} | " + " | ".join(cells) + " |")
+    print("\n" + "\n".join(lines))
     sys.stdout.flush()
+    if write_docs:
+        write_block(ROOT / "docs" / "speed.md", "volturnus.py table", "\n".join(lines))
 
 
 if __name__ == "__main__":

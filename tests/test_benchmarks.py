@@ -210,3 +210,14 @@ def test_scaling_tables_show_the_ratios():
     assert "| 10 | 0.0625 / 1.000 / 3.00 / 100 | 0.002 / 4.000 / 2.00 / 100 |" in full
     assert full.endswith("| **0.25** | **0.50** | 1.50 | 0.50 |")
     assert short.splitlines()[-1] == "| 10 | **0.25** | **0.50** | 1.50 | 0.50 |"
+
+
+def test_write_block_replaces_only_its_block(tmp_path):
+    """A script's table goes between its own markers; the rest of the page stays, and a
+    page without the markers is left alone."""
+    page = tmp_path / "page.md"
+    page.write_text("intro\n<!-- t -->\nold\n<!-- end of t -->\nafter\n")
+    assert _cases.write_block(page, "t", "| new |\n")
+    assert page.read_text() == "intro\n<!-- t -->\n| new |\n<!-- end of t -->\nafter\n"
+    assert not _cases.write_block(page, "other", "x")
+    assert page.read_text().count("| new |") == 1
