@@ -57,6 +57,7 @@ from .coupling.rods import coupled_reaction
 from .model.model import build
 from .run import failures
 from .run.equilibrium import equilibrium
+from .run.recorder import Recorder
 from .solvers.dynamics import Scheme, Stepping, checkpoint_bytes
 
 __all__ = ["Create", "Init", "Step", "Close", "BreakLine", "NCoupledDOF", "GetNumberLines",
@@ -125,6 +126,7 @@ class Host:
         self._watch = failures.watch(self.model)  # the deck's FAILURE entries
         self.line_failures = []  # the deck's failures so far: failures.Event.as_dict() each
         self._releases = 0  # line ends let go so far (FAILURE entries and BreakLine calls)
+        self._placer = None  # a Recorder of the present model: where line-less points are
 
     def _host_motion(self):
         self._motion = _HostMotion(0)
@@ -231,6 +233,12 @@ class Host:
     def point_force(self, i):
         ends = self._last[2]
         return sum((ends[side][k] for k, side in self._ends.get(i, [])), np.zeros(3))
+
+    def point_positions(self):
+        """(network points, 3) positions (m) at the present state."""
+        if self._placer is None or self._placer.model is not self.model:
+            self._placer = Recorder(self.model)
+        return self._placer.point_positions(self.stepping.x, self.stepping.t)
 
     def point_node(self, i):
         """(line, node) of a line end on point i, or None."""
@@ -385,12 +393,15 @@ def _index(call, what, number, count) -> int:
 
 
 def GetPointPos(instance: _Point) -> np.ndarray:
-    """Position (m): a line end's on it, else the deck's."""
+    """Position (m): a line end's on it; a point without lines where its body, its
+    coupled motion or its own DOFs put it (the deck's before Init)."""
     host = instance.host
     found = host.point_node(instance.i)
-    if found is None:
+    if found is not None:
+        return host.node_positions(found[0])[found[1]]
+    if host.stepping is None:
         return np.asarray(host.model.network.points[instance.i].position, float)
-    return host.node_positions(found[0])[found[1]]
+    return host.point_positions()[instance.i]
 
 
 def GetPointVel(instance: _Point) -> np.ndarray:

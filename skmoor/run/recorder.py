@@ -237,6 +237,14 @@ class Recorder:
             self._point_reference[i] - network.bodies[k].rigid.reference_point))
             for k, i in on_body.items()]
 
+    def point_positions(self, x, t) -> np.ndarray:
+        """(points, 3) positions (m) of the recorded points at the state x (the system's
+        unknowns) and time t (s): free points, points on bodies, coupled and fixed ones."""
+        network = self.model.network
+        y = (np.zeros(self._n_coupled) if network.motion is None
+             else np.asarray(network.motion(t), float).ravel())
+        return self._point_reference + self._points(x, y, self._bodies(x, y))
+
     def _bodies(self, x, y):
         out = np.zeros((len(self._body_plan), 6))
         poses = self._system.body_pose(x)  # angles from the global frame (re-based bodies)

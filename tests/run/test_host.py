@@ -218,3 +218,29 @@ def test_points_are_numbered_as_moordyn_numbers_them(tmp_path, monkeypatch):
                                    ([-2.0, 0.0, -50.0], [2.0, 0.0, -50.0])):
         np.testing.assert_allclose(theirs, given, atol=1e-9)
         np.testing.assert_allclose(ours, given, atol=1e-9)
+
+
+def test_a_point_without_lines_moves_with_its_body(tmp_path, monkeypatch):
+    """A point on the coupled body that no line holds (a sensor, a light): GetPointPos
+    gives where the body carries it, as MoorDyn does, at a pose surged, heaved and turned
+    (0.2, 0.3, 0.5 rad: the body-frame position, or the deck's, is metres off)."""
+    monkeypatch.chdir(tmp_path)
+    text = (ROOT / "tests" / "decks" / "host" / "semi_body.dat").read_text()
+    row = "6   Fixed       418.8    -725.383 -200.0  0     0       0    0\n"
+    assert row in text
+    deck = tmp_path / "semi_sensor.dat"
+    deck.write_text(text.replace(row, row + "7   Body1       10.0     -20.0    5.0     0     0"
+                                 "       0    0\n"))
+    pose = np.array([3.0, -2.0, 1.0, 0.2, 0.3, 0.5])
+    found = {}
+    for lib in (moordyn, skmoordyn):
+        md = lib.Create(str(deck))
+        try:
+            lib.Init(md, np.zeros(6), np.zeros(6))
+            for k in range(10):  # to the pose over 0.5 s, at its velocity
+                lib.Step(md, pose * k / 10, pose / (10 * DT), k * DT, DT)
+            found[lib] = np.asarray(lib.GetPointPos(lib.GetPoint(md, 7)), float)
+        finally:
+            lib.Close(md)
+    np.testing.assert_allclose(found[skmoordyn], found[moordyn], atol=1e-9)
+    assert np.linalg.norm(found[moordyn] - [10.0, -20.0, 5.0]) > 5.0
