@@ -32,12 +32,16 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # the physics, each with the tests that mirror it (tests/<subpackage>/)
 PHYSICS = {
-    "skmoor/lines/laws.py": ["tests/lines/test_laws.py"],
+    "skmoor/lines/laws.py": ["tests/lines/test_laws.py", "tests/lines/test_user_law.py",
+                             "tests/lines/test_creep.py"],
     "skmoor/lines/catenary.py": ["tests/lines/test_catenary.py",
-                                 "tests/lines/test_curve_catenary.py"],
+                                 "tests/lines/test_curve_catenary.py",
+                                 "tests/lines/test_chain_statics.py"],
     "skmoor/lines/cable_forms.py": ["tests/lines/test_line_statics.py",
                                     "tests/lines/test_laws.py"],
-    "skmoor/sea/seabed.py": ["tests/sea/test_seabed.py", "tests/sea/test_bathymetry.py"],
+    "skmoor/sea/seabed.py": ["tests/sea/test_seabed.py", "tests/sea/test_bathymetry.py",
+                             "tests/sea/test_seabed_static_friction.py",
+                             "tests/io/test_bathymetry_case.py"],
     "skmoor/sea/hydro.py": ["tests/sea/test_hydro.py", "tests/test_blind_spots.py"],
     "skmoor/sea/waves.py": ["tests/sea/test_waves.py", "tests/test_blind_spots.py"],
     "skmoor/bodies/restoring.py": ["tests/bodies/test_body.py"],
