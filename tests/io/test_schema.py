@@ -103,7 +103,7 @@ def _readme_network():
     """The README's explicit-tables example."""
     text = (ROOT / "README.md").read_text()
     return tomllib.loads(next(b for b in re.findall(r"```toml\n(.*?)```", text, re.DOTALL)
-                              if "[[points]]" in b))
+                              if "points = [" in b))
 
 
 def _sweep_cases():
