@@ -426,3 +426,48 @@ def test_dynamic_stiffness_grows_with_the_mean_tension():
     np.testing.assert_allclose(rope.dynamic_EA(T_mean), 1.2e8 + 20.0 * T_mean, rtol=1e-14)
     fixed = laws.StaticDynamic(EA_dynamic=3.0e8)
     np.testing.assert_allclose(fixed.dynamic_EA(T_mean), 3.0e8, rtol=1e-14)
+
+
+def test_curve_files_read_with_blanks_or_commas(tmp_path):
+    """A MoorDyn curve file: three header lines, then strain and tension per line, blank-
+    or comma-separated, blank lines skipped; the same Curve either way."""
+    head = "EA curve\nStrain Tension\n(-) (N)\n"
+    (tmp_path / "blanks.txt").write_text(head + "0.0 0.0\n0.01  2e5\n\n0.03\t1e6\n")
+    (tmp_path / "commas.txt").write_text(head + "0.0,0.0\n0.01, 2e5\n0.03,1e6\n")
+    blanks = laws.read_curve(tmp_path / "blanks.txt")
+    commas = laws.read_curve(tmp_path / "commas.txt")
+    assert blanks.strain == commas.strain == (0.0, 0.01, 0.03)
+    assert blanks.tension_values == commas.tension_values == (0.0, 2e5, 1e6)
+    assert "commas.txt" in commas.source
+    named = laws.read_curve(tmp_path / "commas.txt", source="line type poly")
+    assert named.source.startswith("line type poly (curve file commas.txt)")
+
+
+def test_static_dynamic_carries_compression_when_told():
+    """StaticDynamic(tension_only=False) over a tension-only static law: the static law's
+    parameters are taken, but the slack rule is the StaticDynamic's own (compression
+    carried at EA_s); tension_only=True leaves a slack cable at zero."""
+    EA = 1.0e8
+    both = laws.StaticDynamic(EA_dynamic=3 * EA, tension_only=False)
+    assert both.tension(-0.01, EA) == pytest.approx(-0.01 * EA)
+    assert both.tension(0.02, EA) == pytest.approx(0.02 * EA)
+    cable = laws.StaticDynamic(EA_dynamic=3 * EA)
+    assert cable.tension(-0.01, EA) == 0.0 and cable.tension(0.02, EA) == pytest.approx(0.02 * EA)
+
+
+def test_viscoelastic_springs_in_series_give_the_static_stiffness():
+    """The creep spring EA_1 and the dynamic spring EA_d in series make EA_s: 1/EA_1 +
+    1/EA_d = 1/EA_s, at any creep strain for a fixed EA_d; with alpha and beta, EA_d =
+    alpha_MBL + beta EA_1 z (MoorDyn's closed form) at the creep strain z."""
+    EA_s = 1.0e8
+    fixed = laws.Viscoelastic(EA_dynamic=3 * EA_s, creep_damping=1e9)
+    z = np.array([0.0, 0.01, 0.05])
+    EA_1, EA_d = fixed.stiffnesses(z, EA_s)
+    np.testing.assert_allclose(EA_d, 3 * EA_s)
+    np.testing.assert_allclose(1 / EA_1 + 1 / EA_d, 1 / EA_s, rtol=1e-12)
+    rope = laws.Viscoelastic(alpha_MBL=2.0 * EA_s, beta=30.0, creep_damping=1e9)
+    EA_1, EA_d = rope.stiffnesses(z, EA_s)
+    np.testing.assert_allclose(EA_d, 2.0 * EA_s + 30.0 * EA_1 * z, rtol=1e-12)
+    np.testing.assert_allclose(1 / EA_1 + 1 / EA_d, 1 / EA_s, rtol=1e-12)
+    with pytest.raises(ValueError, match="must exceed the static one"):
+        laws.Viscoelastic(EA_dynamic=EA_s, creep_damping=1e9).stiffnesses(z, EA_s)
