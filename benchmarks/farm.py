@@ -7,7 +7,8 @@ Each platform is held by three catenary chains as VolturnUS-S is (850 m of R3 ch
 grid and their fairleads are coupled points (the platforms' motions are the host's). With
 ``--shared`` each platform is also joined to its neighbour in x by a shared line (FAST.Farm's
 shared moorings): 1900 m of a polyester-like rope (20 kg/m, EA 1e8 N) between facing
-fairleads, sagging about 100 m. The deck is written to a temporary folder and built as
+fairleads, sagging about 100 m; with ``--shared-anchors`` every other column is turned by
+180 deg and a platform's east leg and its neighbour's west leg end on one anchor midway. The deck is written to a temporary folder and built as
 ``skmoor run`` builds it.
 
 Printed: the unknowns, the time of ``skmoor.build`` and of ``skmoor.equilibrium`` (the
@@ -25,7 +26,8 @@ them timed apart). Printed: each code's wall time, the ratio, both codes' mean f
 tension of the first line over the last 10 s (a check that they run the same system) and
 the peak memory after each.
 
-Run: ``python benchmarks/farm.py [--platforms 100] [--segments 50] [--shared] [--run 60]``
+Run: ``python benchmarks/farm.py [--platforms 100] [--segments 50] [--shared]
+[--shared-anchors] [--run 60] [--write-docs]``
 """
 from __future__ import annotations
 
@@ -52,33 +54,54 @@ ID  Attachment  X  Y  Z  Mass  Volume  CdA  Ca
 (#) (word)  (m)  (m)  (m)  (kg)  (m^3)  (m^2)  (-)"""
 ANCHOR_RADIUS, FAIRLEAD_RADIUS, DRAFT, DEPTH, LENGTH, SPACING = 837.6, 58.0, 14.0, 200.0, 850.0, 2000.0
 SHARED_LENGTH = 1900.0  # m of rope between facing fairleads 1884 m apart
+SHARED_ANCHOR_LENGTH = LENGTH + (SPACING / 2 - ANCHOR_RADIUS)  # m: 162.4 m more on the bed
 MOORDYN_DT, SKMOOR_DT, COUPLING_DT = 2.0**-7, 0.25, 1 / 32  # s
 
 
-def farm_deck(platforms: int, segments: int, folder: Path, shared=False, dtM=None) -> Path:
+def farm_deck(platforms: int, segments: int, folder: Path, shared=False, dtM=None,
+              shared_anchors=False) -> Path:
     """A MoorDyn deck of ``platforms`` moorings on a square grid (with ``shared``: a
-    shared rope from each platform to its neighbour in x); its path."""
+    shared rope from each platform to its neighbour in x; with ``shared_anchors``: every
+    other column turned by 180 deg, so that a platform's east leg and its neighbour's west
+    leg end on one anchor midway, both 1012.4 m long: the others' suspended length plus
+    the longer reach on the bed); its path."""
     rows, lines = [HEAD.format(n=platforms)], []
     side = int(np.ceil(np.sqrt(platforms)))
-    east = {}  # platform -> its fairlead facing +x (the one at 0 deg)
-    west = {}  # platform -> a point facing -x, for the shared line from its neighbour
+    midway = {}  # platform -> the anchor it shares with its neighbour to the east
+
+    def point(kind, x, y, z):
+        rows.append(f"{len(rows)} {kind} {x:.3f} {y:.3f} {z} 0 0 0 0")
+        return len(rows) - 1
+
     for k in range(platforms):
-        cx, cy = SPACING * (k % side), SPACING * (k // side)
+        column = k % side
+        cx, cy = SPACING * column, SPACING * (k // side)
+        turned = shared_anchors and column % 2 == 1
+        east = None  # the platform's fairlead facing +x, if it has one
         for j in range(3):
-            angle = 2 * np.pi * j / 3
+            angle = 2 * np.pi * j / 3 + (np.pi if turned else 0.0)
             c, s = np.cos(angle), np.sin(angle)
-            anchor, fairlead = len(rows), len(rows) + 1
-            rows.append(f"{anchor} Fixed {cx + ANCHOR_RADIUS * c:.3f} "
-                        f"{cy + ANCHOR_RADIUS * s:.3f} {-DEPTH} 0 0 0 0")
-            rows.append(f"{fairlead} Coupled {cx + FAIRLEAD_RADIUS * c:.3f} "
-                        f"{cy + FAIRLEAD_RADIUS * s:.3f} {-DRAFT} 0 0 0 0")
-            lines.append(("chain", anchor, fairlead, LENGTH))
-            if j == 0:
-                east[k] = fairlead
-        if shared and k % side:  # a neighbour to the west: a coupled point facing it
-            west[k] = len(rows)
-            rows.append(f"{west[k]} Coupled {cx - FAIRLEAD_RADIUS:.3f} {cy:.3f} {-DRAFT} 0 0 0 0")
-            lines.append(("rope", east[k - 1], west[k], SHARED_LENGTH))
+            length = LENGTH
+            if shared_anchors and j == 0 and not turned and column + 1 < side and k + 1 < platforms:
+                anchor = midway[k] = point("Fixed", cx + SPACING / 2, cy, -DEPTH)
+                length = SHARED_ANCHOR_LENGTH
+            elif shared_anchors and j == 0 and turned:
+                anchor, length = midway[k - 1], SHARED_ANCHOR_LENGTH
+            else:
+                anchor = point("Fixed", cx + ANCHOR_RADIUS * c, cy + ANCHOR_RADIUS * s, -DEPTH)
+            fairlead = point("Coupled", cx + FAIRLEAD_RADIUS * c, cy + FAIRLEAD_RADIUS * s,
+                             -DRAFT)
+            lines.append(("chain", anchor, fairlead, length))
+            if abs(c - 1.0) < 1e-9:
+                east = fairlead
+        if shared and column + 1 < side and k + 1 < platforms:  # a rope to the east
+            start = east if east is not None else point("Coupled", cx + FAIRLEAD_RADIUS, cy,
+                                                        -DRAFT)
+            lines.append(("rope", start, None, SHARED_LENGTH))  # its end: the neighbour's
+        if shared and column:  # the rope from the west ends on a point facing it
+            end_point = point("Coupled", cx - FAIRLEAD_RADIUS, cy, -DRAFT)
+            k_rope = max(i for i, line in enumerate(lines) if line[0] == "rope" and line[2] is None)
+            lines[k_rope] = ("rope", lines[k_rope][1], end_point, SHARED_LENGTH)
     rows += ["---------------------- LINES ---------------------------------------",
              "ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs",
              "(#) (name) (#) (#) (m) (-) (-)"]
@@ -164,6 +187,8 @@ def main(argv=None):
     parser.add_argument("--platforms", type=int, default=100)
     parser.add_argument("--segments", type=int, default=50)
     parser.add_argument("--shared", action="store_true", help="shared lines between neighbours")
+    parser.add_argument("--shared-anchors", action="store_true", help="neighbours in x share "
+                        "an anchor midway")
     parser.add_argument("--run", type=float, metavar="S", help="also time S s of motion in "
                         "skmoor and MoorDyn")
     parser.add_argument("--write-docs", action="store_true", help="with --run: write the "
@@ -172,7 +197,8 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as folder, warnings.catch_warnings():
         warnings.simplefilter("ignore")
         deck = farm_deck(args.platforms, args.segments, Path(folder), args.shared,
-                         dtM=MOORDYN_DT)
+                         dtM=MOORDYN_DT, shared_anchors=args.shared_anchors)
+        anchors = sum(p.kind == "fixed" for p in skmoor.read_deck(deck).points)
         n_points = sum(p.kind == "coupled" for p in skmoor.read_deck(deck).points)
         started = time.perf_counter()
         model = skmoor.build(deck, motion=motion(n_points))
@@ -182,7 +208,8 @@ def main(argv=None):
         solved = time.perf_counter() - started
         lines = len(model.lines.lines)
         print(f"{args.platforms} platforms, {lines} lines of {args.segments} segments "
-              f"({lines - 3 * args.platforms} shared): {model.system.n} unknowns")
+              f"({lines - 3 * args.platforms} shared), {anchors} anchors: "
+              f"{model.system.n} unknowns")
         print(f"build {built:.1f} s, statics and 12 modes {solved:.1f} s, peak memory "
               f"{peak_memory():.0f} MB")
         print("lowest periods: " + ", ".join(f"{T:.4f}" for T in eq.modes.periods[:3]) + " s")
@@ -202,7 +229,8 @@ def main(argv=None):
                      "MoorDyn | line 1 fairlead tension skmoor / MoorDyn | peak memory |\n"
                      "|---|---|---|---|---|---|---|\n"
                      f"| {args.platforms} platforms, {3 * args.platforms} chains + {shared} "
-                     f"shared ropes, {args.segments} segments, {args.run:g} s | "
+                     f"shared ropes, {anchors} anchors, {args.segments} segments, "
+                     f"{args.run:g} s | "
                      f"{model.system.n:,} | {built:.1f} s | {solved:.1f} s | {wall:.1f} s / "
                      f"{stepping:.1f} s = **{wall / stepping:.2f}** | {tension / 1e3:.0f} / "
                      f"{md_tension / 1e3:.0f} kN | {peak_memory():.0f} MB |")

@@ -147,10 +147,13 @@ def test_farm_benchmark_builds_the_farm_it_says(capsys):
 
     farm.main(["--platforms", "4", "--segments", "10"])
     out = capsys.readouterr().out
-    assert "4 platforms, 12 lines of 10 segments (0 shared): 324 unknowns" in out
+    assert "4 platforms, 12 lines of 10 segments (0 shared), 12 anchors: 324 unknowns" in out
     farm.main(["--platforms", "4", "--segments", "10", "--shared"])
     out = capsys.readouterr().out  # 2 x 2 platforms: one shared line in each row
-    assert "4 platforms, 14 lines of 10 segments (2 shared): 378 unknowns" in out
+    assert "4 platforms, 14 lines of 10 segments (2 shared), 12 anchors: 378 unknowns" in out
+    farm.main(["--platforms", "4", "--segments", "10", "--shared-anchors"])
+    out = capsys.readouterr().out  # two pairs share an anchor each
+    assert "4 platforms, 12 lines of 10 segments (0 shared), 10 anchors: 324 unknowns" in out
     with tempfile.TemporaryDirectory() as folder:
         one = skmoor.equilibrium(skmoor.build(farm.farm_deck(1, 10, Path(folder))))
         four = skmoor.equilibrium(skmoor.build(farm.farm_deck(4, 10, Path(folder))))
