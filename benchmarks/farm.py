@@ -68,6 +68,7 @@ def farm_deck(platforms: int, segments: int, folder: Path, shared=False, dtM=Non
     rows, lines = [HEAD.format(n=platforms)], []
     side = int(np.ceil(np.sqrt(platforms)))
     midway = {}  # platform -> the anchor it shares with its neighbour to the east
+    rope_start = None  # the fairlead of the rope that waits for its end at the next platform
 
     def point(kind, x, y, z):
         rows.append(f"{len(rows)} {kind} {x:.3f} {y:.3f} {z} 0 0 0 0")
@@ -94,14 +95,14 @@ def farm_deck(platforms: int, segments: int, folder: Path, shared=False, dtM=Non
             lines.append(("chain", anchor, fairlead, length))
             if abs(c - 1.0) < 1e-9:
                 east = fairlead
-        if shared and column + 1 < side and k + 1 < platforms:  # a rope to the east
-            start = east if east is not None else point("Coupled", cx + FAIRLEAD_RADIUS, cy,
-                                                        -DRAFT)
-            lines.append(("rope", start, None, SHARED_LENGTH))  # its end: the neighbour's
         if shared and column:  # the rope from the west ends on a point facing it
-            end_point = point("Coupled", cx - FAIRLEAD_RADIUS, cy, -DRAFT)
-            k_rope = max(i for i, line in enumerate(lines) if line[0] == "rope" and line[2] is None)
-            lines[k_rope] = ("rope", lines[k_rope][1], end_point, SHARED_LENGTH)
+            incoming = lines.index(("rope", rope_start, None, SHARED_LENGTH))
+            lines[incoming] = ("rope", rope_start, point("Coupled", cx - FAIRLEAD_RADIUS, cy,
+                                                         -DRAFT), SHARED_LENGTH)
+        if shared and column + 1 < side and k + 1 < platforms:  # a rope to the east
+            rope_start = east if east is not None else point("Coupled", cx + FAIRLEAD_RADIUS,
+                                                             cy, -DRAFT)
+            lines.append(("rope", rope_start, None, SHARED_LENGTH))  # ends at the neighbour
     rows += ["---------------------- LINES ---------------------------------------",
              "ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs",
              "(#) (name) (#) (#) (m) (-) (-)"]
