@@ -135,3 +135,36 @@ def test_a_model_says_when_its_static_state_leaves_the_friction_out():
     assert len(friction_notes(seabed__mu_axial=0.3)) == 1
     assert friction_notes(seabed__mu_axial=0.3, seabed__static_friction="as-laid") == []
     assert friction_notes() == []
+
+
+def test_static_residual_alone_equals_the_one_with_its_tangent():
+    """In a static solve the bed's residual is evaluated alone (line search) and with its
+    tangent (Newton): the two must be one residual, friction of the slip from the as-laid
+    line included, and the tangent its derivative (central differences). A residual-only
+    path that drops the friction, or gets the state wrong, fails."""
+    line_type = LineType(EA=1e9, mass=100.0, diameter=0.1, weight=W)
+    anchor = np.array([-SPAN, 0.0, -RISE])
+    cat = solve_catenary(anchor, np.zeros(3), W, 1e9, length=LENGTH, seabed_z=-RISE)
+    lines = LineSet([Line.from_catenary(cat, line_type, 40)], law="engineering")
+    bed = Seabed(RISE, stiffness=W / 1e-2, mu_axial=0.5, mu_lateral=0.5,
+                 static_friction="as-laid", static_slip=1e-3)
+    term = seabed_term(lines, bed)
+    System(lines, fairleads="fixed", terms=[term])
+    rng = np.random.default_rng(3)
+    u = 0.05 * rng.standard_normal(lines.ndofs)
+    v = np.zeros(lines.ndofs)
+    lines.use_static_laws(True)
+    try:
+        alone = term.evaluate(u, v, 0.0, False)[0]
+        with_tangent, K, _ = term.evaluate(u, v, 0.0, True, "sparse")
+        K = K.toarray() if hasattr(K, "toarray") else np.asarray(K)
+        du = 1e-7 * rng.standard_normal(lines.ndofs)
+        slope = (term.evaluate(u + du, v, 0.0, False)[0]
+                 - term.evaluate(u - du, v, 0.0, False)[0]) / 2
+        lines.use_static_laws(False)
+        without_friction = term.evaluate(u, v, 0.0, False)[0]
+    finally:
+        lines.use_static_laws(False)
+    np.testing.assert_allclose(alone, with_tangent, rtol=1e-12, atol=1e-9)
+    assert np.abs(alone - without_friction).max() > 1e-3 * np.abs(alone).max()
+    np.testing.assert_allclose(slope, K @ du, rtol=1e-4, atol=1e-6 * np.abs(K @ du).max())
