@@ -102,7 +102,8 @@ def statuses(workdir: Path, messages=False) -> dict[str, Counter]:
 def text_only_mutants(source: Path) -> set[str]:
     """Names of the mutant functions in mutmut's copy ``source`` that differ from their
     original (``<name>__mutmut_orig``) only in the text of a message: a string in a
-    ``raise`` statement or a ``warn(...)`` call (other strings, keys and names, count)."""
+    ``raise`` statement, a ``warn(...)`` call or a checker's call (``check_positive("Seabed.
+    depth", x)``: the field its error names); other strings, keys and names, count."""
     import ast
 
     class Blank(ast.NodeTransformer):
@@ -114,7 +115,9 @@ def text_only_mutants(source: Path) -> set[str]:
         def visit_Call(self, node):
             func = node.func
             name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
-            return _blank_strings(node) if name == "warn" else self.generic_visit(node)
+            if name == "warn" or name.startswith(("check_", "_check_", "_fail")):
+                return _blank_strings(node)  # a warning, or a checker's field name
+            return self.generic_visit(node)
 
     def _blank_strings(node):
         for child in ast.walk(node):
