@@ -283,10 +283,13 @@ def drag(direction, mu_axial, mu_lateral, stretch, t_end):
     return -(fairlead[0] + anchor[0]) @ direction, length - 0.5 * length / nel
 
 
-def test_axial_drag_needs_mu_axial_w_laid_length():
+@pytest.mark.parametrize("mu_lateral", [0.9, 0.0])
+def test_axial_drag_needs_mu_axial_w_laid_length(mu_lateral):
     """Dragged along itself (all of it slides, the speed growing from the anchor), the line
-    needs mu_axial w L_laid (1 %); the lateral coefficient plays no part."""
-    force, laid = drag([1.0, 0.0], mu_axial=0.3, mu_lateral=0.9, stretch=0.01, t_end=4.0)
+    needs mu_axial w L_laid (1 %); the lateral coefficient plays no part, none at all
+    included (a bed with axial friction alone still has friction)."""
+    force, laid = drag([1.0, 0.0], mu_axial=0.3, mu_lateral=mu_lateral, stretch=0.01,
+                       t_end=4.0)
     assert force == pytest.approx(0.3 * CHAIN.weight * laid, rel=1e-2)
 
 
