@@ -44,7 +44,9 @@ PHYSICS = {
                              "tests/io/test_bathymetry_case.py"],
     "skmoor/sea/hydro.py": ["tests/sea/test_hydro.py", "tests/test_blind_spots.py"],
     "skmoor/sea/waves.py": ["tests/sea/test_waves.py", "tests/test_blind_spots.py"],
-    "skmoor/bodies/restoring.py": ["tests/bodies/test_body.py"],
+    "skmoor/bodies/restoring.py": ["tests/bodies/test_exact_body_terms.py",
+                                   "tests/bodies/test_large_rotations.py",
+                                   "tests/bodies/test_rotations_setting.py"],
 }
 
 DETECTED = ("killed", "timeout", "segfault", "caught by type check")
