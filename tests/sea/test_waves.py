@@ -149,6 +149,11 @@ def test_sea_sums_current_and_waves():
     np.testing.assert_array_equal(a, sea.acceleration(x, t))
     np.testing.assert_allclose(sea.elevation(x, t), wave.elevation(x, t) + jon.elevation(x, t))
     assert Sea(60.0).still and not Sea(60.0, current=current).still
+    waves_only = Sea(60.0, waves=[wave])  # no current: the wave's kinematics alone
+    np.testing.assert_allclose(waves_only.velocity(x, t), wave.velocity(x, t), rtol=1e-14,
+                               atol=1e-14)
+    assert np.abs(waves_only.velocity(x, t)).max() > 0.1
+    np.testing.assert_array_equal(Sea(60.0).velocity(x, t), np.zeros_like(x))
 
 
 @pytest.mark.parametrize("build, field", [
