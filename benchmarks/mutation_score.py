@@ -81,7 +81,7 @@ def configure(workdir: Path, modules: list[str], tests: list[str]):
                          f"only_mutate = {toml_list(modules)}\n"
                          f"pytest_add_cli_args_test_selection = {toml_list(tests)}\n"
                          "pytest_add_cli_args = [\"-p\", \"no:cacheprovider\", \"-q\", \"-x\", \"-n\", \"0\"]\n"
-                         "also_copy = [\"benchmarks\", \"examples\", \"meshes\"]\n")
+                         "also_copy = [\"benchmarks\", \"examples\", \"meshes\", \"docs\", \"README.md\"]\n")
 
 
 def statuses(workdir: Path, messages=False) -> dict[str, Counter]:
