@@ -43,7 +43,6 @@ import csv
 import hashlib
 import json
 import math
-import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -278,16 +277,14 @@ def run_load_cases(matrix: LoadCaseMatrix, out="skmoor-out", *, workers=None, sc
     bar = tqdm(total=matrix.size, initial=reused, unit="case", desc="load cases",
                disable=not progress)
     numbered = [(n, task, key, file) for n, (_, task, key, file) in enumerate(pending)]
-    if scheduler is not None:
-        finished = sweep._on_dask(numbered, scheduler, work=run_load_case)
-    elif workers == 1:
-        finished = ((n, run_load_case(task)) for n, task, _, _ in numbered)
-    else:
-        finished = sweep._on_processes(numbered, min(workers or os.cpu_count() or 1,
-                                                     max(len(numbered), 1)),
-                                       work=run_load_case)
     failed = 0
-    try:
+
+    def interrupted():
+        print(f"load cases interrupted: {len(results) - failed} of {matrix.size} cases are "
+              f"kept in {kept_dir}; run again to compute the rest", file=sys.stderr)
+
+    batch = sweep.run_batch(numbered, run_load_case, workers=workers, scheduler=scheduler)
+    with sweep.collecting(batch, bar, interrupted) as finished:
         for n, result in finished:
             index, task, key, file = pending[n]
             results[index] = result
@@ -297,15 +294,6 @@ def run_load_cases(matrix: LoadCaseMatrix, out="skmoor-out", *, workers=None, sc
             else:
                 sweep._write_json(file, {"key": key, "case": task["case"], "result": result})
             bar.update(1)
-    except KeyboardInterrupt:
-        bar.close()
-        print(f"load cases interrupted: {len(results) - failed} of {matrix.size} cases are "
-              f"kept in {kept_dir}; run again to compute the rest", file=sys.stderr)
-        raise
-    finally:
-        bar.close()
-        if hasattr(finished, "close"):
-            finished.close()
     data = dataset(matrix, results)
     data.to_netcdf(out / "load_cases.nc", engine="h5netcdf")
     _write_csv(data, out / "load_cases.csv")

@@ -29,6 +29,7 @@ Dask workers must be able to import the same skmoor (install it on every worker)
 """
 from __future__ import annotations
 
+import contextlib
 import csv
 import difflib
 import hashlib
@@ -374,13 +375,14 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
     failed = len(errors)
     computed, ran, point_time = 0, 0, 0.0
     by_index = {i: (task, key, file) for i, task, key, file in pending}
-    if scheduler is not None:
-        finished = _on_dask(pending, scheduler)
-    elif workers == 1:
-        finished = ((i, run_point(task)) for i, task, _, _ in pending)
-    else:
-        finished = _on_processes(pending, min(workers or os.cpu_count() or 1, max(len(pending), 1)))
-    try:
+
+    def interrupted():
+        done = write_csv([row for row in rows if row is not None], out / "sweep.csv")
+        print(f"sweep interrupted: {reused + computed} of {len(points)} points are kept in "
+              f"{points_dir} (and in {done}); run again to compute the rest", file=sys.stderr)
+
+    with collecting(run_batch(pending, run_point, workers=workers, scheduler=scheduler),
+                    bar, interrupted) as finished:
         for i, result in finished:
             task, key, file = by_index[i]
             study, value = points[i]
@@ -397,16 +399,6 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
                                                         if k != "case"},
                                    "case": task["case"], "result": result})
             bar.update(1)
-    except KeyboardInterrupt:
-        bar.close()
-        done = write_csv([row for row in rows if row is not None], out / "sweep.csv")
-        print(f"sweep interrupted: {reused + computed} of {len(points)} points are kept in "
-              f"{points_dir} (and in {done}); run again to compute the rest", file=sys.stderr)
-        raise
-    finally:
-        bar.close()
-        if hasattr(finished, "close"):
-            finished.close()
 
     csv_path = write_csv(rows, out / "sweep.csv")
     figures = []
@@ -466,6 +458,35 @@ def write_csv(rows, path) -> Path:
         for row in rows:
             writer.writerow({k: row.get(k, "") for k in COLUMNS})
     return path
+
+
+def run_batch(pending, work, *, workers=None, scheduler=None):
+    """(index, result) of each pending (index, task, key, file) as ``work(task)``
+    finishes: on the Dask cluster ``scheduler``, in this process (``workers=1``), or on
+    ``workers`` local processes (default: one per core)."""
+    if scheduler is not None:
+        return _on_dask(pending, scheduler, work)
+    if workers == 1:
+        return ((i, work(task)) for i, task, _, _ in pending)
+    return _on_processes(pending, min(workers or os.cpu_count() or 1, max(len(pending), 1)),
+                         work)
+
+
+@contextlib.contextmanager
+def collecting(finished, bar, interrupted):
+    """Gather the results of a batch: the progress bar and the results' iterator closed
+    however the loop ends; on Ctrl-C, ``interrupted()`` says what is kept, then it goes
+    on up."""
+    try:
+        yield finished
+    except KeyboardInterrupt:
+        bar.close()
+        interrupted()
+        raise
+    finally:
+        bar.close()
+        if hasattr(finished, "close"):
+            finished.close()
 
 
 def _on_processes(pending, workers, work=None):
