@@ -56,6 +56,7 @@ else:  # pragma: no cover
 import numpy as np
 
 from ..io.case import Case, paper_case
+from ..io.paths import resolve_inside
 from ..model.model import build
 from ..post.fatigue import fatigue
 from ..post.strength import strength
@@ -165,11 +166,10 @@ class LoadCaseMatrix:
             if self.n_components is not None:
                 wave["n_components"] = self.n_components
             sea = dict(self.base_case.data.get("sea") or {}, waves=[wave])
-            case = self.base_case.replace("sea", sea)
-            if condition.failures:
-                case = case.replace("failures", list(condition.failures))
-            try:
-                Case(case.data, case.directory)
+            try:  # each replace checks the case against the schema
+                case = self.base_case.replace("sea", sea)
+                if condition.failures:
+                    case = case.replace("failures", list(condition.failures))
             except ValueError as err:
                 raise ValueError(f"load case (Hs {s.Hs}, Tp {s.Tp}, heading "
                                  f"{self.headings_deg[j]}, seed {self.seeds[k]}, "
@@ -197,7 +197,8 @@ class LoadCaseMatrix:
                 raise ValueError(f"{path.name}: load_cases.{key} must be a number > 0, got "
                                  f"{value!r}")
         case_file = table.pop("case", None)
-        base = paper_case() if case_file is None else Case.from_toml(path.parent / case_file)
+        base = paper_case() if case_file is None else Case.from_toml(
+            resolve_inside(case_file, path.parent, f"{path.name}: load_cases.case"))
         known = set(cls.__dataclass_fields__) - {"base_case"}
         unknown = sorted(set(table) - known)
         if unknown:

@@ -175,5 +175,13 @@ def test_study_file_and_its_errors(tmp_path):
         file.write_text(f"[load_cases]\n{body}\n")
         with pytest.raises(ValueError, match=message):
             LoadCaseMatrix.from_toml(file)
+    file.write_text("[load_cases]\ncase = \"../../../etc/passwd\"\n")
+    with pytest.raises(ValueError, match="load_cases.case: '../../../etc/passwd' leads out"):
+        LoadCaseMatrix.from_toml(file)
+    file.write_text("[load_cases]\nsea_states = [{Hs = 2.0, Tp = 8.0, probability = 0.5}]\n"
+                    'conditions = [{name = "broken", failures = [{point = "nowhere", '
+                    'lines = ["C1"], time = 1.0}]}]\n')
+    with pytest.raises(ValueError, match="load case .*broken.*failures"):
+        list(LoadCaseMatrix.from_toml(file)[0].cases())
     file.write_text("[load_cases\n")
     assert cli.main(["loadcases", str(file), "--quiet"]) == 2
