@@ -69,7 +69,7 @@ def read_openfast_platform(path) -> tuple[np.ndarray, np.ndarray]:
         table = _LENGTH_UNITS if k < 3 else _ANGLE_UNITS
         unit = units[i].lower() if i < len(units) else ""
         if unit not in table:
-            raise ValueError(f"{path.name}: channel {names[i]} in '{units[i]}', expected "
+            raise ValueError(f"{path.name}: channel {names[i]} in '{unit}', expected "
                              f"{' or '.join(table)}")
         dofs[:, k] = data[:, i] * table[unit]
     if not (np.all(np.isfinite(times)) and np.all(np.isfinite(dofs))):
