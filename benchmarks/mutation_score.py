@@ -46,7 +46,9 @@ PHYSICS = {
     "skmoor/sea/waves.py": ["tests/sea/test_waves.py", "tests/test_blind_spots.py"],
     "skmoor/bodies/restoring.py": ["tests/bodies/test_exact_body_terms.py",
                                    "tests/bodies/test_large_rotations.py",
-                                   "tests/bodies/test_rotations_setting.py"],
+                                   "tests/bodies/test_rotations_setting.py",
+                                   "tests/bodies/test_body.py",
+                                   "tests/solvers/test_compiled_step.py"],
 }
 
 DETECTED = ("killed", "timeout", "segfault", "caught by type check")
