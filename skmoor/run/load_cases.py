@@ -45,7 +45,6 @@ import json
 import math
 import sys
 import time
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -220,10 +219,9 @@ def run_load_case(task: dict) -> dict:
     DELs over the window after ``transient``; an error text instead of an exception."""
     started = time.perf_counter()
     try:
-        with warnings.catch_warnings(record=True) as caught:  # said once for the matrix
-            warnings.simplefilter("always")
-            results = simulate(build(Case(task["case"])), duration=task["duration"],
-                               dt=task["dt"], progress=False)
+        results, notes = sweep.with_warnings(lambda: simulate(  # said once for the matrix
+            build(Case(task["case"])), duration=task["duration"], dt=task["dt"],
+            progress=False))
         if results.meta.get("interrupted"):
             raise KeyboardInterrupt
         start = min(task["transient"], float(results.t[-1]))
@@ -239,7 +237,6 @@ def run_load_case(task: dict) -> dict:
                     **{f"DEL_m{m:g}": tired[name]["DEL"][f"{m:g}"] for m in DEL_EXPONENTS}}
              for name in results.line_names if name in peaks}
     stopped = results.meta.get("stopped")
-    notes = list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught))
     return {"lines": lines, "error": f"stopped: {stopped}" if stopped else "",
             "line_failures": results.meta.get("line_failures", []), "notes": notes,
             "wall_time": time.perf_counter() - started}
@@ -299,12 +296,7 @@ def run_load_cases(matrix: LoadCaseMatrix, out="skmoor-out", *, workers=None, sc
             else:
                 sweep._write_json(file, {"key": key, "case": task["case"], "result": result})
             bar.update(1)
-    said = {}  # each warning of the cases once, with the number of cases that gave it
-    for result in results.values():
-        for note in result.get("notes", ()):
-            said[note] = said.get(note, 0) + 1
-    for note, count in said.items():
-        print(f"load cases: {count} of {matrix.size} cases warned: {note}", file=sys.stderr)
+    sweep.say_once(results.values(), matrix.size, "load cases")
     data = dataset(matrix, results)
     data.to_netcdf(out / "load_cases.nc", engine="h5netcdf")
     _write_csv(data, out / "load_cases.csv")

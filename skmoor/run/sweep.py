@@ -42,6 +42,7 @@ import re
 import socket
 import sys
 import time
+import warnings
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -308,8 +309,9 @@ def run_point(task: dict) -> dict:
     started = time.perf_counter()
     host = socket.gethostname()
     try:
-        results = simulate(build(Case(task["case"])), duration=task["duration"],
-                           dt=task["dt"], progress=False)
+        results, notes = with_warnings(lambda: simulate(
+            build(Case(task["case"])), duration=task["duration"], dt=task["dt"],
+            progress=False))
         info = summary(results)
     except Exception as err:  # reported in the point's row; the other points go on
         return {"error": _describe(err), "wall_time": time.perf_counter() - started,
@@ -328,7 +330,8 @@ def run_point(task: dict) -> dict:
     steady = info.get("max_tension_steady")
     row["max_tension_steady"] = math.nan if steady is None else float(steady)
     row["error"] = "; ".join(problems)
-    return {**row, "summary": info, "wall_time": time.perf_counter() - started, "host": host}
+    return {**row, "summary": info, "notes": notes, "wall_time": time.perf_counter() - started,
+            "host": host}
 
 
 # ---------------------------------------------------------------- the sweep
@@ -381,9 +384,11 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
         print(f"sweep interrupted: {reused + computed} of {len(points)} points are kept in "
               f"{points_dir} (and in {done}); run again to compute the rest", file=sys.stderr)
 
+    outcomes = []  # the runs' results, for their warnings
     with collecting(run_batch(pending, run_point, workers=workers, scheduler=scheduler),
                     bar, interrupted) as finished:
         for i, result in finished:
+            outcomes.append(result)
             task, key, file = by_index[i]
             study, value = points[i]
             rows[i] = _row({"study": study.name, "parameter": study.parameter, "value": value},
@@ -399,6 +404,7 @@ def run_sweep(studies, out="skmoor-out", *, workers=None, scheduler=None, durati
                                                         if k != "case"},
                                    "case": task["case"], "result": result})
             bar.update(1)
+    say_once(outcomes, len(points), "sweep points")
 
     csv_path = write_csv(rows, out / "sweep.csv")
     figures = []
@@ -458,6 +464,26 @@ def write_csv(rows, path) -> Path:
         for row in rows:
             writer.writerow({k: row.get(k, "") for k in COLUMNS})
     return path
+
+
+def with_warnings(run):
+    """(run(), the warnings it gave as distinct "Category: message" texts): a batch's
+    runs keep theirs for :func:`say_once` instead of printing them one run at a time."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        value = run()
+    return value, list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught))
+
+
+def say_once(results, total, what):
+    """Print each warning of a batch's results (their "notes") once, with the number of
+    runs that gave it."""
+    said = {}
+    for result in results:
+        for note in (result or {}).get("notes", ()):
+            said[note] = said.get(note, 0) + 1
+    for note, count in said.items():
+        print(f"{what}: {count} of {total} warned: {note}", file=sys.stderr)
 
 
 def run_batch(pending, work, *, workers=None, scheduler=None):

@@ -114,7 +114,7 @@ def test_rerun_reuses_and_interrupt_keeps_what_finished(local, tmp_path, monkeyp
     # the cases' warnings once for the matrix (dt 0.2 s is longer than the bed's contact
     # period), not once a case
     warned = [line for line in said.err.splitlines() if "ResolutionWarning" in line]
-    assert len(warned) == 1 and "8 of 8 cases warned" in warned[0], said.err
+    assert len(warned) == 1 and "load cases: 8 of 8 warned" in warned[0], said.err
     np.testing.assert_array_equal(again["max_tension"].values, data["max_tension"].values)
 
     real, calls = load_cases.run_load_case, []
