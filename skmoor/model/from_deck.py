@@ -101,6 +101,7 @@ from ..numerics.validation import user_stacklevel
 from ..sea.hydro import body_hydrodynamics
 from ..sea.seabed import Seabed
 from ..sea.viv import RMS_STEPS
+from .openfast_motion import is_openfast_output
 
 __all__ = ["deck_network", "heave_motion", "read_motion", "default_time_step"]
 
@@ -600,7 +601,7 @@ def read_motion(path, n_dofs: int):
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"--motion: no such file {path}")
-    if path.suffix.lower() in (".out", ".outb"):
+    if is_openfast_output(path):
         raise ValueError(f"{path.name}: an OpenFAST output file; its platform motion is "
                          "read with skmoor.openfast_motion(path, deck)")
     try:

@@ -65,6 +65,12 @@ from .simulate import simulate
 
 MAX_CASES = 100_000
 DEL_EXPONENTS = (3.0, 5.0)
+# per case and line: (units, long name)
+CASE_VALUES = {"max_tension": ("N", "largest tension after the transient"),
+               "safety_factor": ("1", "MBL / largest tension"),
+               "damage_per_year": ("1/year", "fairlead fatigue damage per year (Miner)"),
+               **{f"DEL_m{m:g}": ("N", f"damage-equivalent load range, m = {m:g}, 1 Hz")
+                  for m in DEL_EXPONENTS}}
 
 __all__ = ["SeaState", "Condition", "LoadCaseMatrix", "run_load_cases", "run_load_case",
            "lifetime_damage"]
@@ -314,27 +320,18 @@ def dataset(matrix: LoadCaseMatrix, results: dict):
     for index in sorted(results):
         names += [n for n in results[index].get("lines") or {} if n not in names]
     shape = matrix.shape + (len(names),)
-    keys = ["max_tension", "safety_factor", "damage_per_year"] + [
-        f"DEL_m{m:g}" for m in DEL_EXPONENTS]
-    values = {k: np.full(shape, np.nan) for k in keys}
+    values = {k: np.full(shape, np.nan) for k in CASE_VALUES}
     errors = np.full(matrix.shape, "", dtype=object)
     for index, result in results.items():
         errors[index] = result.get("error") or ""
         for j, name in enumerate(names):
             row = (result.get("lines") or {}).get(name)
-            for k in keys:
+            for k in CASE_VALUES:
                 if row is not None and row.get(k) is not None:
                     values[k][index + (j,)] = row[k]
     dims = ("sea_state", "heading", "seed", "condition", "line")
-    units = {"max_tension": "N", "safety_factor": "1", "damage_per_year": "1/year",
-             "DEL_m3": "N", "DEL_m5": "N"}
-    long = {"max_tension": "largest tension after the transient",
-            "safety_factor": "MBL / largest tension",
-            "damage_per_year": "fairlead fatigue damage per year (Miner)",
-            "DEL_m3": "damage-equivalent load range, m = 3, 1 Hz",
-            "DEL_m5": "damage-equivalent load range, m = 5, 1 Hz"}
     data = xr.Dataset(
-        {k: (dims, v, {"units": units.get(k, ""), "long_name": long.get(k, k)})
+        {k: (dims, v, {"units": CASE_VALUES[k][0], "long_name": CASE_VALUES[k][1]})
          for k, v in values.items()},
         coords={"sea_state": np.arange(len(matrix.sea_states)),
                 "Hs": ("sea_state", [s.Hs for s in matrix.sea_states], {"units": "m"}),
@@ -369,8 +366,7 @@ def lifetime_damage(data, design_life: float):
 
 
 def _write_csv(data, path):
-    keys = ["max_tension", "safety_factor", "damage_per_year"] + [
-        f"DEL_m{m:g}" for m in DEL_EXPONENTS]
+    keys = list(CASE_VALUES)
     with open(path, "w", newline="") as f:
         writer = csv.writer(f)
         writer.writerow(["Hs", "Tp", "probability", "heading", "seed", "condition", "line"]

@@ -240,10 +240,14 @@ class Recorder:
     def point_positions(self, x, t) -> np.ndarray:
         """(points, 3) positions (m) of the recorded points at the state x (the system's
         unknowns) and time t (s): free points, points on bodies, coupled and fixed ones."""
-        network = self.model.network
-        y = (np.zeros(self._n_coupled) if network.motion is None
-             else np.asarray(network.motion(t), float).ravel())
+        y = self._coupled_displacements(t)
         return self._point_reference + self._points(x, y, self._bodies(x, y))
+
+    def _coupled_displacements(self, t) -> np.ndarray:
+        """The coupled DOFs' displacements (the network's motion) at time t (s)."""
+        motion = self.model.network.motion
+        return (np.zeros(self._n_coupled) if motion is None
+                else np.asarray(motion(t), float).ravel())
 
     def _bodies(self, x, y):
         out = np.zeros((len(self._body_plan), 6))
@@ -275,8 +279,7 @@ class Recorder:
         else:
             u, ud = system.full_state(state.x, state.v, state.t)
             fair, anchor = system.end_forces(u, ud, state.t, state.a)
-        y = (np.zeros(self._n_coupled) if network.motion is None
-             else np.asarray(network.motion(state.t), float).ravel())
+        y = self._coupled_displacements(state.t)
         bodies = self._bodies(state.x, y)
         tension, strain = lines.element_tension_and_strain(u, ud)  # T + BA x strain rate
         self._check_blow_up(state, strain)
