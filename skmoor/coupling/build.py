@@ -449,14 +449,19 @@ def _slot_motion(network: Network, slots):
             return body, body.rotation_matrix().T @ t0, 0.0
         return network.body(p.body), p.position, 1.0
 
+    n_coupled = network.n_coupled_dofs
+    # the coupled points' slots and their coupled DOFs (taken in one go), the others'
+    on_points = [k for k, p in enumerate(slots) if not isinstance(p, tuple) and p.kind == "coupled"]
+    point_dofs = np.array([np.arange(n_coupled)[offsets[("Point", slots[k].name)]]
+                           for k in on_points], np.int64).reshape(-1, 3)
+    on_bodies = sorted(set(range(len(slots))) - set(on_points))
+
     def motion(t):
-        y = coupled_vector(network, t)
+        y = coupled_vector(network, t, n_coupled)
         out = np.zeros((len(slots), 3))
-        for k, p in enumerate(slots):
-            if not isinstance(p, tuple) and p.kind == "coupled":
-                out[k] = y[offsets[("Point", p.name)]]
-                continue
-            body, r, carried = on_body(p)
+        out[on_points] = y[point_dofs]
+        for k in on_bodies:
+            body, r, carried = on_body(slots[k])
             q = y[offsets[("Body", body.name)]]
             out[k] = carried * q[:3] + turned(body, q[3:], r)
         return out
@@ -470,7 +475,7 @@ def _slot_motion(network: Network, slots):
             return (motion(t + 1e-6) - motion(t - 1e-6)) / 2e-6
         if order == 2 and getattr(given, "acceleration", None) is None:
             return (rates(t + 1e-6, 1) - rates(t - 1e-6, 1)) / 2e-6
-        y = coupled_vector(network, t)
+        y = coupled_vector(network, t, n_coupled)
         yd = np.asarray(given.velocity(t), float).ravel()
         ydd = np.asarray(given.acceleration(t), float).ravel() if order == 2 else None
         for name, value in (("velocity", yd), ("acceleration", ydd)):

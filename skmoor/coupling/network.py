@@ -335,9 +335,10 @@ def coupled_offsets(network: Network) -> dict:
     return offsets
 
 
-def coupled_vector(network: Network, t) -> np.ndarray:
-    """The network's coupled-DOF displacements at time t (zeros without a motion)."""
-    n = network.n_coupled_dofs
+def coupled_vector(network: Network, t, n=None) -> np.ndarray:
+    """The network's coupled-DOF displacements at time t (zeros without a motion); n: their
+    number when the caller knows it (else counted)."""
+    n = network.n_coupled_dofs if n is None else n
     y = np.zeros(n) if network.motion is None else np.asarray(network.motion(t), float).ravel()
     if y.shape != (n,):
         raise ValueError(f"motion: expected {n} coupled DOFs "

@@ -40,7 +40,7 @@ from ..lines.cable_kernel import _cable
 from ..numerics import bordered
 from ..sea.hydro import _morison
 from ..sea.seabed import _seabed
-from .newton import CONTRACTION, LINE_SEARCH
+from .newton import CONTRACTION, LINE_SEARCH, STALL
 
 last_refusal = ""  # why the last build() returned None
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
@@ -827,6 +827,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     tangent = state[0] == 0.0
     previous = scale = np.inf
     used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
+    stalls = 0
     for it in range(1, maxiter + 1):
         code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent,
                         factors, state, work, B)
@@ -846,6 +847,13 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
         if size <= tol * scale + 1e-12:
             x1[:] = y
             return it
+        if tangent and it > 1 and size > STALL * previous:
+            stalls += 1
+            if stalls == 2:
+                used = it  # cycling across a kink (a node at the bed): full Newton at once
+                break
+        else:
+            stalls = 0
         tangent = size > CONTRACTION * previous
         previous = size
     # full Newton with the line search (dynamics._newton with full=True)

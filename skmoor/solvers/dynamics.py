@@ -100,8 +100,10 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     the largest correction is below tol times the largest change over the step (as it
     stands after the first correction; plus 1e-12 m). Newton is modified: the factorized
     matrix is kept over iterations and steps and refreshed when a correction is larger
-    than ``CONTRACTION`` times the one before; a step that does not converge so is
-    retried with full Newton and a backtracking line search on the balance residual.
+    than ``CONTRACTION`` times the one before; a step that does not converge so (or
+    whose refreshed matrices stop shrinking the correction twice in a row, ``STALL``:
+    Newton cycling across a kink such as a node touching the bed) is retried at once with
+    full Newton and a backtracking line search on the balance residual.
     A step that still fails is split in two halves, each half split again when it fails,
     up to ``subdivide`` levels (0: none); the run then goes on at dt, on the full step's
     own matrix. States come at the full steps only; ``State.subdivided`` counts the steps

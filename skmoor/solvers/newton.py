@@ -32,6 +32,7 @@ DENSE_BELOW = 200  # unknowns: below this, dense LAPACK beats sparse overhead (m
 
 
 CONTRACTION = 0.2  # modified Newton refreshes the tangent when |dx| shrinks slower than this
+STALL = 0.5  # fresh tangents whose |dx| shrinks slower than this, twice: cycling at a kink
 
 
 def matrix_layout(system):
@@ -80,14 +81,17 @@ LINE_SEARCH = 6  # halvings of a full-Newton correction that does not lower the 
 def _newton(balance, x1, x0, matrix, tol, maxiter, full):
     """Solve balance(x1) = 0 from x1 with the factorized ``matrix`` (refreshed every
     iteration when ``full``, else when convergence slows). Returns (x1, iterations),
-    (None, maxiter) when it does not converge, (False, k) on a non-finite step.
+    (None, k) when it does not converge in maxiter or (modified) when two refreshed
+    matrices in a row shrink the correction by less than ``STALL`` (cycling across a kink
+    of the residual: a node touching the bed), (False, k) on a non-finite step.
 
     Full Newton backtracks: a correction that does not lower the residual's norm is
     halved (up to ``LINE_SEARCH`` times) until it does (Armijo, 1e-4), which breaks the
-    two-cycles Newton falls into across a kink of the residual (a node touching the bed)."""
+    two-cycles Newton falls into across such a kink."""
     B, A = balance(x1, tangent=full or matrix.factor is None)
     previous = scale = np.inf
     norm = np.linalg.norm(B) if full else 0.0
+    stalls = 0
     for it in range(1, maxiter + 1):
         if A is not None:
             matrix.update(A)
@@ -101,6 +105,9 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
         if size <= tol * scale + 1e-12:
             return x_new, it
         if not full:
+            stalls = stalls + 1 if A is not None and it > 1 and size > STALL * previous else 0
+            if stalls == 2:
+                return None, it  # cycling across a kink (a node at the bed): full Newton
             x1 = x_new
             slow = size > CONTRACTION * previous
             previous = size
