@@ -451,10 +451,11 @@ def _slot_motion(network: Network, slots):
 
     n_coupled = network.n_coupled_dofs
     # the coupled points' slots and their coupled DOFs (taken in one go), the others'
-    on_points = [k for k, p in enumerate(slots) if not isinstance(p, tuple) and p.kind == "coupled"]
+    on_points = np.array([k for k, p in enumerate(slots)
+                          if not isinstance(p, tuple) and p.kind == "coupled"], np.int64)
     point_dofs = np.array([np.arange(n_coupled)[offsets[("Point", slots[k].name)]]
                            for k in on_points], np.int64).reshape(-1, 3)
-    on_bodies = sorted(set(range(len(slots))) - set(on_points))
+    on_bodies = sorted(set(range(len(slots))) - set(on_points.tolist()))
 
     def motion(t):
         y = coupled_vector(network, t, n_coupled)

@@ -148,3 +148,23 @@ def test_commit_after_every_accepted_step_and_half_step():
     for state in states:  # the committed u is the state's full line displacement
         u = dict((round(t, 9), u) for t, u in term.commits)[round(state.t, 9)]
         np.testing.assert_allclose(u, system.full_displacement(state.x, state.t))
+
+
+def test_modified_newton_leaves_a_cycle_for_the_line_search():
+    """f(x) = sign(x) sqrt|x|: Newton's step from x is to -x, a two-cycle no fresh matrix
+    breaks. Modified Newton gives up after two fresh matrices that do not shrink the
+    correction (not after all of maxiter), and full Newton's line search halves the step
+    onto the root."""
+    from skmoor.solvers.newton import _IterationMatrix, _newton
+
+    def balance(x, tangent):
+        f = np.sign(x) * np.sqrt(np.abs(x))
+        return f, (np.array([[0.5 / np.sqrt(max(abs(x[0]), 1e-300))]]) if tangent else None)
+
+    x0 = np.array([0.0])
+    x, iterations = _newton(balance, np.array([1.0]), x0, _IterationMatrix("dense"),
+                            1e-9, 20, full=False)
+    assert x is None and iterations == 4  # 1 and 2 on the first matrix, 3 and 4 fresh ones
+    x, _ = _newton(balance, np.array([1.0]), x0, _IterationMatrix("dense"), 1e-9, 20,
+                   full=True)
+    assert x is not None and abs(x[0]) < 1e-12
