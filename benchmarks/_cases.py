@@ -10,7 +10,6 @@ cBot 1e4 Pa s/m.
 from __future__ import annotations
 
 import contextlib
-import datetime
 import importlib.metadata
 import os
 import platform
@@ -181,7 +180,7 @@ def version(package):
 
 
 def environment(packages, load=False):
-    """The facts at the top of a benchmark's report: date, commit (and whether skmoor/ has
+    """The facts at the top of a benchmark's report: the commit (and whether skmoor/ has
     uncommitted changes), the versions of Python and ``packages``, the machine (with its
     load average at the start when ``load``)."""
     cpu = platform.processor() or platform.machine()
@@ -203,7 +202,6 @@ def environment(packages, load=False):
                 "ratios, not times, carry over)" if load
                 else f", {platform.system()} {platform.release()}")
     return {
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d"),
         "commit": commit,
         "versions": ", ".join([f"Python {platform.python_version()}"]
                               + [f"{p} {version(p)}" for p in packages]),

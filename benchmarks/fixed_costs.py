@@ -20,7 +20,7 @@ statics less the stack's import) against the stack's floor; and, side by side, M
 Python package from the interpreter's start to its initialized paper case (import,
 Create and Init of the same four lines: benchmarks/paper_case.py's deck).
 
-Run: ``python benchmarks/fixed_costs.py [--repeats 5]``
+Run: ``python benchmarks/fixed_costs.py [--repeats 5] [--write-docs]``
 """
 from __future__ import annotations
 
@@ -32,6 +32,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from _cases import ROOT, write_block
+
 STACK = "import numpy, scipy.sparse, scipy.linalg, numba, skfem"
 STAGES = {
     "python": "pass",
@@ -41,7 +43,6 @@ STAGES = {
     "build": "import skmoor; skmoor.build(skmoor.paper_case())",
     "statics": "import skmoor; skmoor.equilibrium(skmoor.build(skmoor.paper_case()))",
 }
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def wall(code):
@@ -88,6 +89,8 @@ def moordyn_code(workdir):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--write-docs", action="store_true",
+                        help="write the table into docs/speed.md")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as workdir:
         codes = {**STAGES, "moordyn": moordyn_code(workdir)}
@@ -101,18 +104,28 @@ def main(argv=None):
         step = "" if previous is None else f"  (+{t - times[previous]:.3f} s)"
         print(f"  {name:14s} {t:6.3f} s{step}")
         previous = name
-    floor = times["stack"] - times["python"]
-    own = times["statics"] - times["stack"]
-    print(f"\nnumpy + scipy.sparse + scikit-fem alone:              "
-          f"{times['design stack'] - times['python']:.3f} s")
-    print(f"the stack's import (numpy, scipy, numba, scikit-fem): {floor:.3f} s")
+    start = times["python"]
+    design, stack = times["design stack"] - start, times["stack"] - start
+    own, total = times["statics"] - times["stack"], times["statics"] - start
+    moordyn -= start
+    print(f"\nnumpy + scipy.sparse + scikit-fem alone:              {design:.3f} s")
+    print(f"the stack's import (numpy, scipy, numba, scikit-fem): {stack:.3f} s")
     print(f"skmoor's own (import + build + statics on top):    {own:.3f} s")
-    print(f"import + build + statics, all:                      "
-          f"{times['statics'] - times['python']:.3f} s")
-    print(f"\nMoorDyn (import moordyn, Create, Init of the paper's deck): "
-          f"{moordyn - times['python']:.3f} s")
-    print(f"ratio skmoor/MoorDyn, interpreter start to static state: "
-          f"{(times['statics'] - times['python']) / (moordyn - times['python']):.2f}")
+    print(f"import + build + statics, all:                      {total:.3f} s")
+    print(f"\nMoorDyn (import moordyn, Create, Init of the paper's deck): {moordyn:.3f} s")
+    print(f"ratio skmoor/MoorDyn, interpreter start to static state: {total / moordyn:.2f}")
+    if args.write_docs:
+        rows = "\n".join(f"| {name} | {times[name] - start:.2f} s | "
+                         f"{times[name] - times[before]:+.2f} s |"
+                         for before, name in zip(list(times)[1:], list(times)[2:]))
+        write_block(ROOT / "docs" / "speed.md", "fixed_costs.py table",
+                    f"| stage (a fresh interpreter, best of {args.repeats}) | from the "
+                    "interpreter's start | on the stage before |\n|---|---|---|\n"
+                    f"| design stack (numpy, scipy.sparse, scikit-fem) | {design:.2f} s | |\n"
+                    f"{rows}\n\nskmoor's own share (its import, build and statics on top of "
+                    f"the stack): {own:.2f} s of {total:.2f} s. MoorDyn's Python package "
+                    f"imports, creates and initializes the same four lines in {moordyn:.3f} s "
+                    "(a compiled library).")
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@ fairleads, banded LU) at the paper's default step (50 ms) and at the step 1 % ac
 needs in benchmarks/volturnus.py (0.25 s). cProfile adds its own cost per Python call, so the Python shares are
 upper bounds; the kernels' and LAPACK's shares are what the compiled parts take.
 
-Run: ``python benchmarks/step_profile.py [--duration 60]``.
+Run: ``python benchmarks/step_profile.py [--duration 60] [--write-docs]``.
 """
 from __future__ import annotations
 
@@ -22,21 +22,26 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from _cases import ROOT, write_block
+
 import skmoor
 
 GROUPS = {  # (file stem, function) prefixes -> group; the first match wins
     "compiled Newton step": [("compiled_step", "_run")],
-    "compiled kernels": [("kernels", "_cable"), ("hydro", "_morison"), ("seabed", "_seabed"),
-                         ("kernels", "_scatter"), ("banded", "_matvec"),
-                         ("body", "_rotation"), ("body", "attachment_state")],
-    "LU factor + solve": [("dynamics", "update"), ("dynamics", "solve"),
-                          ("banded", "factorize"), ("banded", "<lambda>"), ("", "getrf"),
+    "compiled kernels": [("cable_kernel", "_cable"), ("hydro", "_morison"),
+                         ("seabed", "_seabed"), ("patterns", "_scatter"),
+                         ("banded", "_matvec"), ("body", "_rotation"),
+                         ("body", "attachment_state")],
+    "LU factor + solve": [("newton", "update"), ("newton", "solve"),
+                          ("banded", "factorize"), ("banded", "__call__"), ("", "getrf"),
                           ("", "getrs"), ("", "gbtrf"), ("", "gbtrs")],
-    "recording": [("run", "record"), ("coupling", "reactions"), ("line", "element_")],
-    "Newton and scheme (Python)": [("dynamics", "")],
-    "residual assembly (Python)": [("coupling", ""), ("kernels", ""), ("hydro", ""),
-                                   ("seabed", ""), ("terms", ""), ("banded", ""),
-                                   ("model", ""), ("body", "")],
+    "recording": [("recorder", ""), ("reactions", ""), ("cable_kernel", "element_tension"),
+                  ("cable_kernel", "_element_tension"), ("line", "element_")],
+    "Newton and scheme (Python)": [("dynamics", ""), ("newton", ""), ("compiled_step", "")],
+    "residual assembly (Python)": [(stem, "") for stem in (
+        "system", "dofs", "frames", "prescribed", "inertia", "build", "motion",
+        "cable_kernel", "cable", "hydro", "seabed", "terms", "restoring", "loads",
+        "banded", "patterns", "body", "large_rotations")],
 }
 
 
@@ -66,27 +71,39 @@ def profile(model, eq, dt, duration, compiled):
 
 
 def report(name, totals, steps, total):
+    """Print the profile and return it as one line of the speed page."""
     print(f"\n{name}: {steps} steps, {1e3 * total / steps:.3f} ms per step under cProfile")
-    for group, seconds in sorted(totals.items(), key=lambda kv: -kv[1]):
+    shares = sorted(totals.items(), key=lambda kv: -kv[1])
+    for group, seconds in shares:
         print(f"  {group:28s} {100 * seconds / total:5.1f} %  {1e6 * seconds / steps:8.1f} us/step")
+    return (f"- {name}: {1e3 * total / steps:.2f} ms per step under cProfile: "
+            + ", ".join(f"{group} {100 * seconds / total:.0f} %" for group, seconds in shares
+                        if seconds >= 0.01 * total) + ".")
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--duration", type=float, default=60.0)
+    parser.add_argument("--write-docs", action="store_true",
+                        help="write the profiles into docs/speed.md")
     args = parser.parse_args(argv)
     paper = skmoor.build(skmoor.paper_case())
     eq = skmoor.equilibrium(paper)
+    lines = []
     for compiled, how in ((False, "Python step"), (True, "compiled step")):
-        report(f"paper case (its default run: dt 50 ms, Rayleigh damping), {how}",
-               *profile(paper, eq, 0.05, args.duration, compiled))
+        lines.append(report(f"paper case ({paper.system.n} unknowns, dt 50 ms, Rayleigh "
+                            f"damping), {how}", *profile(paper, eq, 0.05, args.duration,
+                                                          compiled)))
     import volturnus
 
     with tempfile.TemporaryDirectory() as workdir:
         model, eq = volturnus.skmoor_model(50, workdir)
         for compiled, how in ((False, "Python step"), (True, "compiled step")):
-            report(f"VolturnUS-S, 3 x 50 segments (dt 0.25 s), {how}",
-                   *profile(model, eq, 0.25, args.duration, compiled))
+            lines.append(report(f"VolturnUS-S, 3 x 50 segments ({model.system.n} unknowns, "
+                                f"dt 0.25 s), {how}",
+                                *profile(model, eq, 0.25, args.duration, compiled)))
+    if args.write_docs:
+        write_block(ROOT / "docs" / "speed.md", "step_profile.py profile", "\n".join(lines))
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
-"""Command line: ``skmoor run | sweep | export | render | fatigue``, over the public API only."""
+"""Command line: ``skmoor run | sweep | loadcases | export | render | fatigue``, over the
+public API only."""
 from __future__ import annotations
 
 import argparse
@@ -272,6 +273,51 @@ def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="skmoor", description=__doc__.replace("``", ""))
     sub = p.add_subparsers(dest="command", required=True)
 
+    _add_run(sub)
+    sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",
+                        description="Runs parameter studies in parallel processes or on a Dask "
+                        "cluster; writes sweep.csv and plots into --out; finished points are "
+                        "kept and a rerun does only the missing ones.")
+    sw.add_argument("--param", action="append", default=[],
+                    help="PATH=v1,v2,... or PATH=start:stop:n (repeat for a grid), e.g. "
+                    "mooring.sag_ratio=0.02,0.0167")
+    sw.add_argument("--study-file", help="TOML file with [[study]] tables")
+    sw.add_argument("--case", help="base case file for --param (default: the paper's case)")
+    sw.add_argument("--points", type=int, default=8, help="points per paper study (default: 8)")
+    _batch_options(sw, "point")
+    sw.set_defaults(func=cmd_sweep)
+
+    lc = sub.add_parser("loadcases", help="a design-load-case matrix into one dataset",
+                        description="Runs the [load_cases] matrix of a TOML file (sea states "
+                        "x headings x seeds x conditions) in parallel processes or on a Dask "
+                        "cluster; writes load_cases.nc and load_cases.csv into --out; "
+                        "finished cases are kept and a rerun does only the missing ones.")
+    lc.add_argument("file", help="TOML file with a [load_cases] table")
+    _batch_options(lc, "case")
+    lc.set_defaults(func=cmd_loadcases)
+
+    ex = sub.add_parser("export", help="(re)write ParaView files from saved results",
+                        description="Reads OUTDIR/results.nc (or results.npz) and writes lines.xdmf (+ .h5) and "
+                        "a VTU series with a .pvd index into OUTDIR.")
+    ex.add_argument("outdir", help="folder of a previous run")
+    ex.add_argument("--frames", type=int, default=1000, help="at most this many samples, "
+                    "evenly strided (0: all; default: %(default)s)")
+    ex.set_defaults(func=cmd_export)
+
+    rd = sub.add_parser("render", help="(re)render snapshot and animations from saved results",
+                        description="Reads OUTDIR/results.nc (or results.npz) and renders snapshot.png, "
+                        "animation.mp4 and animation.gif off-screen.")
+    rd.add_argument("outdir", help="folder of a previous run")
+    rd.add_argument("--scale", type=float, help="displacement scale factor (default: automatic)")
+    rd.add_argument("--camera", default="iso", help="camera preset: iso, side, top, front")
+    rd.add_argument("--quiet", action="store_true", help="no progress bar")
+    rd.set_defaults(func=cmd_render)
+    _add_fatigue(sub)
+    return p
+
+
+def _add_run(sub):
+    """The ``run`` command's options."""
     run = sub.add_parser("run", help="run a case (default: the paper's case)",
                          description="Static equilibrium, modes and time history of a case; "
                          "writes summary.json, timeseries.csv, results.npz, plots, ParaView "
@@ -321,44 +367,9 @@ def parser() -> argparse.ArgumentParser:
                      "start at the checkpoint's time)")
     run.set_defaults(func=cmd_run)
 
-    sw = sub.add_parser("sweep", help="parameter studies (default: the paper's two studies)",
-                        description="Runs parameter studies in parallel processes or on a Dask "
-                        "cluster; writes sweep.csv and plots into --out; finished points are "
-                        "kept and a rerun does only the missing ones.")
-    sw.add_argument("--param", action="append", default=[],
-                    help="PATH=v1,v2,... or PATH=start:stop:n (repeat for a grid), e.g. "
-                    "mooring.sag_ratio=0.02,0.0167")
-    sw.add_argument("--study-file", help="TOML file with [[study]] tables")
-    sw.add_argument("--case", help="base case file for --param (default: the paper's case)")
-    sw.add_argument("--points", type=int, default=8, help="points per paper study (default: 8)")
-    _batch_options(sw, "point")
-    sw.set_defaults(func=cmd_sweep)
 
-    lc = sub.add_parser("loadcases", help="a design-load-case matrix into one dataset",
-                        description="Runs the [load_cases] matrix of a TOML file (sea states "
-                        "x headings x seeds x conditions) in parallel processes or on a Dask "
-                        "cluster; writes load_cases.nc and load_cases.csv into --out; "
-                        "finished cases are kept and a rerun does only the missing ones.")
-    lc.add_argument("file", help="TOML file with a [load_cases] table")
-    _batch_options(lc, "case")
-    lc.set_defaults(func=cmd_loadcases)
-
-    ex = sub.add_parser("export", help="(re)write ParaView files from saved results",
-                        description="Reads OUTDIR/results.nc (or results.npz) and writes lines.xdmf (+ .h5) and "
-                        "a VTU series with a .pvd index into OUTDIR.")
-    ex.add_argument("outdir", help="folder of a previous run")
-    ex.add_argument("--frames", type=int, default=1000, help="at most this many samples, "
-                    "evenly strided (0: all; default: %(default)s)")
-    ex.set_defaults(func=cmd_export)
-
-    rd = sub.add_parser("render", help="(re)render snapshot and animations from saved results",
-                        description="Reads OUTDIR/results.nc (or results.npz) and renders snapshot.png, "
-                        "animation.mp4 and animation.gif off-screen.")
-    rd.add_argument("outdir", help="folder of a previous run")
-    rd.add_argument("--scale", type=float, help="displacement scale factor (default: automatic)")
-    rd.add_argument("--camera", default="iso", help="camera preset: iso, side, top, front")
-    rd.add_argument("--quiet", action="store_true", help="no progress bar")
-    rd.set_defaults(func=cmd_render)
+def _add_fatigue(sub):
+    """The ``fatigue`` command's options."""
     fa = sub.add_parser("fatigue", help="rainflow fatigue damage and DELs of a saved run",
                         description="Reads OUTDIR's results, counts each element's tension "
                         "ranges (rainflow, ASTM E1049), sums Miner's damage on the lines' "
@@ -383,7 +394,6 @@ def parser() -> argparse.ArgumentParser:
     fa.add_argument("--fairlead", action="store_true",
                     help="the tension at each line's fairlead (end B) only")
     fa.set_defaults(func=cmd_fatigue)
-    return p
 
 
 def _one_line_warning(message, category, filename, lineno, line=None):

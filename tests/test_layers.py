@@ -69,3 +69,20 @@ def test_cycles_are_found():
             return self.edges[module]
 
     assert cycles(Graph(), {"a", "b", "c"}) == [["a", "b"]]
+
+
+def test_import_skmoor_leaves_the_heavy_optional_packages_out():
+    """``import skmoor`` loads none of the packages only some commands need (plots,
+    the case schema, renders, progress bars, datasets, batches, JAX): each costs a
+    fraction of a second on every start (docs/speed.md, fixed costs)."""
+    heavy = ("matplotlib", "pydantic", "pyvista", "scipy.optimize", "scipy.integrate", "tqdm",
+             "xarray", "dask", "jax", "openfast_io")
+    code = ("import sys, skmoor\n"
+            f"print(' '.join(m for m in {heavy!r} if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                          text=True, check=True)
+    assert done.stdout.strip() == ""
+    import skmoor.io
+    import skmoor.post
+
+    assert callable(skmoor.io.validate_case) and callable(skmoor.post.plot_time_histories)

@@ -141,6 +141,38 @@ class Ends:
         return cls([("fixed",)] * nlines, b)
 
 
+TERM_KINDS = ("lines", "points", "bodies", "body pairs")  # what a term acts on
+
+
+def _check_target(term, n_points, bodies):
+    """Refuse a term that is not a :class:`~skmoor.fem.terms.Term` or acts on what the
+    system does not have (its ``acts_on``, free point, dynamic body or pair of them)."""
+    if not isinstance(term, Term):
+        raise ValueError(f"System term: {type(term).__name__} is not a skmoor.fem.terms.Term "
+                         "(see skmoor.LineForm, PointLoad, BodyLoad)")
+    kind = term.acts_on
+    if kind not in TERM_KINDS:
+        raise ValueError(f"System term {term!r}: acts_on {kind!r} is not 'lines', "
+                         "'points', 'bodies' or 'body pairs'")
+    if kind == "body pairs":
+        pair = tuple(getattr(term, "bodies", ()))
+        if not (len(pair) == 2 and pair[0] != pair[1] and all(
+                isinstance(k, (int, np.integer)) and 0 <= k < len(bodies) for k in pair)):
+            raise ValueError(f"System term {type(term).__name__}: bodies {pair!r} is not "
+                             f"two different dynamic bodies ({len(bodies)} in the system)")
+        exact = [k for k in pair if bodies[k].rotations == "exact"]
+        if exact:
+            raise ValueError(f"System term {type(term).__name__}: dynamic body {exact[0]} "
+                             "has rotations='exact'; joints are built for rotations='small'")
+    count = {"points": n_points, "bodies": len(bodies)}.get(kind)
+    if count is not None:
+        index = term.point if kind == "points" else term.body
+        if not (isinstance(index, (int, np.integer)) and 0 <= index < count):
+            what = "free point" if kind == "points" else "dynamic body"
+            raise ValueError(f"System term {type(term).__name__}: {what} {index!r} does "
+                             f"not exist ({count} in the system)")
+
+
 class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
     """The network's equations: lines (one :class:`~skmoor.lines.line.LineSet`) whose ends sit
     on fixed, prescribed or free points or on rigid bodies, reduced to one nonlinear system.
@@ -191,7 +223,7 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
             raise ValueError("System motion: prescribed line ends need motion(t) -> (n, 3)")
         self.body_loads = (list(body_load) if isinstance(body_load, (list, tuple))
                            else [body_load] + [None] * (len(bodies) - 1) if bodies else [])
-        self._terms = {"lines": [], "points": [], "bodies": [], "body pairs": []}
+        self._terms = {kind: [] for kind in TERM_KINDS}
         self.cable = CableTerm(lines) if lines.lines else None
         self.kernel = self.cable.kernel if lines.lines else NoLineKernel()
         nloc = self.kernel.pattern.nloc
@@ -292,32 +324,9 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         self.__dict__.pop("resting_plans", None)  # a sea bed may have come with it
 
     def _join(self, term):
-        if not isinstance(term, Term):
-            raise ValueError(f"System term: {type(term).__name__} is not a skmoor.fem.terms.Term "
-                             "(see skmoor.LineForm, PointLoad, BodyLoad)")
-        kind = term.acts_on
-        if kind not in self._terms:
-            raise ValueError(f"System term {term!r}: acts_on {kind!r} is not 'lines', "
-                             "'points', 'bodies' or 'body pairs'")
-        if kind == "body pairs":
-            pair = tuple(getattr(term, "bodies", ()))
-            if not (len(pair) == 2 and pair[0] != pair[1] and all(
-                    isinstance(k, (int, np.integer)) and 0 <= k < len(self.bodies) for k in pair)):
-                raise ValueError(f"System term {type(term).__name__}: bodies {pair!r} is not "
-                                 f"two different dynamic bodies ({len(self.bodies)} in the system)")
-            exact = [k for k in pair if self.bodies[k].rotations == "exact"]
-            if exact:
-                raise ValueError(f"System term {type(term).__name__}: dynamic body {exact[0]} "
-                                 "has rotations='exact'; joints are built for rotations='small'")
-        count = {"points": len(self.point_masses), "bodies": len(self.bodies)}.get(kind)
-        if count is not None:
-            index = term.point if kind == "points" else term.body
-            if not (isinstance(index, (int, np.integer)) and 0 <= index < count):
-                what = "free point" if kind == "points" else "dynamic body"
-                raise ValueError(f"System term {type(term).__name__}: {what} {index!r} does "
-                                 f"not exist ({count} in the system)")
+        _check_target(term, len(self.point_masses), self.bodies)
         term.bind(self)
-        self._terms[kind].append(term)
+        self._terms[term.acts_on].append(term)
         if callable(getattr(term, "commit", None)):
             self.committing.append(term)
 

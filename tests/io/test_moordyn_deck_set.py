@@ -19,7 +19,7 @@ it the tests are skipped. One test per deck:
   with the reason.
 - test_census_counts_match_moordyn (slow): the survey's own reading of each deck counts
   the lines, points, bodies and rods MoorDyn counts.
-- test_deck_runs_through_the_cli (the three decks of issue 27 in the default suite, ~30 s;
+- test_deck_runs_through_the_cli (the three decks that once failed, in the default suite, ~30 s;
   every other deck slow, ~8 min): ``skmoor run DECK`` for 5 steps, from the folder
   MoorDyn's tests run it in with its companion files, ends with status 0 and a summary
   (or a one-line refusal naming the deck line), never a traceback; seafloor.txt, whose
@@ -165,7 +165,7 @@ def test_census_counts_match_moordyn(both_sides, deck):
 
 # ------------------------------------------------------------------ `skmoor run DECK`
 
-# decks that once ended in a traceback through the CLI (issue 27): the static solve of
+# decks that once ended in a traceback through the CLI: the static solve of
 # seafloor.txt (a pendulum on a slack, weightless line over a sloped 3D sea bed) finds no
 # state and MoorDyn's dynamic relaxation starts it; wavekin_7's waves had no velocity
 # at rest for the surface term
