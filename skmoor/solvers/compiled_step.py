@@ -20,9 +20,9 @@ the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); t
 that lowers to none (bending lines, a form on another path or with fields given as a
 function, waves or currents, a bathymetry, a load in NumPy, radiation memory, exact
 rotations) makes it return None, its name and reason in :data:`last_refusal`, and the
-step then runs in Python. When modified Newton does not converge the step falls back to
-the Python step (full Newton with a line search, then subdivision), so robustness is the
-Python path's; results are the same to round-off as long as neither path falls back.
+step then runs in Python. When modified Newton does not converge the step retries with
+the line search here, as the Python step does; a step that fails that too goes to the
+Python step, which splits it. Results are the same as the Python step's to round-off.
 """
 from __future__ import annotations
 
@@ -803,8 +803,8 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
              state, work, x1):
     """One step of ``dynamics.integrate`` (its ``advance``) with the prescribed ends'
     inertia on the free DOFs ``driven`` (M_fp a_p, N; empty: none), x1 the solution: modified
-    Newton from constant acceleration, and when that fails full Newton with the
-    backtracking line search from constant velocity. Returns the iterations used, 0 when
+    Newton from constant acceleration, and when that fails Newton with the backtracking
+    line search from constant velocity. Returns the iterations used, 0 when
     Newton does not converge in maxiter, -1 when a correction is not finite."""
     am, af, beta, gamma = scheme
     width = model[14]
@@ -850,16 +850,17 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
         if tangent and it > 1 and size > STALL * previous:
             stalls += 1
             if stalls == 2:
-                used = it  # cycling across a kink (a node at the bed): full Newton at once
+                used = it  # cycling across a kink (a node at the bed): the line search at once
                 break
         else:
             stalls = 0
         tangent = size > CONTRACTION * previous
         previous = size
-    # full Newton with the line search (dynamics._newton with full=True)
+    # Newton with the line search (dynamics._newton with full=True)
     for i in range(n):
         y[i] = x0[i] + h * v0[i]
-    yes = n >= 0  # True as a plain bool: a literal True would compile _balance again
+    yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
+    previous = np.inf
     code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, yes, factors,
                     state, work, B)
     norm = _norm(B)
@@ -882,7 +883,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
         length = 1.0
         for halving in range(LINE_SEARCH + 1):
             code = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, model, inputs,
-                            halving == 0, factors, state, work, B)
+                            no, factors, state, work, B)
             if code == SURFACE:
                 return -2
             norm_try = _norm(B)
@@ -893,7 +894,9 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
             for i in range(n):
                 trial[i] = y[i] + length * dx[i]
         y[:] = trial
-        if length != 1.0 and math.isfinite(norm_try):  # the tangent where the search stopped
+        slow = halving == LINE_SEARCH or size > CONTRACTION * previous
+        previous = size
+        if slow and math.isfinite(norm_try):  # a new matrix where the search stopped
             code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, yes,
                             factors, state, work, B)
         norm = norm_try

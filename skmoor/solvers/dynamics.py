@@ -103,7 +103,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     than ``CONTRACTION`` times the one before; a step that does not converge so (or
     whose refreshed matrices stop shrinking the correction twice in a row, ``STALL``:
     Newton cycling across a kink such as a node touching the bed) is retried at once with
-    full Newton and a backtracking line search on the balance residual.
+    a backtracking line search on the balance residual (a new matrix at its start and
+    where it slows).
     A step that still fails is split in two halves, each half split again when it fails,
     up to ``subdivide`` levels (0: none); the run then goes on at dt, on the full step's
     own matrix. States come at the full steps only; ``State.subdivided`` counts the steps
@@ -437,8 +438,7 @@ class _Stepper:
             return B, A
 
         # first guess: constant acceleration; should modified Newton stall from it, the step
-        # again from constant velocity (robust on stiff axial modes) with full Newton and
-        # a line search
+        # again from constant velocity (robust on stiff axial modes) with a line search
         guess = x + h * v + 0.5 * h**2 * a
         x1, it = _newton(balance, guess, x, matrix, self.tol, self.maxiter, full=False)
         if x1 is None or x1 is False:

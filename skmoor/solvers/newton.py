@@ -79,15 +79,16 @@ LINE_SEARCH = 6  # halvings of a full-Newton correction that does not lower the 
 
 
 def _newton(balance, x1, x0, matrix, tol, maxiter, full):
-    """Solve balance(x1) = 0 from x1 with the factorized ``matrix`` (refreshed every
-    iteration when ``full``, else when convergence slows). Returns (x1, iterations),
+    """Solve balance(x1) = 0 from x1 with the factorized ``matrix`` (refreshed when
+    convergence slows: a correction shrinking by less than ``CONTRACTION``, and with
+    ``full`` where the line search ran out of halvings too). Returns (x1, iterations),
     (None, k) when it does not converge in maxiter or (modified) when two refreshed
     matrices in a row shrink the correction by less than ``STALL`` (cycling across a kink
     of the residual: a node touching the bed), (False, k) on a non-finite step.
 
-    Full Newton backtracks: a correction that does not lower the residual's norm is
-    halved (up to ``LINE_SEARCH`` times) until it does (Armijo, 1e-4), which breaks the
-    two-cycles Newton falls into across such a kink."""
+    With ``full`` it backtracks, the matrix made new at the start: a correction that does
+    not lower the residual's norm is halved (up to ``LINE_SEARCH`` times) until it does
+    (Armijo, 1e-4), which breaks the two-cycles Newton falls into across such a kink."""
     B, A = balance(x1, tangent=full or matrix.factor is None)
     previous = scale = np.inf
     norm = np.linalg.norm(B) if full else 0.0
@@ -107,7 +108,7 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
         if not full:
             stalls = stalls + 1 if A is not None and it > 1 and size > STALL * previous else 0
             if stalls == 2:
-                return None, it  # cycling across a kink (a node at the bed): full Newton
+                return None, it  # cycling across a kink (a node at the bed): the line search
             x1 = x_new
             slow = size > CONTRACTION * previous
             previous = size
@@ -115,7 +116,7 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
             continue
         length = 1.0  # of the correction
         for halving in range(LINE_SEARCH + 1):
-            B_try, A_try = balance(x_new, tangent=halving == 0)
+            B_try, A_try = balance(x_new, tangent=False)
             norm_try = np.linalg.norm(B_try)
             if (norm_try <= (1 - 1e-4 * length) * norm or not math.isfinite(norm_try)
                     or halving == LINE_SEARCH):
@@ -123,7 +124,9 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
             length *= 0.5
             x_new = x1 + length * dx
         x1 = x_new
-        if length != 1.0 and math.isfinite(norm_try):  # the tangent where the search stopped
+        slow = halving == LINE_SEARCH or size > CONTRACTION * previous
+        previous = size
+        if slow and math.isfinite(norm_try):  # a new matrix where the search stopped
             B_try, A_try = balance(x1, tangent=True)
         B, A, norm = B_try, A_try, norm_try
     return None, maxiter
