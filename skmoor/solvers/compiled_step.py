@@ -682,15 +682,25 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
     _combine(D, cx, DM, wC, DC)
     kv = 2 * width
     wK, wV = 1.0 - af, (1.0 - af) * cv
+    rows, ends_at = np.empty(6, np.int64), np.empty(6, np.int64)
     for e in range(edofs.shape[0]):
+        free = True  # every DOF of the element a free one: the band alone
         for a in range(6):
-            ga = edofs[e, a]
-            ra, pa = position[ga], end_row[ga]
+            rows[a] = position[edofs[e, a]]
+            ends_at[a] = end_row[edofs[e, a]]
+            free = free and rows[a] >= 0
+        if free:
+            for b in range(6):
+                rb = rows[b]
+                for a in range(6):
+                    ab[kv + rows[a] - rb, rb] += wK * Ke[e, a, b] + wV * Ce[e, a, b]
+            continue
+        for a in range(6):
+            ra, pa = rows[a], ends_at[a]
             if ra < 0 and pa < 0:
                 continue
             for b in range(6):
-                gb = edofs[e, b]
-                rb, pb = position[gb], end_row[gb]
+                rb, pb = rows[b], ends_at[b]
                 if rb < 0 and pb < 0:
                     continue
                 kab = wK * Ke[e, a, b] + wV * Ce[e, a, b]
