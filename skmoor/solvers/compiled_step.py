@@ -42,6 +42,9 @@ from ..sea.hydro import _morison
 from ..sea.seabed import _seabed
 from .newton import CONTRACTION, LINE_SEARCH, STALL
 
+# numba freezes the three above into the cached step, whose cache follows this file only:
+# after changing one in newton.py, touch this file (or clear its __pycache__)
+
 last_refusal = ""  # why the last build() returned None
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
 SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
