@@ -226,7 +226,7 @@ def test_applied_load_on_a_rebased_body_sees_the_global_pose_and_rates():
     moment = np.array([1e4, -3e4, 2e4])
 
     def load(t, q, qdot):
-        seen.append((q.copy(), qdot.copy()))
+        seen.append((t, q.copy(), qdot.copy()))
         return np.r_[0.0, 0.0, 0.0, moment]
 
     system = lone_body_system(floating_box("exact"), load)
@@ -235,8 +235,9 @@ def test_applied_load_on_a_rebased_body_sees_the_global_pose_and_rates():
     system.use_frames([frame])
     q = np.array([0.3, -0.1, 0.2, 0.2, 0.1, -0.3])
     qdot = np.array([0.1, 0.2, 0.3, 0.05, -0.04, 0.02])
-    value = -evaluate(term, q, qdot)[0]
-    q_global, qdot_global = seen[-1]
+    value = -evaluate(term, q, qdot, t=1.5)[0]
+    t, q_global, qdot_global = seen[-1]
+    assert t == 1.5
     assert np.allclose(q_global[:3], q[:3]) and np.allclose(qdot_global[:3], qdot[:3])
     attitude = Rotation.from_euler("ZYX", q[3:][::-1]).as_matrix() @ frame
     assert np.allclose(Rotation.from_euler("ZYX", q_global[3:][::-1]).as_matrix(), attitude,
