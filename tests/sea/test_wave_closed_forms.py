@@ -18,8 +18,8 @@ G = 9.81
 
 
 class UniformField:
-    """A water field with one velocity, acceleration and elevation everywhere; its steady
-    part is ``steady`` (a list of fields)."""
+    """A water field with one velocity, acceleration and elevation everywhere, each
+    growing as (1 + t); its steady part is ``steady`` (a list of fields)."""
 
     def __init__(self, velocity, acceleration, elevation, steady=()):
         self.v, self.a, self.eta = (np.asarray(x, float) for x in (velocity, acceleration,
@@ -28,11 +28,14 @@ class UniformField:
         self.steady = list(steady)
 
     def kinematics(self, points, t=0.0):
+        """Its velocity and acceleration scaled by (1 + t) (it changes in time)."""
         shape = np.shape(points)
-        return np.broadcast_to(self.v, shape).copy(), np.broadcast_to(self.a, shape).copy()
+        return ((1.0 + t) * np.broadcast_to(self.v, shape),
+                (1.0 + t) * np.broadcast_to(self.a, shape))
 
     def elevation(self, xy, t=0.0):
-        return np.full(np.broadcast_shapes(np.shape(xy)[:-1], np.shape(t)), float(self.eta))
+        shape = np.broadcast_shapes(np.shape(xy)[:-1], np.shape(t))
+        return (1.0 + np.broadcast_to(t, shape)) * float(self.eta)
 
     def steady_parts(self):
         return self.steady
@@ -140,14 +143,15 @@ def test_sea_superposes_current_waves_and_fields():
     field = UniformField([0.1, -0.2, 0.05], [0.01, 0.02, -0.03], 0.25)
     sea = Sea(60.0, current=current, waves=wave, fields=[field])
     points, t = np.array([[3.0, 4.0, -5.0], [-20.0, 8.0, -41.0]]), 3.3
-    velocity = current.velocity(points) + wave.velocity(points, t) + field.v
-    acceleration = wave.acceleration(points, t) + field.a
+    velocity = current.velocity(points) + wave.velocity(points, t) + (1 + t) * field.v
+    acceleration = wave.acceleration(points, t) + (1 + t) * field.a
     assert np.allclose(sea.velocity(points, t), velocity, rtol=1e-14, atol=1e-15)
     assert np.allclose(sea.acceleration(points, t), acceleration, rtol=1e-14, atol=1e-15)
     v, a = sea.kinematics(points, t)
     assert np.allclose(v, velocity, rtol=1e-14, atol=1e-15)
     assert np.allclose(a, acceleration, rtol=1e-14, atol=1e-15)
-    assert np.allclose(sea.elevation(points, t), wave.elevation(points, t) + 0.25, rtol=1e-14)
+    assert np.allclose(sea.elevation(points, t), wave.elevation(points, t) + (1 + t) * 0.25,
+                       rtol=1e-14)
     assert sea.elevation(points, np.array([[0.0], [1.0]])).shape == (2, 2)
 
 
@@ -163,11 +167,11 @@ def test_steady_sea_keeps_the_current_and_the_fields_steady_parts_only():
     assert sea.has_waves and not sea.still
     with sea.steady() as steady:
         assert steady is sea and not sea.has_waves and not sea.still
-        assert np.allclose(sea.velocity(point, 2.0), [[0.8, 0.0, 0.0]], rtol=1e-14)
+        assert np.allclose(sea.velocity(point, 2.0), [[0.5 + 3 * 0.3, 0.0, 0.0]], rtol=1e-14)
         assert not sea.acceleration(point, 2.0).any()
         assert not sea.elevation(point, 2.0).any()
     assert sea.waves == [wave] and sea.fields == [field]
-    whole = current.velocity(point) + wave.velocity(point, 2.0) + field.v
+    whole = current.velocity(point) + wave.velocity(point, 2.0) + 3.0 * field.v
     assert np.allclose(sea.velocity(point, 2.0), whole, rtol=1e-14)
 
 
@@ -182,6 +186,10 @@ def test_which_seas_accelerate_and_which_are_still():
     assert not Sea(50.0, current=Current(0.2)).has_waves
     assert Sea(50.0, rho=0.0, g=0.0).still
     assert Sea(50.0, rho=0.0).rho == 0.0
+    assert Sea(50.0, rho=0.5, g=0.5).g == 0.5  # a light fluid, weak gravity: allowed
+    for depth, g in ((50.0 + 5e-9, G), (50.0, G + 5e-9)):  # a wave of another depth or g
+        with pytest.raises(ValueError):
+            Sea(depth, g=g, waves=[AiryWave(1.0, 6.0, 50.0)])
     with pytest.raises(ValueError):
         Sea(50.0, g=-1.0)
     with pytest.raises(ValueError):
@@ -202,6 +210,47 @@ def test_jonswap_edges_of_its_inputs():
     assert one.elevation(np.zeros(2), 4.0) == pytest.approx(
         amplitude * np.cos(-2 * np.pi * f * 4.0 + phase), rel=1e-12)
     for bad in (dict(f_range=(0.0, 0.2)), dict(f_range=(0.1, np.inf)),
-                dict(n_components=2.5)):
+                dict(f_range=(0.1, 0.1)), dict(n_components=2.5)):
         with pytest.raises(ValueError):
             JonswapWave(2.0, 8.0, 100.0, **bad)
+
+
+def test_documented_defaults():
+    """t = 0 when no time is given; heading 0 (along +x) and phase 0 (a crest at the
+    origin at t = 0); JONSWAP's gamma 3.3 with 200 components and seed 0; sea water
+    1025 kg/m3 and g = 9.81 m/s2."""
+    wave = AiryWave(2.0, 8.0, 50.0)
+    point = np.array([[3.0, 0.0, -4.0]])
+    assert wave.elevation(np.zeros(2)) == pytest.approx(1.0, rel=1e-14)
+    assert np.allclose(wave.velocity(point), airy(1.0, 8.0, 50.0, 0.0, 0.0, point[0], 0.0)[1])
+    assert np.allclose(wave.acceleration(point), airy(1.0, 8.0, 50.0, 0.0, 0.0, point[0],
+                                                      0.0)[2])
+    assert np.array_equal(wave.kinematics(point)[0], wave.velocity(point, 0.0))
+    sea = Sea(50.0, waves=[wave])
+    assert sea.rho == 1025.0 and sea.g == 9.81
+    for name in ("velocity", "acceleration", "elevation"):
+        assert np.array_equal(getattr(sea, name)(point), getattr(sea, name)(point, 0.0))
+    assert np.array_equal(sea.kinematics(point)[1], sea.kinematics(point, 0.0)[1])
+    assert np.allclose(Current(0.7).velocity(point), [[0.7, 0.0, 0.0]])
+    f = np.array([0.08, 0.1, 0.2])
+    assert np.array_equal(jonswap_spectrum(f, 2.0, 10.0), jonswap_spectrum(f, 2.0, 10.0, 3.3))
+    default = JonswapWave(2.0, 10.0, 50.0)
+    explicit = JonswapWave(2.0, 10.0, 50.0, gamma=3.3, heading_deg=0.0, seed=0,
+                           n_components=200)
+    assert np.array_equal(default.velocity(point, 7.0), explicit.velocity(point, 7.0))
+
+
+def test_current_profile_is_sorted_by_height_and_may_be_short():
+    """Entries in any order are sorted by z (not by speed); one entry is a uniform
+    current; entries closer than 1 m are fine; pairs must be (z, speed)."""
+    profile = Current(profile=[(-100.0, 0.2), (0.0, 0.5), (-50.0, 0.9)])
+    z = np.array([-120.0, -75.0, -50.0, -25.0, 0.0, 4.0])
+    points = np.column_stack([np.zeros_like(z), np.zeros_like(z), z])
+    assert np.allclose(profile.velocity(points)[:, 0], [0.2, 0.55, 0.9, 0.7, 0.5, 0.5],
+                       rtol=1e-14)
+    assert np.allclose(Current(profile=[(-10.0, 0.4)]).velocity(points)[:, 0], 0.4)
+    fine = Current(profile=[(0.0, 1.0), (-0.5, 0.8)])
+    assert fine.velocity(np.array([0.0, 0.0, -0.25]))[0] == pytest.approx(0.9, rel=1e-14)
+    for bad in ([(0.0, 1.0, 2.0), (-1.0, 1.0, 2.0)], [0.0, 1.0], np.zeros((0, 2))):
+        with pytest.raises(ValueError):
+            Current(profile=bad)
