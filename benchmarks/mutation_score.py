@@ -34,7 +34,8 @@ ROOT = Path(__file__).resolve().parents[1]
 PHYSICS = {
     "skmoor/lines/laws.py": ["tests/lines/test_laws.py", "tests/lines/test_user_law.py",
                              "tests/lines/test_creep.py"],
-    "skmoor/lines/catenary.py": ["tests/lines/test_catenary.py",
+    "skmoor/lines/catenary.py": ["tests/lines/test_catenary_limits.py",
+                                 "tests/lines/test_catenary.py",
                                  "tests/lines/test_curve_catenary.py",
                                  "tests/lines/test_chain_statics.py"],
     "skmoor/lines/cable_forms.py": ["tests/lines/test_cable_forms.py",
