@@ -10,7 +10,7 @@ import pytest
 from moorpy.Catenary import catenary as moorpy_catenary
 
 from skmoor import laws
-from skmoor.lines.catenary import solve_catenary
+from skmoor.lines.catenary import _horizontal_tension_guess, _Problem, solve_catenary
 
 
 def moorpy_line(span, rise, L, EA, w, touchdown):
@@ -122,3 +122,33 @@ def test_suspended_line_dipping_below_its_anchor_but_above_a_far_seabed_is_accep
     with pytest.raises(ValueError):
         solve_catenary([0.0, 0.0, -20.0], [50.0, 0.0, 0.0], 100.0, 1e7, length=120.0,
                        seabed_z=-25.0)
+
+
+# (anchor, fairlead, w, EA, L, touchdown): slack, near taut, dipping below the anchor,
+# fairlead below the anchor, laid on the bed (2D and 3D)
+NEWTON_CASES = [
+    ([0, 0, -50], [80, 0, 0], 200.0, 1e8, 100.0, False),
+    ([0, 0, -50], [80, 0, 0], 200.0, 1e8, 94.3, False),
+    ([0, 0, -20], [50, 0, 0], 100.0, 1e7, 120.0, False),
+    ([5, -3, 0], [45, 27, -30], 100.0, 1e7, 80.0, False),
+    ([0, 0, -100], [300, 0, 0], 1000.0, 5e8, 350.0, True),
+    ([10, 5, -200], [400, -20, -5], 1500.0, 1e9, 520.0, True),
+]
+
+
+@pytest.mark.parametrize("anchor, fairlead, w, EA, L, touchdown", NEWTON_CASES)
+def test_newton_on_both_end_offsets_converges_to_moorpy_s_line(anchor, fairlead, w, EA, L,
+                                                               touchdown):
+    """The linear law's fast path (Newton on span and rise with the closed-form Jacobian,
+    from the Peyrot-Goulois guess, as MoorPy and FAST solve it) converges on its own (no
+    fallback to the nested bracketed solves) to MoorPy's H and anchor force."""
+    anchor, fairlead = np.array(anchor, float), np.array(fairlead, float)
+    problem = _Problem.between(anchor, fairlead, w, EA, touchdown)
+    solved = problem._newton_length(L, _horizontal_tension_guess(problem, L))
+    assert solved is not None
+    H, v = solved
+    forces, laid = moorpy_line(problem.span, problem.rise, L, EA, w, touchdown)
+    assert H == pytest.approx(forces[0], rel=1e-8)
+    V_anchor, laid_length = problem.split(L, v)
+    assert V_anchor == pytest.approx(forces[1], rel=1e-8, abs=1e-8 * H)
+    assert laid_length == pytest.approx(laid, rel=1e-8, abs=1e-9 * L)
