@@ -46,11 +46,16 @@ def test_curve_linear_over_the_line_tensions_gives_moorpy_s_linear_line(L):
 
 def test_taut_line_hanging_down_from_its_anchor_matches_moorpy():
     """Fairlead 50 m below the anchor, line 1 % short of the chord: the tension points
-    down all along (V_anchor < -w L), outside the laid-line bracket of a seabed line."""
+    down all along (V_anchor < -w L, outside the laid-line bracket of a seabed line);
+    given MoorPy's H instead of L, the solve finds L back."""
     line = solve_catenary([0.0, 0.0, 0.0], [10.0, 0.0, -50.0], 100.0, 1e7, length=50.5)
     assert line.V_anchor < -line.w * line.L
     forces, _ = moorpy_line(10.0, -50.0, 50.5, 1e7, 100.0, touchdown=False)
     assert np.allclose(our_forces(line), forces, rtol=1e-8)
+    given_H = solve_catenary([0.0, 0.0, 0.0], [10.0, 0.0, -50.0], 100.0, 1e7,
+                             horizontal_tension=forces[0])  # solved for L: the same line
+    assert given_H.L == pytest.approx(50.5, rel=1e-9)
+    assert given_H.V_anchor == pytest.approx(forces[1], rel=1e-8)
 
 
 def test_nearly_vertical_line_with_a_small_horizontal_tension_reaches_its_fairlead():
