@@ -254,3 +254,24 @@ def test_current_profile_is_sorted_by_height_and_may_be_short():
     for bad in ([(0.0, 1.0, 2.0), (-1.0, 1.0, 2.0)], [0.0, 1.0], np.zeros((0, 2))):
         with pytest.raises(ValueError):
             Current(profile=bad)
+
+
+def test_waves_under_another_gravity_follow_its_dispersion_relation():
+    """omega^2 = g k tanh(k h) with the wave's own g (Mars: 3.71 m/s2), here and in the
+    sea it belongs to."""
+    wave = AiryWave(1.0, 10.0, 30.0, g=3.71)
+    omega, k = 2 * np.pi / 10.0, wave.wavenumber
+    assert 3.71 * k * np.tanh(k * 30.0) == pytest.approx(omega**2, rel=1e-13)
+    jonswap = JonswapWave(1.0, 10.0, 30.0, n_components=5, g=3.71)
+    assert np.allclose(3.71 * jonswap.k * np.tanh(jonswap.k * 30.0), jonswap.omega**2,
+                       rtol=1e-13)
+    assert Sea(30.0, g=3.71, waves=[wave, jonswap]).g == 3.71
+
+
+def test_still_sea_has_a_flat_surface_of_the_points_and_times_shape():
+    """No waves: elevation 0 at every point and time asked, shaped like them."""
+    xy = np.zeros((4, 3))
+    assert Sea(30.0).elevation(xy).shape == (4,)
+    assert Sea(30.0).elevation(xy, np.zeros((2, 1))).shape == (2, 4)
+    assert Sea(30.0).elevation(np.zeros((2, 5, 2)), 1.0).shape == (2, 5)
+    assert not Sea(30.0).elevation(xy, 3.0).any()
