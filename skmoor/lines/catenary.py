@@ -252,9 +252,8 @@ class _Problem:
             EA = self.elastic.stiffest
             hanging = 2.0 * self.rise / (1.0 + math.sqrt(1.0 + 2.0 * self.w * self.rise / EA))
         else:
-            def reach(h):
-                return h + float(_plane_offsets(h, 0.0, 0.0, 0.0, self.w, self.elastic)[1]) \
-                    - self.rise
+            def reach(h):  # the hanging part's rise, h + int e, less the fairlead's
+                return float(_plane_offsets(h, 0.0, 0.0, 0.0, self.w, self.elastic)[1]) - self.rise
             hanging = brentq(reach, 0.0, self.rise, xtol=1e-15 * self.rise, rtol=_RTOL)
         return self.span + hanging
 

@@ -157,3 +157,22 @@ def test_newton_on_both_end_offsets_converges_to_moorpy_s_line(anchor, fairlead,
     V_anchor, laid_length = problem.split(L, v)
     assert V_anchor == pytest.approx(forces[1], rel=1e-8, abs=1e-8 * H)
     assert laid_length == pytest.approx(laid, rel=1e-8, abs=1e-9 * L)
+
+
+@pytest.mark.parametrize("L", [360.0, 395.0])
+def test_curve_reaches_as_long_a_line_as_its_linear_law(L):
+    """The longest taut line (laid along the span, then hanging straight up: its hanging
+    part h solves h + w h^2 / (2 EA) = rise for a linear law) is the same for a curve that
+    is linear over the line's tensions: lines between span + rise / 2 and span + rise are
+    solved (their forces and laid length are MoorPy's), longer ones refused as slack."""
+    EA, w = 5e8, 1000.0
+    curve = laws.Curve([0.1, 0.2], [0.1 * EA, 0.1 * EA + 0.1 * 2e9])
+    line = solve_catenary([0.0, 0.0, -100.0], [300.0, 0.0, 0.0], w, EA, length=L,
+                          seabed_z=-100.0, law=curve)
+    forces, laid = moorpy_line(300.0, 100.0, L, EA, w, touchdown=True)
+    assert np.allclose(our_forces(line), forces, rtol=1e-6, atol=1e-6 * line.T_fairlead)
+    assert line.laid_length == pytest.approx(laid, rel=1e-6)
+    hanging = 2 * 100.0 / (1 + math.sqrt(1 + 2 * w * 100.0 / EA))
+    with pytest.raises(ValueError, match="too long"):
+        solve_catenary([0.0, 0.0, -100.0], [300.0, 0.0, 0.0], w, EA,
+                       length=300.0 + hanging + 0.01, seabed_z=-100.0, law=curve)
