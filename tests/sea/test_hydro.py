@@ -325,3 +325,46 @@ def test_free_points_drag_is_half_rho_cda_speed_squared():
     R = np.zeros(3)
     current.add_to(np.zeros(3), np.zeros(3), 0.0, R)
     assert -R == pytest.approx([590.4, 0.0, 0.0], rel=1e-12, abs=1e-9)
+
+
+def test_exact_body_drag_turns_its_areas_with_the_body_and_has_its_tangents():
+    """A body with exact rotations, turned (24, -17, 40 deg) and moving in a current: the
+    drag force is 1/2 rho R A diag(CdA) A^T R^T |v_r| v_r with R the body's rotation and A
+    its axes at rest, the moment's power equals M . omega (omega from dR/dt R^T) with M
+    the same law on w_r = -omega, and the residual's slopes in q and qdot are its central
+    differences."""
+    from scipy.spatial.transform import Rotation
+    from test_large_rotations import angular_velocity, lone_body_system
+
+    from skmoor.bodies.body import RigidBody, rotation_matrix
+
+    body = RigidBody.box(20.0, 10.0, 6.0, 4e5, 3.0, reference_point=[0.0, 0.0, 0.0],
+                         rotations="exact")
+    sea = Sea(100.0, current=Current(0.7, heading_deg=25.0))
+    cda = np.array([1.0, 0.8, 1.2, 0.5, 0.6, 0.7]) * np.array([30.0, 40.0, 50.0, 1e3, 2e3,
+                                                                3e3])
+    axes = Rotation.from_euler("z", 30.0, degrees=True).as_matrix()
+    term = body_hydrodynamics(drag_coefficients=cda, drag_areas=np.ones(6), sea=sea,
+                              axes=axes)
+    lone_body_system(body).add_term(term)
+    q = np.array([0.4, -0.3, 0.2, *np.radians([24.0, -17.0, 40.0])])
+    qdot = np.array([0.3, -0.2, 0.1, 0.05, -0.03, 0.04])
+    Q, K, C = body_load(term, q, qdot)
+    turned = rotation_matrix(q[3:]) @ axes
+    vr = sea.velocity(q[:3]) - qdot[:3]
+    D_F = turned @ np.diag(0.5 * RHO * cda[:3]) @ turned.T
+    np.testing.assert_allclose(Q[:3], np.linalg.norm(vr) * D_F @ vr, rtol=1e-10)
+    omega = angular_velocity(q, qdot)
+    D_M = turned @ np.diag(0.5 * RHO * cda[3:]) @ turned.T
+    M = np.linalg.norm(omega) * D_M @ -omega
+    assert Q[3:] @ qdot[3:] == pytest.approx(M @ omega, rel=1e-6)
+
+    def residual(q, qdot):
+        return -body_load(term, q, qdot)[0]
+
+    h = 1e-6
+    for slope, shifted in ((K, lambda e: (residual(q + h * e, qdot), residual(q - h * e, qdot))),
+                           (C, lambda e: (residual(q, qdot + h * e), residual(q, qdot - h * e)))):
+        fd = np.column_stack([(ahead - behind) / (2 * h)
+                              for ahead, behind in map(shifted, np.eye(6))])
+        np.testing.assert_allclose(slope, fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
