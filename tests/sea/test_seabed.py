@@ -322,3 +322,26 @@ def test_default_bed_damping_is_critical_for_a_laid_line():
     c_z = Kv[np.ix_(zdofs, zdofs)].sum()
     assert k_z == pytest.approx(w * L / 1e-3, rel=1e-9)
     assert c_z / (2.0 * np.sqrt(k_z * mass * L)) == pytest.approx(1.0, rel=1e-9)
+
+
+def test_default_damping_onset_is_a_tenth_of_the_static_penetration():
+    """Without damping_onset the damping fades in over a tenth of the largest static
+    penetration w / k (w the line's submerged weight per length, k the bed's stiffness per
+    length): the kernel and the forms both take it, and a node moving into the bed at half
+    that depth is damped by c (g / onset) n.udot over its share of the line."""
+    lines = LineSet([Line.from_catenary(touchdown(), CHAIN, 16)], law="engineering")
+    bed = Seabed(DEPTH, damping=3e4)
+    k, c = (values[0] for values in bed.cell_coefficients(lines))
+    onset = 0.1 * CHAIN.weight / k
+    assert bed.onset(lines) == pytest.approx(onset, rel=1e-12)
+    node = int(np.argmin(np.abs(lines.points[:, 0] - 200.0)))  # on the bed
+    z = lines.nodal_dofs[node][2]
+    share = 0.5 * sum(np.linalg.norm(lines.points[node + side] - lines.points[node])
+                      for side in (-1, 1))  # m of line at the node (nodal quadrature)
+    u, ud = np.zeros(lines.ndofs), np.zeros(lines.ndofs)
+    u[z] = lines.points[node, 2] + DEPTH - 0.5 * onset  # its node half the onset deep
+    ud[z] = -0.2  # moving down, m/s
+    for term in (seabed_term(lines, bed), form_term(lines, bed)):
+        moving = term.evaluate(u, ud, 0.0, False)[0][z]
+        resting = term.evaluate(u, 0 * ud, 0.0, False)[0][z]
+        assert moving - resting == pytest.approx(-c * share * 0.5 * 0.2, rel=1e-9)
