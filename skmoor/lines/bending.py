@@ -24,18 +24,24 @@ Line ends are pinned (the end tangent free) unless clamped (the end's slope DOFs
 the reference tangent; see :class:`skmoor.coupling.system.Ends`).
 
 :class:`HermiteKernel` evaluates the cable, axial damping and bending forms element by
-element, vectorized over elements and Gauss points, into (nel, 12, 12) element blocks
-(DOFs [node i x, y, z, x', y', z', node j ...]); the tests hold it equal to the forms'
-assembly.
+element in a compiled loop (:func:`_hermite`, which the compiled time step calls too) into
+(nel, 12, 12) element blocks (DOFs [node i x, y, z, x', y', z', node j ...]); the tests
+hold it equal to the forms' assembly.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 from skfem import Basis, BilinearForm, LinearForm
 
 from ..fem.hermite import hermite_shapes
 from ..fem.ops import dot
-from . import laws
+from ..fem.patterns import ElementPattern
+from .cable_kernel import _stress, law_table
+
+NO_BLOCKS_12 = np.zeros((0, 12, 12))  # no tangent
 
 
 def d2_ds2(field):
@@ -59,116 +65,191 @@ class HermiteKernel:
     """Internal force and tangent of all lines of a Hermite :class:`~skmoor.lines.line.LineSet`:
     ``forms.cable_force`` + the reference force (Eq. 9), ``forms.axial_damping`` and
     :func:`bending_force`, with their exact derivatives, on the LineSet's Gauss points
-    (the kernel protocol of :mod:`skmoor.lines.cable_kernel`, blocks (nel, 12, 12))."""
+    (the kernel protocol of :mod:`skmoor.lines.cable_kernel`, blocks (nel, 12, 12)),
+    compiled (:func:`_hermite`); the compiled time step calls the same loop."""
 
     def __init__(self, lineset):
-        from ..fem.patterns import ElementPattern
-
         if not lineset.hermite:
             raise ValueError("HermiteKernel: the LineSet is on P1 elements (no EI > 0)")
         self.lineset = lineset
         basis, f = lineset.basis, lineset.fields
         self.h = lineset.element_lengths
-        self.edofs = lineset.element_dofs  # (nel, 12)
-        _, self.dN, self.d2N = hermite_shapes(basis.X[0], self.h)
-        self.dx = basis.dx  # (nel, nqp)
-        self.Xp = np.moveaxis(f["Xp"], 0, -1)  # (nel, nqp, 3)
+        self.edofs = np.ascontiguousarray(lineset.element_dofs, np.int64)  # (nel, 12)
+        _, dN, d2N = hermite_shapes(basis.X[0], self.h)
+        self.dN = np.ascontiguousarray(dN)  # (nel, nqp, 4)
+        self.dx = np.ascontiguousarray(basis.dx)  # (nel, nqp)
+        self.Xp = np.ascontiguousarray(np.moveaxis(f["Xp"], 0, -1))  # (nel, nqp, 3)
         self.Xpp = np.moveaxis(f["Xpp"], 0, -1)
-        self.T, self.EI, self.BA = f["T"], f["EI"], f["BA"]
         self.fields = f
         self.ndofs = lineset.ndofs
         self.pattern = ElementPattern(lineset)
-        self.constant = lineset.reference_force()
+        self.refresh_laws()
         lineset._kernels.append(self)
+        self.constant = lineset.reference_force()
         _, dNm, d2Nm = hermite_shapes(np.array([0.5]), self.h)
         self._midpoint = (dNm, d2Nm)
         middle = Basis(lineset.mesh, lineset.basis.elem,
                        quadrature=(np.array([[0.5]]), np.array([1.0])))
         self._middle_fields = {k: v[..., 0] for k, v in lineset._fields(middle).items()}
-        # constant parts: the weighted test slopes, the pairs of slopes per point and the
-        # bending form (linear in u): its blocks and its force at u = 0, EI X'' . v''
-        nel, nqp = self.dx.shape
-        self._wdN = np.ascontiguousarray((self.dx[..., None] * self.dN).transpose(0, 2, 1))
-        self._pairs = np.ascontiguousarray(
-            (self.dx[..., None, None] * self.dN[..., :, None] * self.dN[..., None, :])
-            .reshape(nel, nqp, 16).transpose(0, 2, 1))
-        weights = np.einsum("eq,eqi,eqj->eij", self.dx * self.EI, self.d2N, self.d2N)
-        self._bending_blocks = np.einsum("eij,cd->eicjd", weights, np.eye(3)).reshape(nel, 12, 12)
-        self._bending_force = np.einsum("eq,eqb,eqc->ebc", self.dx * self.EI, self.d2N, self.Xpp)
+        # the bending form is linear in u: its 4 x 4 weights (the same on x, y and z) and
+        # its force at u = 0, EI X'' . v''
+        self.bending = np.ascontiguousarray(
+            np.einsum("eq,eqi,eqj->eij", self.dx * f["EI"], d2N, d2N))
+        self.bending_force = np.ascontiguousarray(
+            np.einsum("eq,eqb,eqc->ebc", self.dx * f["EI"], d2N, self.Xpp))
+        self._no_velocity = np.zeros(self.ndofs)
+        self._middle = None  # _at_midpoints' arrays
 
     def refresh_laws(self):
-        """The law parameters are read from the LineSet's fields at each call."""
+        """Read the strain laws' parameters and the reference fields from the LineSet's
+        fields, one row per Gauss point (:func:`~skmoor.lines.cable_kernel.law_table`)."""
+        f = self.fields
+        self.T, self.BA = (np.ascontiguousarray(f[name]) for name in ("T", "BA"))
+        self.law, self.knots, self.coef = law_table(f)
 
-    def _slopes(self, u, dN):
-        """(nel, nqp, 3) d/ds (or d2/ds2 with d2N) of the field u at the points of dN."""
-        U = u[self.edofs].reshape(-1, 4, 3)
-        return np.einsum("eqb,ebc->eqc", dN, U)
+    def step_arrays(self):
+        """The arrays :func:`_hermite` reads, in its order (the compiled step's too)."""
+        return (self.dN, self.dx, self.Xp, self.T, self.law, self.knots, self.coef, self.BA,
+                self.bending, self.bending_force, self.edofs)
 
     def add_to(self, u, ud, R, Ke=None, Ce=None):
         """Add the internal force (Eq. 9 + bending) and, given the velocity ud, the axial
         damping into R (N); with Ke their u-derivatives (N/m), with Ce the ud-derivatives."""
-        up = self._slopes(u, self.dN)
-        rp = self.Xp + up
-        eps = np.einsum("eqc,eqc->eq", self.Xp + 0.5 * up, up)  # Eq. 3
-        S, dS = laws.stress_resultant(eps, self.T, self.fields)
-        damped = ud is not None
-        if damped:
-            rate_slopes = self._slopes(ud, self.dN)
-            rate = np.einsum("eqc,eqc->eq", rp, rate_slopes)
-            axial = S + self.BA * rate
-        else:
-            axial = S
-        flux = axial[..., None] * rp + self.T[..., None] * up  # Eq. 11 (+ damping)
-        # int (flux . v' + EI r'' . v'') ds; the bending part is linear: K_b u + f_b
-        Re = (np.matmul(self._wdN, flux) + self._bending_force).reshape(-1, 12)
-        Re += np.matmul(self._bending_blocks, u[self.edofs][..., None])[..., 0]
         R += self.constant
-        np.add.at(R, self.edofs, Re)
-        if Ke is None:
-            return
-        # d flux / du' (Eq. 17): S' r' r'^T + (T + S + BA rate) I + BA r' rate'^T
-        k = dS[..., None, None] * rp[..., :, None] * rp[..., None, :]
-        k[..., [0, 1, 2], [0, 1, 2]] += (self.T + axial)[..., None]
-        if damped:
-            k += self.BA[..., None, None] * rp[..., :, None] * rate_slopes[..., None, :]
-        Ke += self._slope_blocks(k) + self._bending_blocks
-        if damped and Ce is not None:
-            Ce += self._slope_blocks(self.BA[..., None, None] * rp[..., :, None] * rp[..., None, :])
-
-    def _slope_blocks(self, k):
-        """(nel, 12, 12) blocks of int v'^T k du' ds for k (nel, nqp, 3, 3) at the points."""
-        nel, nqp = self.dx.shape
-        pairs = np.matmul(self._pairs, k.reshape(nel, nqp, 9))  # (nel, 16, 9)
-        return pairs.reshape(nel, 4, 4, 3, 3).transpose(0, 1, 3, 2, 4).reshape(nel, 12, 12)
+        _hermite(*self.step_arrays(), u, self._no_velocity if ud is None else ud,
+                 ud is not None, R, NO_BLOCKS_12 if Ke is None else Ke,
+                 NO_BLOCKS_12 if Ce is None else Ce)
 
     def evaluate(self, u, ud=None, tangent=True, layout="sparse"):
         """(R, K, Kv) as :meth:`skmoor.lines.cable_kernel.CableKernel.evaluate`."""
         return self.pattern.evaluate(lambda R, Ke, Ce: self.add_to(u, ud, R, Ke, Ce),
                                      tangent, layout, rate=ud is not None)
 
-    def midpoint_slopes(self, u):
-        """(r', r'') at the element mid-points, (nel, 3) each (r = X + u, 1 and 1/m)."""
-        dN, d2N = self._midpoint
-        U = (self.lineset.reference_dofs + u)[self.edofs].reshape(-1, 4, 3)
-        return (np.einsum("eqb,ebc->eqc", dN, U)[:, 0],
-                np.einsum("eqb,ebc->eqc", d2N, U)[:, 0])
+    def _at_midpoints(self, u, ud=None):
+        """(tension N, strain -, curvature 1/m), (nel,) each, at the element mid-points."""
+        if self._middle is None:  # the reference fields and laws there, made once
+            point = self._middle_fields
+            dN, d2N = self._midpoint
+            self._middle = (np.ascontiguousarray(dN[:, 0]), np.ascontiguousarray(d2N[:, 0]),
+                            np.ascontiguousarray(point["Xp"].T), point["T"], point["BA"],
+                            *law_table(point))
+        out = np.empty((3, len(self.h)))
+        _midpoints(*self._middle, self.lineset.reference_dofs, self.edofs, u,
+                   self._no_velocity if ud is None else ud, ud is not None, out)
+        return out
 
     def element_tension_and_strain(self, u, ud=None):
         """(nel,) tension (N; with ud, plus BA x strain rate) and strain of Eq. 3 (-) at
         the element mid-points."""
-        point = self._middle_fields  # the reference fields at the mid-points, (nel,) each
-        dN, _ = self._midpoint
-        Xp, up = point["Xp"].T, self._slopes(u, dN)[:, 0]
-        rp = Xp + up
-        eps = np.einsum("ec,ec->e", Xp + 0.5 * up, up)  # Eq. 3
-        S, _ = laws.stress_resultant(eps, point["T"], point)
-        axial = point["T"] + S
-        if ud is not None:
-            axial = axial + point["BA"] * np.einsum("ec,ec->e", rp, self._slopes(ud, dN)[:, 0])
-        return axial * np.linalg.norm(rp, axis=1), eps
+        tension, strain, _ = self._at_midpoints(u, ud)
+        return tension, strain
 
     def curvature(self, u):
         """(nel,) curvature |r' x r''| / |r'|^3 at the element mid-points, 1/m."""
-        rp, rpp = self.midpoint_slopes(u)
-        return (np.linalg.norm(np.cross(rp, rpp), axis=1)
-                / np.linalg.norm(rp, axis=1) ** 3)
+        return self._at_midpoints(u)[2]
+
+
+@njit(cache=True)
+def _midpoints(dN, d2N, Xp, T, BA, law, knots, coef, reference, edofs, u, ud, damped, out):
+    """Into out[0], out[1], out[2] (nel,): the tension (T + S + BA deps/dt) |r'| (N), the
+    strain eps of Eq. 3 and the curvature |r' x r''| / |r'|^3 (1/m) at the mid-points,
+    where dN, d2N (nel, 4) are the shape functions' d/ds and d2/ds2 and Xp, T, BA the
+    reference fields."""
+    up, vp, rp, rpp = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    for e in range(edofs.shape[0]):
+        for c in range(3):
+            up[c] = vp[c] = rpp[c] = 0.0
+            for b in range(4):
+                g = edofs[e, 3 * b + c]
+                up[c] += dN[e, b] * u[g]
+                vp[c] += dN[e, b] * ud[g]
+                rpp[c] += d2N[e, b] * (reference[g] + u[g])
+            rp[c] = Xp[e, c] + up[c]
+        eps = 0.0
+        rate = 0.0
+        for c in range(3):
+            eps += (Xp[e, c] + 0.5 * up[c]) * up[c]  # Eq. 3
+            rate += rp[c] * vp[c]
+        S, _ = _stress(eps, T[e], law, knots, coef, e)
+        length = math.sqrt(rp[0] ** 2 + rp[1] ** 2 + rp[2] ** 2)
+        out[0, e] = (T[e] + S + (BA[e] * rate if damped else 0.0)) * length
+        out[1, e] = eps
+        bent = ((rp[1] * rpp[2] - rp[2] * rpp[1]) ** 2 + (rp[2] * rpp[0] - rp[0] * rpp[2]) ** 2
+                + (rp[0] * rpp[1] - rp[1] * rpp[0]) ** 2)
+        out[2, e] = math.sqrt(bent) / length**3
+
+
+# (over 60 lines: the cable, damping and bending forms at every Gauss point, one pass)
+@njit(cache=True)
+def _hermite(dN, dx, Xp, T, law, knots, coef, BA, bending, bending_force, edofs, u, ud,
+             damped, R, Ke, Ce):
+    """Adds Eq. 11 (as S r' + T u', the reference force being added apart), the axial
+    damping BA deps/dt r' and the bending form (:func:`bending_force`) into R, and their
+    derivatives into Ke, Ce (when those have rows): ``HermiteKernel.add_to``'s loop. dN
+    (nel, nqp, 4) the shape functions' d/ds, dx the Gauss weights (m), bending (nel, 4, 4)
+    int EI N_a'' N_b'' ds, bending_force (nel, 4, 3) int EI N_a'' X'' ds."""
+    tangent = Ke.shape[0] > 0
+    nel, nqp = dx.shape
+    U, V = np.empty((4, 3)), np.empty((4, 3))  # the element's nodal values and slopes
+    up, rp, vp, flux = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    k = np.empty((3, 3))
+    for e in range(nel):
+        for b in range(4):
+            for c in range(3):
+                U[b, c] = u[edofs[e, 3 * b + c]]
+                V[b, c] = ud[edofs[e, 3 * b + c]]
+        for a in range(4):  # bending: int EI (X'' + u'') . v'' ds, linear in u
+            for c in range(3):
+                s = bending_force[e, a, c]
+                for b in range(4):
+                    s += bending[e, a, b] * U[b, c]
+                R[edofs[e, 3 * a + c]] += s
+                if tangent:
+                    for b in range(4):
+                        Ke[e, 3 * a + c, 3 * b + c] += bending[e, a, b]
+        for q in range(nqp):
+            eps = 0.0
+            rate = 0.0
+            for c in range(3):
+                s = 0.0
+                t = 0.0
+                for b in range(4):
+                    s += dN[e, q, b] * U[b, c]
+                    t += dN[e, q, b] * V[b, c]
+                up[c], vp[c] = s, t
+                rp[c] = Xp[e, q, c] + s
+                eps += (Xp[e, q, c] + 0.5 * s) * s  # Eq. 3
+                rate += rp[c] * t
+            S, dS = _stress(eps, T[e, q], law, knots, coef, e * nqp + q)
+            damping = BA[e, q] if damped else 0.0
+            axial = S + damping * rate
+            for c in range(3):  # Eq. 11 less its reference part, plus the damping
+                flux[c] = axial * rp[c] + T[e, q] * up[c]
+            for a in range(4):
+                w = dx[e, q] * dN[e, q, a]
+                for c in range(3):
+                    R[edofs[e, 3 * a + c]] += w * flux[c]
+            if not tangent:
+                continue
+            # d flux / du' (Eq. 17): S' r' r'^T + (T + S + BA rate) I + BA r' rate'^T
+            for c in range(3):
+                for d in range(3):
+                    k[c, d] = dS * rp[c] * rp[d] + damping * rp[c] * vp[d]
+                k[c, c] += T[e, q] + axial
+            _add_pairs(Ke, e, dx[e, q], dN[e, q], k)
+            if damped:
+                for c in range(3):
+                    for d in range(3):
+                        k[c, d] = damping * rp[c] * rp[d]
+                _add_pairs(Ce, e, dx[e, q], dN[e, q], k)
+
+
+@njit(cache=True)
+def _add_pairs(blocks, e, weight, dN, k):
+    """blocks[e] += weight N_a' N_b' k (k 3 x 3 acting on the slope u', N_a' = dN[a])."""
+    for a in range(4):
+        for b in range(4):
+            w = weight * dN[a] * dN[b]
+            for c in range(3):
+                for d in range(3):
+                    blocks[e, 3 * a + c, 3 * b + d] += w * k[c, d]

@@ -28,9 +28,5 @@ class CableTerm(Term):
     def add_to(self, u, v, t, R, K=None, C=None):
         self.kernel.add_to(u, v if self.damped else None, R, K, C)
 
-    @property
-    def why_python(self):
-        return "bending (Hermite) lines"
-
     def lowered(self):
-        return "cable" if isinstance(self.kernel, CableKernel) else None
+        return "cable"

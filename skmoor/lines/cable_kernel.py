@@ -54,20 +54,8 @@ class CableKernel:
         self.weight = np.where(lineset.user_law_cells, 0.0, self.weight)
 
     def refresh_laws(self):
-        """Read the strain laws' parameters from the LineSet's fields, rearranged for
-        the loop: (nel, 6) [green, tension_only, A, B, 1 + e_ref, EA] with S = A - B /
-        lambda, dS/deps = B / lambda^3 (A = k (1 + e_ref) - T, B = k (1 + e0) - T0 of
-        ``laws.axial_force``), and the hinges (nel, m): knots x_j and coef c_j (each
-        active hinge adds c_j (1 + e_ref) to A and c_j (1 + x_j) to B)."""
-        f = self.lineset.cable_fields
-        p = {name: f[name][:, 0] for name in ("green", "tension_only", "T0", "e0", "k",
-                                                "e_ref", "EA", "T")}
-        grow = 1.0 + p["e_ref"]
-        self.law = np.ascontiguousarray(np.stack(
-            [p["green"], p["tension_only"], p["k"] * grow - p["T"],
-             p["k"] * (1.0 + p["e0"]) - p["T0"], grow, p["EA"]], axis=1))
-        self.knots = np.ascontiguousarray(f["knots"][:, :, 0].T)
-        self.coef = np.ascontiguousarray(f["coef"][:, :, 0].T)
+        """Read the strain laws' parameters from the LineSet's fields (:func:`law_table`)."""
+        self.law, self.knots, self.coef = law_table(self.lineset.cable_fields)
 
     def element_tension_and_strain(self, u, ud=None):
         """(nel,) tension (N; with ud, plus BA x strain rate) and strain of Eq. 3 (-) at
@@ -106,6 +94,24 @@ class CableKernel:
         """Internal force (N) and its exact tangent (Eq. 17, N/m)."""
         f, K, _ = self.evaluate(u, layout=layout)
         return f, K
+
+
+def law_table(fields):
+    """The strain laws' parameters at every quadrature point of ``fields`` (the forms'
+    fields, (nel, nqp) each), point e * nqp + q in row e * nqp + q, rearranged for the
+    compiled loops: law (nel nqp, 6) [green, tension_only, A, B, 1 + e_ref, EA] with S = A -
+    B / lambda, dS/deps = B / lambda^3 (A = k (1 + e_ref) - T, B = k (1 + e0) - T0 of
+    ``laws.axial_force``), and the hinges (nel nqp, m): knots x_j and coef c_j (each active
+    hinge adds c_j (1 + e_ref) to A and c_j (1 + x_j) to B)."""
+    p = {name: np.ravel(fields[name]) for name in ("green", "tension_only", "T0", "e0", "k",
+                                                     "e_ref", "EA", "T")}
+    grow = 1.0 + p["e_ref"]
+    law = np.ascontiguousarray(np.stack(
+        [p["green"], p["tension_only"], p["k"] * grow - p["T"],
+         p["k"] * (1.0 + p["e0"]) - p["T0"], grow, p["EA"]], axis=1))
+    shape = (len(fields["knots"]), law.shape[0])
+    return (law, np.ascontiguousarray(np.reshape(fields["knots"], shape).T),
+            np.ascontiguousarray(np.reshape(fields["coef"], shape).T))
 
 
 @njit(cache=True)

@@ -421,7 +421,8 @@ class SeabedKernel(Term):
     element e with weight h_e / 2). On a bending (Hermite) LineSet it acts on the node
     positions with each element's chord as the tangent of the friction (MoorDyn's lumped
     contact; :func:`form_term` takes the C1 tangent), its blocks placed on the position
-    DOFs of the 12 x 12 element blocks."""
+    DOFs of the 12 x 12 element blocks (``stride``: where node j's position DOFs start in
+    an element block, 3 on P1, 6 on Hermite)."""
 
     def __init__(self, lines, seabed):
         self.lines = lines
@@ -446,14 +447,12 @@ class SeabedKernel(Term):
         self._laid = None  # the as-laid displacement (ndofs,), made when first asked for
         self._resting = {}  # held end nodes -> (their half element lengths, springs)
         self._no_velocity = np.zeros(lines.ndofs)
-        # Hermite: the position DOFs [node i x, y, z, node j x, y, z] in the element blocks
-        self._positions = np.array([0, 1, 2, 6, 7, 8]) if lines.hermite else None
+        self.stride = 6 if lines.hermite else 3
 
-
-    why_python = "a bathymetry grid, or bending (Hermite) lines"
+    why_python = "a bathymetry grid"
 
     def lowered(self):
-        return "seabed" if self.bathymetry is None and self._positions is None else None
+        return "seabed" if self.bathymetry is None else None
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
@@ -463,14 +462,8 @@ class SeabedKernel(Term):
         if self.static_friction is not None and self.lines.static_mode:
             self._add_static(u, R, Ke)
             return
-        if self._positions is not None and Ke is not None:
-            ke, ce = np.zeros((len(self.h), 6, 6)), np.zeros((len(self.h), 6, 6))
-            self._run(u, ud, R, ke, ce)
-            p = self._positions
-            Ke[:, p[:, None], p] += ke
-            if Ce is not None:
-                Ce[:, p[:, None], p] += ce
-            return
+        if Ke is not None and Ce is None:
+            Ce = np.zeros_like(Ke)
         self._run(u, ud, R, NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
 
     def _run(self, u, ud, R, Ke, Ce, c=None, v0=None):
@@ -479,23 +472,16 @@ class SeabedKernel(Term):
             n, offset = self.bathymetry.plane(self.X + u[self.ends])
         _seabed(self.X, self.ends, self.h, n, offset, self.k, self.c if c is None else c,
                 self.onset, self.mu_a, self.mu_l, self.v0 if v0 is None else v0,
-                self.friction, u, self._no_velocity if ud is None else ud, R, Ke, Ce)
+                self.friction, u, self._no_velocity if ud is None else ud, R, Ke, Ce,
+                self.stride)
 
     def _add_static(self, u, R, Ke):
         """The bed in a static solve: its spring, and the friction of the slip s = u -
         u_laid (m) with the regularization static_slip, whose derivative d/ds is d/du."""
         slip = u - self.laid_displacement()
         zero = np.zeros_like(self.c)  # no damping: the slip is no velocity
-        if Ke is None:
-            self._run(u, slip, R, NO_BLOCKS, NO_BLOCKS, zero, self.static_slip)
-            return
-        ke, ce = np.zeros((len(self.h), 6, 6)), np.zeros((len(self.h), 6, 6))
-        self._run(u, slip, R, ke, ce, zero, self.static_slip)
-        if self._positions is None:
-            Ke += ke + ce
-        else:
-            p = self._positions
-            Ke[:, p[:, None], p] += ke + ce
+        blocks = NO_BLOCKS if Ke is None else Ke
+        self._run(u, slip, R, blocks, blocks, zero, self.static_slip)  # d/ds is d/du
 
     def resting_support(self, u, weight, nodes) -> np.ndarray:
         """(len(nodes), 3) support (N) the bed gives the held line-end ``nodes`` resting
@@ -587,10 +573,12 @@ class SeabedKernel(Term):
 
 
 @njit(cache=True)
-def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction, u, ud, R, Ke, Ce):
+def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction, u, ud, R, Ke,
+            Ce, stride):
     """Adds seabed_residual into R and seabed_stiffness / seabed_damping into Ke, Ce at
     the two ends of each element (weights h / 2), the bed's upward unit normal and n.P
-    (P a point of the bed) at each end in normals (2, nel, 3) and offsets (2, nel)."""
+    (P a point of the bed) at each end in normals (2, nel, 3) and offsets (2, nel); node j's
+    position DOFs start at ``stride`` in the element blocks."""
     tangent = Ke.shape[0] > 0
     scratch = np.zeros(15)  # one allocation for the five 3-vectors
     vel, rp, a, vl, F = scratch[:3], scratch[3:6], scratch[6:9], scratch[9:12], scratch[12:]
@@ -641,7 +629,7 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
                 R[ends[end, e, i]] += W * (push * n[i] + N * F[i])
             if not tangent:
                 continue
-            o = 3 * end
+            o = stride * end
             for p in range(3):
                 for q in range(3):
                     # through the penetration: the spring, the damping's fade-in, the
@@ -659,7 +647,7 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
                     G = (mu_a * (v0**2 / ra**3 * a[p] * vl[q] + va / ra * Q)
                          + mu_l * (-(a[p] * vl[q] + va * Q) / rho + va / rho**3 * vl[p] * vl[q]))
                     Ke[e, o + p, q] -= scale * G
-                    Ke[e, o + p, 3 + q] += scale * G
+                    Ke[e, o + p, stride + q] += scale * G
                     Ce[e, o + p, o + q] += W * N * (mu_a * v0**2 / ra**3 * a[p] * a[q]
                                                     + mu_l * (Q / rho - vl[p] * vl[q] / rho**3))
 

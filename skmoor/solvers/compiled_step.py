@@ -7,7 +7,8 @@ cable kernel and the line terms, the reduction to the bodies and free points (Eq
 coupling), the Newton matrix, its factorization (:mod:`skmoor.numerics.bordered`) and the solve --
 is one numba function, so that a step costs what its arithmetic costs.
 
-It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`),
+It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`)
+and bending (Hermite) lines (:func:`skmoor.lines.bending._hermite`, 12 x 12 element blocks),
 MoorDyn-style or skmoor's Morison terms in still water, a plane sea bed, the dry part of
 the lines in still water (``SurfaceTerm``: zero while every node stays half a diameter
 deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
@@ -17,10 +18,10 @@ one, gives a batch's loads in one call), and the users' LineForms, point and bod
 whose code is generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
-that lowers to none (bending lines, a form on another path or with fields given as a
-function, waves or currents, a bathymetry, a load in NumPy, radiation memory, exact
-rotations) makes it return None, its name and reason in :data:`last_refusal`, and the
-step then runs in Python. When modified Newton does not converge the step retries with
+that lowers to none (a form on another path or with fields given as a function, the
+Morison forms of bending lines, waves or currents, a bathymetry, a load in NumPy,
+radiation memory, exact rotations) makes it return None, its name and reason in
+:data:`last_refusal`, and the step then runs in Python. When modified Newton does not converge the step retries with
 the line search here, as the Python step does; a step that fails that too goes to the
 Python step, which splits it. Results are the same as the Python step's to round-off.
 """
@@ -36,6 +37,7 @@ from ..bodies.body import rotation_and_slopes
 from ..fem.form_compiler import POINTWISE_SIGNATURE, STEP_SIGNATURE
 from ..fem.native_calls import call_form, call_load
 from ..fem.patterns import ElementPattern
+from ..lines.bending import HermiteKernel, _hermite
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
 from ..sea.hydro import _morison
@@ -54,7 +56,13 @@ NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 
             np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)),
             np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64))
 NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.zeros((2, 0, 3)),
-          np.zeros((2, 0)), np.zeros(0), np.zeros(0), 0.0, 0.0, 0.0, 0.0, False)
+          np.zeros((2, 0)), np.zeros(0), np.zeros(0), 0.0, 0.0, 0.0, 0.0, False, 3)
+NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
+         np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3), np.int64),
+         np.zeros((0, 3), np.int64))  # a system of bending lines: no P1 element
+NO_HERMITE = (np.zeros((0, 1, 4)), np.zeros((0, 1)), np.zeros((0, 1, 3)), np.zeros((0, 1)),
+              np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 1)),
+              np.zeros((0, 4, 4)), np.zeros((0, 4, 3)), np.zeros((0, 12), np.int64))
 
 
 def _refuse(why):
@@ -227,7 +235,7 @@ class CompiledStep:
         self.bodies = (np.array(system.K_bodies).reshape(nbodies, 6, 6),
                        np.array(system.F_bodies0).reshape(nbodies, 6),
                        np.array([b.linear_damping for b in system.bodies]).reshape(nbodies, 6, 6))
-        nf, nb, nel = system.nf, system.nb, len(lines.element_dofs)
+        nf, nb, (nel, nloc) = system.nf, system.nb, lines.element_dofs.shape
         self.factors = (bordered.band_storage(width, nf), np.zeros((nf, nb)),
                         np.zeros((nb, nf)), np.zeros((nb, nb)), np.zeros(nf, np.int64),
                         np.zeros(nb, np.int64))
@@ -235,8 +243,9 @@ class CompiledStep:
         # element blocks, the body ends' J and S; R, B, a1, v1, M a, C v, the line search's
         # trial and correction, the predictors x_pred, v_pred, the old inertia, the iterate
         ends = len(system.dofs.body_flat)
-        self.work = ((np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs), np.zeros((nel, 6, 6)),
-                      np.zeros((nel, 6, 6)), np.zeros((ends, 6)), np.zeros((ends, 6)))
+        self.work = ((np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs),
+                      np.zeros((nel, nloc, nloc)), np.zeros((nel, nloc, nloc)),
+                      np.zeros((ends, 6)), np.zeros((ends, 6)))
                      + tuple(np.zeros(n) for _ in range(12)))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self._still = np.zeros((len(lines.points), 3))
@@ -245,8 +254,11 @@ class CompiledStep:
     def _terms(self):
         """The kernels' current arrays (a strain law may be refreshed between steps)."""
         k = self.system.kernel
-        cable = (k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h, k.weight, k.dofs_i, k.dofs_j,
-                 bool(self.system.damped), k.constant, self.system.weight)
+        bending = isinstance(k, HermiteKernel)  # bending lines: the Hermite kernel's loop
+        elements = NO_P1 if bending else (k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h,
+                                          k.weight, k.dofs_i, k.dofs_j)
+        cable = (*elements, bool(self.system.damped), k.constant, self.system.weight,
+                 *(k.step_arrays() if bending else NO_HERMITE))
         hydro, bed = NO_HYDRO, NO_BED
         if self.hydro is not None:
             h = self.hydro
@@ -254,7 +266,7 @@ class CompiledStep:
         if self.bed is not None:
             b = self.bed
             bed = (b.X, b.ends, b.h, b.n, b.offset, b.k, b.c, b.onset, b.mu_a, b.mu_l, b.v0,
-                   b.friction)
+                   b.friction, b.stride)
         key = tuple(id(a) for part in (cable, hydro, bed) for a in part)
         if self._terms_cache[0] != key:
             arrays = (_contiguous(cable), _contiguous(hydro), _contiguous(bed))
@@ -579,29 +591,29 @@ def _residual(x, v, model, inputs, tangent, work, R):
     for i in range(surface_dofs.size):  # SurfaceTerm is zero while the lines stay this deep
         if surface_z[i] + u[surface_dofs[i]] > surface_reach:
             return False
-    Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity = cable
+    Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity = cable[:13]
     for g in range(full.size):
         full[g] = constant[g] - gravity[g]
     if tangent:
         Ke[:] = 0.0
         Ce[:] = 0.0
-        _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
-               Ke, Ce, 1.0)
-    else:
-        none = Ke[:0]  # no blocks (a view: the residual allocates nothing)
-        _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
-               none, none, 1.0)
-    blocks_K = Ke if tangent else Ke[:0]
+    blocks_K = Ke if tangent else Ke[:0]  # no blocks: a view (the residual allocates nothing)
     blocks_C = Ce if tangent else Ce[:0]
+    # the P1 lines' or the bending lines' loop (the other has no elements)
+    _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
+           blocks_K, blocks_C, 1.0)
+    (dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force, hedofs) = cable[13:]
+    _hermite(dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force, hedofs, u, ud,
+             damped, full, blocks_K, blocks_C)
     if has_hydro:
         hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
         waves = x.size < 0  # still water: False as a plain bool (a literal compiles again)
         _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
                  waves, full, blocks_K, blocks_C)
     if has_bed:
-        X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction = bed
+        X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, stride = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
-                ud, full, blocks_K, blocks_C)
+                ud, full, blocks_K, blocks_C, stride)
     if forms[1]:  # the user LineForms' generated kernels
         _user_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C)
     R[:] = 0.0
@@ -685,24 +697,25 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
     _combine(D, cx, DM, wC, DC)
     kv = 2 * width
     wK, wV = 1.0 - af, (1.0 - af) * cv
-    rows, ends_at = np.empty(6, np.int64), np.empty(6, np.int64)
+    nloc = edofs.shape[1]  # an element's DOFs: 6 (P1), 12 (Hermite)
+    rows, ends_at = np.empty(nloc, np.int64), np.empty(nloc, np.int64)
     for e in range(edofs.shape[0]):
         free = True  # every DOF of the element a free one: the band alone
-        for a in range(6):
+        for a in range(nloc):
             rows[a] = position[edofs[e, a]]
             ends_at[a] = end_row[edofs[e, a]]
             free = free and rows[a] >= 0
         if free:
-            for b in range(6):
+            for b in range(nloc):
                 rb = rows[b]
-                for a in range(6):
+                for a in range(nloc):
                     ab[kv + rows[a] - rb, rb] += wK * Ke[e, a, b] + wV * Ce[e, a, b]
             continue
-        for a in range(6):
+        for a in range(nloc):
             ra, pa = rows[a], ends_at[a]
             if ra < 0 and pa < 0:
                 continue
-            for b in range(6):
+            for b in range(nloc):
                 rb, pb = rows[b], ends_at[b]
                 if rb < 0 and pb < 0:
                     continue

@@ -9,6 +9,8 @@ the residual (a body's hydrostatics, a free point's drag, the lines' velocity sl
 rotating body), a wrong factor in the Newton matrix (it changes the iterates) or a wrong
 scheme update would show as a difference orders of magnitude above that.
 """
+import dataclasses
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -108,6 +110,36 @@ def test_chain_on_the_bed_with_drag_steps_as_the_python_newton(friction, surface
         assert handed_back[0] == compiled_step.TO_PYTHON and len(done) < 20
 
 
+def test_bending_lines_on_rotating_bodies_step_as_the_python_newton():
+    """The network of two buoys with every line given bending stiffness (Hermite lines,
+    12 x 12 element blocks, slope DOFs at the body ends and at the free clump) and the
+    lines' internal damping: the compiled Hermite kernel, its blocks' reduction to the
+    bodies and its band assembly against the Python step (a bending block on the wrong
+    DOFs, a dropped slope DOF or the damping's rate slopes left out would show)."""
+    network = network_two_bodies()
+    for line in network.lines:
+        line.line_type = dataclasses.replace(line.line_type, EI=2e4)
+    model = skmoor.from_network(network)
+    system = model.system
+    assert system.lines.hermite
+    eq = skmoor.equilibrium(model)
+    v0 = np.zeros(system.n)
+    v0[system.nf:] = [0.2, -0.1, 0.05, 0.02, -0.03, 0.04, -0.1, 0.2, 0.0, -0.02, 0.01, 0.05]
+    assert_same_runs(system, eq.x, v0, 0.02, 60)
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.6])
+def test_a_bending_line_on_the_bed_steps_as_the_python_newton(friction):
+    """A chain with bending stiffness (EI 1e5 N m2) from the bed to a heaved fairlead, on a
+    sea bed with and without friction: the bed's blocks on the position DOFs of the 12 x
+    12 element blocks (on the slope DOFs they would change the iterates at once)."""
+    system, x0 = _chain_on_the_bed(lambda t: np.array([[0.0, 0.0, 2.0 * np.sin(0.6 * t)]]),
+                                   EI=1e5, friction=friction, hydro=False)
+    assert system.lines.hermite
+    assert_same_runs(system, x0, np.zeros(system.n), 0.05, 25,
+                     scheme=Scheme.generalized_alpha(0.5))
+
+
 @pytest.mark.parametrize("maxiter", [4, 3])
 def test_steps_modified_newton_gives_up_on_go_as_in_python(maxiter):
     """With few iterations allowed, modified Newton gives up on some steps: the compiled
@@ -144,25 +176,27 @@ def test_what_the_compiled_step_leaves_to_python_is_named():
     assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is not None
 
 
-def _chain_on_the_bed(motion):
-    """A 12-element chain on a sea bed with drag and added mass, its fairlead moved by
-    ``motion``, and its static state."""
+def _chain_on_the_bed(motion, EI=0.0, friction=0.0, hydro=True):
+    """A 12-element chain on a sea bed (friction: its axial coefficient, 1.5 times that
+    laterally) with drag and added mass (``hydro``), its fairlead moved by ``motion``, and
+    its static state; EI > 0 (N m2): on bending (Hermite) elements."""
     from skmoor.lines.catenary import solve_catenary
     from skmoor.sea.hydro import line_hydrodynamics
     from skmoor.sea.seabed import Seabed, seabed_term
 
     chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, BA=7.5e4, Cd_n=2.4,
-                            Ca_n=1.0)
+                            Ca_n=1.0, EI=EI)
     cat = solve_catenary([-80.0, 0.0, -30.0], [0.0, 0.0, -1.0], chain.weight, chain.EA,
                          length=100.0, seabed_z=-30.0)
     lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 12)], law="engineering")
-    bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter)
-    system = skmoor.System(lines, fairleads="prescribed", motion=motion,
-                           terms=[seabed_term(lines, bed), line_hydrodynamics(lines)])
+    bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter,
+                 mu_axial=friction, mu_lateral=1.5 * friction)
+    terms = [seabed_term(lines, bed)] + ([line_hydrodynamics(lines)] if hydro else [])
+    system = skmoor.System(lines, fairleads="prescribed", motion=motion, terms=terms)
     return system, skmoor.solve_static(system).x
 
 
-@pytest.mark.parametrize("which", ["bodies", "chain"])
+@pytest.mark.parametrize("which", ["bodies", "chain", "bending chain"])
 @pytest.mark.parametrize("compiled", [True, False])
 def test_reported_end_forces_and_line_state_are_the_systems(which, compiled):
     """States integrate reports (report_every) carry the lines' full state and end forces
@@ -175,7 +209,9 @@ def test_reported_end_forces_and_line_state_are_the_systems(which, compiled):
         model = skmoor.from_network(network_two_bodies())
         system, x0 = model.system, skmoor.equilibrium(model).x
     else:
-        system, x0 = _chain_on_the_bed(lambda t: np.array([[0.0, 0.0, 2.0 * np.sin(0.6 * t)]]))
+        system, x0 = _chain_on_the_bed(lambda t: np.array([[0.0, 0.0, 2.0 * np.sin(0.6 * t)]]),
+                                       EI=1e5 if which == "bending chain" else 0.0,
+                                       hydro=which == "chain")
     v0 = np.zeros(system.n)
     v0[system.nf:] = 0.1  # the bodies start moving
     reported = 0
