@@ -39,7 +39,7 @@ from skfem import Basis, BilinearForm, LinearForm
 from ..fem.hermite import hermite_shapes
 from ..fem.ops import dot
 from ..fem.patterns import ElementPattern
-from .cable_kernel import _stress, law_table
+from .cable_kernel import _stress, _stress_plain, law_table
 
 NO_BLOCKS_12 = np.zeros((0, 12, 12))  # no tangent
 
@@ -189,6 +189,7 @@ def _hermite(dN, dx, Xp, T, law, knots, coef, BA, bending, bending_force, edofs,
     (nel, nqp, 4) the shape functions' d/ds, dx the Gauss weights (m), bending (nel, 4, 4)
     int EI N_a'' N_b'' ds, bending_force (nel, 4, 3) int EI N_a'' X'' ds."""
     tangent = Ke.shape[0] > 0
+    hinged = knots.shape[1] > 0  # a curve law's hinges (a loop of its own, as in _cable)
     nel, nqp = dx.shape
     U, V = np.empty((4, 3)), np.empty((4, 3))  # the element's nodal values and slopes
     up, rp, vp, flux = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
@@ -220,7 +221,10 @@ def _hermite(dN, dx, Xp, T, law, knots, coef, BA, bending, bending_force, edofs,
                 rp[c] = Xp[e, q, c] + s
                 eps += (Xp[e, q, c] + 0.5 * s) * s  # Eq. 3
                 rate += rp[c] * t
-            S, dS = _stress(eps, T[e, q], law, knots, coef, e * nqp + q)
+            if hinged:
+                S, dS = _stress(eps, T[e, q], law, knots, coef, e * nqp + q)
+            else:
+                S, dS = _stress_plain(eps, T[e, q], law, e * nqp + q)
             damping = BA[e, q] if damped else 0.0
             axial = S + damping * rate
             for c in range(3):  # Eq. 11 less its reference part, plus the damping

@@ -36,6 +36,7 @@ from skfem import BilinearForm, LinearForm, asm
 
 from ..bodies.loads import BodyLoad
 from ..fem import ops
+from ..fem.hermite import hermite_shapes
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS
 from ..fem.terms import LineForm, Term
@@ -214,18 +215,31 @@ class LineHydroKernel(Term):
         self.has_waves = sea is not None and sea.has_waves
         self.Xp = np.ascontiguousarray(np.moveaxis(lines.fields["Xp"], 0, -1))  # (nel, nqp, 3)
         self.points, self.nodal_dofs = lines.points, lines.nodal_dofs
-        self.enodes = np.ascontiguousarray(lines.mesh.t.T)  # (nel, 2)
-        self.edofs = self.nodal_dofs[self.enodes].reshape(-1, 6)  # (nel, 6)
-        xi = basis.X[0]
-        self.phi = np.stack([1.0 - xi, xi])  # (2, nqp) P1 shape functions
+        self.edofs = np.ascontiguousarray(lines.element_dofs, np.int64)  # (nel, 3 x shapes)
+        xi, h = basis.X[0], lines.element_lengths
+        t = lines.mesh.t.T  # (nel, 2) each element's nodes
+        if lines.hermite:  # the cubics [u_i, u_i', u_j, u_j']: the water on the values
+            N, dN, _ = hermite_shapes(xi, h)
+            self.nodes = np.stack([t[:, 0], -t[:, 0] - 1, t[:, 1], -t[:, 1] - 1], axis=1)
+        else:  # P1: [u_i, u_j]
+            one = np.ones((len(h), 1))
+            N = np.stack([(1.0 - xi) * one, xi * one], axis=-1)
+            dN = np.stack([-one / h[:, None], one / h[:, None]], axis=-1) * np.ones_like(N)
+            self.nodes = t
+        self.N, self.dN = np.ascontiguousarray(N), np.ascontiguousarray(dN)  # (nel, nqp, shapes)
+        self.nodes = np.ascontiguousarray(self.nodes, np.int64)  # (nel, shapes): < 0 a slope
+        self.weights = np.ascontiguousarray(basis.dx)  # (nel, nqp) Gauss weights, m
         c = coefficients(lines)
         self.kn, self.kt = c["drag_n"], c["drag_t"]
         self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
-        self.h = lines.element_lengths
-        self.wphi = np.ascontiguousarray(basis.dx[:, None, :] * self.phi)  # (nel, 2, nqp) w phi_a
         self._still = np.zeros((len(self.points), 3))
         self._no_velocity = np.zeros(lines.ndofs)
         self._mass = added_mass_matrix(lines, lumped_mass)
+
+    def step_arrays(self):
+        """The arrays :func:`_morison` reads before the state, in its order."""
+        return (self.Xp, self.N, self.dN, self.weights, self.kn, self.kt, self.mn, self.dm,
+                self.edofs, self.nodes)
 
 
     def lowered(self):
@@ -237,10 +251,10 @@ class LineHydroKernel(Term):
         water = acceleration = self._still
         if self.moving_water:
             water, acceleration = self.sea.kinematics(self.points + u[self.nodal_dofs], t)
-        _morison(self.Xp, self.h, self.phi, self.wphi, self.kn, self.kt, self.mn, self.dm,
-                 self.edofs, self.enodes, u, self._no_velocity if ud is None else ud,
-                 water, acceleration, self.has_waves, R,
-                 NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
+        none = NO_BLOCKS if not self.lines.hermite else NO_BLOCKS.reshape(0, 12, 12)
+        _morison(*self.step_arrays(), u, self._no_velocity if ud is None else ud, water,
+                 acceleration, self.has_waves, R, none if Ke is None else Ke,
+                 none if Ce is None else Ce)
 
     def mass_matrix(self):
         """The added mass (sparse, kg), or None when every Ca is zero."""
@@ -248,36 +262,46 @@ class LineHydroKernel(Term):
 
 
 @njit(cache=True)
-def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acceleration,
+def _morison(Xp, N, dN, weights, kn, kt, mn, dm, edofs, nodes, u, ud, water, acceleration,
              has_waves, R, Ke, Ce):
     """Adds morison_drag (+ fluid_inertia with waves) into R and their derivatives
-    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce.
-    An element's nodal values are read once into scalars (the Gauss-point loop runs in
-    registers: twice as fast as with 3-vectors)."""
+    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce, on
+    the shape functions N and their d/ds dN (nel, nqp, shapes: P1's two or the Hermite
+    cubics' four, each acting on three DOFs of edofs) at Gauss points of weights (nel,
+    nqp); the water's velocity and acceleration (per node) on the shapes of nodes >= 0 (a
+    value), none on a slope (nodes < 0), as the forms interpolate them."""
     tangent = Ke.shape[0] > 0
+    shapes = N.shape[2]
     if tangent:  # the tangent's scratch (a residual alone allocates nothing)
         tau, vn, y = np.empty(3), np.empty(3), np.empty(3)
         B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force
     wnx = wny = wnz = 0.0  # the water's acceleration normal to tau (waves)
-    ax = ay = az = bx = by = bz = 0.0  # the water's acceleration at the nodes (waves)
-    for e in range(h.size):
-        i0, i1, i2 = edofs[e, 0], edofs[e, 1], edofs[e, 2]
-        j0, j1, j2 = edofs[e, 3], edofs[e, 4], edofs[e, 5]
-        na, nb = enodes[e, 0], enodes[e, 1]
-        he = h[e]
-        sx, sy, sz = (u[j0] - u[i0]) / he, (u[j1] - u[i1]) / he, (u[j2] - u[i2]) / he
-        # v = u_w - udot at the two nodes
-        wx, wy, wz = water[na, 0] - ud[i0], water[na, 1] - ud[i1], water[na, 2] - ud[i2]
-        qx, qy, qz = water[nb, 0] - ud[j0], water[nb, 1] - ud[j1], water[nb, 2] - ud[j2]
-        if has_waves:
-            ax, ay, az = acceleration[na, 0], acceleration[na, 1], acceleration[na, 2]
-            bx, by, bz = acceleration[nb, 0], acceleration[nb, 1], acceleration[nb, 2]
-        for q in range(phi.shape[1]):
-            pa, pb = phi[0, q], phi[1, q]
-            rx, ry, rz = Xp[e, q, 0] + sx, Xp[e, q, 1] + sy, Xp[e, q, 2] + sz
+    for e in range(edofs.shape[0]):
+        for q in range(N.shape[1]):
+            # r' = X' + u' and v = u_w - udot at the point, in registers
+            rx, ry, rz = Xp[e, q, 0], Xp[e, q, 1], Xp[e, q, 2]
+            vx = vy = vz = 0.0
+            cx = cy = cz = 0.0  # the water's acceleration there (waves)
+            for b in range(shapes):
+                d0, d1, d2 = edofs[e, 3 * b], edofs[e, 3 * b + 1], edofs[e, 3 * b + 2]
+                slope, value = dN[e, q, b], N[e, q, b]
+                rx += slope * u[d0]
+                ry += slope * u[d1]
+                rz += slope * u[d2]
+                vx -= value * ud[d0]
+                vy -= value * ud[d1]
+                vz -= value * ud[d2]
+                node = nodes[e, b]
+                if node >= 0:
+                    vx += value * water[node, 0]
+                    vy += value * water[node, 1]
+                    vz += value * water[node, 2]
+                    if has_waves:
+                        cx += value * acceleration[node, 0]
+                        cy += value * acceleration[node, 1]
+                        cz += value * acceleration[node, 2]
             length = np.sqrt(rx * rx + ry * ry + rz * rz)
             tx, ty, tz = rx / length, ry / length, rz / length
-            vx, vy, vz = pa * wx + pb * qx, pa * wy + pb * qy, pa * wz + pb * qz
             a = vx * tx + vy * ty + vz * tz  # along tau
             nx, ny, nz = vx - a * tx, vy - a * ty, vz - a * tz
             speed = np.sqrt(nx * nx + ny * ny + nz * nz)
@@ -286,20 +310,17 @@ def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acce
             fx, fy, fz = cn * nx + ct * tx, cn * ny + ct * ty, cn * nz + ct * tz
             aa = 0.0  # the water's acceleration along tau
             if has_waves:
-                cx, cy, cz = pa * ax + pb * bx, pa * ay + pb * by, pa * az + pb * bz
                 aa = cx * tx + cy * ty + cz * tz
                 wnx, wny, wnz = cx - aa * tx, cy - aa * ty, cz - aa * tz
                 m, mt = mn[e, q], (mn[e, q] + dm[e, q]) * aa
                 fx += m * wnx + mt * tx
                 fy += m * wny + mt * ty
                 fz += m * wnz + mt * tz
-            wa, wb = wphi[e, 0, q], wphi[e, 1, q]
-            R[i0] -= wa * fx
-            R[i1] -= wa * fy
-            R[i2] -= wa * fz
-            R[j0] -= wb * fx
-            R[j1] -= wb * fy
-            R[j2] -= wb * fz
+            for b in range(shapes):
+                w = weights[e, q] * N[e, q, b]
+                R[edofs[e, 3 * b]] -= w * fx
+                R[edofs[e, 3 * b + 1]] -= w * fy
+                R[edofs[e, 3 * b + 2]] -= w * fz
             if not tangent:
                 continue
             tau[0], tau[1], tau[2] = tx, ty, tz
@@ -318,11 +339,12 @@ def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acce
                     G[p, s] = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
                 B[p, p] += cn
                 G[p, p] += c1
-            for i in range(2):
-                for j in range(2):
-                    rate_weight = wphi[e, i, q] * phi[j, q]
-                    # K_e[i, j] = -w phi_i dphi_j/ds dF/du', dphi_j/ds = -+1/h
-                    slope_weight = (wphi[e, i, q] / (length * he)) * (1.0 if j == 0 else -1.0)
+            for i in range(shapes):
+                wi = weights[e, q] * N[e, q, i]
+                for j in range(shapes):
+                    # K_e[i, j] = -w N_i dN_j dF/du' / |r'|, C_e[i, j] = w N_i N_j dF/dudot
+                    rate_weight = wi * N[e, q, j]
+                    slope_weight = -wi * dN[e, q, j] / length
                     for p in range(3):
                         for s in range(3):
                             Ce[e, 3 * i + p, 3 * j + s] += rate_weight * B[p, s]
@@ -346,23 +368,20 @@ def line_hydrodynamics(lines, sea=None, *, lumped_mass=True):
     velocity, fluid inertia (when ``sea`` has waves) and added mass, coefficients from each
     line's LineType (MoorDyn v2 conventions, see the module docstring), as one compiled
     :class:`LineHydroKernel`. sea=None: still water. lumped_mass: block-lump the added
-    mass as the System lumps the line's mass (keep the two alike). P1 lines only (see
-    :func:`line_terms` for bending lines)."""
+    mass as the System lumps the line's mass (keep the two alike: bending (Hermite) lines
+    have a consistent mass, lumped_mass=False)."""
     _check_sea(lines, sea)
-    if lines.hermite:
-        raise ValueError("line_hydrodynamics: the compiled kernel is for P1 lines; bending "
-                         "(Hermite) lines take skmoor.sea.hydro.line_terms")
     return LineHydroKernel(lines, sea, lumped_mass)
 
 
 def line_terms(lines, sea=None, *, lumped_mass=True, path="auto") -> list:
     """The hydrodynamic line terms of a System on ``lines``: the compiled kernel
-    (:func:`line_hydrodynamics`) on P1; on a bending (Hermite) LineSet the forms
-    (:func:`form_terms` on ``path``), with the consistent added mass (as the Hermite
-    line mass)."""
-    if lines.hermite:
+    (:func:`line_hydrodynamics`), or on a bending (Hermite) LineSet with ``path`` other
+    than 'auto' the forms (:func:`form_terms` on that path); bending lines take the
+    consistent added mass (as their line mass)."""
+    if lines.hermite and path != "auto":
         return form_terms(lines, sea, lumped_mass=False, path=path)
-    return [line_hydrodynamics(lines, sea, lumped_mass=lumped_mass)]
+    return [line_hydrodynamics(lines, sea, lumped_mass=lumped_mass and not lines.hermite)]
 
 
 def form_terms(lines, sea=None, *, lumped_mass=True, path="auto"):

@@ -18,8 +18,8 @@ one, gives a batch's loads in one call), and the users' LineForms, point and bod
 whose code is generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
-that lowers to none (a form on another path or with fields given as a function, the
-Morison forms of bending lines, waves or currents, a bathymetry, a load in NumPy,
+that lowers to none (a form on another path or with fields given as a function, waves
+or currents, a bathymetry, a load in NumPy,
 radiation memory, exact rotations) makes it return None, its name and reason in
 :data:`last_refusal`, and the step then runs in Python. When modified Newton does not converge the step retries with
 the line search here, as the Python step does; a step that fails that too goes to the
@@ -52,7 +52,7 @@ TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the
 SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
 
 # stand-ins for an absent term (the compiled loop gets the same argument types)
-NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 1)),
+NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros((0, 1, 2)), np.zeros((0, 1, 2)), np.zeros((0, 1)),
             np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)),
             np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64))
 NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.zeros((2, 0, 3)),
@@ -261,8 +261,7 @@ class CompiledStep:
                  *(k.step_arrays() if bending else NO_HERMITE))
         hydro, bed = NO_HYDRO, NO_BED
         if self.hydro is not None:
-            h = self.hydro
-            hydro = (h.Xp, h.h, h.phi, h.wphi, h.kn, h.kt, h.mn, h.dm, h.edofs, h.enodes)
+            hydro = self.hydro.step_arrays()
         if self.bed is not None:
             b = self.bed
             bed = (b.X, b.ends, b.h, b.n, b.offset, b.k, b.c, b.onset, b.mu_a, b.mu_l, b.v0,
@@ -606,9 +605,9 @@ def _residual(x, v, model, inputs, tangent, work, R):
     _hermite(dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force, hedofs, u, ud,
              damped, full, blocks_K, blocks_C)
     if has_hydro:
-        hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
+        hXp, N, dN, weights, kn, kt, mn, dm, hedofs, nodes = hydro
         waves = x.size < 0  # still water: False as a plain bool (a literal compiles again)
-        _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
+        _morison(hXp, N, dN, weights, kn, kt, mn, dm, hedofs, nodes, u, ud, still, still,
                  waves, full, blocks_K, blocks_C)
     if has_bed:
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, stride = bed
