@@ -27,8 +27,9 @@ Times, each code at its step, the best of three runs in this one process:
   recorded: node positions, tensions, curvature) against CableDyn's model made from its
   deck (its static solve) plus its loop.
 
-Run: ``python benchmarks/bending.py`` (a few minutes; CableDyn: ``pip install
-".[bench]"``). Ratios are printed last.
+Run: ``python benchmarks/bending.py [--write-docs]`` (a few minutes; CableDyn: ``pip
+install ".[bench]"``). Ratios are printed last; with --write-docs the table goes into
+docs/speed.md.
 """
 from __future__ import annotations
 
@@ -47,7 +48,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 import steps  # noqa: E402
-from _cases import ROOT, quiet  # noqa: E402
+from _cases import ROOT, environment, quiet, write_block  # noqa: E402
 
 SITE = "200m"
 ELEMENTS = 64  # CableDyn's example mesh size
@@ -194,6 +195,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--tolerance", type=float, default=TOLERANCE,
                         help="accuracy: share of the reference tension (default 0.005)")
+    parser.add_argument("--write-docs", action="store_true",
+                        help="write the table into docs/speed.md")
     args = parser.parse_args(argv)
     sys.path.insert(0, str(ROOT / "tests" / "lines"))  # the CableDyn deck of the tests
     workdir = tempfile.mkdtemp(prefix="skmoor-bending-")
@@ -243,6 +246,16 @@ def main(argv=None):
     print()
     print(f"time loop skmoor / CableDyn: {sk['wall'] / cd['wall']:.2f}")
     print(f"whole run skmoor / CableDyn: {simulated / whole:.2f}")
+    if args.write_docs:
+        facts = environment(["numpy", "numba", "cabledyn"])
+        rows = [f"- commit {facts['commit']}; {facts['versions']}; {facts['machine']}", "",
+                "| code | step (s) | largest difference from its reference | time loop "
+                "skmoor / CableDyn | whole run skmoor / CableDyn |", "|---|---|---|---|---|",
+                f"| skmoor | {sk['dt']:g} | {sk['error']:.2%} | **{sk['wall'] / cd['wall']:.2f}** "
+                f"| {simulated / whole:.2f} |",
+                f"| CableDyn | {cd['dt']:g} | {cd['error']:.2%} | | |", "",
+                f"The two references within {same:.2%} of each other."]
+        write_block(ROOT / "docs" / "speed.md", "bending.py table", "\n".join(rows))
 
 
 if __name__ == "__main__":

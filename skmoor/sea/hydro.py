@@ -215,20 +215,24 @@ class LineHydroKernel(Term):
         self.has_waves = sea is not None and sea.has_waves
         self.Xp = np.ascontiguousarray(np.moveaxis(lines.fields["Xp"], 0, -1))  # (nel, nqp, 3)
         self.points, self.nodal_dofs = lines.points, lines.nodal_dofs
-        self.edofs = np.ascontiguousarray(lines.element_dofs, np.int64)  # (nel, 3 x shapes)
-        xi, h = basis.X[0], lines.element_lengths
-        t = lines.mesh.t.T  # (nel, 2) each element's nodes
-        if lines.hermite:  # the cubics [u_i, u_i', u_j, u_j']: the water on the values
-            N, dN, _ = hermite_shapes(xi, h)
-            self.nodes = np.stack([t[:, 0], -t[:, 0] - 1, t[:, 1], -t[:, 1] - 1], axis=1)
-        else:  # P1: [u_i, u_j]
-            one = np.ones((len(h), 1))
-            N = np.stack([(1.0 - xi) * one, xi * one], axis=-1)
-            dN = np.stack([-one / h[:, None], one / h[:, None]], axis=-1) * np.ones_like(N)
-            self.nodes = t
-        self.N, self.dN = np.ascontiguousarray(N), np.ascontiguousarray(dN)  # (nel, nqp, shapes)
-        self.nodes = np.ascontiguousarray(self.nodes, np.int64)  # (nel, shapes): < 0 a slope
-        self.weights = np.ascontiguousarray(basis.dx)  # (nel, nqp) Gauss weights, m
+        xi, h, t = basis.X[0], lines.element_lengths, lines.mesh.t.T  # t: each element's nodes
+        p1 = not lines.hermite  # P1: _morison's arrays; Hermite: _morison_shapes'
+        self.h = h if p1 else np.zeros(0)
+        self.enodes = np.ascontiguousarray(t if p1 else np.zeros((0, 2)), np.int64)
+        self.edofs = np.ascontiguousarray(lines.element_dofs if p1 else np.zeros((0, 6)),
+                                          np.int64)  # (nel, 6)
+        self.phi = np.stack([1.0 - xi, xi])  # (2, nqp) P1 shape functions
+        self.wphi = np.ascontiguousarray(basis.dx[:, None, :] * self.phi if p1
+                                         else np.zeros((0, 2, 1)))  # (nel, 2, nqp) w phi_a
+        # the cubics [u_i, u_i', u_j, u_j'] (nel, nqp, 4): the water on the value DOFs
+        N, dN, _ = hermite_shapes(xi, h) if not p1 else (np.zeros((0, 1, 4)),) * 3
+        self.N, self.dN = np.ascontiguousarray(N), np.ascontiguousarray(dN)
+        self.weights = np.ascontiguousarray(basis.dx if not p1 else np.zeros((0, 1)))
+        self.shape_dofs = np.ascontiguousarray(np.zeros((0, 12)) if p1 else lines.element_dofs,
+                                               np.int64)
+        self.nodes = np.ascontiguousarray(  # (nel, 4): each shape's node, < 0 a slope's
+            np.zeros((0, 4)) if p1 else np.stack([t[:, 0], -t[:, 0] - 1, t[:, 1], -t[:, 1] - 1], 1),
+            np.int64)
         c = coefficients(lines)
         self.kn, self.kt = c["drag_n"], c["drag_t"]
         self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
@@ -237,9 +241,11 @@ class LineHydroKernel(Term):
         self._mass = added_mass_matrix(lines, lumped_mass)
 
     def step_arrays(self):
-        """The arrays :func:`_morison` reads before the state, in its order."""
-        return (self.Xp, self.N, self.dN, self.weights, self.kn, self.kt, self.mn, self.dm,
-                self.edofs, self.nodes)
+        """The arrays :func:`_morison` reads before the state, in its order, then those
+        :func:`_morison_shapes` reads after the coefficients (one of them has no elements)."""
+        return (self.Xp, self.h, self.phi, self.wphi, self.kn, self.kt, self.mn, self.dm,
+                self.edofs, self.enodes, self.N, self.dN, self.weights, self.shape_dofs,
+                self.nodes)
 
 
     def lowered(self):
@@ -252,9 +258,15 @@ class LineHydroKernel(Term):
         if self.moving_water:
             water, acceleration = self.sea.kinematics(self.points + u[self.nodal_dofs], t)
         none = NO_BLOCKS if not self.lines.hermite else NO_BLOCKS.reshape(0, 12, 12)
-        _morison(*self.step_arrays(), u, self._no_velocity if ud is None else ud, water,
-                 acceleration, self.has_waves, R, none if Ke is None else Ke,
-                 none if Ce is None else Ce)
+        ud = self._no_velocity if ud is None else ud
+        Ke, Ce = none if Ke is None else Ke, none if Ce is None else Ce
+        Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, N, dN, w, dofs, nodes = self.step_arrays()
+        if self.lines.hermite:
+            _morison_shapes(Xp, N, dN, w, kn, kt, mn, dm, dofs, nodes, u, ud, water,
+                            acceleration, self.has_waves, R, Ke, Ce)
+        else:
+            _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water,
+                     acceleration, self.has_waves, R, Ke, Ce)
 
     def mass_matrix(self):
         """The added mass (sparse, kg), or None when every Ca is zero."""
@@ -262,10 +274,93 @@ class LineHydroKernel(Term):
 
 
 @njit(cache=True)
-def _morison(Xp, N, dN, weights, kn, kt, mn, dm, edofs, nodes, u, ud, water, acceleration,
+def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acceleration,
              has_waves, R, Ke, Ce):
     """Adds morison_drag (+ fluid_inertia with waves) into R and their derivatives
-    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce, on
+    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce.
+    An element's nodal values are read once into scalars (the Gauss-point loop runs in
+    registers: twice as fast as with 3-vectors; :func:`_morison_shapes`' loop over shape
+    functions costs P1 lines a tenth to a fifth more)."""
+    tangent = Ke.shape[0] > 0
+    if tangent:  # the tangent's scratch (a residual alone allocates nothing)
+        tau, vn, y = np.empty(3), np.empty(3), np.empty(3)
+        B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force
+    wnx = wny = wnz = 0.0  # the water's acceleration normal to tau (waves)
+    ax = ay = az = bx = by = bz = 0.0  # the water's acceleration at the nodes (waves)
+    for e in range(h.size):
+        i0, i1, i2 = edofs[e, 0], edofs[e, 1], edofs[e, 2]
+        j0, j1, j2 = edofs[e, 3], edofs[e, 4], edofs[e, 5]
+        na, nb = enodes[e, 0], enodes[e, 1]
+        he = h[e]
+        sx, sy, sz = (u[j0] - u[i0]) / he, (u[j1] - u[i1]) / he, (u[j2] - u[i2]) / he
+        # v = u_w - udot at the two nodes
+        wx, wy, wz = water[na, 0] - ud[i0], water[na, 1] - ud[i1], water[na, 2] - ud[i2]
+        qx, qy, qz = water[nb, 0] - ud[j0], water[nb, 1] - ud[j1], water[nb, 2] - ud[j2]
+        if has_waves:
+            ax, ay, az = acceleration[na, 0], acceleration[na, 1], acceleration[na, 2]
+            bx, by, bz = acceleration[nb, 0], acceleration[nb, 1], acceleration[nb, 2]
+        for q in range(phi.shape[1]):
+            pa, pb = phi[0, q], phi[1, q]
+            rx, ry, rz = Xp[e, q, 0] + sx, Xp[e, q, 1] + sy, Xp[e, q, 2] + sz
+            length = np.sqrt(rx * rx + ry * ry + rz * rz)
+            tx, ty, tz = rx / length, ry / length, rz / length
+            vx, vy, vz = pa * wx + pb * qx, pa * wy + pb * qy, pa * wz + pb * qz
+            a = vx * tx + vy * ty + vz * tz  # along tau
+            nx, ny, nz = vx - a * tx, vy - a * ty, vz - a * tz
+            speed = np.sqrt(nx * nx + ny * ny + nz * nz)
+            # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
+            cn, ct = kn[e, q] * speed, kt[e, q] * abs(a) * a
+            fx, fy, fz = cn * nx + ct * tx, cn * ny + ct * ty, cn * nz + ct * tz
+            aa = 0.0  # the water's acceleration along tau
+            if has_waves:
+                cx, cy, cz = pa * ax + pb * bx, pa * ay + pb * by, pa * az + pb * bz
+                aa = cx * tx + cy * ty + cz * tz
+                wnx, wny, wnz = cx - aa * tx, cy - aa * ty, cz - aa * tz
+                m, mt = mn[e, q], (mn[e, q] + dm[e, q]) * aa
+                fx += m * wnx + mt * tx
+                fy += m * wny + mt * ty
+                fz += m * wnz + mt * tz
+            wa, wb = wphi[e, 0, q], wphi[e, 1, q]
+            R[i0] -= wa * fx
+            R[i1] -= wa * fy
+            R[i2] -= wa * fz
+            R[j0] -= wb * fx
+            R[j1] -= wb * fy
+            R[j2] -= wb * fz
+            if not tangent:
+                continue
+            tau[0], tau[1], tau[2] = tx, ty, tz
+            vn[0], vn[1], vn[2] = nx, ny, nz
+            # d/dudot: alpha I + beta tau tau^T + gamma v_n v_n^T, alpha = drag_n |v_n|
+            beta = 2.0 * kt[e, q] * abs(a) - cn
+            gamma = kn[e, q] / speed if speed > 0 else kn[e, q]
+            # d/du' |r'|: c1 I + tau y^T - gamma a v_n v_n^T, y = beta v_n - c1 tau (+ dm a_n)
+            c1 = (kt[e, q] * abs(a) - cn) * a + (dm[e, q] * aa if has_waves else 0.0)
+            y[0] = beta * nx - c1 * tx + (dm[e, q] * wnx if has_waves else 0.0)
+            y[1] = beta * ny - c1 * ty + (dm[e, q] * wny if has_waves else 0.0)
+            y[2] = beta * nz - c1 * tz + (dm[e, q] * wnz if has_waves else 0.0)
+            for p in range(3):
+                for s in range(3):
+                    B[p, s] = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]
+                    G[p, s] = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
+                B[p, p] += cn
+                G[p, p] += c1
+            for i in range(2):
+                for j in range(2):
+                    rate_weight = wphi[e, i, q] * phi[j, q]
+                    # K_e[i, j] = -w phi_i dphi_j/ds dF/du', dphi_j/ds = -+1/h
+                    slope_weight = (wphi[e, i, q] / (length * he)) * (1.0 if j == 0 else -1.0)
+                    for p in range(3):
+                        for s in range(3):
+                            Ce[e, 3 * i + p, 3 * j + s] += rate_weight * B[p, s]
+                            Ke[e, 3 * i + p, 3 * j + s] += slope_weight * G[p, s]
+
+
+@njit(cache=True)
+def _morison_shapes(Xp, N, dN, weights, kn, kt, mn, dm, edofs, nodes, u, ud, water,
+                    acceleration, has_waves, R, Ke, Ce):
+    """:func:`_morison` on any shape functions (the bending lines' cubics): adds
+    morison_drag (+ fluid_inertia with waves) into R and their derivatives into Ke, Ce, on
     the shape functions N and their d/ds dN (nel, nqp, shapes: P1's two or the Hermite
     cubics' four, each acting on three DOFs of edofs) at Gauss points of weights (nel,
     nqp); the water's velocity and acceleration (per node) on the shapes of nodes >= 0 (a

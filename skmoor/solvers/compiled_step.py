@@ -40,7 +40,7 @@ from ..fem.patterns import ElementPattern
 from ..lines.bending import HermiteKernel, _hermite
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
-from ..sea.hydro import _morison
+from ..sea.hydro import _morison, _morison_shapes
 from ..sea.seabed import _seabed
 from .newton import CONTRACTION, LINE_SEARCH, STALL
 
@@ -52,9 +52,11 @@ TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the
 SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
 
 # stand-ins for an absent term (the compiled loop gets the same argument types)
-NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros((0, 1, 2)), np.zeros((0, 1, 2)), np.zeros((0, 1)),
+NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 1)),
             np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)),
-            np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64))
+            np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64), np.zeros((0, 1, 4)),
+            np.zeros((0, 1, 4)), np.zeros((0, 1)), np.zeros((0, 12), np.int64),
+            np.zeros((0, 4), np.int64))
 NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.zeros((2, 0, 3)),
           np.zeros((2, 0)), np.zeros(0), np.zeros(0), 0.0, 0.0, 0.0, 0.0, False, 3)
 NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
@@ -598,17 +600,24 @@ def _residual(x, v, model, inputs, tangent, work, R):
         Ce[:] = 0.0
     blocks_K = Ke if tangent else Ke[:0]  # no blocks: a view (the residual allocates nothing)
     blocks_C = Ce if tangent else Ce[:0]
-    # the P1 lines' or the bending lines' loop (the other has no elements)
-    _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
-           blocks_K, blocks_C, 1.0)
-    (dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force, hedofs) = cable[13:]
-    _hermite(dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force, hedofs, u, ud,
-             damped, full, blocks_K, blocks_C)
+    if h.size:  # P1 lines
+        _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
+               blocks_K, blocks_C, 1.0)
+    else:  # bending lines
+        (dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force,
+         hedofs) = cable[13:]
+        _hermite(dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force, hedofs,
+                 u, ud, damped, full, blocks_K, blocks_C)
     if has_hydro:
-        hXp, N, dN, weights, kn, kt, mn, dm, hedofs, nodes = hydro
+        (hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, N, dN, weights, shape_dofs,
+         nodes) = hydro
         waves = x.size < 0  # still water: False as a plain bool (a literal compiles again)
-        _morison(hXp, N, dN, weights, kn, kt, mn, dm, hedofs, nodes, u, ud, still, still,
-                 waves, full, blocks_K, blocks_C)
+        if hh.size:  # P1 lines
+            _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
+                     waves, full, blocks_K, blocks_C)
+        else:  # bending lines
+            _morison_shapes(hXp, N, dN, weights, kn, kt, mn, dm, shape_dofs, nodes, u, ud,
+                            still, still, waves, full, blocks_K, blocks_C)
     if has_bed:
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, stride = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
