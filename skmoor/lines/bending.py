@@ -76,9 +76,9 @@ class HermiteKernel:
         self.h = lineset.element_lengths
         self.edofs = np.ascontiguousarray(lineset.element_dofs, np.int64)  # (nel, 12)
         _, dN, d2N = hermite_shapes(basis.X[0], self.h)
-        self.dN = np.ascontiguousarray(dN)  # (nel, nqp, 4)
-        self.dx = np.ascontiguousarray(basis.dx)  # (nel, nqp)
-        self.Xp = np.ascontiguousarray(np.moveaxis(f["Xp"], 0, -1))  # (nel, nqp, 3)
+        # each Gauss point's shape-function slopes N_a' (1/m) and weight (m): (nel, nqp, 5)
+        self.shapes = np.ascontiguousarray(np.concatenate([dN, basis.dx[..., None]], axis=-1))
+        self.Xp = np.ascontiguousarray(np.moveaxis(f["Xp"], 0, -1).reshape(-1, 3))  # per point
         self.Xpp = np.moveaxis(f["Xpp"], 0, -1)
         self.fields = f
         self.ndofs = lineset.ndofs
@@ -92,11 +92,11 @@ class HermiteKernel:
                        quadrature=(np.array([[0.5]]), np.array([1.0])))
         self._middle_fields = {k: v[..., 0] for k, v in lineset._fields(middle).items()}
         # the bending form is linear in u: its 4 x 4 weights (the same on x, y and z) and
-        # its force at u = 0, EI X'' . v''
-        self.bending = np.ascontiguousarray(
-            np.einsum("eq,eqi,eqj->eij", self.dx * f["EI"], d2N, d2N))
-        self.bending_force = np.ascontiguousarray(
-            np.einsum("eq,eqb,eqc->ebc", self.dx * f["EI"], d2N, self.Xpp))
+        # its force at u = 0, EI X'' . v'', side by side (nel, 4, 7)
+        weighted = basis.dx * f["EI"]
+        self.bending = np.ascontiguousarray(np.concatenate(
+            [np.einsum("eq,eqi,eqj->eij", weighted, d2N, d2N),
+             np.einsum("eq,eqb,eqc->ebc", weighted, d2N, self.Xpp)], axis=-1))
         self._no_velocity = np.zeros(self.ndofs)
         self._middle = None  # _at_midpoints' arrays
 
@@ -104,13 +104,13 @@ class HermiteKernel:
         """Read the strain laws' parameters and the reference fields from the LineSet's
         fields, one row per Gauss point (:func:`~skmoor.lines.cable_kernel.law_table`)."""
         f = self.fields
-        self.T, self.BA = (np.ascontiguousarray(f[name]) for name in ("T", "BA"))
+        self.T, self.BA = (np.ascontiguousarray(np.ravel(f[name])) for name in ("T", "BA"))
         self.law, self.knots, self.coef = law_table(f)
 
     def step_arrays(self):
         """The arrays :func:`_hermite` reads, in its order (the compiled step's too)."""
-        return (self.dN, self.dx, self.Xp, self.T, self.law, self.knots, self.coef, self.BA,
-                self.bending, self.bending_force, self.edofs)
+        return (self.shapes, self.Xp, self.T, self.law, self.knots, self.coef, self.BA,
+                self.bending, self.edofs)
 
     def add_to(self, u, ud, R, Ke=None, Ce=None):
         """Add the internal force (Eq. 9 + bending) and, given the velocity ud, the axial
@@ -181,16 +181,16 @@ def _midpoints(dN, d2N, Xp, T, BA, law, knots, coef, reference, edofs, u, ud, da
 
 # (over 60 lines: the cable, damping and bending forms at every Gauss point, one pass)
 @njit(cache=True)
-def _hermite(dN, dx, Xp, T, law, knots, coef, BA, bending, bending_force, edofs, u, ud,
-             damped, R, Ke, Ce):
+def _hermite(shapes, Xp, T, law, knots, coef, BA, bending, edofs, u, ud, damped, R, Ke, Ce):
     """Adds Eq. 11 (as S r' + T u', the reference force being added apart), the axial
     damping BA deps/dt r' and the bending form (:func:`bending_force`) into R, and their
-    derivatives into Ke, Ce (when those have rows): ``HermiteKernel.add_to``'s loop. dN
-    (nel, nqp, 4) the shape functions' d/ds, dx the Gauss weights (m), bending (nel, 4, 4)
-    int EI N_a'' N_b'' ds, bending_force (nel, 4, 3) int EI N_a'' X'' ds."""
+    derivatives into Ke, Ce (when those have rows): ``HermiteKernel.add_to``'s loop.
+    shapes (nel, nqp, 5): the shape functions' d/ds and the Gauss weight (m) at each point;
+    Xp, T, BA, law, knots, coef: a row per point (e nqp + q); bending (nel, 4, 7): int EI
+    N_a'' N_b'' ds in [..., :4] and int EI N_a'' X'' ds in [..., 4:]."""
     tangent = Ke.shape[0] > 0
     hinged = knots.shape[1] > 0  # a curve law's hinges (a loop of its own, as in _cable)
-    nel, nqp = dx.shape
+    nel, nqp = shapes.shape[0], shapes.shape[1]
     U, V = np.empty((4, 3)), np.empty((4, 3))  # the element's nodal values and slopes
     up, rp, vp, flux = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     k = np.empty((3, 3))
@@ -201,7 +201,7 @@ def _hermite(dN, dx, Xp, T, law, knots, coef, BA, bending, bending_force, edofs,
                 V[b, c] = ud[edofs[e, 3 * b + c]]
         for a in range(4):  # bending: int EI (X'' + u'') . v'' ds, linear in u
             for c in range(3):
-                s = bending_force[e, a, c]
+                s = bending[e, a, 4 + c]
                 for b in range(4):
                     s += bending[e, a, b] * U[b, c]
                 R[edofs[e, 3 * a + c]] += s
@@ -209,28 +209,29 @@ def _hermite(dN, dx, Xp, T, law, knots, coef, BA, bending, bending_force, edofs,
                     for b in range(4):
                         Ke[e, 3 * a + c, 3 * b + c] += bending[e, a, b]
         for q in range(nqp):
+            point = e * nqp + q
             eps = 0.0
             rate = 0.0
             for c in range(3):
                 s = 0.0
                 t = 0.0
                 for b in range(4):
-                    s += dN[e, q, b] * U[b, c]
-                    t += dN[e, q, b] * V[b, c]
+                    s += shapes[e, q, b] * U[b, c]
+                    t += shapes[e, q, b] * V[b, c]
                 up[c], vp[c] = s, t
-                rp[c] = Xp[e, q, c] + s
-                eps += (Xp[e, q, c] + 0.5 * s) * s  # Eq. 3
+                rp[c] = Xp[point, c] + s
+                eps += (Xp[point, c] + 0.5 * s) * s  # Eq. 3
                 rate += rp[c] * t
             if hinged:
-                S, dS = _stress(eps, T[e, q], law, knots, coef, e * nqp + q)
+                S, dS = _stress(eps, T[point], law, knots, coef, point)
             else:
-                S, dS = _stress_plain(eps, T[e, q], law, e * nqp + q)
-            damping = BA[e, q] if damped else 0.0
+                S, dS = _stress_plain(eps, T[point], law, point)
+            damping = BA[point] if damped else 0.0
             axial = S + damping * rate
             for c in range(3):  # Eq. 11 less its reference part, plus the damping
-                flux[c] = axial * rp[c] + T[e, q] * up[c]
+                flux[c] = axial * rp[c] + T[point] * up[c]
             for a in range(4):
-                w = dx[e, q] * dN[e, q, a]
+                w = shapes[e, q, 4] * shapes[e, q, a]
                 for c in range(3):
                     R[edofs[e, 3 * a + c]] += w * flux[c]
             if not tangent:
@@ -239,21 +240,21 @@ def _hermite(dN, dx, Xp, T, law, knots, coef, BA, bending, bending_force, edofs,
             for c in range(3):
                 for d in range(3):
                     k[c, d] = dS * rp[c] * rp[d] + damping * rp[c] * vp[d]
-                k[c, c] += T[e, q] + axial
-            _add_pairs(Ke, e, dx[e, q], dN[e, q], k)
+                k[c, c] += T[point] + axial
+            _add_pairs(Ke, e, shapes[e, q], k)
             if damped:
                 for c in range(3):
                     for d in range(3):
                         k[c, d] = damping * rp[c] * rp[d]
-                _add_pairs(Ce, e, dx[e, q], dN[e, q], k)
+                _add_pairs(Ce, e, shapes[e, q], k)
 
 
 @njit(cache=True)
-def _add_pairs(blocks, e, weight, dN, k):
-    """blocks[e] += weight N_a' N_b' k (k 3 x 3 acting on the slope u', N_a' = dN[a])."""
+def _add_pairs(blocks, e, point, k):
+    """blocks[e] += w N_a' N_b' k (k 3 x 3 acting on the slope u'; point: N_0' ... N_3', w)."""
     for a in range(4):
         for b in range(4):
-            w = weight * dN[a] * dN[b]
+            w = point[4] * point[a] * point[b]
             for c in range(3):
                 for d in range(3):
                     blocks[e, 3 * a + c, 3 * b + d] += w * k[c, d]

@@ -217,22 +217,17 @@ class LineHydroKernel(Term):
         self.points, self.nodal_dofs = lines.points, lines.nodal_dofs
         xi, h, t = basis.X[0], lines.element_lengths, lines.mesh.t.T  # t: each element's nodes
         p1 = not lines.hermite  # P1: _morison's arrays; Hermite: _morison_shapes'
-        self.h = h if p1 else np.zeros(0)
-        self.enodes = np.ascontiguousarray(t if p1 else np.zeros((0, 2)), np.int64)
-        self.edofs = np.ascontiguousarray(lines.element_dofs if p1 else np.zeros((0, 6)),
-                                          np.int64)  # (nel, 6)
+        self.h = h if p1 else np.zeros(0)  # (no element lengths: the bending lines' kernel)
         self.phi = np.stack([1.0 - xi, xi])  # (2, nqp) P1 shape functions
-        self.wphi = np.ascontiguousarray(basis.dx[:, None, :] * self.phi if p1
-                                         else np.zeros((0, 2, 1)))  # (nel, 2, nqp) w phi_a
-        # the cubics [u_i, u_i', u_j, u_j'] (nel, nqp, 4): the water on the value DOFs
-        N, dN, _ = hermite_shapes(xi, h) if not p1 else (np.zeros((0, 1, 4)),) * 3
-        self.N, self.dN = np.ascontiguousarray(N), np.ascontiguousarray(dN)
-        self.weights = np.ascontiguousarray(basis.dx if not p1 else np.zeros((0, 1)))
-        self.shape_dofs = np.ascontiguousarray(np.zeros((0, 12)) if p1 else lines.element_dofs,
-                                               np.int64)
-        self.nodes = np.ascontiguousarray(  # (nel, 4): each shape's node, < 0 a slope's
-            np.zeros((0, 4)) if p1 else np.stack([t[:, 0], -t[:, 0] - 1, t[:, 1], -t[:, 1] - 1], 1),
-            np.int64)
+        self.edofs = np.ascontiguousarray(lines.element_dofs, np.int64)  # (nel, 6 or 12)
+        if p1:
+            self.enodes = np.ascontiguousarray(t, np.int64)  # (nel, 2)
+            self.wphi = np.ascontiguousarray(basis.dx[:, None, :] * self.phi)  # (nel, 2, nqp)
+        else:  # the cubics [u_i, u_i', u_j, u_j']: their values, slopes and the weight
+            N, dN, _ = hermite_shapes(xi, h)  # (nel, nqp, 9), each shape's node (< 0: a slope)
+            self.shapes = np.ascontiguousarray(np.concatenate([N, dN, basis.dx[..., None]], -1))
+            self.nodes = np.ascontiguousarray(
+                np.stack([t[:, 0], -t[:, 0] - 1, t[:, 1], -t[:, 1] - 1], axis=1), np.int64)
         c = coefficients(lines)
         self.kn, self.kt = c["drag_n"], c["drag_t"]
         self.mn, self.dm = c["inertia_n"], c["inertia_t"] - c["inertia_n"]
@@ -241,12 +236,14 @@ class LineHydroKernel(Term):
         self._mass = added_mass_matrix(lines, lumped_mass)
 
     def step_arrays(self):
-        """The arrays :func:`_morison` reads before the state, in its order, then those
-        :func:`_morison_shapes` reads after the coefficients (one of them has no elements)."""
+        """The arrays :func:`_morison` reads before the state, in its order; on bending
+        lines (no element lengths) :func:`_morison_shapes`' in the same places: the shapes
+        for w phi, the nodes of the shapes for the elements' nodes."""
+        if self.lines.hermite:
+            return (self.Xp, self.h, self.phi, self.shapes, self.kn, self.kt, self.mn, self.dm,
+                    self.edofs, self.nodes)
         return (self.Xp, self.h, self.phi, self.wphi, self.kn, self.kt, self.mn, self.dm,
-                self.edofs, self.enodes, self.N, self.dN, self.weights, self.shape_dofs,
-                self.nodes)
-
+                self.edofs, self.enodes)
 
     def lowered(self):
         return None if self.moving_water else "morison"
@@ -260,12 +257,12 @@ class LineHydroKernel(Term):
         none = NO_BLOCKS if not self.lines.hermite else NO_BLOCKS.reshape(0, 12, 12)
         ud = self._no_velocity if ud is None else ud
         Ke, Ce = none if Ke is None else Ke, none if Ce is None else Ce
-        Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, N, dN, w, dofs, nodes = self.step_arrays()
+        Xp, h, phi, wphi, kn, kt, mn, dm, edofs, nodes = self.step_arrays()
         if self.lines.hermite:
-            _morison_shapes(Xp, N, dN, w, kn, kt, mn, dm, dofs, nodes, u, ud, water,
+            _morison_shapes(Xp, wphi, kn, kt, mn, dm, edofs, nodes, u, ud, water,
                             acceleration, self.has_waves, R, Ke, Ce)
         else:
-            _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water,
+            _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, nodes, u, ud, water,
                      acceleration, self.has_waves, R, Ke, Ce)
 
     def mass_matrix(self):
@@ -357,29 +354,29 @@ def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acce
 
 
 @njit(cache=True)
-def _morison_shapes(Xp, N, dN, weights, kn, kt, mn, dm, edofs, nodes, u, ud, water,
-                    acceleration, has_waves, R, Ke, Ce):
+def _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, ud, water, acceleration,
+                    has_waves, R, Ke, Ce):
     """:func:`_morison` on any shape functions (the bending lines' cubics): adds
     morison_drag (+ fluid_inertia with waves) into R and their derivatives into Ke, Ce, on
-    the shape functions N and their d/ds dN (nel, nqp, shapes: P1's two or the Hermite
-    cubics' four, each acting on three DOFs of edofs) at Gauss points of weights (nel,
-    nqp); the water's velocity and acceleration (per node) on the shapes of nodes >= 0 (a
-    value), none on a slope (nodes < 0), as the forms interpolate them."""
+    the shape functions given at each Gauss point as shapes (nel, nqp, 2 m + 1): m values,
+    their m d/ds and the point's weight (m), each shape acting on three DOFs of edofs; the
+    water's velocity and acceleration (per node) on the shapes of nodes >= 0 (a value), none
+    on a slope (nodes < 0), as the forms interpolate them."""
     tangent = Ke.shape[0] > 0
-    shapes = N.shape[2]
+    count = nodes.shape[1]
     if tangent:  # the tangent's scratch (a residual alone allocates nothing)
         tau, vn, y = np.empty(3), np.empty(3), np.empty(3)
         B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force
     wnx = wny = wnz = 0.0  # the water's acceleration normal to tau (waves)
     for e in range(edofs.shape[0]):
-        for q in range(N.shape[1]):
+        for q in range(shapes.shape[1]):
             # r' = X' + u' and v = u_w - udot at the point, in registers
             rx, ry, rz = Xp[e, q, 0], Xp[e, q, 1], Xp[e, q, 2]
             vx = vy = vz = 0.0
             cx = cy = cz = 0.0  # the water's acceleration there (waves)
-            for b in range(shapes):
+            for b in range(count):
                 d0, d1, d2 = edofs[e, 3 * b], edofs[e, 3 * b + 1], edofs[e, 3 * b + 2]
-                slope, value = dN[e, q, b], N[e, q, b]
+                slope, value = shapes[e, q, count + b], shapes[e, q, b]
                 rx += slope * u[d0]
                 ry += slope * u[d1]
                 rz += slope * u[d2]
@@ -411,8 +408,8 @@ def _morison_shapes(Xp, N, dN, weights, kn, kt, mn, dm, edofs, nodes, u, ud, wat
                 fx += m * wnx + mt * tx
                 fy += m * wny + mt * ty
                 fz += m * wnz + mt * tz
-            for b in range(shapes):
-                w = weights[e, q] * N[e, q, b]
+            for b in range(count):
+                w = shapes[e, q, 2 * count] * shapes[e, q, b]
                 R[edofs[e, 3 * b]] -= w * fx
                 R[edofs[e, 3 * b + 1]] -= w * fy
                 R[edofs[e, 3 * b + 2]] -= w * fz
@@ -434,12 +431,12 @@ def _morison_shapes(Xp, N, dN, weights, kn, kt, mn, dm, edofs, nodes, u, ud, wat
                     G[p, s] = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
                 B[p, p] += cn
                 G[p, p] += c1
-            for i in range(shapes):
-                wi = weights[e, q] * N[e, q, i]
-                for j in range(shapes):
+            for i in range(count):
+                wi = shapes[e, q, 2 * count] * shapes[e, q, i]
+                for j in range(count):
                     # K_e[i, j] = -w N_i dN_j dF/du' / |r'|, C_e[i, j] = w N_i N_j dF/dudot
-                    rate_weight = wi * N[e, q, j]
-                    slope_weight = -wi * dN[e, q, j] / length
+                    rate_weight = wi * shapes[e, q, j]
+                    slope_weight = -wi * shapes[e, q, count + j] / length
                     for p in range(3):
                         for s in range(3):
                             Ce[e, 3 * i + p, 3 * j + s] += rate_weight * B[p, s]

@@ -54,17 +54,10 @@ SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
 # stand-ins for an absent term (the compiled loop gets the same argument types)
 NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 1)),
             np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)),
-            np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64), np.zeros((0, 1, 4)),
-            np.zeros((0, 1, 4)), np.zeros((0, 1)), np.zeros((0, 12), np.int64),
-            np.zeros((0, 4), np.int64))
+            np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64))
 NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.zeros((2, 0, 3)),
           np.zeros((2, 0)), np.zeros(0), np.zeros(0), 0.0, 0.0, 0.0, 0.0, False, 3)
-NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
-         np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3), np.int64),
-         np.zeros((0, 3), np.int64))  # a system of bending lines: no P1 element
-NO_HERMITE = (np.zeros((0, 1, 4)), np.zeros((0, 1)), np.zeros((0, 1, 3)), np.zeros((0, 1)),
-              np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)), np.zeros((0, 1)),
-              np.zeros((0, 4, 4)), np.zeros((0, 4, 3)), np.zeros((0, 12), np.int64))
+NO_HERMITE = (np.zeros((0, 1, 5)), np.zeros((0, 4, 7)))  # P1 lines: no bending arrays
 
 
 def _refuse(why):
@@ -256,11 +249,16 @@ class CompiledStep:
     def _terms(self):
         """The kernels' current arrays (a strain law may be refreshed between steps)."""
         k = self.system.kernel
-        bending = isinstance(k, HermiteKernel)  # bending lines: the Hermite kernel's loop
-        elements = NO_P1 if bending else (k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h,
-                                          k.weight, k.dofs_i, k.dofs_j)
-        cable = (*elements, bool(self.system.damped), k.constant, self.system.weight,
-                 *(k.step_arrays() if bending else NO_HERMITE))
+        if isinstance(k, HermiteKernel):  # bending lines: the Hermite loop's arrays in the
+            shapes, Xp, T, law, knots, coef, BA, bending, _ = k.step_arrays()  # same places
+            none = np.zeros((0, 3), np.int64)  # (no element lengths, no P1 element)
+            elements, extra = (Xp, T, law, knots, coef, BA, np.zeros(0), np.zeros(0), none,
+                               none), (shapes, bending)
+        else:
+            elements = (k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h, k.weight, k.dofs_i,
+                        k.dofs_j)
+            extra = NO_HERMITE
+        cable = (*elements, bool(self.system.damped), k.constant, self.system.weight, *extra)
         hydro, bed = NO_HYDRO, NO_BED
         if self.hydro is not None:
             hydro = self.hydro.step_arrays()
@@ -592,7 +590,8 @@ def _residual(x, v, model, inputs, tangent, work, R):
     for i in range(surface_dofs.size):  # SurfaceTerm is zero while the lines stay this deep
         if surface_z[i] + u[surface_dofs[i]] > surface_reach:
             return False
-    Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity = cable[:13]
+    (Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity, shapes,
+     bending) = cable
     for g in range(full.size):
         full[g] = constant[g] - gravity[g]
     if tangent:
@@ -603,21 +602,18 @@ def _residual(x, v, model, inputs, tangent, work, R):
     if h.size:  # P1 lines
         _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
                blocks_K, blocks_C, 1.0)
-    else:  # bending lines
-        (dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force,
-         hedofs) = cable[13:]
-        _hermite(dN, dx, hXp, hT, hlaw, hknots, hcoef, hBA, bending, bending_force, hedofs,
-                 u, ud, damped, full, blocks_K, blocks_C)
+    else:  # bending lines: their arrays in the same places, the element DOFs topology's
+        _hermite(shapes, Xp, T, law, knots, coef, BA, bending, topology[5], u, ud, damped,
+                 full, blocks_K, blocks_C)
     if has_hydro:
-        (hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, N, dN, weights, shape_dofs,
-         nodes) = hydro
+        hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
         waves = x.size < 0  # still water: False as a plain bool (a literal compiles again)
         if hh.size:  # P1 lines
             _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
                      waves, full, blocks_K, blocks_C)
-        else:  # bending lines
-            _morison_shapes(hXp, N, dN, weights, kn, kt, mn, dm, shape_dofs, nodes, u, ud,
-                            still, still, waves, full, blocks_K, blocks_C)
+        else:  # bending lines (LineHydroKernel.step_arrays: their shapes and nodes there)
+            _morison_shapes(hXp, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
+                            waves, full, blocks_K, blocks_C)
     if has_bed:
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, stride = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
