@@ -221,6 +221,7 @@ class LineForm(Term):
 
     # --- the protocol
     def add_to(self, u, v, t, R, K=None, C=None):
+        v = np.zeros_like(u) if v is None else v  # no velocity given: at rest
         try:
             if self._engine is None:
                 self._engine = _ENGINES[self.path](self)

@@ -156,6 +156,23 @@ def test_fields_take_the_operators_users_write(lines):
     assert close(out[0][1], out[1][1], 1e-12) and close(out[0][2], out[1][2], 1e-12)
 
 
+def test_a_form_without_a_velocity_is_at_rest(lines):
+    """The term protocol lets a caller give no velocity (a static state, end forces): a
+    LineForm then runs at rest on every path. The Morison drag in a current is not zero
+    there (a velocity passed on as None failed in the generated kernel and in scikit-fem's
+    fields; zeros of the wrong kind would show in R)."""
+    fields = hydro.coefficients(lines) | {"uw": np.full(lines.ndofs, 0.7)}
+    u, _ = state(lines, 7)
+    rest = np.zeros(lines.ndofs)
+    out = []
+    for path, v in (("compiled", None), ("compiled", rest), ("autodiff", None)):
+        R = np.zeros(lines.ndofs)
+        LineForm(hydro.morison_drag, fields=fields, path=path, lines=lines).add_to(u, v, 0.0, R)
+        out.append(R)
+    assert np.abs(out[0]).max() > 0
+    assert close(out[0], out[1], 1e-15) and close(out[0], out[2], 1e-12)
+
+
 def test_jax_jit_fallback_gives_the_same_numbers(lines, monkeypatch):
     """Where the scalar code generator meets an operation it lacks, jax.jit runs the form."""
     def refuse(*args, **kw):

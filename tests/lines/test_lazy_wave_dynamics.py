@@ -107,9 +107,8 @@ def test_lazy_wave_200m_heave_against_cabledyn(monkeypatch, tmp_path):
     heave without drag (the tension from 17.8 to 29.5 kN about the static 25.16 kN),
     against CableDyn stepped side by side: every step within 0.3 % of CableDyn's range
     (measured 0.08 %: 9 N at most, 5.5 N rms), the largest and the smallest tension within
-    0.05 % (0.02 %). The heave with drag against OrcaFlex is tests/lines/test_lazy_wave_orcaflex.py's
-    (slow: the Morison forms on scikit-fem's assembly); this one is the default suite's
-    check of the 200 m dynamics: a heave off in amplitude or phase, a mass off by a tenth
+    0.05 % (0.02 %). The heave with drag against OrcaFlex is tests/lines/test_lazy_wave_orcaflex.py's;
+    a heave off in amplitude or phase, a mass off by a tenth
     (4.8 % of the range at 80 m) or a dropped buoyancy moves these by more."""
     ex = load_example(monkeypatch, tmp_path, ELEMENTS, sites="200m")
     ours = skmoor_heave(ex, ramp=6.0, duration=12.0, site="200m")
@@ -167,7 +166,6 @@ def test_fade_in_starts_from_rest_and_keeps_the_motion_after_the_ramp():
         skmoor.fade_in(base, 0.0)
 
 
-@pytest.mark.slow
 def test_lazy_wave_heave_against_cabledyn_over_two_periods(monkeypatch, tmp_path):
     """CableDyn's own example's motion: the 12 s ramp, then two periods (36 s in all; the
     tension from 7.9 to 11.0 kN): every step within 7 % of CableDyn's 3.1 kN range
@@ -182,14 +180,12 @@ def test_lazy_wave_heave_against_cabledyn_over_two_periods(monkeypatch, tmp_path
     assert smallest < 1e-3
 
 
-@pytest.mark.slow
 def test_lazy_wave_heave_with_drag_against_cabledyn(monkeypatch, tmp_path):
     """CableDyn's case L3-6: its example's motion (12 s ramp, 36 s) with the drag and added
     mass of its example's line types (Cd_n 1.2, Cd_t 0.1, Ca_n 1; the tension from 5.7 to
     13.1 kN): every step within 2 % of CableDyn's range (measured 1.2 %, 26 N rms; 1.8 %
     and 39 N rms without the driven end's inertia), the extremes within 0.2 % (0.01 %,
-    0.07 %; 0.09 %, 0.12 % without). About 40 s: the Morison forms on scikit-fem's
-    assembly."""
+    0.07 %; 0.09 %, 0.12 % without)."""
     ex = load_example(monkeypatch, tmp_path, ELEMENTS)
     ours = skmoor_heave(ex, ramp=12.0, duration=36.0, drag=True)
     theirs = cabledyn_heave(ex, 12.0, 36.0, tmp_path, drag=True)
