@@ -30,12 +30,14 @@ hold it equal to the forms' assembly.
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
-from numba import njit
+from numba import carray, cfunc, njit
 from skfem import Basis, BilinearForm, LinearForm
 
+from ..fem.form_compiler import STEP_SIGNATURE
 from ..fem.hermite import hermite_shapes
 from ..fem.ops import dot
 from ..fem.patterns import ElementPattern
@@ -108,9 +110,23 @@ class HermiteKernel:
         self.law, self.knots, self.coef = law_table(f)
 
     def step_arrays(self):
-        """The arrays :func:`_hermite` reads, in its order (the compiled step's too)."""
+        """The arrays :func:`_hermite` reads before the state, in its order."""
         return (self.shapes, self.Xp, self.T, self.law, self.knots, self.coef, self.BA,
                 self.bending, self.edofs)
+
+    @property
+    def step_kernel(self):
+        """(C function, ints, floats): this loop as the compiled time step calls a user's
+        LineForm (:data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`, by address), its arrays
+        packed in two buffers: ints [nel, nqp, hinges, damped, element DOFs], floats
+        [shapes, X', T, BA, law, knots, coef, bending]."""
+        nel, nqp = self.shapes.shape[:2]
+        ints = np.concatenate([[nel, nqp, self.knots.shape[1], int(self.lineset.damped)],
+                               self.edofs.ravel()]).astype(np.int64)
+        floats = np.concatenate([np.ravel(a) for a in (self.shapes, self.Xp, self.T, self.BA,
+                                                       self.law, self.knots, self.coef,
+                                                       self.bending)]).astype(float)
+        return _hermite_step(), ints, floats
 
     def add_to(self, u, ud, R, Ke=None, Ce=None):
         """Add the internal force (Eq. 9 + bending) and, given the velocity ud, the axial
@@ -258,3 +274,35 @@ def _add_pairs(blocks, e, point, k):
             for c in range(3):
                 for d in range(3):
                     blocks[e, 3 * a + c, 3 * b + d] += w * k[c, d]
+
+
+def _hermite_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """:func:`_hermite` on the buffers of ``HermiteKernel.step_kernel``."""
+    nel, nqp, hinges, damped = ints[0], ints[1], ints[2], ints[3]
+    points = nel * nqp
+    edofs = carray(ints, (4 + 12 * nel,))[4:].reshape((nel, 12))
+    flat = carray(floats, (points * (5 + 3 + 2 + 6 + 2 * hinges) + 28 * nel,))
+    shapes = flat[:5 * points].reshape((nel, nqp, 5))
+    start = 5 * points
+    Xp = flat[start:start + 3 * points].reshape((points, 3))
+    start += 3 * points
+    T, BA = flat[start:start + points], flat[start + points:start + 2 * points]
+    start += 2 * points
+    law = flat[start:start + 6 * points].reshape((points, 6))
+    start += 6 * points
+    knots = flat[start:start + hinges * points].reshape((points, hinges))
+    start += hinges * points
+    coef = flat[start:start + hinges * points].reshape((points, hinges))
+    start += hinges * points
+    bending = flat[start:start + 28 * nel].reshape((nel, 4, 7))
+    blocks = nel if tangent else 0
+    _hermite(shapes, Xp, T, law, knots, coef, BA, bending, edofs, carray(u_p, (ndofs,)),
+             carray(ud_p, (ndofs,)), damped != 0, carray(R_p, (ndofs,)),
+             carray(K_p, (blocks, 12, 12)), carray(C_p, (blocks, 12, 12)))
+
+
+@functools.cache
+def _hermite_step():
+    """The C function of :func:`_hermite_packed`, compiled when first asked for (numba's
+    disk cache keeps it)."""
+    return cfunc(STEP_SIGNATURE, cache=True)(_hermite_packed)

@@ -29,13 +29,16 @@ tau = (X' + u') / |X' + u'|.
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import scipy.sparse as sp
-from numba import njit
+from numba import carray, cfunc, njit
 from skfem import BilinearForm, LinearForm, asm
 
 from ..bodies.loads import BodyLoad
 from ..fem import ops
+from ..fem.form_compiler import STEP_SIGNATURE
 from ..fem.hermite import hermite_shapes
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS
@@ -246,7 +249,25 @@ class LineHydroKernel(Term):
                 self.edofs, self.enodes)
 
     def lowered(self):
-        return None if self.moving_water else "morison"
+        if self.moving_water:
+            return None
+        return "form" if self.lines.hermite else "morison"
+
+    @property
+    def step_kernel(self):
+        """On bending lines in still water, (C function, ints, floats):
+        :func:`_morison_shapes` as the compiled time step calls a user's LineForm (by
+        address, :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`), its arrays packed:
+        ints [nel, nqp, each shape's node (none: -1, still water), element DOFs], floats
+        [X', shapes, drag_n, drag_t, inertia_n, inertia_t - inertia_n]."""
+        if not self.lines.hermite:
+            return None
+        nel, nqp = self.kn.shape
+        ints = np.concatenate([[nel, nqp], np.full(4 * nel, -1), self.edofs.ravel()])
+        ints = ints.astype(np.int64)
+        floats = np.concatenate([np.ravel(a) for a in (self.Xp, self.shapes, self.kn, self.kt,
+                                                       self.mn, self.dm)]).astype(float)
+        return _morison_step(), ints, floats
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
@@ -441,6 +462,34 @@ def _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, ud, water, acce
                         for s in range(3):
                             Ce[e, 3 * i + p, 3 * j + s] += rate_weight * B[p, s]
                             Ke[e, 3 * i + p, 3 * j + s] += slope_weight * G[p, s]
+
+
+def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """:func:`_morison_shapes` in still water on the buffers of
+    ``LineHydroKernel.step_kernel`` (no shape has a node: no water to read)."""
+    nel, nqp = ints[0], ints[1]
+    points = nel * nqp
+    buffer = carray(ints, (2 + 16 * nel,))
+    still = buffer[2:2 + 4 * nel].reshape((nel, 4))
+    edofs = buffer[2 + 4 * nel:].reshape((nel, 12))
+    flat = carray(floats, (16 * points,))
+    Xp = flat[:3 * points].reshape((nel, nqp, 3))
+    shapes = flat[3 * points:12 * points].reshape((nel, nqp, 9))
+    kn = flat[12 * points:13 * points].reshape((nel, nqp))
+    kt = flat[13 * points:14 * points].reshape((nel, nqp))
+    mn = flat[14 * points:15 * points].reshape((nel, nqp))
+    dm = flat[15 * points:].reshape((nel, nqp))
+    blocks = nel if tangent else 0
+    _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, still, carray(u_p, (ndofs,)),
+                    carray(ud_p, (ndofs,)), Xp[0], Xp[0], False, carray(R_p, (ndofs,)),
+                    carray(K_p, (blocks, 12, 12)), carray(C_p, (blocks, 12, 12)))
+
+
+@functools.cache
+def _morison_step():
+    """The C function of :func:`_morison_packed`, compiled when first asked for (numba's
+    disk cache keeps it)."""
+    return cfunc(STEP_SIGNATURE, cache=True)(_morison_packed)
 
 
 def _check_sea(lines, sea):

@@ -8,8 +8,8 @@ coupling), the Newton matrix, its factorization (:mod:`skmoor.numerics.bordered`
 is one numba function, so that a step costs what its arithmetic costs.
 
 It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`)
-and bending (Hermite) lines (:func:`skmoor.lines.bending._hermite`, 12 x 12 element blocks),
-MoorDyn-style or skmoor's Morison terms in still water, a plane sea bed, the dry part of
+and bending (Hermite) lines (12 x 12 element blocks; their cable and Morison loops are
+called by address as a user's LineForm is, ``HermiteKernel.step_kernel``), MoorDyn-style or skmoor's Morison terms in still water, a plane sea bed, the dry part of
 the lines in still water (``SurfaceTerm``: zero while every node stays half a diameter
 deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
 points (buoyancy, drag in still water), small-rotation rigid bodies whose applied load
@@ -19,10 +19,9 @@ whose code is generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
 that lowers to none (a form on another path or with fields given as a function, waves
-or currents, a bathymetry, a load in NumPy,
-radiation memory, exact rotations) makes it return None, its name and reason in
-:data:`last_refusal`, and the step then runs in Python. When modified Newton does not converge the step retries with
-the line search here, as the Python step does; a step that fails that too goes to the
+or currents, a bathymetry, a load in NumPy, radiation memory, exact rotations) makes it
+return None, its name and reason in :data:`last_refusal`, and the step then runs in
+Python. When modified Newton does not converge the step retries with the line search here, as the Python step does; a step that fails that too goes to the
 Python step, which splits it. Results are the same as the Python step's to round-off.
 """
 from __future__ import annotations
@@ -37,10 +36,10 @@ from ..bodies.body import rotation_and_slopes
 from ..fem.form_compiler import POINTWISE_SIGNATURE, STEP_SIGNATURE
 from ..fem.native_calls import call_form, call_load
 from ..fem.patterns import ElementPattern
-from ..lines.bending import HermiteKernel, _hermite
+from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
-from ..sea.hydro import _morison, _morison_shapes
+from ..sea.hydro import _morison
 from ..sea.seabed import _seabed
 from .newton import CONTRACTION, LINE_SEARCH, STALL
 
@@ -57,7 +56,9 @@ NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 
             np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64))
 NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.zeros((2, 0, 3)),
           np.zeros((2, 0)), np.zeros(0), np.zeros(0), 0.0, 0.0, 0.0, 0.0, False, 3)
-NO_HERMITE = (np.zeros((0, 1, 5)), np.zeros((0, 4, 7)))  # P1 lines: no bending arrays
+NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
+         np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3), np.int64),
+         np.zeros((0, 3), np.int64))  # bending lines: no P1 element (their loop is a form's)
 
 
 def _refuse(why):
@@ -135,6 +136,11 @@ def lowered_terms(system):
         kinds.setdefault(kind, term)
     if "cable" not in kinds:
         return "no lines", kinds
+    if isinstance(system.kernel, HermiteKernel):  # bending lines: their loop as a form's
+        kinds["form"].insert(0, system.kernel)
+        if len(kinds["form"]) > FORMS:
+            return (f"bending lines and {len(kinds['form']) - 1} LineForms: at most {FORMS} "
+                    "in all"), kinds
     if system.committing:
         return "terms with a memory of the past", kinds
     if system.nonlinear_inertia:
@@ -249,16 +255,9 @@ class CompiledStep:
     def _terms(self):
         """The kernels' current arrays (a strain law may be refreshed between steps)."""
         k = self.system.kernel
-        if isinstance(k, HermiteKernel):  # bending lines: the Hermite loop's arrays in the
-            shapes, Xp, T, law, knots, coef, BA, bending, _ = k.step_arrays()  # same places
-            none = np.zeros((0, 3), np.int64)  # (no element lengths, no P1 element)
-            elements, extra = (Xp, T, law, knots, coef, BA, np.zeros(0), np.zeros(0), none,
-                               none), (shapes, bending)
-        else:
-            elements = (k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h, k.weight, k.dofs_i,
-                        k.dofs_j)
-            extra = NO_HERMITE
-        cable = (*elements, bool(self.system.damped), k.constant, self.system.weight, *extra)
+        elements = NO_P1 if isinstance(k, HermiteKernel) else (
+            k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h, k.weight, k.dofs_i, k.dofs_j)
+        cable = (*elements, bool(self.system.damped), k.constant, self.system.weight)
         hydro, bed = NO_HYDRO, NO_BED
         if self.hydro is not None:
             hydro = self.hydro.step_arrays()
@@ -590,8 +589,7 @@ def _residual(x, v, model, inputs, tangent, work, R):
     for i in range(surface_dofs.size):  # SurfaceTerm is zero while the lines stay this deep
         if surface_z[i] + u[surface_dofs[i]] > surface_reach:
             return False
-    (Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity, shapes,
-     bending) = cable
+    Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity = cable
     for g in range(full.size):
         full[g] = constant[g] - gravity[g]
     if tangent:
@@ -599,21 +597,14 @@ def _residual(x, v, model, inputs, tangent, work, R):
         Ce[:] = 0.0
     blocks_K = Ke if tangent else Ke[:0]  # no blocks: a view (the residual allocates nothing)
     blocks_C = Ce if tangent else Ce[:0]
-    if h.size:  # P1 lines
-        _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
-               blocks_K, blocks_C, 1.0)
-    else:  # bending lines: their arrays in the same places, the element DOFs topology's
-        _hermite(shapes, Xp, T, law, knots, coef, BA, bending, topology[5], u, ud, damped,
-                 full, blocks_K, blocks_C)
+    # (bending lines: no P1 element here; their loop is called as a form's, below)
+    _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
+           blocks_K, blocks_C, 1.0)
     if has_hydro:
         hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
         waves = x.size < 0  # still water: False as a plain bool (a literal compiles again)
-        if hh.size:  # P1 lines
-            _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
-                     waves, full, blocks_K, blocks_C)
-        else:  # bending lines (LineHydroKernel.step_arrays: their shapes and nodes there)
-            _morison_shapes(hXp, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
-                            waves, full, blocks_K, blocks_C)
+        _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
+                 waves, full, blocks_K, blocks_C)
     if has_bed:
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, stride = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
@@ -709,7 +700,7 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
             rows[a] = position[edofs[e, a]]
             ends_at[a] = end_row[edofs[e, a]]
             free = free and rows[a] >= 0
-        if free and nloc == 6:  # P1 (fixed loop bounds: unrolled, a tenth of a step faster)
+        if free and nloc == 6:  # P1: fixed loop bounds (the compiler unrolls them)
             for b in range(6):
                 rb = rows[b]
                 for a in range(6):
