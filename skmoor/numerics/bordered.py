@@ -19,8 +19,9 @@ from numba import njit
 
 
 def band_storage(bandwidth, nf):
-    """Zeroed band storage for an (nf, nf) band of half-width ``bandwidth``."""
-    return np.zeros((3 * bandwidth + 1, nf))
+    """Zeroed band storage for an (nf, nf) band of half-width ``bandwidth``, column-major
+    as LAPACK's (a column of the band contiguous: the LU's inner loops run along it)."""
+    return np.zeros((3 * bandwidth + 1, nf), order="F")
 
 
 @njit(cache=True)
@@ -33,6 +34,7 @@ def band_factor(ab, w, piv):
         for j in range(n):
             ab[i, j] = 0.0
     last = 0  # the last column the pivots so far reach
+    multipliers = np.empty(max(w, 1))
     for j in range(n):
         below = min(w, n - 1 - j)
         p, big = 0, abs(ab[kv, j])
@@ -50,11 +52,13 @@ def band_factor(ab, w, piv):
         pivot = ab[kv, j]
         for i in range(1, below + 1):
             ab[kv + i, j] /= pivot
+            multipliers[i - 1] = ab[kv + i, j]  # (a copy: the update below then vectorizes)
         for c in range(j + 1, last + 1):
             a = ab[kv + j - c, c]
             if a != 0.0:
-                for i in range(1, below + 1):
-                    ab[kv + j + i - c, c] -= ab[kv + i, j] * a
+                top = kv + j + 1 - c
+                for i in range(below):
+                    ab[top + i, c] -= multipliers[i] * a
     return True
 
 

@@ -686,7 +686,7 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
     abM, EM, FM, DM = M
     abC, EC, FC, DC = C
     wC = (1 - af) * cv if damped else 0.0
-    _combine(ab, cx, abM, wC, abC)
+    _combine(ab.T, cx, abM.T, wC, abC.T)  # (column-major band storage: its rows in order)
     _combine(E, cx, EM, wC, EC)
     _combine(F, cx, FM, wC, FC)
     _combine(D, cx, DM, wC, DC)
