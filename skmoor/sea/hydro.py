@@ -291,19 +291,61 @@ class LineHydroKernel(Term):
         return self._mass
 
 
+@njit(cache=True, inline="always")
+def _point_force(kn, kt, mn, dm, rx, ry, rz, vx, vy, vz, cx, cy, cz, has_waves):
+    """morison_drag (+ fluid_inertia with waves) at a point: the force per length f for
+    r' = (rx, ry, rz), the relative velocity v = u_w - udot and the water's acceleration c,
+    with what its slopes need: (f, tau, v_n, a_n (water's acceleration normal to tau), v.tau,
+    c.tau, drag_n |v_n|, |v_n|, |r'|)."""
+    length = np.sqrt(rx * rx + ry * ry + rz * rz)
+    tx, ty, tz = rx / length, ry / length, rz / length
+    a = vx * tx + vy * ty + vz * tz  # along tau
+    nx, ny, nz = vx - a * tx, vy - a * ty, vz - a * tz
+    speed = np.sqrt(nx * nx + ny * ny + nz * nz)
+    # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
+    cn, ct = kn * speed, kt * abs(a) * a
+    fx, fy, fz = cn * nx + ct * tx, cn * ny + ct * ty, cn * nz + ct * tz
+    aa = wnx = wny = wnz = 0.0  # the water's acceleration along tau and normal to it
+    if has_waves:
+        aa = cx * tx + cy * ty + cz * tz
+        wnx, wny, wnz = cx - aa * tx, cy - aa * ty, cz - aa * tz
+        mt = (mn + dm) * aa
+        fx += mn * wnx + mt * tx
+        fy += mn * wny + mt * ty
+        fz += mn * wnz + mt * tz
+    return ((fx, fy, fz), (tx, ty, tz), (nx, ny, nz), (wnx, wny, wnz), a, aa, cn, speed,
+            length)
+
+
+@njit(cache=True, inline="always")
+def _point_slopes(kn, kt, dm, tau, vn, wn, a, aa, cn, speed, has_waves, B, G):
+    """The force's derivatives at a point (the tuple of :func:`_point_force`): B = df/dudot
+    and G = df/du' |r'| (3 x 3 each, into B and G)."""
+    # d/dudot: alpha I + beta tau tau^T + gamma v_n v_n^T, alpha = drag_n |v_n|
+    beta = 2.0 * kt * abs(a) - cn
+    gamma = kn / speed if speed > 0 else kn
+    # d/du' |r'|: c1 I + tau y^T - gamma a v_n v_n^T, y = beta v_n - c1 tau (+ dm a_n)
+    c1 = (kt * abs(a) - cn) * a + (dm * aa if has_waves else 0.0)
+    for p in range(3):
+        for s in range(3):
+            y = beta * vn[s] - c1 * tau[s] + (dm * wn[s] if has_waves else 0.0)
+            B[p, s] = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]
+            G[p, s] = tau[p] * y - gamma * a * vn[p] * vn[s]
+        B[p, p] += cn
+        G[p, p] += c1
+
+
 @njit(cache=True)
 def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acceleration,
              has_waves, R, Ke, Ce):
     """Adds morison_drag (+ fluid_inertia with waves) into R and their derivatives
-    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce.
-    An element's nodal values are read once into scalars (the Gauss-point loop runs in
-    registers: twice as fast as with 3-vectors; :func:`_morison_shapes`' loop over shape
-    functions costs P1 lines a tenth to a fifth more)."""
+    (morison_drag_stiffness + fluid_inertia_stiffness, morison_drag_rate) into Ke, Ce on P1
+    elements. An element's nodal values are read once into scalars (the Gauss-point loop
+    runs in registers; :func:`_morison_shapes`' loop over shape functions costs P1 lines a
+    tenth to a fifth more)."""
     tangent = Ke.shape[0] > 0
     if tangent:  # the tangent's scratch (a residual alone allocates nothing)
-        tau, vn, y = np.empty(3), np.empty(3), np.empty(3)
         B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force
-    wnx = wny = wnz = 0.0  # the water's acceleration normal to tau (waves)
     ax = ay = az = bx = by = bz = 0.0  # the water's acceleration at the nodes (waves)
     for e in range(h.size):
         i0, i1, i2 = edofs[e, 0], edofs[e, 1], edofs[e, 2]
@@ -319,50 +361,21 @@ def _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, ud, water, acce
             bx, by, bz = acceleration[nb, 0], acceleration[nb, 1], acceleration[nb, 2]
         for q in range(phi.shape[1]):
             pa, pb = phi[0, q], phi[1, q]
-            rx, ry, rz = Xp[e, q, 0] + sx, Xp[e, q, 1] + sy, Xp[e, q, 2] + sz
-            length = np.sqrt(rx * rx + ry * ry + rz * rz)
-            tx, ty, tz = rx / length, ry / length, rz / length
-            vx, vy, vz = pa * wx + pb * qx, pa * wy + pb * qy, pa * wz + pb * qz
-            a = vx * tx + vy * ty + vz * tz  # along tau
-            nx, ny, nz = vx - a * tx, vy - a * ty, vz - a * tz
-            speed = np.sqrt(nx * nx + ny * ny + nz * nz)
-            # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
-            cn, ct = kn[e, q] * speed, kt[e, q] * abs(a) * a
-            fx, fy, fz = cn * nx + ct * tx, cn * ny + ct * ty, cn * nz + ct * tz
-            aa = 0.0  # the water's acceleration along tau
-            if has_waves:
-                cx, cy, cz = pa * ax + pb * bx, pa * ay + pb * by, pa * az + pb * bz
-                aa = cx * tx + cy * ty + cz * tz
-                wnx, wny, wnz = cx - aa * tx, cy - aa * ty, cz - aa * tz
-                m, mt = mn[e, q], (mn[e, q] + dm[e, q]) * aa
-                fx += m * wnx + mt * tx
-                fy += m * wny + mt * ty
-                fz += m * wnz + mt * tz
+            f, tau, vn, wn, a, aa, cn, speed, length = _point_force(
+                kn[e, q], kt[e, q], mn[e, q], dm[e, q], Xp[e, q, 0] + sx, Xp[e, q, 1] + sy,
+                Xp[e, q, 2] + sz, pa * wx + pb * qx, pa * wy + pb * qy, pa * wz + pb * qz,
+                pa * ax + pb * bx, pa * ay + pb * by, pa * az + pb * bz, has_waves)
             wa, wb = wphi[e, 0, q], wphi[e, 1, q]
-            R[i0] -= wa * fx
-            R[i1] -= wa * fy
-            R[i2] -= wa * fz
-            R[j0] -= wb * fx
-            R[j1] -= wb * fy
-            R[j2] -= wb * fz
+            R[i0] -= wa * f[0]
+            R[i1] -= wa * f[1]
+            R[i2] -= wa * f[2]
+            R[j0] -= wb * f[0]
+            R[j1] -= wb * f[1]
+            R[j2] -= wb * f[2]
             if not tangent:
                 continue
-            tau[0], tau[1], tau[2] = tx, ty, tz
-            vn[0], vn[1], vn[2] = nx, ny, nz
-            # d/dudot: alpha I + beta tau tau^T + gamma v_n v_n^T, alpha = drag_n |v_n|
-            beta = 2.0 * kt[e, q] * abs(a) - cn
-            gamma = kn[e, q] / speed if speed > 0 else kn[e, q]
-            # d/du' |r'|: c1 I + tau y^T - gamma a v_n v_n^T, y = beta v_n - c1 tau (+ dm a_n)
-            c1 = (kt[e, q] * abs(a) - cn) * a + (dm[e, q] * aa if has_waves else 0.0)
-            y[0] = beta * nx - c1 * tx + (dm[e, q] * wnx if has_waves else 0.0)
-            y[1] = beta * ny - c1 * ty + (dm[e, q] * wny if has_waves else 0.0)
-            y[2] = beta * nz - c1 * tz + (dm[e, q] * wnz if has_waves else 0.0)
-            for p in range(3):
-                for s in range(3):
-                    B[p, s] = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]
-                    G[p, s] = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
-                B[p, p] += cn
-                G[p, p] += c1
+            _point_slopes(kn[e, q], kt[e, q], dm[e, q], tau, vn, wn, a, aa, cn, speed,
+                          has_waves, B, G)
             for i in range(2):
                 for j in range(2):
                     rate_weight = wphi[e, i, q] * phi[j, q]
@@ -386,15 +399,13 @@ def _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, ud, water, acce
     tangent = Ke.shape[0] > 0
     count = nodes.shape[1]
     if tangent:  # the tangent's scratch (a residual alone allocates nothing)
-        tau, vn, y = np.empty(3), np.empty(3), np.empty(3)
         B, G = np.empty((3, 3)), np.empty((3, 3))  # d/dudot and d/du' of the force
-    wnx = wny = wnz = 0.0  # the water's acceleration normal to tau (waves)
     for e in range(edofs.shape[0]):
         for q in range(shapes.shape[1]):
-            # r' = X' + u' and v = u_w - udot at the point, in registers
+            # r' = X' + u', v = u_w - udot and the water's acceleration c at the point
             rx, ry, rz = Xp[e, q, 0], Xp[e, q, 1], Xp[e, q, 2]
             vx = vy = vz = 0.0
-            cx = cy = cz = 0.0  # the water's acceleration there (waves)
+            cx = cy = cz = 0.0
             for b in range(count):
                 d0, d1, d2 = edofs[e, 3 * b], edofs[e, 3 * b + 1], edofs[e, 3 * b + 2]
                 slope, value = shapes[e, q, count + b], shapes[e, q, b]
@@ -413,45 +424,18 @@ def _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, ud, water, acce
                         cx += value * acceleration[node, 0]
                         cy += value * acceleration[node, 1]
                         cz += value * acceleration[node, 2]
-            length = np.sqrt(rx * rx + ry * ry + rz * rz)
-            tx, ty, tz = rx / length, ry / length, rz / length
-            a = vx * tx + vy * ty + vz * tz  # along tau
-            nx, ny, nz = vx - a * tx, vy - a * ty, vz - a * tz
-            speed = np.sqrt(nx * nx + ny * ny + nz * nz)
-            # f = drag_n |v_n| v_n + drag_t |a| a tau (+ inertia_n a_n + inertia_t a_t)
-            cn, ct = kn[e, q] * speed, kt[e, q] * abs(a) * a
-            fx, fy, fz = cn * nx + ct * tx, cn * ny + ct * ty, cn * nz + ct * tz
-            aa = 0.0  # the water's acceleration along tau
-            if has_waves:
-                aa = cx * tx + cy * ty + cz * tz
-                wnx, wny, wnz = cx - aa * tx, cy - aa * ty, cz - aa * tz
-                m, mt = mn[e, q], (mn[e, q] + dm[e, q]) * aa
-                fx += m * wnx + mt * tx
-                fy += m * wny + mt * ty
-                fz += m * wnz + mt * tz
+            f, tau, vn, wn, a, aa, cn, speed, length = _point_force(
+                kn[e, q], kt[e, q], mn[e, q], dm[e, q], rx, ry, rz, vx, vy, vz, cx, cy, cz,
+                has_waves)
             for b in range(count):
                 w = shapes[e, q, 2 * count] * shapes[e, q, b]
-                R[edofs[e, 3 * b]] -= w * fx
-                R[edofs[e, 3 * b + 1]] -= w * fy
-                R[edofs[e, 3 * b + 2]] -= w * fz
+                R[edofs[e, 3 * b]] -= w * f[0]
+                R[edofs[e, 3 * b + 1]] -= w * f[1]
+                R[edofs[e, 3 * b + 2]] -= w * f[2]
             if not tangent:
                 continue
-            tau[0], tau[1], tau[2] = tx, ty, tz
-            vn[0], vn[1], vn[2] = nx, ny, nz
-            # d/dudot: alpha I + beta tau tau^T + gamma v_n v_n^T, alpha = drag_n |v_n|
-            beta = 2.0 * kt[e, q] * abs(a) - cn
-            gamma = kn[e, q] / speed if speed > 0 else kn[e, q]
-            # d/du' |r'|: c1 I + tau y^T - gamma a v_n v_n^T, y = beta v_n - c1 tau (+ dm a_n)
-            c1 = (kt[e, q] * abs(a) - cn) * a + (dm[e, q] * aa if has_waves else 0.0)
-            y[0] = beta * nx - c1 * tx + (dm[e, q] * wnx if has_waves else 0.0)
-            y[1] = beta * ny - c1 * ty + (dm[e, q] * wny if has_waves else 0.0)
-            y[2] = beta * nz - c1 * tz + (dm[e, q] * wnz if has_waves else 0.0)
-            for p in range(3):
-                for s in range(3):
-                    B[p, s] = beta * tau[p] * tau[s] + gamma * vn[p] * vn[s]
-                    G[p, s] = tau[p] * y[s] - gamma * a * vn[p] * vn[s]
-                B[p, p] += cn
-                G[p, p] += c1
+            _point_slopes(kn[e, q], kt[e, q], dm[e, q], tau, vn, wn, a, aa, cn, speed,
+                          has_waves, B, G)
             for i in range(count):
                 wi = shapes[e, q, 2 * count] * shapes[e, q, i]
                 for j in range(count):
