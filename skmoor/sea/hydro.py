@@ -206,8 +206,9 @@ class SeaTerm(LineForm):
 
 class LineHydroKernel(Term):
     """The forms above (drag, fluid inertia, added mass) as a compiled kernel (see
-    :mod:`skmoor.lines.cable_kernel`), a line :class:`~skmoor.fem.terms.Term`: the same Gauss points,
-    element by element."""
+    :mod:`skmoor.lines.cable_kernel`), a line :class:`~skmoor.fem.terms.Term`: the same Gauss
+    points, element by element, on P1 lines (:func:`_morison`) or on bending lines' cubics
+    (:func:`_morison_shapes`; in the compiled time step by address, :attr:`step_kernel`)."""
 
     why_python = "moving water (waves or a time-varying current)"
 
