@@ -41,10 +41,14 @@ from ..lines.cable_kernel import _cable
 from ..numerics import bordered
 from ..sea.hydro import _morison
 from ..sea.seabed import _seabed
-from .newton import CONTRACTION, LINE_SEARCH, STALL
+from . import newton
 
-# numba freezes the three above into the cached step, whose cache follows this file only:
-# after changing one in newton.py, touch this file (or clear its __pycache__)
+# numba freezes these into the cached step, whose cache follows this file's source only
+# (touching it is not enough): written here, and checked against the Python step's
+CONTRACTION, STALL, LINE_SEARCH = 0.2, 0.5, 6
+if (CONTRACTION, STALL, LINE_SEARCH) != (newton.CONTRACTION, newton.STALL, newton.LINE_SEARCH):
+    raise ImportError("skmoor.solvers.compiled_step: CONTRACTION, STALL, LINE_SEARCH differ "
+                      "from skmoor.solvers.newton's; change them in both files")
 
 last_refusal = ""  # why the last build() returned None
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
