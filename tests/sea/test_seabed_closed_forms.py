@@ -166,7 +166,8 @@ def test_bending_line_bed_acts_on_the_node_positions():
     at 2 v0 and across it: the bed's residual on each node's position is hand_residual's
     (lumped spring and friction), nothing on the slope DOFs; the stiffness is W k on each
     node's z and the rate W c on z plus the friction's on x, y, all on position DOFs
-    (the element blocks' node 2 starts at entry 6), none on slopes."""
+    (the element blocks' node 2 starts at entry 6), none on slopes. The forms asked for
+    by path (C1 tangent: the chord on a straight line) give the same residual."""
     k, c = 2e5, 3e4
     bed = Seabed(DEPTH, stiffness=k, damping=c, damping_onset=0.0, mu_axial=0.4,
                  mu_lateral=0.6, friction_velocity=0.05)
@@ -182,6 +183,9 @@ def test_bending_line_bed_acts_on_the_node_positions():
     expected = hand_residual(bed, g, vel, 0.0)
     np.testing.assert_allclose(R[lines.nodal_dofs], expected, rtol=0,
                                atol=1e-12 * np.abs(expected).max())
+    forms = seabed_term(lines, bed, path="assembly").evaluate(u, ud, 0.0, False)[0]
+    np.testing.assert_allclose(forms[lines.nodal_dofs], expected, rtol=0,
+                               atol=1e-9 * np.abs(expected).max())
     slopes = lines.slope_dofs.ravel()
     assert np.abs(R[slopes]).max() == 0.0
     for A in (K, C):
@@ -356,7 +360,9 @@ def test_as_laid_reference_of_a_line_laid_in_an_l():
     """A line stretched 5 % in its reference lying on the bed in an L, 0.5 m
     then 9.5 m along x, then 10 m along y: each node at unstretched arclength s = S / 1.05
     (S its reference arclength) is laid at s along its chord from the anchor, its laid
-    displacement (s / |chord| - 1) chord; the node 0.5 m from the anchor too."""
+    displacement (s / |chord| - 1) chord; the node 0.5 m from the anchor too. The same L
+    as a second line stretched 1 + 0.01 S: each element's unstretched length is its
+    length over the stretch at its middle (S counted from its own anchor)."""
     lt = LineType(EA=1e6, mass=150.0, diameter=0.15)
     points = np.array([[0.0, 0.0], [0.5, 0.0], [10.0, 0.0], [10.0, 4.0], [10.0, 10.0]])
     points = np.column_stack([points, np.full(len(points), -DEPTH)])
@@ -367,6 +373,19 @@ def test_as_laid_reference_of_a_line_laid_in_an_l():
     laid = seabed_term(lines, bed).laid_displacement()[lines.nodal_dofs]
     S = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
     s = S / 1.05
+    # the same L as a second line, stretched 1 + 0.01 S (S from its own anchor): each
+    # element's unstretched length is its length over the stretch at its middle
+    varying = dataclasses.replace(Line.from_polyline(points, lt),
+                                  stretch=lambda S: 1.0 + 0.01 * np.asarray(S))
+    first = Line.from_polyline(points + [0.0, 50.0, 0.0], lt)
+    two = LineSet([first, varying], law="engineering")
+    laid2 = seabed_term(two, bed).laid_displacement()[two.nodal_dofs[two.anchor_nodes[1]:]]
+    h = np.diff(S)
+    s2 = np.concatenate([[0.0], np.cumsum(h / (1.0 + 0.01 * (S[:-1] + S[1:]) / 2))])
+    chord = points - points[0]
+    expected2 = np.zeros_like(chord)
+    expected2[1:] = (s2[1:] / np.linalg.norm(chord[1:], axis=1) - 1)[:, None] * chord[1:]
+    np.testing.assert_allclose(laid2, expected2, rtol=1e-9, atol=1e-12)
     chord = points - points[0]
     length = np.linalg.norm(chord, axis=1)
     expected = np.zeros_like(chord)
@@ -408,7 +427,7 @@ def test_coefficients_defaults_and_moordyns():
 def test_bathymetry_grid_edges_and_refusals():
     """A grid of three x's: the slope of the last cell is its own (x = 150 m: 10 m over
     100 m), of the first cell zero; a grid of a single x has no x slope (not 0 / 0), its
-    heights from y alone; a bed at the still water line (z = 0) or a coordinate table
+    heights from y alone (and likewise a single y); a bed at the still water line (z = 0) or a coordinate table
     that is not a list is refused."""
     bathymetry = kinked_bathymetry()
     np.testing.assert_allclose(bathymetry.slopes(np.array([[150.0, 20.0], [50.0, -20.0],
@@ -423,4 +442,6 @@ def test_bathymetry_grid_edges_and_refusals():
     with pytest.raises(ValueError):
         Bathymetry([0.0, 1.0], [0.0], [[-1.0], [0.0]])
     with pytest.raises(ValueError):
-        Bathymetry([[0.0, 1.0]], [0.0], [[-1.0, -1.0]])
+        Bathymetry([[0.0, 1.0]], [0.0], [[-1.0], [-1.0]])
+    row = Bathymetry([0.0, 10.0], [3.0], [[-50.0], [-52.0]])
+    np.testing.assert_allclose(row.slopes(np.array([5.0, 7.0])), [-0.2, 0.0], rtol=1e-12)
