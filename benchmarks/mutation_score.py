@@ -43,6 +43,7 @@ PHYSICS = {
                                     "tests/lines/test_laws.py"],
     "skmoor/sea/seabed.py": ["tests/sea/test_seabed.py", "tests/sea/test_bathymetry.py",
                              "tests/sea/test_seabed_static_friction.py",
+                             "tests/sea/test_seabed_closed_forms.py",
                              "tests/io/test_bathymetry_case.py"],
     "skmoor/sea/hydro.py": ["tests/sea/test_hydro.py", "tests/sea/test_hydro_closed_forms.py",
                             "tests/test_blind_spots.py"],
