@@ -220,14 +220,13 @@ class LineHydroKernel(Term):
         self.Xp = np.ascontiguousarray(np.moveaxis(lines.fields["Xp"], 0, -1))  # (nel, nqp, 3)
         self.points, self.nodal_dofs = lines.points, lines.nodal_dofs
         xi, h, t = basis.X[0], lines.element_lengths, lines.mesh.t.T  # t: each element's nodes
-        p1 = not lines.hermite  # P1: _morison's arrays; Hermite: _morison_shapes'
-        self.h = h if p1 else np.zeros(0)  # (no element lengths: the bending lines' kernel)
-        self.phi = np.stack([1.0 - xi, xi])  # (2, nqp) P1 shape functions
+        self.h = h
         self.edofs = np.ascontiguousarray(lines.element_dofs, np.int64)  # (nel, 6 or 12)
-        if p1:
+        if not lines.hermite:  # _morison's arrays
+            self.phi = np.stack([1.0 - xi, xi])  # (2, nqp) P1 shape functions
             self.enodes = np.ascontiguousarray(t, np.int64)  # (nel, 2)
             self.wphi = np.ascontiguousarray(basis.dx[:, None, :] * self.phi)  # (nel, 2, nqp)
-        else:  # the cubics [u_i, u_i', u_j, u_j']: their values, slopes and the weight
+        else:  # _morison_shapes': the cubics [u_i, u_i', u_j, u_j'], values, slopes, weight
             N, dN, _ = hermite_shapes(xi, h)  # (nel, nqp, 9), each shape's node (< 0: a slope)
             self.shapes = np.ascontiguousarray(np.concatenate([N, dN, basis.dx[..., None]], -1))
             self.nodes = np.ascontiguousarray(
@@ -240,12 +239,7 @@ class LineHydroKernel(Term):
         self._mass = added_mass_matrix(lines, lumped_mass)
 
     def step_arrays(self):
-        """The arrays :func:`_morison` reads before the state, in its order; on bending
-        lines (no element lengths) :func:`_morison_shapes`' in the same places: the shapes
-        for w phi, the nodes of the shapes for the elements' nodes."""
-        if self.lines.hermite:
-            return (self.Xp, self.h, self.phi, self.shapes, self.kn, self.kt, self.mn, self.dm,
-                    self.edofs, self.nodes)
+        """The arrays :func:`_morison` reads before the state, in its order (P1 lines)."""
         return (self.Xp, self.h, self.phi, self.wphi, self.kn, self.kt, self.mn, self.dm,
                 self.edofs, self.enodes)
 
@@ -279,13 +273,13 @@ class LineHydroKernel(Term):
         none = NO_BLOCKS if not self.lines.hermite else NO_BLOCKS.reshape(0, 12, 12)
         ud = self._no_velocity if ud is None else ud
         Ke, Ce = none if Ke is None else Ke, none if Ce is None else Ce
-        Xp, h, phi, wphi, kn, kt, mn, dm, edofs, nodes = self.step_arrays()
         if self.lines.hermite:
-            _morison_shapes(Xp, wphi, kn, kt, mn, dm, edofs, nodes, u, ud, water,
-                            acceleration, self.has_waves, R, Ke, Ce)
+            _morison_shapes(self.Xp, self.shapes, self.kn, self.kt, self.mn, self.dm,
+                            self.edofs, self.nodes, u, ud, water, acceleration,
+                            self.has_waves, R, Ke, Ce)
         else:
-            _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, nodes, u, ud, water,
-                     acceleration, self.has_waves, R, Ke, Ce)
+            _morison(*self.step_arrays(), u, ud, water, acceleration, self.has_waves, R, Ke,
+                     Ce)
 
     def mass_matrix(self):
         """The added mass (sparse, kg), or None when every Ca is zero."""
