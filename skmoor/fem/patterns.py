@@ -10,6 +10,7 @@ from numba import njit
 from ..numerics.banded import Band
 
 NO_BLOCKS = np.zeros((0, 6, 6))  # stands for "no tangent" in the compiled loops
+NO_BLOCKS_12 = np.zeros((0, 12, 12))  # the same on bending (Hermite) lines
 
 
 class ElementPattern:

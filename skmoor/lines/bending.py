@@ -40,10 +40,8 @@ from skfem import Basis, BilinearForm, LinearForm
 from ..fem.form_compiler import STEP_SIGNATURE
 from ..fem.hermite import hermite_shapes
 from ..fem.ops import dot
-from ..fem.patterns import ElementPattern
+from ..fem.patterns import NO_BLOCKS_12, ElementPattern
 from .cable_kernel import _stress, _stress_plain, law_table
-
-NO_BLOCKS_12 = np.zeros((0, 12, 12))  # no tangent
 
 
 def d2_ds2(field):

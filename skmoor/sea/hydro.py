@@ -41,7 +41,7 @@ from ..fem import ops
 from ..fem.form_compiler import STEP_SIGNATURE
 from ..fem.hermite import hermite_shapes
 from ..fem.ops import d_ds, dot
-from ..fem.patterns import NO_BLOCKS
+from ..fem.patterns import NO_BLOCKS, NO_BLOCKS_12
 from ..fem.terms import LineForm, Term
 from ..numerics.validation import check_finite, check_positive
 from .waves import Sea
@@ -270,7 +270,7 @@ class LineHydroKernel(Term):
         water = acceleration = self._still
         if self.moving_water:
             water, acceleration = self.sea.kinematics(self.points + u[self.nodal_dofs], t)
-        none = NO_BLOCKS if not self.lines.hermite else NO_BLOCKS.reshape(0, 12, 12)
+        none = NO_BLOCKS_12 if self.lines.hermite else NO_BLOCKS
         ud = self._no_velocity if ud is None else ud
         Ke, Ce = none if Ke is None else Ke, none if Ce is None else Ce
         if self.lines.hermite:

@@ -704,12 +704,6 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
             rows[a] = position[edofs[e, a]]
             ends_at[a] = end_row[edofs[e, a]]
             free = free and rows[a] >= 0
-        if free and nloc == 6:  # P1: fixed loop bounds (the compiler unrolls them)
-            for b in range(6):
-                rb = rows[b]
-                for a in range(6):
-                    ab[kv + rows[a] - rb, rb] += wK * Ke[e, a, b] + wV * Ce[e, a, b]
-            continue
         if free:
             for b in range(nloc):
                 rb = rows[b]
