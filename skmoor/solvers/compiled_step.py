@@ -9,8 +9,9 @@ is one numba function, so that a step costs what its arithmetic costs.
 
 It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`)
 and bending (Hermite) lines (12 x 12 element blocks; their cable and Morison loops are
-called by address as a user's LineForm is, ``HermiteKernel.step_kernel``), MoorDyn-style or skmoor's Morison terms in still water, a plane sea bed, the dry part of
-the lines in still water (``SurfaceTerm``: zero while every node stays half a diameter
+called by address as a user's LineForm is, ``HermiteKernel.step_kernel``), MoorDyn-style
+or skmoor's Morison terms in still water, a plane sea bed, the dry part of the lines in
+still water (``SurfaceTerm``: zero while every node stays half a diameter
 deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
 points (buoyancy, drag in still water), small-rotation rigid bodies whose applied load
 depends on time only (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has
@@ -21,8 +22,9 @@ the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); t
 that lowers to none (a form on another path or with fields given as a function, waves
 or currents, a bathymetry, a load in NumPy, radiation memory, exact rotations) makes it
 return None, its name and reason in :data:`last_refusal`, and the step then runs in
-Python. When modified Newton does not converge the step retries with the line search here, as the Python step does; a step that fails that too goes to the
-Python step, which splits it. Results are the same as the Python step's to round-off.
+Python. When modified Newton does not converge the step retries with the line search
+here, as the Python step does; a step that fails that too goes to the Python step, which
+splits it. Results are the same as the Python step's to round-off.
 """
 from __future__ import annotations
 
