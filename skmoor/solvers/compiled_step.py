@@ -48,9 +48,12 @@ from . import newton
 # numba freezes these into the cached step, whose cache follows this file's source only
 # (touching it is not enough): written here, and checked against the Python step's
 CONTRACTION, STALL, LINE_SEARCH = 0.2, 0.5, 6
-if (CONTRACTION, STALL, LINE_SEARCH) != (newton.CONTRACTION, newton.STALL, newton.LINE_SEARCH):
-    raise ImportError("skmoor.solvers.compiled_step: CONTRACTION, STALL, LINE_SEARCH differ "
-                      "from skmoor.solvers.newton's; change them in both files")
+BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYDEN_SCALING = 0.5, 8, 2.0
+if (CONTRACTION, STALL, LINE_SEARCH, BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYDEN_SCALING) != (
+        newton.CONTRACTION, newton.STALL, newton.LINE_SEARCH, newton.BROYDEN_CONTRACTION,
+        newton.BROYDEN_HISTORY, newton.BROYDEN_SCALING):
+    raise ImportError("skmoor.solvers.compiled_step: its Newton constants differ from "
+                      "skmoor.solvers.newton's; change them in both files")
 
 last_refusal = ""  # why the last build() returned None
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
@@ -248,12 +251,14 @@ class CompiledStep:
                         np.zeros(nb, np.int64))
         # the step's scratch (made once, not per step): the lines' u, ud, full residual and
         # element blocks, the body ends' J and S; R, B, a1, v1, M a, C v, the line search's
-        # trial and correction, the predictors x_pred, v_pred, the old inertia, the iterate
+        # trial and correction, the predictors x_pred, v_pred, the old inertia, the iterate;
+        # Broyden's corrections and their squared norms
         ends = len(system.dofs.body_flat)
         self.work = ((np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs),
                       np.zeros((nel, nloc, nloc)), np.zeros((nel, nloc, nloc)),
                       np.zeros((ends, 6)), np.zeros((ends, 6)))
-                     + tuple(np.zeros(n) for _ in range(12)))
+                     + tuple(np.zeros(n) for _ in range(12))
+                     + (np.zeros((BROYDEN_HISTORY, n)), np.zeros(BROYDEN_HISTORY)))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self._still = np.zeros((len(lines.points), 3))
         self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
@@ -848,13 +853,16 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     if state[1] != h:  # a factorization of another step's matrix: make a new one
         state[0] = 0.0
         state[1] = h
-    # modified Newton: the factors kept until a correction shrinks slower than CONTRACTION
+    # modified Newton on the kept factors, its corrections Broyden's (newton.broyden),
+    # the factors made new when a correction shrinks slower than BROYDEN_CONTRACTION
     for i in range(n):
         y[i] = x0[i] + h * v0[i] + 0.5 * h * h * a0[i]
     tangent = state[0] == 0.0
     previous = scale = np.inf
     used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
     stalls = 0
+    history, squares = work[19], work[20]
+    stored = 0
     for it in range(1, maxiter + 1):
         code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent,
                         factors, state, work, B)
@@ -863,7 +871,14 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
         if code == SINGULAR:
             used = it
             break
+        if tangent:
+            stored = 0
         size = _solve(B, factors, width)
+        if math.isfinite(size) and stored > 0:
+            size = _broyden(B, history, squares, stored)
+            if size < 0.0:  # the secant update is degenerate: a new matrix at y
+                tangent, stored = True, 0
+                continue
         if not math.isfinite(size):
             used = it
             break
@@ -881,7 +896,10 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
                 break
         else:
             stalls = 0
-        tangent = size > CONTRACTION * previous
+        history[stored] = B
+        squares[stored] = _dot(B, B)
+        stored += 1
+        tangent = size > BROYDEN_CONTRACTION * previous or stored == BROYDEN_HISTORY
         previous = size
     # Newton with the line search (dynamics._newton with full=True)
     for i in range(n):
@@ -928,6 +946,33 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
                             factors, state, work, B)
         norm = norm_try
     return 0
+
+
+@njit(cache=True, no_cpython_wrapper=True)
+def _broyden(dx, history, squares, stored):
+    """dx <- Broyden's correction from the kept matrix's one (:func:`newton.broyden`) with
+    the ``stored`` corrections made on that matrix; returns max |dx| (inf if not finite),
+    -1 when the update would scale the correction by more than BROYDEN_SCALING either way."""
+    for j in range(stored - 1):
+        c = _dot(history[j], dx) / squares[j]
+        for i in range(dx.size):
+            dx[i] += c * history[j + 1, i]
+    scale = 1.0 / (1.0 - _dot(history[stored - 1], dx) / squares[stored - 1])
+    if not 1.0 / BROYDEN_SCALING <= abs(scale) <= BROYDEN_SCALING:
+        return -1.0
+    size = 0.0
+    for i in range(dx.size):
+        dx[i] *= scale
+        size = max(size, abs(dx[i]))
+    return size if math.isfinite(size) else np.inf
+
+
+@njit(cache=True, no_cpython_wrapper=True)
+def _dot(a, b):
+    s = 0.0
+    for i in range(a.size):
+        s += a[i] * b[i]
+    return s
 
 
 @njit(cache=True, no_cpython_wrapper=True)

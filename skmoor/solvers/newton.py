@@ -32,6 +32,10 @@ DENSE_BELOW = 200  # unknowns: below this, dense LAPACK beats sparse overhead (m
 
 
 CONTRACTION = 0.2  # modified Newton refreshes the tangent when |dx| shrinks slower than this
+BROYDEN_CONTRACTION = 0.5  # the same for the time step's Broyden corrections
+BROYDEN_HISTORY = 8  # Broyden corrections on one matrix before it is made new
+BROYDEN_SCALING = 2.0  # a secant update scaling the correction more than this either way
+# (past a kink of the residual: a node touching the bed) makes a new matrix instead
 STALL = 0.5  # fresh tangents whose |dx| shrinks slower than this, twice: cycling at a kink
 
 
@@ -86,6 +90,9 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
     matrices in a row shrink the correction by less than ``STALL`` (cycling across a kink
     of the residual: a node touching the bed), (False, k) on a non-finite step.
 
+    Modified (not ``full``), the kept matrix's corrections are Broyden's: each new one
+    corrected by the earlier ones since the matrix was made (:func:`broyden`), so the
+    matrix follows a changing tangent (a line's end rotating) without a new factorization.
     With ``full`` it backtracks, the matrix made new at the start: a correction that does
     not lower the residual's norm is halved (up to ``LINE_SEARCH`` times) until it does
     (Armijo, 1e-4), which breaks the two-cycles Newton falls into across such a kink."""
@@ -93,10 +100,17 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
     previous = scale = np.inf
     norm = np.linalg.norm(B) if full else 0.0
     stalls = 0
+    steps = []  # the corrections made on the current matrix (Broyden's history)
     for it in range(1, maxiter + 1):
         if A is not None:
             matrix.update(A)
+            steps = []
         dx = matrix.solve(-B)
+        if not full:
+            dx = broyden(dx, steps)
+            if dx is None:  # a degenerate secant update: a new matrix here
+                B, A = balance(x1, tangent=True)
+                continue
         size = np.max(np.abs(dx), initial=0.0)
         if not math.isfinite(size):
             return False, it
@@ -109,8 +123,9 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
             stalls = stalls + 1 if A is not None and it > 1 and size > STALL * previous else 0
             if stalls == 2:
                 return None, it  # cycling across a kink (a node at the bed): the line search
+            steps.append(dx)
             x1 = x_new
-            slow = size > CONTRACTION * previous
+            slow = size > BROYDEN_CONTRACTION * previous or len(steps) == BROYDEN_HISTORY
             previous = size
             B, A = balance(x1, tangent=slow)
             continue
@@ -130,6 +145,23 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
             B_try, A_try = balance(x1, tangent=True)
         B, A, norm = B_try, A_try, norm_try
     return None, maxiter
+
+
+def broyden(dx, steps):
+    """Broyden's ("good") correction from the kept matrix's one, dx = -A0^-1 B, and the
+    corrections s_0 ... s_k made since A0 was factorized (Kelley 1995, Alg. brsol):
+    dx <- dx + s_{j+1} (s_j . dx) / |s_j|^2 for j < k, then dx / (1 - s_k . dx / |s_k|^2).
+    The secant updates of A0 make it match the balance's change along each step taken.
+    None when the last factor would scale dx by more than ``BROYDEN_SCALING`` either way."""
+    if not steps:
+        return dx
+    for before, after in zip(steps[:-1], steps[1:]):
+        dx = dx + after * (before @ dx) / (before @ before)
+    last = steps[-1]
+    scale = 1.0 / (1.0 - (last @ dx) / (last @ last))
+    if not 1.0 / BROYDEN_SCALING <= abs(scale) <= BROYDEN_SCALING:
+        return None
+    return scale * dx
 
 
 class ConvergenceError(RuntimeError):

@@ -150,21 +150,54 @@ def test_commit_after_every_accepted_step_and_half_step():
         np.testing.assert_allclose(u, system.full_displacement(state.x, state.t))
 
 
+def cusp(negative_side):
+    """balance(x) = sqrt(x) for x >= 0, -c sqrt(-x) below, with c = negative_side: Newton's
+    step from x is to -x, a two-cycle no fresh matrix breaks."""
+    def balance(x, tangent):
+        c = 1.0 if x[0] >= 0 else negative_side
+        a = max(abs(x[0]), 1e-300)
+        f = np.sign(x) * c * np.sqrt(a)
+        return f, (np.array([[0.5 * c / np.sqrt(a)]]) if tangent else None)
+    return balance
+
+
 def test_modified_newton_leaves_a_cycle_for_the_line_search():
-    """f(x) = sign(x) sqrt|x|: Newton's step from x is to -x, a two-cycle no fresh matrix
-    breaks. Modified Newton gives up after two fresh matrices that do not shrink the
-    correction (not after all of maxiter), and full Newton's line search halves the step
-    onto the root."""
+    """On the symmetric cusp the secant (Broyden) update through x = 1 and x = -1 lands on
+    the root at once. On a lopsided one (c = 2) the update would shrink the correction to a
+    third (a kink between the iterates): a new matrix is made instead, the fresh matrices
+    do not shrink the correction, and modified Newton gives up (long before maxiter) for
+    full Newton, whose line search halves the step onto the root."""
     from skmoor.solvers.newton import _IterationMatrix, _newton
 
-    def balance(x, tangent):
-        f = np.sign(x) * np.sqrt(np.abs(x))
-        return f, (np.array([[0.5 / np.sqrt(max(abs(x[0]), 1e-300))]]) if tangent else None)
-
     x0 = np.array([0.0])
-    x, iterations = _newton(balance, np.array([1.0]), x0, _IterationMatrix("dense"),
+    x, iterations = _newton(cusp(1.0), np.array([1.0]), x0, _IterationMatrix("dense"),
                             1e-9, 20, full=False)
-    assert x is None and iterations == 4  # 1 and 2 on the first matrix, 3 and 4 fresh ones
-    x, _ = _newton(balance, np.array([1.0]), x0, _IterationMatrix("dense"), 1e-9, 20,
+    assert x is not None and x[0] == pytest.approx(0.0, abs=1e-12) and iterations == 3
+    x, iterations = _newton(cusp(2.0), np.array([1.0]), x0, _IterationMatrix("dense"),
+                            1e-9, 20, full=False)
+    assert x is None and iterations < 10
+    x, _ = _newton(cusp(2.0), np.array([1.0]), x0, _IterationMatrix("dense"), 1e-9, 20,
                    full=True)
     assert x is not None and abs(x[0]) < 1e-12
+
+
+def test_broyden_corrections_follow_a_changing_tangent(monkeypatch):
+    """Broyden's corrections on a kept matrix solve a linear system A x = b from the
+    identity in at most 2 n steps (Gay 1979); the first correction is the kept matrix's
+    own. (The guard against large scalings, which makes a new matrix, is lifted here.)"""
+    from skmoor.solvers import newton
+    from skmoor.solvers.newton import broyden
+
+    monkeypatch.setattr(newton, "BROYDEN_SCALING", np.inf)
+    rng = np.random.default_rng(3)
+    n = 5
+    A = np.eye(n) + 0.3 * rng.standard_normal((n, n))
+    b = rng.standard_normal(n)
+    x, steps = np.zeros(n), []
+    first = b - A @ x
+    assert np.array_equal(broyden(first, []), first)
+    for _ in range(2 * n):
+        dx = broyden(b - A @ x, steps)  # the kept matrix: the identity
+        steps.append(dx)
+        x = x + dx
+    np.testing.assert_allclose(x, np.linalg.solve(A, b), rtol=1e-8, atol=1e-10)

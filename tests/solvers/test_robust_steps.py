@@ -36,14 +36,20 @@ def motion(t):
     return y
 
 
-@pytest.fixture(scope="module")
-def chain(tmp_path_factory):
-    """(model, its static equilibrium) on SEGMENTS segments per line."""
+def chain_model(folder, **solver):
+    """(model, its static equilibrium) on SEGMENTS segments per line, with ``solver``."""
     text = DECK.read_text().replace("850.0     50", f"850.0     {SEGMENTS}")
-    path = tmp_path_factory.mktemp("deck") / "chain_semi.dat"
+    path = folder / "chain_semi.dat"
     path.write_text(text)
     model = skmoor.build(path, motion=motion)
+    model.solver.update(solver)
     return model, equilibrium(model)
+
+
+@pytest.fixture(scope="module")
+def chain(tmp_path_factory):
+    """The deck's model (Newmark: no numerical damping) and its static equilibrium."""
+    return chain_model(tmp_path_factory.mktemp("deck"))
 
 
 @pytest.fixture(scope="module")
@@ -52,6 +58,16 @@ def runs(chain):
     model, eq = chain
     return {dt: skmoor.simulate(model, duration=DURATION, dt=dt, output_interval=0.4,
                                 progress=False, eq=eq) for dt in (0.05, 0.2, 0.4)}
+
+
+@pytest.fixture(scope="module")
+def damped_runs(tmp_path_factory):
+    """Results at 0.05 s and 0.2 s with generalized-alpha at rho_inf 0.5, as ``simulate``
+    advises when the step is longer than the bed's contact period."""
+    model, eq = chain_model(tmp_path_factory.mktemp("damped"), scheme="generalized-alpha",
+                            rho_inf=0.5)
+    return {dt: skmoor.simulate(model, duration=DURATION, dt=dt, output_interval=0.4,
+                                progress=False, eq=eq) for dt in (0.05, 0.2)}
 
 
 @pytest.mark.parametrize("dt", [0.2, 0.4])
@@ -63,14 +79,17 @@ def test_large_steps_run_through_touchdown(runs, dt):
     assert r.t[-1] == pytest.approx(DURATION)
 
 
-def test_large_step_is_accurate(runs):
-    """At 0.2 s (60 steps per heave period) the fairlead tensions' std and peak after the
-    fade-in stay within 2 % of the 0.05 s run's (measured: 1.3 % and 0.4 %)."""
-    ref, r = runs[0.05], runs[0.2]
+def test_large_step_is_accurate(damped_runs):
+    """At 0.2 s (60 steps per heave period) with the numerical damping ``simulate`` advises
+    here, the fairlead tensions' std and peak after the fade-in stay within 1 % of the
+    0.05 s run's (measured: 0.3 % and 0.1 %, the same at Newton tolerances 1e-5 and 1e-6).
+    Without it (Newmark) the 0.2 s run chatters at touchdown and its peaks move by 0 to
+    6 % with the Newton iterates' path alone: not a measure of the step's accuracy."""
+    ref, r = damped_runs[0.05], damped_runs[0.2]
     window = ref.t > 24.0
     f_ref, f = ref.fairlead_tension[window], r.fairlead_tension[window]
-    np.testing.assert_allclose(np.std(f, axis=0), np.std(f_ref, axis=0), rtol=0.02)
-    np.testing.assert_allclose(f.max(axis=0), f_ref.max(axis=0), rtol=0.02)
+    np.testing.assert_allclose(np.std(f, axis=0), np.std(f_ref, axis=0), rtol=0.01)
+    np.testing.assert_allclose(f.max(axis=0), f_ref.max(axis=0), rtol=0.01)
 
 
 def test_subdivided_steps_are_reported(runs):
