@@ -48,7 +48,7 @@ from . import newton
 # numba freezes these into the cached step, whose cache follows this file's source only
 # (touching it is not enough): written here, and checked against the Python step's
 CONTRACTION, STALL, LINE_SEARCH = 0.2, 0.5, 6
-BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYDEN_SCALING = 0.5, 8, 2.0
+BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYDEN_SCALING = 0.3, 8, 2.0
 if (CONTRACTION, STALL, LINE_SEARCH, BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYDEN_SCALING) != (
         newton.CONTRACTION, newton.STALL, newton.LINE_SEARCH, newton.BROYDEN_CONTRACTION,
         newton.BROYDEN_HISTORY, newton.BROYDEN_SCALING):

@@ -99,8 +99,9 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     -> (R, K, Kv)`` (layouts: :func:`matrix_layout`). C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when
     the largest correction is below tol times the largest change over the step (as it
     stands after the first correction; plus 1e-12 m). Newton is modified: the factorized
-    matrix is kept over iterations and steps and refreshed when a correction is larger
-    than ``CONTRACTION`` times the one before; a step that does not converge so (or
+    matrix is kept over iterations and steps, its corrections within a step Broyden's
+    (:func:`~skmoor.solvers.newton.broyden`), and refreshed when a correction is larger
+    than ``BROYDEN_CONTRACTION`` times the one before; a step that does not converge so (or
     whose refreshed matrices stop shrinking the correction twice in a row, ``STALL``:
     Newton cycling across a kink such as a node touching the bed) is retried at once with
     a backtracking line search on the balance residual (a new matrix at its start and

@@ -31,8 +31,8 @@ class DivergenceError(RuntimeError):
 DENSE_BELOW = 200  # unknowns: below this, dense LAPACK beats sparse overhead (measured)
 
 
-CONTRACTION = 0.2  # modified Newton refreshes the tangent when |dx| shrinks slower than this
-BROYDEN_CONTRACTION = 0.5  # the same for the time step's Broyden corrections
+CONTRACTION = 0.2  # the line search's Newton refreshes the tangent when |dx| shrinks slower
+BROYDEN_CONTRACTION = 0.3  # the same for the time step's modified (Broyden) Newton
 BROYDEN_HISTORY = 8  # Broyden corrections on one matrix before it is made new
 BROYDEN_SCALING = 2.0  # a secant update scaling the correction more than this either way
 # (past a kink of the residual: a node touching the bed) makes a new matrix instead
