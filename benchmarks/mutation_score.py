@@ -33,7 +33,8 @@ ROOT = Path(__file__).resolve().parents[1]
 # the physics, each with the tests that mirror it (tests/<subpackage>/)
 PHYSICS = {
     "skmoor/lines/laws.py": ["tests/lines/test_laws.py", "tests/lines/test_user_law.py",
-                             "tests/lines/test_creep.py"],
+                             "tests/lines/test_creep.py",
+                             "tests/lines/test_laws_closed_forms.py"],
     "skmoor/lines/catenary.py": ["tests/lines/test_catenary_limits.py",
                                  "tests/lines/test_catenary.py",
                                  "tests/lines/test_curve_catenary.py",

@@ -115,7 +115,7 @@ class Law:
         """Engineering strain (-) of the static law at tension T (N) >= 0."""
         T = np.asarray(T, float)
         T_k, a, b = self.static_pieces(EA)
-        piece = np.clip(np.searchsorted(T_k, T, side="right") - 1, 0, len(T_k) - 1)
+        piece = np.maximum(np.searchsorted(T_k, T, side="right") - 1, 0)
         return a[piece] + b[piece] * T
 
     def static_tension(self, e, EA=None):
@@ -123,7 +123,7 @@ class Law:
         T_k, a, b = self.static_pieces(EA)
         e_k = a + b * T_k
         e = np.asarray(e, float)
-        piece = np.clip(np.searchsorted(e_k, e, side="right") - 1, 0, len(e_k) - 1)
+        piece = np.maximum(np.searchsorted(e_k, e, side="right") - 1, 0)
         T = (e - a[piece]) / b[piece]
         return np.maximum(T, 0.0) if self.tension_only else T
 
@@ -275,7 +275,7 @@ class StaticDynamic(Law):
             return p, hinges
         p, _ = super().parameters(EA, T, e_ref)
         p.update(T0=np.asarray(T, float) * 1.0, e0=e_ref * np.ones_like(T),
-                 k=self.dynamic_EA(T) * np.ones_like(T))
+                 k=self.dynamic_EA(T))
         return p, None
 
 
