@@ -66,7 +66,7 @@ def axial_force(e, p):
     dN = k + 0.0 * e
     knots, coef = _value(p["knots"]), _value(p["coef"])
     if knots.shape[0]:
-        beyond = e[None] - knots
+        beyond = ops.xp(e).asarray(e)[None] - knots  # (a float e too)
         N = N + ops.dot(coef, ops.maximum(beyond, 0.0))
         dN = dN + ops.dot(coef, ops.where(beyond > 0, 1.0, 0.0))
     keep = ops.where(N < 0, 1.0 - _value(p["tension_only"]), 1.0)  # 0: a slack cable

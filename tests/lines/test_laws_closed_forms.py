@@ -339,3 +339,13 @@ def test_curve_files_are_named_by_their_path_and_read_past_a_latin_1_header(tmp_
     empty.write_text("EA curve\nStrain Tension\n(-) (N)\n\n")
     with pytest.raises(ValueError, match="empty.txt"):
         laws.read_curve(empty)
+
+
+def test_a_curve_takes_a_plain_float_strain():
+    """A curve evaluated at a float strain, as Engineering and Paper are: between the
+    points (0.02, 1e4 N) and (0.05, 5e4 N) at 0.03 the tension is 1e4 + 4e4 / 3 N and the
+    slope 4e4 / 0.03 N."""
+    curve = laws.Curve([0.0, 0.02, 0.05], [0.0, 1e4, 5e4])
+    assert curve.tension(0.03) == pytest.approx(1e4 + 4e4 / 3, rel=1e-12)
+    assert curve.slope(0.03) == pytest.approx(4e4 / 0.03, rel=1e-12)
+    assert curve.tension(0.03) == pytest.approx(curve.tension(np.array([0.03]))[0], rel=1e-14)
