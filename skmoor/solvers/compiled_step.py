@@ -289,8 +289,9 @@ class CompiledStep:
         cable, hydro, bed = self._terms_cache[1]
         return cable, hydro, self.hydro is not None, bed, self.bed is not None
 
-    def steps(self, x, v, a, force_old, times, h, report=None):
-        """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R):
+    def steps(self, x, v, a, force_old, times, h, report=None, trend=None):
+        """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R),
+        ``trend`` the acceleration a step before and that step, (a_prev, h_prev) (None: none):
         (a list of ((x1, v1, a1, C v1 + R1, None), iterations, report), None), or with
         fewer steps than ``times`` and why Newton failed at the step after the last.
         report: a bool per step; at those steps the report is ((u, ud), (fairlead forces,
@@ -333,7 +334,9 @@ class CompiledStep:
                           self.tol, self.maxiter, model, loads, pres_u, pres_v, driven, pres_a,
                           self.factors, self.state, self.work, out, iterations, report,
                           self.report_dofs, self.resting, self.held, lines_out,
-                          ends_out.reshape(count, -1))
+                          ends_out.reshape(count, -1),
+                          np.zeros(len(x)) if trend is None else np.array(trend[0], float),
+                          0.0 if trend is None else float(trend[1]))
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
@@ -345,7 +348,7 @@ class CompiledStep:
 @njit(cache=True)
 def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, pres_v,
          driven, pres_a, factors, state, work, out, iterations, report, report_dofs, resting,
-         held, lines_out, ends_out):
+         held, lines_out, ends_out, a_prev, h_prev):
     """Steps of h from (x, v, a, force = C v + R), step i to times[i] (s) with the inputs
     loads[i], pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free
     DOFs, N; empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
@@ -353,8 +356,10 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
     velocity into lines_out[:, i] and the end forces (minus the full residual at
     report_dofs, minus the held ends' inertia ``held`` with the prescribed ends'
     accelerations pres_a[i]) into ends_out[i] (report[i] set to 0 when a line is at the
-    surface: the caller computes them). Returns (the steps done, the failed step's code: 0 Newton did
-    not converge, -1 a correction not finite, -2 a line at the surface, 1 none failed)."""
+    surface: the caller computes them). a_prev: the acceleration one step (h_prev s) before
+    (x, v, a), for the first guess (h_prev 0: none; overwritten). Returns (the steps done,
+    the failed step's code: 0 Newton did not converge, -1 a correction not finite, -2 a line
+    at the surface, 1 none failed)."""
     am, af, beta, gamma = scheme
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
     mass = model[10][0]
@@ -362,7 +367,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         it = _advance(x, v, a, force, h, scheme, tol, maxiter, model,
                       (loads[i], pres_u[i], pres_v[i], times[i]), driven[i], factors, state,
-                      work, x1)
+                      work, x1, a_prev, h_prev)
         if it <= 0:
             return i, it
         iterations[i] = it
@@ -379,6 +384,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
                                 lines_out[1, i], ends_out[i])
             if report[i] > 0:
                 _less_held_inertia(held, a1, pres_a[i], ends_out[i])
+        a_prev[:] = a
+        h_prev = h
         x, v, a, force = x1, v1, a1, force1
     return out.shape[1], 1
 
@@ -832,11 +839,12 @@ def _solve(B, factors, width):
 
 @njit(cache=True, no_cpython_wrapper=True)
 def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driven, factors,
-             state, work, x1):
+             state, work, x1, a_prev, h_prev):
     """One step of ``dynamics.integrate`` (its ``advance``) with the prescribed ends'
     inertia on the free DOFs ``driven`` (M_fp a_p, N; empty: none), x1 the solution: modified
-    Newton from constant acceleration, and when that fails Newton with the backtracking
-    line search from constant velocity. Returns the iterations used, 0 when
+    Newton from constant acceleration plus the trend of a_prev, h_prev s before
+    (:meth:`dynamics._Stepper.first_guess`), and when that fails Newton with the
+    backtracking line search from constant velocity. Returns the iterations used, 0 when
     Newton does not converge in maxiter, -1 when a correction is not finite."""
     am, af, beta, gamma = scheme
     width = model[14]
@@ -857,6 +865,8 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     # the factors made new when a correction shrinks slower than BROYDEN_CONTRACTION
     for i in range(n):
         y[i] = x0[i] + h * v0[i] + 0.5 * h * h * a0[i]
+        if h_prev > 0.0:  # the acceleration's trend over the last step (newton.first_guess)
+            y[i] += h**3 / (6.0 * h_prev) * (a0[i] - a_prev[i])
     tangent = state[0] == 0.0
     previous = scale = np.inf
     used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)

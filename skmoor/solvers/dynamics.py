@@ -146,7 +146,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         if fast is not None and not ahead and failed is None:  # the next steps compiled
             numbers = np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
             ahead, failed = fast.steps(x, v, a, force_old, t0 + dt * numbers, dt,
-                                       report=numbers % report_every == 0 if reports else None)
+                                       report=numbers % report_every == 0 if reports else None,
+                                       trend=stepper.trend)
             ahead.reverse()
         reported = None
         if ahead:
@@ -164,9 +165,10 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
                 tried = (f" (and in steps down to dt / {2**subdivide:g})" if subdivide > 0
                          else "")
                 raise DivergenceError(_hint(t1, step, dt, f"{why}{tried}"), t1, step)
-            subdivided += 1
+            subdivided += 1  # (the split left its last half's trend)
         else:
             commit(t1, out[0], out[1])
+            stepper.accepted(a, dt)
         x, v, a, force_old, G = out
         t = t1
         turned = rebase(x, v) if rebase is not None else None
@@ -175,6 +177,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             a, force_old, G = stepper.start(x, v, t1)
             matrix = _IterationMatrix(layout)
             stepper.halves.clear()
+            stepper.trend = None
         if reports and step % report_every == 0 and reported is None:
             reported = report(x, v, a, t1)
         yield State(t1, step, x, v, a, it, subdivided, *(reported or (None, None)))
@@ -219,6 +222,7 @@ class Stepping:
         """The acceleration and forces again from the balance at the present (x, v, t)
         (after the prescribed motion was changed at t: a host's Init)."""
         self.a, self.force, self.G = self.stepper.start(self.x, self.v, self.t)
+        self.stepper.trend = None
 
     def step(self, h, report=False, to=None) -> State:
         """One step of h (s) (to the time ``to`` when given: t0 + k dt, as :func:`integrate`
@@ -235,14 +239,16 @@ class Stepping:
         out = reported = None
         if self.fast is not None:
             done, _ = self.fast.steps(*level[:4], np.array([t1]), h,
-                                      report=[True] if report else None)
+                                      report=[True] if report else None, trend=stepper.trend)
             if done:
                 out, it, reported = done[0]
                 stepper.commit(t1, out[0], out[1])
+                stepper.accepted(self.a, h)
         if out is None:
             out, it = stepper.advance(*level, t1, h, self.matrix)
             if out is not None:
                 stepper.commit(t1, out[0], out[1])
+                stepper.accepted(self.a, h)
             elif self.subdivide > 0:
                 why = it
                 out, it = stepper.split(level, self.t, t1, 1, h)
@@ -277,9 +283,12 @@ class Stepping:
             times = self.t + h * np.arange(1, count + 1)
             flags = [False] * (count - 1) + [bool(report)]
             done, _ = self.fast.steps(self.x, self.v, self.a, self.force, times, h,
-                                      report=flags)
+                                      report=flags, trend=self.stepper.trend)
+            before = self.a
             for k, (out, it, reported) in enumerate(done):
                 self.stepper.commit(times[k], out[0], out[1])
+                self.stepper.accepted(before, h)
+                before = out[2]
             if done:
                 out, it, reported = done[-1]
                 self.x, self.v, self.a, self.force, self.G = out
@@ -309,6 +318,7 @@ class Stepping:
                 "state": copy.deepcopy((self.x, self.v, self.a, self.force, self.G)),
                 "matrix": copy.copy(self.matrix),  # a factor is replaced, never changed
                 "halves": {k: copy.copy(m) for k, m in self.stepper.halves.items()},
+                "trend": copy.deepcopy(self.stepper.trend),
                 "fast": fast,
                 "memory": memory}
 
@@ -320,6 +330,7 @@ class Stepping:
         self.x, self.v, self.a, self.force, self.G = copy.deepcopy(saved["state"])
         self.matrix = copy.copy(saved["matrix"])
         self.stepper.halves = {k: copy.copy(m) for k, m in saved["halves"].items()}
+        self.stepper.trend = copy.deepcopy(saved.get("trend"))
         if saved["fast"] is not None and self.fast is not None:
             for kept, value in zip(self.fast.factors, saved["fast"][0]):
                 kept[...] = value
@@ -369,6 +380,21 @@ class _Stepper:
         self.driven = getattr(system, "driven_inertia", None) or (lambda t: None)
         self.commit = getattr(system, "commit", None) or (lambda t, x, v: None)
         self.halves = {}  # level -> the iteration matrix of steps dt / 2**level, kept
+        self.trend = None  # (the acceleration a step back, that step's h): first_guess's
+
+    def first_guess(self, x, v, a, h):
+        """Newton's first iterate for a step of h from (x, v, a): constant acceleration,
+        plus h^3 / 6 times the jerk (a - a_prev) / h_prev of the last step when ``trend``
+        holds it (a smooth motion's step then starts an iteration or so nearer)."""
+        guess = x + h * v + 0.5 * h**2 * a
+        if self.trend is not None:
+            a_prev, h_prev = self.trend
+            guess += h**3 / (6.0 * h_prev) * (a - a_prev)
+        return guess
+
+    def accepted(self, a_old, h):
+        """A step of h from a level with acceleration a_old (m/s2) was taken."""
+        self.trend = (a_old, h)
 
     def loads(self, R, t):
         """R plus the prescribed ends' inertia on the free DOFs (M_fp a_p(t), a load given
@@ -438,9 +464,9 @@ class _Stepper:
                                     + d_pose)
             return B, A
 
-        # first guess: constant acceleration; should modified Newton stall from it, the step
-        # again from constant velocity (robust on stiff axial modes) with a line search
-        guess = x + h * v + 0.5 * h**2 * a
+        # first guess: constant acceleration and the last step's jerk; should modified Newton
+        # stall from it, the step again from constant velocity (robust on stiff axial modes) with a line search
+        guess = self.first_guess(x, v, a, h)
         x1, it = _newton(balance, guess, x, matrix, self.tol, self.maxiter, full=False)
         if x1 is None or x1 is False:
             x1, more = _newton(balance, x + h * v, x, matrix, self.tol, self.maxiter, full=True)
@@ -467,6 +493,7 @@ class _Stepper:
                 out, it = self.split(level_state, start, end, level + 1, dt)
             elif out is not None:
                 self.commit(end, out[0], out[1])
+                self.accepted(level_state[2], h)
             if out is None:
                 return None, it
             level_state, total = out, total + it

@@ -201,3 +201,32 @@ def test_broyden_corrections_follow_a_changing_tangent(monkeypatch):
         steps.append(dx)
         x = x + dx
     np.testing.assert_allclose(x, np.linalg.solve(A, b), rtol=1e-8, atol=1e-10)
+
+
+def test_first_guess_is_exact_on_a_cubic_motion():
+    """x(t) = c0 + c1 t + c2 t^2 + c3 t^3 has a linear acceleration: from (x, v, a) at t0
+    and a(t0 - h_prev), the first guess x0 + h v0 + h^2 a0 / 2 + h^3 (a0 - a_-1) /
+    (6 h_prev) is x(t0 + h) exactly, for unequal steps too; without a trend it misses by
+    c3 h^3 (the jerk term)."""
+    from skmoor.solvers.dynamics import _Stepper
+
+    c = np.array([[0.3, -1.2], [2.0, 0.5], [-0.7, 0.25], [0.9, -0.4]])  # (power, DOF)
+
+    def x(t):
+        return c[0] + c[1] * t + c[2] * t**2 + c[3] * t**3
+
+    def v(t):
+        return c[1] + 2 * c[2] * t + 3 * c[3] * t**2
+
+    def a(t):
+        return 2 * c[2] + 6 * c[3] * t
+
+    stepper = _Stepper.__new__(_Stepper)
+    stepper.trend = None
+    t0, h = 1.7, 0.3
+    np.testing.assert_allclose(stepper.first_guess(x(t0), v(t0), a(t0), h) - x(t0 + h),
+                               -c[3] * h**3, rtol=1e-12)
+    for h_prev in (0.3, 0.15, 0.6):
+        stepper.accepted(a(t0 - h_prev), h_prev)
+        np.testing.assert_allclose(stepper.first_guess(x(t0), v(t0), a(t0), h), x(t0 + h),
+                                   rtol=1e-13, atol=1e-13)
