@@ -106,7 +106,7 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
             matrix.update(A)
             steps = []
         dx = matrix.solve(-B)
-        if not full:
+        if not full and np.all(np.isfinite(dx)):  # (one that is not: a failed step below)
             dx = broyden(dx, steps)
             if dx is None:  # a degenerate secant update: a new matrix here
                 B, A = balance(x1, tangent=True)
