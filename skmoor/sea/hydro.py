@@ -210,7 +210,7 @@ class LineHydroKernel(Term):
     points, element by element, on P1 lines (:func:`_morison`) or on bending lines' cubics
     (:func:`_morison_shapes`; in the compiled time step by address, :attr:`step_kernel`)."""
 
-    why_python = "moving water (waves or a time-varying current)"
+    why_python = "moving water (waves, water fields, or a current on bending lines)"
 
     def __init__(self, lines, sea=None, lumped_mass=True):
         basis = lines.basis
@@ -243,8 +243,16 @@ class LineHydroKernel(Term):
         return (self.Xp, self.h, self.phi, self.wphi, self.kn, self.kt, self.mn, self.dm,
                 self.edofs, self.enodes)
 
+    @property
+    def steady_current(self) -> bool:
+        """True when the water moves but only with a steady :class:`Current` (no waves, no
+        water fields): the compiled step's P1 kernel evaluates it at the nodes."""
+        sea = self.sea
+        return (self.moving_water and sea.current is not None and not sea.waves
+                and not sea.fields)
+
     def lowered(self):
-        if self.moving_water:
+        if self.moving_water and not (self.steady_current and not self.lines.hermite):
             return None
         return "form" if self.lines.hermite else "morison"
 
@@ -649,7 +657,7 @@ class PointDrag(Term):
     reference position plus its displacement, without its gradient)."""
 
     acts_on = "points"
-    why_python = "moving water (waves or a time-varying current)"
+    why_python = "moving water (waves, water fields, or a current on bending lines)"
 
     def __init__(self, point, CdA, rho=1025.0, sea=None):
         self.point, self.CdA, self.rho, self.sea = int(point), float(CdA), float(rho), sea

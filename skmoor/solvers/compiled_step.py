@@ -10,7 +10,8 @@ is one numba function, so that a step costs what its arithmetic costs.
 It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`)
 and bending (Hermite) lines (12 x 12 element blocks; their cable and Morison loops are
 called by address as a user's LineForm is, ``HermiteKernel.step_kernel``), MoorDyn-style
-or skmoor's Morison terms in still water, a plane sea bed, the dry part of the lines in
+or skmoor's Morison terms in still water (on P1 lines also in a steady current, at the
+displaced nodes), a plane sea bed, the dry part of the lines in
 still water (``SurfaceTerm``: zero while every node stays half a diameter
 deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
 points (buoyancy, drag in still water), small-rotation rigid bodies whose applied load
@@ -68,6 +69,23 @@ NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.ze
 NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
          np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3), np.int64),
          np.zeros((0, 3), np.int64))  # bending lines: no P1 element (their loop is a form's)
+
+
+def _steady_current(lines, hydro):
+    """The water the compiled Morison kernel sees: (the nodes' reference positions (m),
+    their DOFs, the current's profile heights (m) and speeds (m/s), its heading (unit,
+    horizontal), a buffer for the nodes' water velocity, still water): the profile empty
+    without a current."""
+    nodes = np.ascontiguousarray(lines.points, float)
+    still = np.zeros(nodes.shape)
+    sea = None if hydro is None else hydro.sea
+    current = None if sea is None else sea.current
+    if current is None:
+        return (nodes, np.zeros((0, 3), np.int64), np.zeros(0), np.zeros(0), np.zeros(2),
+                still, still)
+    return (nodes, np.ascontiguousarray(lines.nodal_dofs, np.int64),
+            np.asarray(current.z, float), np.asarray(current.speeds, float),
+            np.asarray(current.direction, float)[:2], np.zeros(nodes.shape), still)
 
 
 def _refuse(why):
@@ -260,7 +278,7 @@ class CompiledStep:
                      + tuple(np.zeros(n) for _ in range(12))
                      + (np.zeros((BROYDEN_HISTORY, n)), np.zeros(BROYDEN_HISTORY)))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
-        self._still = np.zeros((len(lines.points), 3))
+        self.water = _steady_current(lines, hydro)
         self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
 
     def _terms(self):
@@ -327,7 +345,7 @@ class CompiledStep:
         lines_out = np.empty((2, count, system.lines.ndofs))
         ends_out = np.empty((count, 2, len(system.fairlead_dofs), 3))
         cable, hydro, has_hydro, bed, has_bed = self._terms()
-        model = (self.topology, cable, hydro, has_hydro, bed, has_bed, self._still,
+        model = (self.topology, cable, hydro, has_hydro, bed, has_bed, self.water,
                  self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
                  self.damped, self.width, self.forms)
         done, code = _run(x, v, a, force_old, h, np.asarray(times, float), self.scheme,
@@ -586,7 +604,7 @@ def _residual(x, v, model, inputs, tangent, work, R):
     cable residual in work[2] (``coupling.System.residual``, one body per 6 DOFs). False
     (nothing computed) when a node of a line with a SurfaceTerm comes within half a
     diameter of the surface: the step is then Python's."""
-    (topology, cable, hydro, has_hydro, bed, has_bed, still, points, bodies, prescribed_dofs,
+    (topology, cable, hydro, has_hydro, bed, has_bed, water, points, bodies, prescribed_dofs,
      _, _, _, _, _, forms) = model
     loads, pres_u, pres_v, t = inputs
     position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
@@ -620,9 +638,18 @@ def _residual(x, v, model, inputs, tangent, work, R):
            blocks_K, blocks_C, 1.0)
     if has_hydro:
         hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
-        waves = x.size < 0  # still water: False as a plain bool (a literal compiles again)
-        _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
-                 waves, full, blocks_K, blocks_C)
+        waves = x.size < 0  # no waves: False as a plain bool (a literal compiles again)
+        nodes, nodal_dofs, heights, speeds, heading, flow, still = water
+        if heights.size:  # a steady current at the displaced nodes (Current.velocity)
+            for p in range(nodes.shape[0]):
+                speed = _interp(nodes[p, 2] + u[nodal_dofs[p, 2]], heights, speeds)
+                flow[p, 0] = speed * heading[0]
+                flow[p, 1] = speed * heading[1]
+            _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, flow, still,
+                     waves, full, blocks_K, blocks_C)
+        else:
+            _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
+                     waves, full, blocks_K, blocks_C)
     if has_bed:
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, stride = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
@@ -975,6 +1002,19 @@ def _broyden(dx, history, squares, stored):
         dx[i] *= scale
         size = max(size, abs(dx[i]))
     return size if math.isfinite(size) else np.inf
+
+
+@njit(cache=True, no_cpython_wrapper=True)
+def _interp(z, heights, speeds):
+    """np.interp(z, heights, speeds): linear in between, constant beyond the ends."""
+    if z <= heights[0]:
+        return speeds[0]
+    last = heights.size - 1
+    if z >= heights[last]:
+        return speeds[last]
+    k = np.searchsorted(heights, z) - 1
+    w = (z - heights[k]) / (heights[k + 1] - heights[k])
+    return speeds[k] + w * (speeds[k + 1] - speeds[k])
 
 
 @njit(cache=True, no_cpython_wrapper=True)
