@@ -35,6 +35,7 @@ PHYSICS = {
     "skmoor/lines/laws.py": ["tests/lines/test_laws.py", "tests/lines/test_user_law.py",
                              "tests/lines/test_creep.py"],
     "skmoor/lines/catenary.py": ["tests/lines/test_catenary_limits.py",
+                                 "tests/lines/test_catenary_closed_forms.py",
                                  "tests/lines/test_catenary.py",
                                  "tests/lines/test_curve_catenary.py",
                                  "tests/lines/test_chain_statics.py"],
