@@ -36,6 +36,7 @@ PHYSICS = {
                              "tests/lines/test_creep.py",
                              "tests/lines/test_laws_closed_forms.py"],
     "skmoor/lines/catenary.py": ["tests/lines/test_catenary_limits.py",
+                                 "tests/lines/test_catenary_closed_forms.py",
                                  "tests/lines/test_catenary.py",
                                  "tests/lines/test_curve_catenary.py",
                                  "tests/lines/test_chain_statics.py"],

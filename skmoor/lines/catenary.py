@@ -420,13 +420,9 @@ class _Elasticity:
         return np.sign(V) * total if odd else total
 
     def x_integral(self, H, V):
-        if self.linear:
-            return self.b[0] * H * np.asarray(V, float)
         return self._integral(lambda c: self.a * _h_asinh(H, c) + self.b * H * c, V, H, True)
 
     def z_integral(self, H, V):
-        if self.linear:
-            return 0.5 * self.b[0] * np.asarray(V, float) ** 2
         return self._integral(lambda c: self.a * np.hypot(H, c) + 0.5 * self.b * c * c,
                               V, H, False)
 
