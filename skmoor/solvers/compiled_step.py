@@ -269,14 +269,15 @@ class CompiledStep:
                         np.zeros(nb, np.int64))
         # the step's scratch (made once, not per step): the lines' u, ud, full residual and
         # element blocks, the body ends' J and S; R, B, a1, v1, M a, C v, the line search's
-        # trial and correction, the predictors x_pred, v_pred, the old inertia, the iterate;
-        # Broyden's corrections and their squared norms
+        # trial and correction, the predictors x_pred, v_pred, the old inertia, the iterate
         ends = len(system.dofs.body_flat)
         self.work = ((np.zeros(ndofs), np.zeros(ndofs), np.zeros(ndofs),
                       np.zeros((nel, nloc, nloc)), np.zeros((nel, nloc, nloc)),
                       np.zeros((ends, 6)), np.zeros((ends, 6)))
-                     + tuple(np.zeros(n) for _ in range(12))
-                     + (np.zeros((BROYDEN_HISTORY, n)), np.zeros(BROYDEN_HISTORY)))
+                     + tuple(np.zeros(n) for _ in range(12)))
+        # Broyden's corrections and their squared norms (apart from work, which every call
+        # of the residual carries)
+        self.broyden = (np.zeros((BROYDEN_HISTORY, n)), np.zeros(BROYDEN_HISTORY))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self.water = _steady_current(lines, hydro)
         self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
@@ -354,7 +355,7 @@ class CompiledStep:
                           self.report_dofs, self.resting, self.held, lines_out,
                           ends_out.reshape(count, -1),
                           np.zeros(len(x)) if trend is None else np.array(trend[0], float),
-                          0.0 if trend is None else float(trend[1]))
+                          0.0 if trend is None else float(trend[1]), self.broyden)
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
@@ -366,7 +367,7 @@ class CompiledStep:
 @njit(cache=True)
 def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, pres_v,
          driven, pres_a, factors, state, work, out, iterations, report, report_dofs, resting,
-         held, lines_out, ends_out, a_prev, h_prev):
+         held, lines_out, ends_out, a_prev, h_prev, broyden):
     """Steps of h from (x, v, a, force = C v + R), step i to times[i] (s) with the inputs
     loads[i], pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free
     DOFs, N; empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
@@ -375,7 +376,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
     report_dofs, minus the held ends' inertia ``held`` with the prescribed ends'
     accelerations pres_a[i]) into ends_out[i] (report[i] set to 0 when a line is at the
     surface: the caller computes them). a_prev: the acceleration one step (h_prev s) before
-    (x, v, a), for the first guess (h_prev 0: none; overwritten). Returns (the steps done,
+    (x, v, a), for the first guess (h_prev 0: none; overwritten); broyden: the scratch of
+    :func:`_broyden`. Returns (the steps done,
     the failed step's code: 0 Newton did not converge, -1 a correction not finite, -2 a line
     at the surface, 1 none failed)."""
     am, af, beta, gamma = scheme
@@ -385,7 +387,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         it = _advance(x, v, a, force, h, scheme, tol, maxiter, model,
                       (loads[i], pres_u[i], pres_v[i], times[i]), driven[i], factors, state,
-                      work, x1, a_prev, h_prev)
+                      work, x1, a_prev, h_prev, broyden)
         if it <= 0:
             return i, it
         iterations[i] = it
@@ -866,7 +868,7 @@ def _solve(B, factors, width):
 
 @njit(cache=True, no_cpython_wrapper=True)
 def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driven, factors,
-             state, work, x1, a_prev, h_prev):
+             state, work, x1, a_prev, h_prev, broyden):
     """One step of ``dynamics.integrate`` (its ``advance``) with the prescribed ends'
     inertia on the free DOFs ``driven`` (M_fp a_p, N; empty: none), x1 the solution: modified
     Newton from constant acceleration plus the trend of a_prev, h_prev s before
@@ -898,7 +900,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     previous = scale = np.inf
     used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
     stalls = 0
-    history, squares = work[19], work[20]
+    history, squares = broyden
     stored = 0
     for it in range(1, maxiter + 1):
         code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent,
