@@ -295,7 +295,7 @@ class CompiledStep:
             b = self.bed
             bed = (b.X, b.ends, b.h, b.n, b.offset, b.k, b.c, b.onset, b.mu_a, b.mu_l, b.v0,
                    b.friction, b.stride)
-        key = tuple(id(a) for part in (cable, hydro, bed) for a in part)
+        key = tuple(map(id, cable + hydro + bed))
         if self._terms_cache[0] != key:
             arrays = (_contiguous(cable), _contiguous(hydro), _contiguous(bed))
             # kept while the kernels hold these very arrays, unless a conversion copied a
