@@ -80,7 +80,7 @@ def _steady_current(lines, hydro):
     still = np.zeros(nodes.shape)
     sea = None if hydro is None else hydro.sea
     current = None if sea is None else sea.current
-    if current is None:
+    if current is None:  # (flow: still water too)
         return (nodes, np.zeros((0, 3), np.int64), np.zeros(0), np.zeros(0), np.zeros(2),
                 still, still)
     return (nodes, np.ascontiguousarray(lines.nodal_dofs, np.int64),
@@ -642,16 +642,12 @@ def _residual(x, v, model, inputs, tangent, work, R):
         hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
         waves = x.size < 0  # no waves: False as a plain bool (a literal compiles again)
         nodes, nodal_dofs, heights, speeds, heading, flow, still = water
-        if heights.size:  # a steady current at the displaced nodes (Current.velocity)
-            for p in range(nodes.shape[0]):
-                speed = _interp(nodes[p, 2] + u[nodal_dofs[p, 2]], heights, speeds)
-                flow[p, 0] = speed * heading[0]
-                flow[p, 1] = speed * heading[1]
-            _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, flow, still,
-                     waves, full, blocks_K, blocks_C)
-        else:
-            _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, still, still,
-                     waves, full, blocks_K, blocks_C)
+        for p in range(nodal_dofs.shape[0]):  # a steady current at the displaced nodes
+            speed = _interp(nodes[p, 2] + u[nodal_dofs[p, 2]], heights, speeds)
+            flow[p, 0] = speed * heading[0]  # (Current.velocity; no current: flow is still)
+            flow[p, 1] = speed * heading[1]
+        _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, flow, still,
+                 waves, full, blocks_K, blocks_C)
     if has_bed:
         X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, stride = bed
         _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
