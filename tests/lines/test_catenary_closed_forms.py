@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 from moorpy.Catenary import catenary as moorpy_catenary
 from scipy.integrate import quad
+from test_catenary import measured_sag_ratio
 
 from skmoor import laws
 from skmoor.lines.catenary import (
@@ -342,18 +343,6 @@ def test_curve_law_profile_stretches_by_the_table_s_strain(anchor, fairlead, L, 
         np.testing.assert_allclose(slope, expected, rtol=0, atol=1e-8)
 
 
-def sampled_sag_ratio(line):
-    """d/l from 20001 sampled points: where the profile crosses the perpendicular to the
-    chord at mid-chord, in the line's vertical plane (below the chord positive)."""
-    chord_vector = line.fairlead - line.anchor
-    chord = np.linalg.norm(chord_vector)
-    along = chord_vector / chord
-    below = np.cross(along, np.cross([0.0, 0.0, -1.0], along))
-    below /= np.linalg.norm(below)
-    points = line.position(np.linspace(0.0, line.L, 20001)) - line.anchor
-    return np.interp(0.5 * chord, points @ along, points @ below) / chord
-
-
 @pytest.mark.parametrize("span, rise, EA, ratio, seabed", [
     (80.0, 50.0, 1e4, 0.3, True),  # stretched 40 %, on a bed
     (50.0, -30.0, 1e4, 0.15, False),  # stretched, fairlead below: shorter than the chord
@@ -367,7 +356,7 @@ def test_sag_ratio_of_a_stretchy_line_is_met(span, rise, EA, ratio, seabed):
     fairlead = [span, 0.0, anchor[2] + rise]
     line = solve_catenary(anchor, fairlead, 200.0, EA, sag_ratio=ratio,
                           seabed_z=anchor[2] if seabed else None)
-    assert sampled_sag_ratio(line) == pytest.approx(ratio, rel=1e-6)
+    assert measured_sag_ratio(line) == pytest.approx(ratio, rel=1e-6)
     assert (line.laid_length > 0.0) == seabed
     assert line.strain(max(line.T_anchor, line.T_fairlead)) < 1.0
 
@@ -439,7 +428,7 @@ def test_sag_near_the_branch_limit_needs_a_line_too_long_for_its_stiffness():
     of hanging line already reach a strain of 1: 0.09 is met, 0.0999 is refused."""
     anchor, fairlead, w, EA = [0.0, 0.0, -100.0], [20.0, 0.0, 0.0], 200.0, 1e5
     line = solve_catenary(anchor, fairlead, w, EA, sag_ratio=0.09)
-    assert sampled_sag_ratio(line) == pytest.approx(0.09, rel=1e-6)
+    assert measured_sag_ratio(line) == pytest.approx(0.09, rel=1e-6)
     with pytest.raises(ValueError, match="^sag_ratio:"):
         solve_catenary(anchor, fairlead, w, EA, sag_ratio=0.0999)
 
