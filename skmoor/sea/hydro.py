@@ -657,7 +657,7 @@ class PointDrag(Term):
     reference position plus its displacement, without its gradient)."""
 
     acts_on = "points"
-    why_python = "moving water (waves, water fields, or a current on bending lines)"
+    why_python = "moving water (waves, water fields or a current)"
 
     def __init__(self, point, CdA, rho=1025.0, sea=None):
         self.point, self.CdA, self.rho, self.sea = int(point), float(CdA), float(rho), sea

@@ -168,7 +168,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             subdivided += 1  # (the split left its last half's trend)
         else:
             commit(t1, out[0], out[1])
-            stepper.trend = (a, dt)  # (stepper.accepted, inlined: a call per step)
+            stepper.trend = (a, dt)  # stepper.accepted(a, dt), inline
         x, v, a, force_old, G = out
         t = t1
         turned = rebase(x, v) if rebase is not None else None
@@ -465,7 +465,8 @@ class _Stepper:
             return B, A
 
         # first guess: constant acceleration and the last step's jerk; should modified Newton
-        # stall from it, the step again from constant velocity (robust on stiff axial modes) with a line search
+        # stall from it, the step again from constant velocity (robust on stiff axial
+        # modes) with a line search
         guess = self.first_guess(x, v, a, h)
         x1, it = _newton(balance, guess, x, matrix, self.tol, self.maxiter, full=False)
         if x1 is None or x1 is False:
