@@ -275,3 +275,94 @@ def test_still_sea_has_a_flat_surface_of_the_points_and_times_shape():
     assert Sea(30.0).elevation(xy, np.zeros((2, 1))).shape == (2, 4)
     assert Sea(30.0).elevation(np.zeros((2, 5, 2)), 1.0).shape == (2, 5)
     assert not Sea(30.0).elevation(xy, 3.0).any()
+
+
+def test_very_long_waves_travel_at_the_shallow_water_speed():
+    """k h << 1 (a semidiurnal tide over the ocean and a shelf, a 10-day and a monthly wave
+    in a metre of water, k h down to 1e-6): k = k0 (1 + (k0 h)^2 / 6) with
+    k0 = omega / sqrt(g h), celerity sqrt(g h)."""
+    for period, depth in ((44714.0, 4000.0), (44714.0, 50.0), (864000.0, 1.0),
+                          (2.6e6, 1.0)):
+        omega = 2 * np.pi / period
+        k0 = omega / np.sqrt(G * depth)
+        k = wavenumber(np.array([omega]), depth)[0]
+        assert k0 * depth < 3e-3
+        assert k == pytest.approx(k0 * (1 + (k0 * depth) ** 2 / 6), rel=1e-9)
+        assert omega / k == pytest.approx(np.sqrt(G * depth), rel=2e-6)
+
+
+def test_pierson_moskowitz_peak_value_and_no_division_at_zero_frequency():
+    """gamma = 1: int shape = 1/5, so S(fp) = Hs^2 / 16 * 5 Tp exp(-5/4); S = 0 at f <= 0,
+    evaluated without dividing by zero."""
+    import warnings
+
+    Hs, Tp = 2.0, 10.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        S = jonswap_spectrum(np.array([0.0, -0.05, 0.1]), Hs, Tp, gamma=1.0)
+    assert S[0] == 0.0 and S[1] == 0.0
+    assert S[2] == pytest.approx(Hs**2 / 16 * 5 * Tp * np.exp(-1.25), rel=1e-9)
+
+
+def test_exact_number_types_give_the_float_kinematics():
+    """Positions, times, phases and profiles given as Fraction or Decimal (as read from
+    an exact-number parser) are numbers like any other: the textbook Airy values."""
+    from decimal import Decimal
+    from fractions import Fraction
+
+    wave = AiryWave(3.0, 9.0, 40.0, heading_deg=30.0, phase=Fraction(2, 5))
+    point, t = np.array([12.0, -7.0, -9.0]), 2.7
+    eta, u, dudt = airy(1.5, 9.0, 40.0, 30.0, 0.4, point, t)
+    for kind in (Fraction, Decimal):
+        exact = [kind(12), kind(-7), kind(-9)]
+        time = Fraction(27, 10) if kind is Fraction else Decimal("2.7")
+        v, a = wave.kinematics(exact, time)
+        assert np.allclose(v, u, rtol=1e-12, atol=1e-14)
+        assert np.allclose(a, dudt, rtol=1e-12, atol=1e-14)
+        assert wave.elevation(exact, time) == pytest.approx(eta, rel=1e-12, abs=1e-14)
+        sea = Sea(40.0, waves=[wave], current=Current(0.5))
+        assert sea.elevation(exact, time) == pytest.approx(eta, rel=1e-12, abs=1e-14)
+        assert np.allclose(sea.velocity(exact, time), u + [0.5, 0.0, 0.0], rtol=1e-12)
+        assert np.allclose(sea.acceleration(exact, time), dudt, rtol=1e-12, atol=1e-14)
+    k = wavenumber([Fraction(1, 2), Fraction(1, 1)], 40.0)
+    assert np.allclose(G * k * np.tanh(k * 40.0), [0.25, 1.0], rtol=1e-13)
+    S = jonswap_spectrum([Fraction(1, 10)], 2.0, 10.0, gamma=1.0)
+    assert S[0] == pytest.approx(4.0 / 16 * 5 * 10.0 * np.exp(-1.25), rel=1e-9)
+    profile = Current(profile=[(Fraction(-10), Fraction(1, 2)), (Decimal(0), Decimal(1))])
+    assert np.allclose(profile.velocity([0.0, 0.0, Fraction(-5)]), [0.75, 0.0, 0.0],
+                       rtol=1e-14)
+
+
+@pytest.mark.parametrize("build, field", [
+    (lambda: Current(0.5, heading_deg=np.nan), "Current heading_deg"),
+    (lambda: Current(profile=[(0.0, 1.0), (-5.0, np.inf)]), "Current profile"),
+    (lambda: Current(profile=[0.0, 1.0]), "Current profile"),
+    (lambda: Current(0.5).velocity(np.zeros((2, 2))), "Current.velocity"),
+    (lambda: AiryWave(1.0, 8.0, -40.0), "AiryWave depth"),
+    (lambda: AiryWave(1.0, 8.0, 40.0, g=0.0), "AiryWave g"),
+    (lambda: AiryWave(1.0, 8.0, 40.0, heading_deg=np.inf), "AiryWave heading_deg"),
+    (lambda: AiryWave(1.0, 8.0, 40.0, phase=np.nan), "AiryWave phase"),
+    (lambda: AiryWave(1.0, 8.0, 40.0).velocity(np.zeros(2)), "AiryWave"),
+    (lambda: JonswapWave(1.0, 8.0, 40.0, n_components=3).kinematics(np.zeros((4, 4))),
+     "JonswapWave"),
+    (lambda: jonswap_spectrum(0.1, 0.0, 8.0), "jonswap_spectrum Hs"),
+    (lambda: jonswap_spectrum(0.1, 1.0, np.nan), "jonswap_spectrum Tp"),
+    (lambda: JonswapWave(-1.0, 8.0, 40.0), "JonswapWave Hs"),
+    (lambda: JonswapWave(1.0, 0.0, 40.0), "JonswapWave Tp"),
+    (lambda: JonswapWave(1.0, 8.0, 40.0, gamma=0.0), "JonswapWave gamma"),
+    (lambda: JonswapWave(1.0, 8.0, 0.0), "JonswapWave depth"),
+    (lambda: Sea(50.0, rho=np.nan), "Sea rho"),
+    (lambda: Sea(50.0, g=np.inf), "Sea g"),
+    (lambda: Sea(50.0, g=-1.0), "Sea g"),
+    (lambda: Sea(50.0, current="strong"), "Sea current.*str"),
+    (lambda: Sea(50.0, waves=[AiryWave(1.0, 6.0, 50.0), "big"]), r"Sea waves\[1\].*str"),
+    (lambda: Sea(50.0, waves=[AiryWave(1.0, 6.0, 50.0, g=9.8)]), r"Sea waves\[0\]"),
+    (lambda: Sea(50.0, fields=[object()]), r"Sea fields\[0\].*object"),
+    (lambda: Sea(50.0).kinematics(np.zeros((2, 2))), "Sea.kinematics"),
+    (lambda: Sea(50.0).velocity(np.zeros((2, 2))), "Sea.velocity"),
+    (lambda: Sea(50.0).acceleration(np.zeros((2, 2))), "Sea.acceleration"),
+])
+def test_bad_input_names_the_field_it_came_in(build, field):
+    """Each rejected input's error names the argument (and for a wrong object, its type)."""
+    with pytest.raises(ValueError, match=field):
+        build()
