@@ -1034,7 +1034,4 @@ def _distance(a, b):
 
 @njit(cache=True, no_cpython_wrapper=True)
 def _norm(b):
-    s = 0.0
-    for i in range(b.size):
-        s += b[i] * b[i]
-    return math.sqrt(s)
+    return math.sqrt(_dot(b, b))

@@ -181,7 +181,7 @@ def test_modified_newton_leaves_a_cycle_for_the_line_search():
     assert x is not None and abs(x[0]) < 1e-12
 
 
-def test_broyden_corrections_follow_a_changing_tangent(monkeypatch):
+def test_broyden_corrections_solve_a_linear_system_in_2n_steps(monkeypatch):
     """Broyden's corrections on a kept matrix solve a linear system A x = b from the
     identity in at most 2 n steps (Gay 1979); the first correction is the kept matrix's
     own. (The guard against large scalings, which makes a new matrix, is lifted here.)"""
