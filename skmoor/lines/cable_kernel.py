@@ -39,7 +39,8 @@ class CableKernel:
         self.weight = lineset.cable_basis.dx[:, 0]  # quadrature weight = h
         t = lineset.mesh.t
         nodal = lineset.nodal_dofs
-        self.dofs_i, self.dofs_j = nodal[t[0]], nodal[t[1]]  # (nel, 3)
+        # (nel, 3) each, int64 as the compiled step takes them: one compiled signature
+        self.dofs_i, self.dofs_j = (np.asarray(nodal[t[k]], np.int64) for k in (0, 1))
         self.ndofs = lineset.ndofs
         self.pattern = ElementPattern(lineset)
         self._no_velocity = np.zeros(self.ndofs)

@@ -34,6 +34,8 @@ import math
 import numpy as np
 import scipy.sparse as sp
 from numba import cfunc, njit
+from numba.core import types
+from numba.experimental import structref
 
 from ..bodies.body import rotation_and_slopes
 from ..fem.form_compiler import POINTWISE_SIGNATURE, STEP_SIGNATURE
@@ -59,6 +61,23 @@ if (CONTRACTION, STALL, LINE_SEARCH, BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYD
 last_refusal = ""  # why the last build() returned None
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
 SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
+
+
+@structref.register
+class _StepDataType(types.StructRef):
+    """numba's type of :class:`_StepData`."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(kind)) for name, kind in fields)
+
+
+class _StepData(structref.StructRefProxy):
+    """The model, scratch and factors of one compiled step, passed by reference: the
+    functions of the step take this one pointer, not their hundreds of arrays (a tuple of
+    arrays is passed member by member, and numba's compile time grows with that)."""
+
+
+structref.define_proxy(_StepData, _StepDataType, ["model", "work", "factors"])
 
 # stand-ins for an absent term (the compiled loop gets the same argument types)
 NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 1)),
@@ -383,11 +402,12 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
     am, af, beta, gamma = scheme
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
     mass = model[10][0]
+    data = _StepData(model, work, factors)
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
-        it = _advance(x, v, a, force, h, scheme, tol, maxiter, model,
-                      (loads[i], pres_u[i], pres_v[i], times[i]), driven[i], factors, state,
-                      work, x1, a_prev, h_prev, broyden)
+        it = _advance(x, v, a, force, h, scheme, tol, maxiter, data,
+                      (loads[i], pres_u[i], pres_v[i], times[i]), driven[i], state,
+                      x1, a_prev, h_prev, broyden)
         if it <= 0:
             return i, it
         iterations[i] = it
@@ -399,12 +419,12 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
         for j in range(x.size):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
         if report[i] > 0:
-            report[i] = _report(x1, v1, model, (loads[i], pres_u[i], pres_v[i], times[i]),
-                                work, report_dofs, resting, lines_out[0, i],
+            report[i] = _report(x1, v1, data, (loads[i], pres_u[i], pres_v[i], times[i]),
+                                report_dofs, resting, lines_out[0, i],
                                 lines_out[1, i], ends_out[i])
             if report[i] > 0:
                 _less_held_inertia(held, a1, pres_a[i], ends_out[i])
-        a_prev[:] = a
+        _copy(a_prev, a)
         h_prev = h
         x, v, a, force = x1, v1, a1, force1
     return out.shape[1], 1
@@ -460,15 +480,16 @@ def _less_held_inertia(held, a, driven, ends):
 
 
 @njit(cache=True, no_cpython_wrapper=True)
-def _report(x, v, model, inputs, work, report_dofs, resting, u, ud, ends):
+def _report(x, v, data, inputs, report_dofs, resting, u, ud, ends):
     """The full line state (u, ud) at (x, v) and the end forces -R_full[report_dofs]
     (N) plus the flat bed's support of held ends resting on it (``resting``, from
     :func:`_resting`): 1, or 0 when a line is at the surface (nothing computed)."""
     no = x.size < 0  # False as a plain bool: a literal False would compile _residual again
-    if not _residual(x, v, model, inputs, no, work, work[7]):
+    work = data.work
+    if not _residual(x, v, data, inputs, no, work[7]):
         return 0
-    u[:] = work[0]
-    ud[:] = work[1]
+    _copy(u, work[0])
+    _copy(ud, work[1])
     for k in range(report_dofs.size):
         ends[k] = -work[2][report_dofs[k]]
     rows, dofs, height, pressing, stiffness, normal = resting
@@ -598,7 +619,7 @@ def _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud):
 
 # (over 100 lines: the residual of every lowered kind in one compiled pass over the state)
 @njit(cache=True, no_cpython_wrapper=True)
-def _residual(x, v, model, inputs, tangent, work, R):
+def _residual(x, v, data, inputs, tangent, R):
     """R(x, v, t) reduced (N, N m) into R, with the inputs (body loads, prescribed
     displacements and velocities, the time t) of the step; with ``tangent`` the element
     blocks d/du, d/dv in
@@ -607,7 +628,8 @@ def _residual(x, v, model, inputs, tangent, work, R):
     (nothing computed) when a node of a line with a SurfaceTerm comes within half a
     diameter of the surface: the step is then Python's."""
     (topology, cable, hydro, has_hydro, bed, has_bed, water, points, bodies, prescribed_dofs,
-     _, _, _, _, _, forms) = model
+     _, _, _, _, _, forms) = data.model
+    work = data.work
     loads, pres_u, pres_v, t = inputs
     position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
@@ -719,10 +741,12 @@ def _combine(out, a, A, b, B):
 
 
 @njit(cache=True, no_cpython_wrapper=True)
-def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, damped, width,
-              factors):
+def _assemble(x, v, data, cx, cv, af):
     """The Newton matrix cx M + (1 - af)(cv (C + Kv) + K) into the factor arrays, from
     the blocks and Jacobians :func:`_residual` left in ``work``."""
+    model, work, factors = data.model, data.work, data.factors
+    topology, points, bodies, forms = model[0], model[7], model[8], model[15]
+    M, C, damped, width = model[11], model[12], model[13], model[14]
     position, end_row, end_body, end_dofs, r_local, edofs, nf = topology[:7]
     full, Ke, Ce, J, S = work[2], work[3], work[4], work[5], work[6]
     ab, E, F, D = factors[0], factors[1], factors[2], factors[3]
@@ -815,19 +839,18 @@ def _assemble(x, v, topology, points, bodies, forms, work, cx, cv, af, M, C, dam
 
 
 @njit(cache=True, no_cpython_wrapper=True)
-def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, factors,
-             state, work, B):
+def _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, state, B):
     """-(the alpha-level balance at x1 = y) into B (``dynamics.integrate``'s balance), and
     with ``tangent`` its Newton matrix into ``factors``, factorized. Returns SOLVED,
     SINGULAR (the matrix) or SURFACE (a line reached the free surface: Python's step)."""
     am, af, beta, gamma = scheme
-    topology, points, bodies, products, M, C, damped, width = (
-        model[0], model[7], model[8], model[10], model[11], model[12], model[13], model[14])
+    model, work, factors = data.model, data.work, data.factors
+    products, damped, width = model[10], model[13], model[14]
     R, a1, v1, Ma, Cv = work[7], work[9], work[10], work[11], work[12]
     for i in range(y.size):
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
         v1[i] = v_pred[i] + gamma * h * a1[i]
-    if not _residual(y, v1, model, inputs, tangent, work, R):
+    if not _residual(y, v1, data, inputs, tangent, R):
         return SURFACE
     _product(products[0], a1, Ma)
     if damped:
@@ -837,8 +860,7 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent, 
                  + inertia_old[i])
     if not tangent:
         return SOLVED
-    _assemble(y, v1, topology, points, bodies, model[15], work, (1 - am) / (beta * h * h),
-              gamma / (beta * h), af, M, C, damped, width, factors)
+    _assemble(y, v1, data, (1 - am) / (beta * h * h), gamma / (beta * h), af)
     ab, E, F, D, piv_band, piv_schur = factors
     state[2] += 1.0
     if not bordered.factor(ab, width, E, F, D, piv_band, piv_schur):
@@ -863,8 +885,8 @@ def _solve(B, factors, width):
 
 
 @njit(cache=True, no_cpython_wrapper=True)
-def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driven, factors,
-             state, work, x1, a_prev, h_prev, broyden):
+def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, data, inputs, driven, state,
+             x1, a_prev, h_prev, broyden):
     """One step of ``dynamics.integrate`` (its ``advance``) with the prescribed ends'
     inertia on the free DOFs ``driven`` (M_fp a_p, N; empty: none), x1 the solution: modified
     Newton from constant acceleration plus the trend of a_prev, h_prev s before
@@ -872,6 +894,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     backtracking line search from constant velocity. Returns the iterations used, 0 when
     Newton does not converge in maxiter, -1 when a correction is not finite."""
     am, af, beta, gamma = scheme
+    model, work, factors = data.model, data.work, data.factors
     width = model[14]
     n = x0.size
     B, Ma, trial, dx = work[8], work[11], work[13], work[14]
@@ -899,8 +922,8 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
     history, squares = broyden
     stored = 0
     for it in range(1, maxiter + 1):
-        code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, tangent,
-                        factors, state, work, B)
+        code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent,
+                        state, B)
         if code == SURFACE:
             return -2
         if code == SINGULAR:
@@ -910,7 +933,8 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
             stored = 0
         size = _solve(B, factors, width)
         if math.isfinite(size) and stored > 0:
-            size = _broyden(B, history, squares, stored)
+            size = _broyden(B, history, squares, stored + 0)  # (+ 0: an int64 even
+            # where stored is a literal 0, which would compile _broyden again)
             if size < 0.0:  # the secant update is degenerate: a new matrix at y
                 tangent, stored = True, 0
                 continue
@@ -922,7 +946,7 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
         if it == 1:  # the step's change, to scale the tolerance
             scale = _distance(y, x0)
         if size <= tol * scale + 1e-12:
-            x1[:] = y
+            _copy(x1, y)
             return it
         if tangent and it > 1 and size > STALL * previous:
             stalls += 1
@@ -941,15 +965,15 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
         y[i] = x0[i] + h * v0[i]
     yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
     previous = np.inf
-    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, yes, factors,
-                    state, work, B)
+    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes,
+                    state, B)
     norm = _norm(B)
     for it in range(1, maxiter + 1):
         if code == SURFACE:
             return -2
         if code == SINGULAR:
             return -1
-        dx[:] = B
+        _copy(dx, B)
         size = _solve(dx, factors, width)
         if not math.isfinite(size):
             return -1
@@ -958,12 +982,12 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
         if it == 1:
             scale = _distance(trial, x0)
         if size <= tol * scale + 1e-12:
-            x1[:] = trial
+            _copy(x1, trial)
             return used + it
         length = 1.0
         for halving in range(LINE_SEARCH + 1):
-            code = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, model, inputs,
-                            no, factors, state, work, B)
+            code = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, data, inputs,
+                            no, state, B)
             if code == SURFACE:
                 return -2
             norm_try = _norm(B)
@@ -973,12 +997,12 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, model, inputs, driv
             length *= 0.5
             for i in range(n):
                 trial[i] = y[i] + length * dx[i]
-        y[:] = trial
+        _copy(y, trial)
         slow = halving == LINE_SEARCH or size > CONTRACTION * previous
         previous = size
         if slow and math.isfinite(norm_try):  # a new matrix where the search stopped
-            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, model, inputs, yes,
-                            factors, state, work, B)
+            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes,
+                            state, B)
         norm = norm_try
     return 0
 
@@ -1013,6 +1037,13 @@ def _interp(z, heights, speeds):
     k = np.searchsorted(heights, z) - 1
     w = (z - heights[k]) / (heights[k + 1] - heights[k])
     return speeds[k] + w * (speeds[k + 1] - speeds[k])
+
+
+@njit(cache=True, no_cpython_wrapper=True)
+def _copy(out, a):
+    """out[:] = a, for arrays of one size (without the slice's shape check and its message)."""
+    for i in range(out.size):
+        out[i] = a[i]
 
 
 @njit(cache=True, no_cpython_wrapper=True)
