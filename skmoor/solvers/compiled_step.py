@@ -403,6 +403,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
     mass = model[10][0]
     data = _StepData(model, work, factors)
+    no = x.size < 0  # False as a plain bool: a literal False would compile _residual again
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         it = _advance(x, v, a, force, h, scheme, tol, maxiter, data,
@@ -418,12 +419,14 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
         _product(mass, a1, Ma1)
         for j in range(x.size):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
-        if report[i] > 0:
-            report[i] = _report(x1, v1, data, (loads[i], pres_u[i], pres_v[i], times[i]),
-                                report_dofs, resting, lines_out[0, i],
-                                lines_out[1, i], ends_out[i])
-            if report[i] > 0:
+        if report[i] > 0:  # (the residual called here, not in _report: a level less to compile)
+            if _residual(x1, v1, data, (loads[i], pres_u[i], pres_v[i], times[i]), no,
+                         work[7]):
+                _report(work, report_dofs, resting, lines_out[0, i], lines_out[1, i],
+                        ends_out[i])
                 _less_held_inertia(held, a1, pres_a[i], ends_out[i])
+            else:  # a line at the surface: the caller computes them
+                report[i] = 0
         _copy(a_prev, a)
         h_prev = h
         x, v, a, force = x1, v1, a1, force1
@@ -480,14 +483,10 @@ def _less_held_inertia(held, a, driven, ends):
 
 
 @njit(cache=True, no_cpython_wrapper=True)
-def _report(x, v, data, inputs, report_dofs, resting, u, ud, ends):
-    """The full line state (u, ud) at (x, v) and the end forces -R_full[report_dofs]
-    (N) plus the flat bed's support of held ends resting on it (``resting``, from
-    :func:`_resting`): 1, or 0 when a line is at the surface (nothing computed)."""
-    no = x.size < 0  # False as a plain bool: a literal False would compile _residual again
-    work = data.work
-    if not _residual(x, v, data, inputs, no, work[7]):
-        return 0
+def _report(work, report_dofs, resting, u, ud, ends):
+    """The full line state (u, ud) and the end forces -R_full[report_dofs] (N) from the
+    residual :func:`_residual` left in ``work``, plus the flat bed's support of held ends
+    resting on it (``resting``, from :func:`_resting`)."""
     _copy(u, work[0])
     _copy(ud, work[1])
     for k in range(report_dofs.size):
@@ -501,7 +500,6 @@ def _report(x, v, data, inputs, report_dofs, resting, u, ud, ends):
             carried = max(pressing[i] - stiffness[i] * max(g, 0.0), 0.0)
             for c in range(3):
                 ends[3 * rows[i] + c] += carried * normal[c]
-    return 1
 
 
 @njit(cache=True, no_cpython_wrapper=True)
