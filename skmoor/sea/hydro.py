@@ -252,24 +252,35 @@ class LineHydroKernel(Term):
                 and not sea.fields)
 
     def lowered(self):
-        if self.moving_water and not (self.steady_current and not self.lines.hermite):
+        if self.moving_water and not self.steady_current:
             return None
         return "form" if self.lines.hermite else "morison"
 
     @property
     def step_kernel(self):
-        """On bending lines in still water, (C function, ints, floats):
+        """On bending lines in still water or a steady current, (C function, ints, floats):
         :func:`_morison_shapes` as the compiled time step calls a user's LineForm (by
         address, :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`), its arrays packed:
-        ints [nel, nqp, each shape's node (none: -1, still water), element DOFs], floats
-        [X', shapes, drag_n, drag_t, inertia_n, inertia_t - inertia_n]."""
+        ints [nel, nqp, nodes, profile points, each shape's node (none: -1; all -1 in
+        still water), element DOFs, the nodes' z DOFs], floats [X', shapes, drag_n,
+        drag_t, inertia_n, inertia_t - inertia_n, the nodes' reference z (m), the
+        current's heading (unit, horizontal), its profile's heights (m) and speeds (m/s)];
+        without a current no nodes and no profile."""
         if not self.lines.hermite:
             return None
         nel, nqp = self.kn.shape
-        ints = np.concatenate([[nel, nqp], np.full(4 * nel, -1), self.edofs.ravel()])
-        ints = ints.astype(np.int64)
+        current = self.sea.current if self.moving_water else None
+        if current is None:
+            nodes, z_dofs, z, heading, heights, speeds = (
+                np.full(4 * nel, -1), [], [], [0.0, 0.0], [], [])
+        else:
+            nodes, z_dofs, z = self.nodes.ravel(), self.nodal_dofs[:, 2], self.points[:, 2]
+            heading, heights, speeds = current.direction[:2], current.z, current.speeds
+        ints = np.concatenate([[nel, nqp, len(z_dofs), len(heights)], nodes,
+                               self.edofs.ravel(), z_dofs]).astype(np.int64)
         floats = np.concatenate([np.ravel(a) for a in (self.Xp, self.shapes, self.kn, self.kt,
-                                                       self.mn, self.dm)]).astype(float)
+                                                       self.mn, self.dm, z, heading, heights,
+                                                       speeds)]).astype(float)
         return _morison_step(), ints, floats
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
@@ -452,24 +463,50 @@ def _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, ud, water, acce
 
 
 def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
-    """:func:`_morison_shapes` in still water on the buffers of
-    ``LineHydroKernel.step_kernel`` (no shape has a node: no water to read)."""
-    nel, nqp = ints[0], ints[1]
+    """:func:`_morison_shapes` in still water or a steady current (the water's velocity at
+    the displaced nodes, as Current.velocity) on the buffers of
+    ``LineHydroKernel.step_kernel``."""
+    nel, nqp, nnodes, nprofile = ints[0], ints[1], ints[2], ints[3]
     points = nel * nqp
-    buffer = carray(ints, (2 + 16 * nel,))
-    still = buffer[2:2 + 4 * nel].reshape((nel, 4))
-    edofs = buffer[2 + 4 * nel:].reshape((nel, 12))
-    flat = carray(floats, (16 * points,))
+    buffer = carray(ints, (4 + 16 * nel + nnodes,))
+    nodes = buffer[4:4 + 4 * nel].reshape((nel, 4))
+    edofs = buffer[4 + 4 * nel:4 + 16 * nel].reshape((nel, 12))
+    z_dofs = buffer[4 + 16 * nel:]
+    flat = carray(floats, (16 * points + nnodes + 2 + 2 * nprofile,))
     Xp = flat[:3 * points].reshape((nel, nqp, 3))
     shapes = flat[3 * points:12 * points].reshape((nel, nqp, 9))
     kn = flat[12 * points:13 * points].reshape((nel, nqp))
     kt = flat[13 * points:14 * points].reshape((nel, nqp))
     mn = flat[14 * points:15 * points].reshape((nel, nqp))
-    dm = flat[15 * points:].reshape((nel, nqp))
+    dm = flat[15 * points:16 * points].reshape((nel, nqp))
+    z = flat[16 * points:16 * points + nnodes]
+    heading = flat[16 * points + nnodes:16 * points + nnodes + 2]
+    heights = flat[16 * points + nnodes + 2:16 * points + nnodes + 2 + nprofile]
+    speeds = flat[16 * points + nnodes + 2 + nprofile:]
+    u = carray(u_p, (ndofs,))
+    water = np.zeros((nnodes, 3))  # the current at the displaced nodes (none: still water)
+    for p in range(nnodes):
+        speed = current_speed(z[p] + u[z_dofs[p]], heights, speeds)
+        water[p, 0] = speed * heading[0]
+        water[p, 1] = speed * heading[1]
     blocks = nel if tangent else 0
-    _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, still, carray(u_p, (ndofs,)),
-                    carray(ud_p, (ndofs,)), Xp[0], Xp[0], False, carray(R_p, (ndofs,)),
+    _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, carray(ud_p, (ndofs,)),
+                    water, water, False, carray(R_p, (ndofs,)),
                     carray(K_p, (blocks, 12, 12)), carray(C_p, (blocks, 12, 12)))
+
+
+@njit(cache=True)
+def current_speed(z, heights, speeds):
+    """A Current's speed (m/s) at height z (m) from its profile (heights ascending, m):
+    np.interp's, linear in between and constant beyond the ends."""
+    if z <= heights[0]:
+        return speeds[0]
+    last = heights.size - 1
+    if z >= heights[last]:
+        return speeds[last]
+    k = np.searchsorted(heights, z) - 1
+    w = (z - heights[k]) / (heights[k + 1] - heights[k])
+    return speeds[k] + w * (speeds[k + 1] - speeds[k])
 
 
 @functools.cache
@@ -491,13 +528,20 @@ def _check_sea(lines, sea):
                              f"{line.name!r}'s LineType.rho_water {line.line_type.rho_water}")
 
 
-def line_hydrodynamics(lines, sea=None, *, lumped_mass=True):
+def line_hydrodynamics(lines, sea=None, *, lumped_mass=None):
     """The line term for a System on ``lines`` (a LineSet): Morison drag on the relative
     velocity, fluid inertia (when ``sea`` has waves) and added mass, coefficients from each
     line's LineType (MoorDyn v2 conventions, see the module docstring), as one compiled
     :class:`LineHydroKernel`. sea=None: still water. lumped_mass: block-lump the added
-    mass as the System lumps the line's mass (keep the two alike: bending (Hermite) lines
-    have a consistent mass, lumped_mass=False)."""
+    mass (True) or keep it consistent (False); None: as the System has the line's mass,
+    lumped on P1 lines, consistent on bending (Hermite) lines (whose slopes have no
+    lumped mass)."""
+    if lumped_mass is None:
+        lumped_mass = not lines.hermite
+    elif lumped_mass and lines.hermite:
+        raise ValueError("line_hydrodynamics lumped_mass: bending (Hermite) lines have a "
+                         "consistent mass, not a lumped one; give lumped_mass=False or "
+                         "leave it out")
     _check_sea(lines, sea)
     return LineHydroKernel(lines, sea, lumped_mass)
 

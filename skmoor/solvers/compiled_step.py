@@ -10,8 +10,8 @@ is one numba function, so that a step costs what its arithmetic costs.
 It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`)
 and bending (Hermite) lines (12 x 12 element blocks; their cable and Morison loops are
 called by address as a user's LineForm is, ``HermiteKernel.step_kernel``), MoorDyn-style
-or skmoor's Morison terms in still water (on P1 lines also in a steady current, at the
-displaced nodes), a plane sea bed, the dry part of the lines in
+or skmoor's Morison terms in still water or a steady current (at the displaced nodes),
+a plane sea bed, the dry part of the lines in
 still water (``SurfaceTerm``: zero while every node stays half a diameter
 deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
 points (buoyancy, drag in still water), small-rotation rigid bodies whose applied load
@@ -44,7 +44,7 @@ from ..fem.patterns import ElementPattern
 from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
-from ..sea.hydro import _morison
+from ..sea.hydro import _morison, current_speed
 from ..sea.seabed import _seabed
 from . import newton
 
@@ -663,7 +663,7 @@ def _residual(x, v, data, inputs, tangent, R):
         waves = x.size < 0  # no waves: False as a plain bool (a literal compiles again)
         nodes, nodal_dofs, heights, speeds, heading, flow, still = water
         for p in range(nodal_dofs.shape[0]):  # a steady current at the displaced nodes
-            speed = _interp(nodes[p, 2] + u[nodal_dofs[p, 2]], heights, speeds)
+            speed = current_speed(nodes[p, 2] + u[nodal_dofs[p, 2]], heights, speeds)
             flow[p, 0] = speed * heading[0]  # (Current.velocity; no current: flow is still)
             flow[p, 1] = speed * heading[1]
         _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, flow, still,
@@ -1022,19 +1022,6 @@ def _broyden(dx, history, squares, stored):
         dx[i] *= scale
         size = max(size, abs(dx[i]))
     return size if math.isfinite(size) else np.inf
-
-
-@njit(cache=True, no_cpython_wrapper=True)
-def _interp(z, heights, speeds):
-    """np.interp(z, heights, speeds): linear in between, constant beyond the ends."""
-    if z <= heights[0]:
-        return speeds[0]
-    last = heights.size - 1
-    if z >= heights[last]:
-        return speeds[last]
-    k = np.searchsorted(heights, z) - 1
-    w = (z - heights[k]) / (heights[k + 1] - heights[k])
-    return speeds[k] + w * (speeds[k + 1] - speeds[k])
 
 
 @njit(cache=True, no_cpython_wrapper=True)
