@@ -271,20 +271,10 @@ def history_error(code, dt, tension, ref_dt, ref):
     return float(np.max(np.abs(tension - ref[at])) / np.ptp(ref))
 
 
-def interleaved_walls(row, n, workdir):
-    """Each code's wall (s) at its step in row: the best of its search's runs and of ROUNDS
-    rounds that run every code once in turn."""
-    for _ in range(ROUNDS):
-        for code in CODES:
-            if np.isfinite(row[code]["dt"]):
-                row[code]["wall"] = min(row[code]["wall"],
-                                        run(code, n, row[code]["dt"], workdir)[0])
-
-
 def find_step(code, n, workdir):
     """Halve the step from START until the run is within TOLERANCE of the reference (the
     run at 2^REFERENCE s, or at the next larger step if that run fails). Returns
-    dict(dt, error, wall (best of 3; interleaved_walls adds its rounds), ref, ref_dt, tried)."""
+    dict(dt, error, wall (best of 3; main adds the rounds'), ref, ref_dt, tried)."""
     return steps.find_step(lambda dt: run(code, n, dt, workdir),
                            lambda dt, tension, ref_dt, ref: history_error(code, dt, tension,
                                                                           ref_dt, ref),
@@ -452,7 +442,10 @@ def main(argv=None):
                 print(f"  n={n:4d} {code:9s} dt={found['dt']:.3g} s  error={found['error']:.2%}"
                       f"  wall={found['wall']:.3f} s  reference dt={found['ref_dt']:g} s"
                       f"  (tried {tried})", flush=True)
-            interleaved_walls(row, n, workdir)
+            best = steps.interleaved_walls({code: row[code]["dt"] for code in CODES},
+                                           lambda code, dt: run(code, n, dt, workdir), ROUNDS)
+            for code in CODES:  # the search's best of 3 and the rounds'
+                row[code]["wall"] = min(row[code]["wall"], best[code])
             for code in CODES:  # the whole process at the step found, peak memory
                 row[code].update(whole_process(code, n, row[code]["dt"], workdir))
                 print(f"  n={n:4d} {code:9s} whole process {row[code]['whole']:.2f} s (its "

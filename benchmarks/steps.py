@@ -1,6 +1,7 @@
 """The benchmarks' step search: the largest step 2^k that keeps a run within a tolerance
-of the same code's run at a small step, checked at every smaller step too
-(benchmarks/scaling.py, benchmarks/volturnus.py)."""
+of the same code's run at a small step, checked at every smaller step too, and the codes'
+wall times at their steps in interleaved rounds (benchmarks/scaling.py,
+benchmarks/volturnus.py)."""
 from __future__ import annotations
 
 import numpy as np
@@ -44,3 +45,15 @@ def find_step(run, error, start, reference, tolerance, repeats=3, label="", repo
     dt, err = picked
     times = [walls[dt]] + [run(dt)[0] for _ in range(repeats - 1)]
     return dict(dt=dt, error=err, wall=min(times), ref=ref, ref_dt=ref_dt, tried=tried)
+
+
+def interleaved_walls(steps, run, rounds):
+    """{code: its best wall time (s)} at its step ``steps[code]`` (s; not finite: none,
+    nan), from ``rounds`` rounds that run every code once in turn (a load that comes and
+    goes on the machine then falls on all of them); run(code, dt) -> (wall, ...)."""
+    walls = {code: [] for code in steps}
+    for _ in range(rounds):
+        for code, dt in steps.items():
+            if np.isfinite(dt):
+                walls[code].append(run(code, dt)[0])
+    return {code: min(w) if w else np.nan for code, w in walls.items()}

@@ -314,23 +314,14 @@ def main(argv=None):
                 print(f"{code}, {n} segments per line", flush=True)
                 results[code] = (dict(dt=given[code], ref=run(code, n, given[code], workdir)[1])
                                  if given else find_step(code, n, workdir))
-            interleaved_walls(results, n, workdir)
+            best = steps.interleaved_walls({code: res["dt"] for code, res in results.items()},
+                                           lambda code, dt: run(code, n, dt, workdir), REPEATS)
+            for code, res in results.items():
+                res["wall"] = best[code]
+                print(f"    {code} n={n} dt={res['dt']:g}: timed {res['wall']:.2f} s (best of "
+                      f"{REPEATS}, interleaved)", flush=True)
             rows.append((n, results))
             report(rows, args.codes, args.write_docs and n == args.segments[-1])
-
-
-def interleaved_walls(results, n, workdir):
-    """Each code's wall time at its step, the best of REPEATS rounds that run every code
-    once in turn (a load that comes and goes on the machine then falls on all of them)."""
-    walls = {code: [] for code in results}
-    for _ in range(REPEATS):
-        for code, res in results.items():
-            if np.isfinite(res["dt"]):
-                walls[code].append(run(code, n, res["dt"], workdir)[0])
-    for code, res in results.items():
-        res["wall"] = min(walls[code]) if walls[code] else np.nan
-        print(f"    {code} n={n} dt={res['dt']:g}: timed {res['wall']:.2f} s (best of "
-              f"{REPEATS}, interleaved)", flush=True)
 
 
 def report(rows, codes, write_docs=False):
