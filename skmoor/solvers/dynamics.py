@@ -168,7 +168,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
             subdivided += 1  # (the split left its last half's trend)
         else:
             commit(t1, out[0], out[1])
-            stepper.trend = (a, dt)  # stepper.accepted(a, dt), inline
+            stepper.accepted(a, dt)
         x, v, a, force_old, G = out
         t = t1
         turned = rebase(x, v) if rebase is not None else None
