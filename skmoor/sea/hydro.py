@@ -266,8 +266,9 @@ class LineHydroKernel(Term):
         4, one per shape, -1 on a slope and all -1 in still water), element DOFs, the
         nodes' z DOFs], floats [X', (P1: h, phi, w phi; bending: shapes), drag_n, drag_t,
         inertia_n, inertia_t - inertia_n, the nodes' reference z (m), the current's heading
-        (unit, horizontal), its profile's heights (m) and speeds (m/s)]; without a current
-        no profile (and on bending lines no nodes)."""
+        (unit, horizontal), its profile's heights (m) and speeds (m/s), room for the water's
+        velocity at the nodes (nodes, 3; written by the kernel: no allocation per call)];
+        without a current no profile (and on bending lines no nodes)."""
         if self.moving_water and not self.steady_current:
             return None
         nel, nqp = self.kn.shape
@@ -285,7 +286,7 @@ class LineHydroKernel(Term):
                                self.edofs.ravel(), z_dofs]).astype(np.int64)
         floats = np.concatenate([np.ravel(a) for a in (self.Xp, *shape, self.kn, self.kt,
                                                        self.mn, self.dm, z, heading, heights,
-                                                       speeds)]).astype(float)
+                                                       speeds, np.zeros(3 * len(z)))])
         return (_morison_step if hermite else _morison_p1_step)(), ints, floats
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
@@ -477,7 +478,7 @@ def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     nodes = buffer[4:4 + 4 * nel].reshape((nel, 4))
     edofs = buffer[4 + 4 * nel:4 + 16 * nel].reshape((nel, 12))
     z_dofs = buffer[4 + 16 * nel:]
-    flat = carray(floats, (16 * points + nnodes + 2 + 2 * nprofile,))
+    flat = carray(floats, (16 * points + 4 * nnodes + 2 + 2 * nprofile,))
     Xp = flat[:3 * points].reshape((nel, nqp, 3))
     shapes = flat[3 * points:12 * points].reshape((nel, nqp, 9))
     kn = flat[12 * points:13 * points].reshape((nel, nqp))
@@ -487,9 +488,10 @@ def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     z = flat[16 * points:16 * points + nnodes]
     heading = flat[16 * points + nnodes:16 * points + nnodes + 2]
     heights = flat[16 * points + nnodes + 2:16 * points + nnodes + 2 + nprofile]
-    speeds = flat[16 * points + nnodes + 2 + nprofile:]
+    speeds = flat[16 * points + nnodes + 2 + nprofile:16 * points + nnodes + 2 + 2 * nprofile]
+    water = flat[16 * points + nnodes + 2 + 2 * nprofile:].reshape((nnodes, 3))
     u = carray(u_p, (ndofs,))
-    water = _current_at_nodes(u, z, z_dofs, heading, heights, speeds)
+    _current_at_nodes(u, z, z_dofs, heading, heights, speeds, water)
     blocks = nel if tangent else 0
     _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, carray(ud_p, (ndofs,)),
                     water, water, False, carray(R_p, (ndofs,)),
@@ -506,7 +508,7 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
     enodes = buffer[4:4 + 2 * nel].reshape((nel, 2))
     edofs = buffer[4 + 2 * nel:4 + 8 * nel].reshape((nel, 6))
     z_dofs = buffer[4 + 8 * nel:]
-    flat = carray(floats, (9 * points + nel + 2 * nqp + nnodes + 2 + 2 * nprofile,))
+    flat = carray(floats, (9 * points + nel + 2 * nqp + 4 * nnodes + 2 + 2 * nprofile,))
     Xp = flat[:3 * points].reshape((nel, nqp, 3))
     at = 3 * points
     h = flat[at:at + nel]
@@ -522,9 +524,10 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
     z = flat[at:at + nnodes]
     heading = flat[at + nnodes:at + nnodes + 2]
     heights = flat[at + nnodes + 2:at + nnodes + 2 + nprofile]
-    speeds = flat[at + nnodes + 2 + nprofile:]
+    speeds = flat[at + nnodes + 2 + nprofile:at + nnodes + 2 + 2 * nprofile]
+    water = flat[at + nnodes + 2 + 2 * nprofile:].reshape((nnodes, 3))
     u = carray(u_p, (ndofs,))
-    water = _current_at_nodes(u, z, z_dofs, heading, heights, speeds)
+    _current_at_nodes(u, z, z_dofs, heading, heights, speeds, water)
     blocks = nel if tangent else 0
     _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, carray(ud_p, (ndofs,)),
              water, water, False, carray(R_p, (ndofs,)), carray(K_p, (blocks, 6, 6)),
@@ -538,17 +541,16 @@ def _morison_p1_step():
 
 
 @njit(cache=True)
-def _current_at_nodes(u, z, z_dofs, heading, heights, speeds):
-    """(nodes, 3) water velocity (m/s) of a steady current at the displaced nodes (their
-    reference heights z, m, and z DOFs), zero without a profile (still water)."""
-    water = np.zeros((z.size, 3))
+def _current_at_nodes(u, z, z_dofs, heading, heights, speeds, water):
+    """water (nodes, 3) <- the velocity (m/s) of a steady current at the displaced nodes
+    (their reference heights z, m, and z DOFs); left as it is (zero: still water) without
+    a profile."""
     if heights.size == 0:
-        return water
+        return
     for p in range(z.size):
         speed = current_speed(z[p] + u[z_dofs[p]], heights, speeds)
         water[p, 0] = speed * heading[0]
         water[p, 1] = speed * heading[1]
-    return water
 
 
 @njit(cache=True)
