@@ -474,9 +474,9 @@ def _line_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C):
     """Adds the kernels called by address (:func:`_forms`) into the full residual and
     the element blocks."""
     functions, count, ints, floats, starts = forms[:5]
-    for k in range(count):
+    for k in range(count):  # (each form's buffers from their starts: 8-byte items)
         call_form(functions[k], u.ctypes.data, ud.ctypes.data, u.size, t,
-                  ints[starts[k, 0]:].ctypes.data, floats[starts[k, 1]:].ctypes.data,
+                  ints.ctypes.data + 8 * starts[k, 0], floats.ctypes.data + 8 * starts[k, 1],
                   full.ctypes.data, blocks_K.ctypes.data, blocks_C.ctypes.data,
                   1 if tangent else 0)
 
