@@ -75,7 +75,9 @@ class _StepData(structref.StructRefProxy):
     arrays is passed member by member, and numba's compile time grows with that)."""
 
 
-structref.define_proxy(_StepData, _StepDataType, ["model", "work", "factors"])
+structref.define_proxy(_StepData, _StepDataType, [
+    "topology", "cable", "points", "bodies", "prescribed", "products", "M", "C", "damped",
+    "width", "forms", "work", "factors"])  # the model's parts (each function reads its own)
 
 # stand-ins for an absent term (the compiled loop gets the same argument types)
 NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
@@ -369,7 +371,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
     am, af, beta, gamma = scheme
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
     mass = model[5][0]
-    data = _StepData(model, work, factors)
+    data = _StepData(*model, work, factors)
     no = x.size < 0  # False as a plain bool: a literal False would compile _residual again
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
@@ -592,8 +594,8 @@ def _residual(x, v, data, inputs, tangent, R):
     cable residual in work[2] (``coupling.System.residual``, one body per 6 DOFs). False
     (nothing computed) when a node of a line with a SurfaceTerm comes within half a
     diameter of the surface: the step is then Python's."""
-    topology, cable, points, bodies, prescribed_dofs, _, _, _, _, _, forms = data.model
-    work = data.work
+    topology, cable, points, bodies = data.topology, data.cable, data.points, data.bodies
+    prescribed_dofs, forms, work = data.prescribed, data.forms, data.work
     loads, pres_u, pres_v, t = inputs
     position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
@@ -694,9 +696,9 @@ def _combine(out, a, A, b, B):
 def _assemble(x, v, data, cx, cv, af):
     """The Newton matrix cx M + (1 - af)(cv (C + Kv) + K) into the factor arrays, from
     the blocks and Jacobians :func:`_residual` left in ``work``."""
-    model, work, factors = data.model, data.work, data.factors
-    topology, points, bodies, forms = model[0], model[2], model[3], model[10]
-    M, C, damped, width = model[6], model[7], model[8], model[9]
+    work, factors = data.work, data.factors
+    topology, points, bodies, forms = data.topology, data.points, data.bodies, data.forms
+    M, C, damped, width = data.M, data.C, data.damped, data.width
     position, end_row, end_body, end_dofs, r_local, edofs, nf = topology[:7]
     full, Ke, Ce, J, S = work[2], work[3], work[4], work[5], work[6]
     ab, E, F, D = factors[0], factors[1], factors[2], factors[3]
@@ -794,8 +796,8 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, s
     with ``tangent`` its Newton matrix into ``factors``, factorized. Returns SOLVED,
     SINGULAR (the matrix) or SURFACE (a line reached the free surface: Python's step)."""
     am, af, beta, gamma = scheme
-    model, work, factors = data.model, data.work, data.factors
-    products, damped, width = model[5], model[8], model[9]
+    work, factors = data.work, data.factors
+    products, damped, width = data.products, data.damped, data.width
     R, a1, v1, Ma, Cv = work[7], work[9], work[10], work[11], work[12]
     for i in range(y.size):
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
@@ -844,12 +846,12 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, data, inputs, drive
     backtracking line search from constant velocity. Returns the iterations used, 0 when
     Newton does not converge in maxiter, -1 when a correction is not finite."""
     am, af, beta, gamma = scheme
-    model, work, factors = data.model, data.work, data.factors
-    width = model[9]
+    work, factors = data.work, data.factors
+    width = data.width
     n = x0.size
     B, Ma, trial, dx = work[8], work[11], work[13], work[14]
     x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
-    _product(model[5][0], a0, Ma)
+    _product(data.products[0], a0, Ma)
     for i in range(n):  # (into work arrays: no allocation per step)
         x_pred[i] = x0[i] + h * v0[i] + h * h * (0.5 - beta) * a0[i]
         v_pred[i] = v0[i] + h * (1 - gamma) * a0[i]
