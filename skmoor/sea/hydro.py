@@ -40,6 +40,7 @@ from ..bodies.loads import BodyLoad
 from ..fem import ops
 from ..fem.form_compiler import STEP_SIGNATURE
 from ..fem.hermite import hermite_shapes
+from ..fem.native_calls import advanced
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS, NO_BLOCKS_12
 from ..fem.terms import LineForm, Term
@@ -474,24 +475,18 @@ def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     ``LineHydroKernel.step_kernel``."""
     nel, nqp, nnodes, nprofile = ints[0], ints[1], ints[2], ints[3]
     points = nel * nqp
-    buffer = carray(ints, (4 + 16 * nel + nnodes,))
-    nodes = buffer[4:4 + 4 * nel].reshape((nel, 4))
-    edofs = buffer[4 + 4 * nel:4 + 16 * nel].reshape((nel, 12))
-    z_dofs = buffer[4 + 16 * nel:]
-    flat = carray(floats, (16 * points + 4 * nnodes + 2 + 2 * nprofile,))
-    Xp = flat[:3 * points].reshape((nel, nqp, 3))
-    shapes = flat[3 * points:12 * points].reshape((nel, nqp, 9))
-    kn = flat[12 * points:13 * points].reshape((nel, nqp))
-    kt = flat[13 * points:14 * points].reshape((nel, nqp))
-    mn = flat[14 * points:15 * points].reshape((nel, nqp))
-    dm = flat[15 * points:16 * points].reshape((nel, nqp))
-    z = flat[16 * points:16 * points + nnodes]
-    heading = flat[16 * points + nnodes:16 * points + nnodes + 2]
-    heights = flat[16 * points + nnodes + 2:16 * points + nnodes + 2 + nprofile]
-    speeds = flat[16 * points + nnodes + 2 + nprofile:16 * points + nnodes + 2 + 2 * nprofile]
-    water = flat[16 * points + nnodes + 2 + 2 * nprofile:].reshape((nnodes, 3))
+    nodes = carray(advanced(ints, 4), (nel, 4))
+    edofs = carray(advanced(ints, 4 + 4 * nel), (nel, 12))
+    z_dofs = carray(advanced(ints, 4 + 16 * nel), (nnodes,))
+    Xp = carray(floats, (nel, nqp, 3))
+    shapes = carray(advanced(floats, 3 * points), (nel, nqp, 9))
+    kn = carray(advanced(floats, 12 * points), (nel, nqp))
+    kt = carray(advanced(floats, 13 * points), (nel, nqp))
+    mn = carray(advanced(floats, 14 * points), (nel, nqp))
+    dm = carray(advanced(floats, 15 * points), (nel, nqp))
+    at = 16 * points
     u = carray(u_p, (ndofs,))
-    _current_at_nodes(u, z, z_dofs, heading, heights, speeds, water)
+    water = _water(u, z_dofs, floats, at, nnodes, nprofile)
     blocks = nel if tangent else 0
     _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, carray(ud_p, (ndofs,)),
                     water, water, False, carray(R_p, (ndofs,)),
@@ -504,53 +499,51 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
     ``LineHydroKernel.step_kernel`` (P1 lines)."""
     nel, nqp, nnodes, nprofile = ints[0], ints[1], ints[2], ints[3]
     points = nel * nqp
-    buffer = carray(ints, (4 + 8 * nel + nnodes,))
-    enodes = buffer[4:4 + 2 * nel].reshape((nel, 2))
-    edofs = buffer[4 + 2 * nel:4 + 8 * nel].reshape((nel, 6))
-    z_dofs = buffer[4 + 8 * nel:]
-    flat = carray(floats, (9 * points + nel + 2 * nqp + 4 * nnodes + 2 + 2 * nprofile,))
-    Xp = flat[:3 * points].reshape((nel, nqp, 3))
+    enodes = carray(advanced(ints, 4), (nel, 2))
+    edofs = carray(advanced(ints, 4 + 2 * nel), (nel, 6))
+    z_dofs = carray(advanced(ints, 4 + 8 * nel), (nnodes,))
+    Xp = carray(floats, (nel, nqp, 3))
     at = 3 * points
-    h = flat[at:at + nel]
-    phi = flat[at + nel:at + nel + 2 * nqp].reshape((2, nqp))
+    h = carray(advanced(floats, at), (nel,))
+    phi = carray(advanced(floats, at + nel), (2, nqp))
     at += nel + 2 * nqp
-    wphi = flat[at:at + 2 * points].reshape((nel, 2, nqp))
+    wphi = carray(advanced(floats, at), (nel, 2, nqp))
     at += 2 * points
-    kn = flat[at:at + points].reshape((nel, nqp))
-    kt = flat[at + points:at + 2 * points].reshape((nel, nqp))
-    mn = flat[at + 2 * points:at + 3 * points].reshape((nel, nqp))
-    dm = flat[at + 3 * points:at + 4 * points].reshape((nel, nqp))
-    at += 4 * points
-    z = flat[at:at + nnodes]
-    heading = flat[at + nnodes:at + nnodes + 2]
-    heights = flat[at + nnodes + 2:at + nnodes + 2 + nprofile]
-    speeds = flat[at + nnodes + 2 + nprofile:at + nnodes + 2 + 2 * nprofile]
-    water = flat[at + nnodes + 2 + 2 * nprofile:].reshape((nnodes, 3))
+    kn = carray(advanced(floats, at), (nel, nqp))
+    kt = carray(advanced(floats, at + points), (nel, nqp))
+    mn = carray(advanced(floats, at + 2 * points), (nel, nqp))
+    dm = carray(advanced(floats, at + 3 * points), (nel, nqp))
     u = carray(u_p, (ndofs,))
-    _current_at_nodes(u, z, z_dofs, heading, heights, speeds, water)
+    water = _water(u, z_dofs, floats, at + 4 * points, nnodes, nprofile)
     blocks = nel if tangent else 0
     _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, carray(ud_p, (ndofs,)),
              water, water, False, carray(R_p, (ndofs,)), carray(K_p, (blocks, 6, 6)),
              carray(C_p, (blocks, 6, 6)))
 
 
+@njit(cache=True)
+def _water(u, z_dofs, floats, at, nnodes, nprofile):
+    """The water's velocity (nodes, 3; m/s) at the displaced nodes from the packed buffer
+    of ``LineHydroKernel.step_kernel`` from item ``at`` on: [the nodes' reference z (m),
+    the current's heading (unit, horizontal), its profile's heights (m) and speeds (m/s),
+    room for the velocity], written there (left zero, still water, without a profile)."""
+    z = carray(advanced(floats, at), (nnodes,))
+    heading = carray(advanced(floats, at + nnodes), (2,))
+    heights = carray(advanced(floats, at + nnodes + 2), (nprofile,))
+    speeds = carray(advanced(floats, at + nnodes + 2 + nprofile), (nprofile,))
+    water = carray(advanced(floats, at + nnodes + 2 + 2 * nprofile), (nnodes, 3))
+    if nprofile:
+        for p in range(nnodes):
+            speed = current_speed(z[p] + u[z_dofs[p]], heights, speeds)
+            water[p, 0] = speed * heading[0]
+            water[p, 1] = speed * heading[1]
+    return water
+
+
 @functools.cache
 def _morison_p1_step():
     """The C function of :func:`_morison_p1_packed`, compiled when first asked for."""
     return cfunc(STEP_SIGNATURE, cache=True)(_morison_p1_packed)
-
-
-@njit(cache=True)
-def _current_at_nodes(u, z, z_dofs, heading, heights, speeds, water):
-    """water (nodes, 3) <- the velocity (m/s) of a steady current at the displaced nodes
-    (their reference heights z, m, and z DOFs); left as it is (zero: still water) without
-    a profile."""
-    if heights.size == 0:
-        return
-    for p in range(z.size):
-        speed = current_speed(z[p] + u[z_dofs[p]], heights, speeds)
-        water[p, 0] = speed * heading[0]
-        water[p, 1] = speed * heading[1]
 
 
 @njit(cache=True)

@@ -43,6 +43,7 @@ from skfem import BilinearForm, LinearForm
 
 from ..fem import ops
 from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.native_calls import advanced
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS
 from ..fem.terms import LineForm, Term
@@ -674,15 +675,14 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
 def _seabed_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """:func:`_seabed` on the buffers of ``SeabedKernel.step_kernel``."""
     nel, stride, friction = ints[0], ints[1], ints[2] > 0
-    ends = carray(ints, (3 + 6 * nel,))[3:].reshape((2, nel, 3))
-    flat = carray(floats, (17 * nel + 4,))
-    X = flat[:6 * nel].reshape((2, nel, 3))
-    h = flat[6 * nel:7 * nel]
-    normals = flat[7 * nel:13 * nel].reshape((2, nel, 3))
-    offsets = flat[13 * nel:15 * nel].reshape((2, nel))
-    k, c = flat[15 * nel:16 * nel], flat[16 * nel:17 * nel]
-    onset, mu_a, mu_l, v0 = flat[17 * nel], flat[17 * nel + 1], flat[17 * nel + 2], flat[
-        17 * nel + 3]
+    ends = carray(advanced(ints, 3), (2, nel, 3))
+    X = carray(floats, (2, nel, 3))
+    h = carray(advanced(floats, 6 * nel), (nel,))
+    normals = carray(advanced(floats, 7 * nel), (2, nel, 3))
+    offsets = carray(advanced(floats, 13 * nel), (2, nel))
+    k, c = carray(advanced(floats, 15 * nel), (nel,)), carray(advanced(floats, 16 * nel), (nel,))
+    at = 17 * nel
+    onset, mu_a, mu_l, v0 = floats[at], floats[at + 1], floats[at + 2], floats[at + 3]
     nloc, blocks = 2 * stride, nel if tangent else 0
     _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
             carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), carray(R_p, (ndofs,)),
