@@ -61,3 +61,13 @@ def call_load(typingctx, address, z, out):
         return context.get_dummy_value()
 
     return signature, codegen
+
+
+@intrinsic
+def advanced(typingctx, pointer, count):
+    """``pointer`` moved ``count`` items along its buffer (a C pointer, as ``carray``
+    takes it: a packed buffer's pieces as arrays without numba's reshape helper)."""
+    def codegen(context, builder, sig, args):
+        return builder.gep(args[0], [args[1]])
+
+    return pointer(pointer, types.int64), codegen

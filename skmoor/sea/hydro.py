@@ -40,6 +40,7 @@ from ..bodies.loads import BodyLoad
 from ..fem import ops
 from ..fem.form_compiler import STEP_SIGNATURE
 from ..fem.hermite import hermite_shapes
+from ..fem.native_calls import advanced
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS, NO_BLOCKS_12
 from ..fem.terms import LineForm, Term
@@ -254,34 +255,40 @@ class LineHydroKernel(Term):
     def lowered(self):
         if self.moving_water and not self.steady_current:
             return None
-        return "form" if self.lines.hermite else "morison"
+        return "form"
 
     @property
     def step_kernel(self):
-        """On bending lines in still water or a steady current, (C function, ints, floats):
-        :func:`_morison_shapes` as the compiled time step calls a user's LineForm (by
-        address, :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`), its arrays packed:
-        ints [nel, nqp, nodes, profile points, each shape's node (none: -1; all -1 in
-        still water), element DOFs, the nodes' z DOFs], floats [X', shapes, drag_n,
-        drag_t, inertia_n, inertia_t - inertia_n, the nodes' reference z (m), the
-        current's heading (unit, horizontal), its profile's heights (m) and speeds (m/s)];
-        without a current no nodes and no profile."""
-        if not self.lines.hermite:
+        """In still water or a steady current, (C function, ints, floats): :func:`_morison`
+        (P1) or :func:`_morison_shapes` (bending lines) as the compiled time step calls a
+        user's LineForm (by address, :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`;
+        compiled when first asked for), the current at the displaced nodes, the arrays
+        packed: ints [nel, nqp, nodes, profile points, each element's nodes (P1: 2; bending:
+        4, one per shape, -1 on a slope and all -1 in still water), element DOFs, the
+        nodes' z DOFs], floats [X', (P1: h, phi, w phi; bending: shapes), drag_n, drag_t,
+        inertia_n, inertia_t - inertia_n, the nodes' reference z (m), the current's heading
+        (unit, horizontal), its profile's heights (m) and speeds (m/s), room for the water's
+        velocity at the nodes (nodes, 3; written by the kernel: no allocation per call)];
+        without a current no profile (and on bending lines no nodes)."""
+        if self.moving_water and not self.steady_current:
             return None
         nel, nqp = self.kn.shape
         current = self.sea.current if self.moving_water else None
-        if current is None:
-            nodes, z_dofs, z, heading, heights, speeds = (
-                np.full(4 * nel, -1), [], [], [0.0, 0.0], [], [])
+        hermite = self.lines.hermite
+        heading, heights, speeds = ([0.0, 0.0], [], []) if current is None else (
+            current.direction[:2], current.z, current.speeds)
+        if hermite and current is None:
+            nodes, z_dofs, z = np.full(4 * nel, -1), [], []
         else:
-            nodes, z_dofs, z = self.nodes.ravel(), self.nodal_dofs[:, 2], self.points[:, 2]
-            heading, heights, speeds = current.direction[:2], current.z, current.speeds
+            nodes = self.nodes.ravel() if hermite else self.enodes.ravel()
+            z_dofs, z = self.nodal_dofs[:, 2], self.points[:, 2]
+        shape = (self.shapes,) if hermite else (self.h, self.phi, self.wphi)
         ints = np.concatenate([[nel, nqp, len(z_dofs), len(heights)], nodes,
                                self.edofs.ravel(), z_dofs]).astype(np.int64)
-        floats = np.concatenate([np.ravel(a) for a in (self.Xp, self.shapes, self.kn, self.kt,
+        floats = np.concatenate([np.ravel(a) for a in (self.Xp, *shape, self.kn, self.kt,
                                                        self.mn, self.dm, z, heading, heights,
-                                                       speeds)]).astype(float)
-        return _morison_step(), ints, floats
+                                                       speeds, np.zeros(3 * len(z)))])
+        return (_morison_step if hermite else _morison_p1_step)(), ints, floats
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
@@ -468,31 +475,75 @@ def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     ``LineHydroKernel.step_kernel``."""
     nel, nqp, nnodes, nprofile = ints[0], ints[1], ints[2], ints[3]
     points = nel * nqp
-    buffer = carray(ints, (4 + 16 * nel + nnodes,))
-    nodes = buffer[4:4 + 4 * nel].reshape((nel, 4))
-    edofs = buffer[4 + 4 * nel:4 + 16 * nel].reshape((nel, 12))
-    z_dofs = buffer[4 + 16 * nel:]
-    flat = carray(floats, (16 * points + nnodes + 2 + 2 * nprofile,))
-    Xp = flat[:3 * points].reshape((nel, nqp, 3))
-    shapes = flat[3 * points:12 * points].reshape((nel, nqp, 9))
-    kn = flat[12 * points:13 * points].reshape((nel, nqp))
-    kt = flat[13 * points:14 * points].reshape((nel, nqp))
-    mn = flat[14 * points:15 * points].reshape((nel, nqp))
-    dm = flat[15 * points:16 * points].reshape((nel, nqp))
-    z = flat[16 * points:16 * points + nnodes]
-    heading = flat[16 * points + nnodes:16 * points + nnodes + 2]
-    heights = flat[16 * points + nnodes + 2:16 * points + nnodes + 2 + nprofile]
-    speeds = flat[16 * points + nnodes + 2 + nprofile:]
+    nodes = carray(advanced(ints, 4), (nel, 4))
+    edofs = carray(advanced(ints, 4 + 4 * nel), (nel, 12))
+    z_dofs = carray(advanced(ints, 4 + 16 * nel), (nnodes,))
+    Xp = carray(floats, (nel, nqp, 3))
+    shapes = carray(advanced(floats, 3 * points), (nel, nqp, 9))
+    kn = carray(advanced(floats, 12 * points), (nel, nqp))
+    kt = carray(advanced(floats, 13 * points), (nel, nqp))
+    mn = carray(advanced(floats, 14 * points), (nel, nqp))
+    dm = carray(advanced(floats, 15 * points), (nel, nqp))
+    at = 16 * points
     u = carray(u_p, (ndofs,))
-    water = np.zeros((nnodes, 3))  # the current at the displaced nodes (none: still water)
-    for p in range(nnodes):
-        speed = current_speed(z[p] + u[z_dofs[p]], heights, speeds)
-        water[p, 0] = speed * heading[0]
-        water[p, 1] = speed * heading[1]
+    water = _water(u, z_dofs, floats, at, nnodes, nprofile)
     blocks = nel if tangent else 0
     _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, carray(ud_p, (ndofs,)),
                     water, water, False, carray(R_p, (ndofs,)),
                     carray(K_p, (blocks, 12, 12)), carray(C_p, (blocks, 12, 12)))
+
+
+def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """:func:`_morison` in still water or a steady current (the water's velocity at the
+    displaced nodes, as Current.velocity) on the buffers of
+    ``LineHydroKernel.step_kernel`` (P1 lines)."""
+    nel, nqp, nnodes, nprofile = ints[0], ints[1], ints[2], ints[3]
+    points = nel * nqp
+    enodes = carray(advanced(ints, 4), (nel, 2))
+    edofs = carray(advanced(ints, 4 + 2 * nel), (nel, 6))
+    z_dofs = carray(advanced(ints, 4 + 8 * nel), (nnodes,))
+    Xp = carray(floats, (nel, nqp, 3))
+    at = 3 * points
+    h = carray(advanced(floats, at), (nel,))
+    phi = carray(advanced(floats, at + nel), (2, nqp))
+    at += nel + 2 * nqp
+    wphi = carray(advanced(floats, at), (nel, 2, nqp))
+    at += 2 * points
+    kn = carray(advanced(floats, at), (nel, nqp))
+    kt = carray(advanced(floats, at + points), (nel, nqp))
+    mn = carray(advanced(floats, at + 2 * points), (nel, nqp))
+    dm = carray(advanced(floats, at + 3 * points), (nel, nqp))
+    u = carray(u_p, (ndofs,))
+    water = _water(u, z_dofs, floats, at + 4 * points, nnodes, nprofile)
+    blocks = nel if tangent else 0
+    _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, carray(ud_p, (ndofs,)),
+             water, water, False, carray(R_p, (ndofs,)), carray(K_p, (blocks, 6, 6)),
+             carray(C_p, (blocks, 6, 6)))
+
+
+@njit(cache=True)
+def _water(u, z_dofs, floats, at, nnodes, nprofile):
+    """The water's velocity (nodes, 3; m/s) at the displaced nodes from the packed buffer
+    of ``LineHydroKernel.step_kernel`` from item ``at`` on: [the nodes' reference z (m),
+    the current's heading (unit, horizontal), its profile's heights (m) and speeds (m/s),
+    room for the velocity], written there (left zero, still water, without a profile)."""
+    z = carray(advanced(floats, at), (nnodes,))
+    heading = carray(advanced(floats, at + nnodes), (2,))
+    heights = carray(advanced(floats, at + nnodes + 2), (nprofile,))
+    speeds = carray(advanced(floats, at + nnodes + 2 + nprofile), (nprofile,))
+    water = carray(advanced(floats, at + nnodes + 2 + 2 * nprofile), (nnodes, 3))
+    if nprofile:
+        for p in range(nnodes):
+            speed = current_speed(z[p] + u[z_dofs[p]], heights, speeds)
+            water[p, 0] = speed * heading[0]
+            water[p, 1] = speed * heading[1]
+    return water
+
+
+@functools.cache
+def _morison_p1_step():
+    """The C function of :func:`_morison_p1_packed`, compiled when first asked for."""
+    return cfunc(STEP_SIGNATURE, cache=True)(_morison_p1_packed)
 
 
 @njit(cache=True)

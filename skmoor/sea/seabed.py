@@ -34,13 +34,16 @@ nodal reactions, one contact decision per node and a node-diagonal normal tangen
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from numba import carray, cfunc, njit
 from skfem import BilinearForm, LinearForm
 
 from ..fem import ops
+from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.native_calls import advanced
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS
 from ..fem.terms import LineForm, Term
@@ -452,7 +455,24 @@ class SeabedKernel(Term):
     why_python = "a bathymetry grid"
 
     def lowered(self):
-        return "seabed" if self.bathymetry is None else None
+        return "form" if self.bathymetry is None else None
+
+    @property
+    def step_kernel(self):
+        """On a plane bed, (C function, ints, floats): :func:`_seabed` as the compiled time
+        step calls a user's LineForm (by address,
+        :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`; compiled when first asked for),
+        its arrays packed: ints [nel, stride, friction, each end's DOFs (2, nel, 3)], floats
+        [X (2, nel, 3), h, normals (2, nel, 3), offsets (2, nel), k, c, onset, mu_axial,
+        mu_lateral, v0]."""
+        if self.bathymetry is not None:
+            return None
+        ints = np.concatenate([[len(self.h), self.stride, int(self.friction)],
+                               self.ends.ravel()]).astype(np.int64)
+        floats = np.concatenate([np.ravel(a) for a in (self.X, self.h, self.n, self.offset,
+                                                       self.k, self.c)]
+                                + [[self.onset, self.mu_a, self.mu_l, self.v0]]).astype(float)
+        return _seabed_step(), ints, floats
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
@@ -650,6 +670,30 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
                     Ke[e, o + p, stride + q] += scale * G
                     Ce[e, o + p, o + q] += W * N * (mu_a * v0**2 / ra**3 * a[p] * a[q]
                                                     + mu_l * (Q / rho - vl[p] * vl[q] / rho**3))
+
+
+def _seabed_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """:func:`_seabed` on the buffers of ``SeabedKernel.step_kernel``."""
+    nel, stride, friction = ints[0], ints[1], ints[2] > 0
+    ends = carray(advanced(ints, 3), (2, nel, 3))
+    X = carray(floats, (2, nel, 3))
+    h = carray(advanced(floats, 6 * nel), (nel,))
+    normals = carray(advanced(floats, 7 * nel), (2, nel, 3))
+    offsets = carray(advanced(floats, 13 * nel), (2, nel))
+    k, c = carray(advanced(floats, 15 * nel), (nel,)), carray(advanced(floats, 16 * nel), (nel,))
+    at = 17 * nel
+    onset, mu_a, mu_l, v0 = floats[at], floats[at + 1], floats[at + 2], floats[at + 3]
+    nloc, blocks = 2 * stride, nel if tangent else 0
+    _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
+            carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), carray(R_p, (ndofs,)),
+            carray(K_p, (blocks, nloc, nloc)), carray(C_p, (blocks, nloc, nloc)), stride)
+
+
+@functools.cache
+def _seabed_step():
+    """The C function of :func:`_seabed_packed`, compiled when first asked for (numba's
+    disk cache keeps it)."""
+    return cfunc(STEP_SIGNATURE, cache=True)(_seabed_packed)
 
 
 class RestingSupport:

@@ -8,10 +8,10 @@ coupling), the Newton matrix, its factorization (:mod:`skmoor.numerics.bordered`
 is one numba function, so that a step costs what its arithmetic costs.
 
 It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`)
-and bending (Hermite) lines (12 x 12 element blocks; their cable and Morison loops are
-called by address as a user's LineForm is, ``HermiteKernel.step_kernel``), MoorDyn-style
-or skmoor's Morison terms in still water or a steady current (at the displaced nodes),
-a plane sea bed, the dry part of the lines in
+and bending (Hermite) lines (12 x 12 element blocks), MoorDyn-style or skmoor's Morison
+terms in still water or a steady current (at the displaced nodes), a plane sea bed (these
+three called by address as a user's LineForm is, their ``step_kernel``, each compiled only
+when a run has it), the dry part of the lines in
 still water (``SurfaceTerm``: zero while every node stays half a diameter
 deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
 points (buoyancy, drag in still water), small-rotation rigid bodies whose applied load
@@ -44,8 +44,6 @@ from ..fem.patterns import ElementPattern
 from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
-from ..sea.hydro import _morison, current_speed
-from ..sea.seabed import _seabed
 from . import newton
 
 # numba freezes these into the cached step, whose cache follows this file's source only
@@ -77,34 +75,14 @@ class _StepData(structref.StructRefProxy):
     arrays is passed member by member, and numba's compile time grows with that)."""
 
 
-structref.define_proxy(_StepData, _StepDataType, ["model", "work", "factors"])
+structref.define_proxy(_StepData, _StepDataType, [
+    "topology", "cable", "points", "bodies", "prescribed", "products", "M", "C", "damped",
+    "width", "forms", "work", "factors"])  # the model's parts (each function reads its own)
 
 # stand-ins for an absent term (the compiled loop gets the same argument types)
-NO_HYDRO = (np.zeros((0, 1, 3)), np.zeros(0), np.zeros((2, 1)), np.zeros((0, 2, 1)),
-            np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 1)),
-            np.zeros((0, 6), np.int64), np.zeros((0, 2), np.int64))
-NO_BED = (np.zeros((2, 0, 3)), np.zeros((2, 0, 3), np.int64), np.zeros(0), np.zeros((2, 0, 3)),
-          np.zeros((2, 0)), np.zeros(0), np.zeros(0), 0.0, 0.0, 0.0, 0.0, False, 3)
 NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
          np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3), np.int64),
          np.zeros((0, 3), np.int64))  # bending lines: no P1 element (their loop is a form's)
-
-
-def _steady_current(lines, hydro):
-    """The water the compiled Morison kernel sees: (the nodes' reference positions (m),
-    their DOFs, the current's profile heights (m) and speeds (m/s), its heading (unit,
-    horizontal), a buffer for the nodes' water velocity, still water): the profile empty
-    without a current."""
-    nodes = np.ascontiguousarray(lines.points, float)
-    still = np.zeros(nodes.shape)
-    sea = None if hydro is None else hydro.sea
-    current = None if sea is None else sea.current
-    if current is None:  # (flow: still water too)
-        return (nodes, np.zeros((0, 3), np.int64), np.zeros(0), np.zeros(0), np.zeros(2),
-                still, still)
-    return (nodes, np.ascontiguousarray(lines.nodal_dofs, np.int64),
-            np.asarray(current.z, float), np.asarray(current.speeds, float),
-            np.asarray(current.direction, float)[:2], np.zeros(nodes.shape), still)
 
 
 def _refuse(why):
@@ -113,16 +91,17 @@ def _refuse(why):
 
 
 # the kernels a term may lower to (Term.lowered), and those the step holds one of
-LOWERED = ("cable", "morison", "seabed", "surface", "point drag", "body restoring", "time load",
+LOWERED = ("cable", "surface", "point drag", "body restoring", "time load",
            "form", "point load", "body load")
-ONCE = ("cable", "morison", "seabed", "surface")
-FORMS = 4  # user LineForms the compiled step calls (their generated kernels), at most
+ONCE = ("cable", "surface")
+FORMS = 8  # LineForms the compiled step calls by address (the Morison terms, the bed, the
+# bending lines' loop and the users' generated kernels), at most
 LOADS = 4  # user point and body loads likewise
 
 
 @cfunc(STEP_SIGNATURE, cache=True)
 def _no_form(u, ud, ndofs, t, ints, floats, R, K, C, tangent):
-    """An empty slot of the user forms' kernels."""
+    """An empty slot of the kernels called by address."""
 
 
 @cfunc(POINTWISE_SIGNATURE, cache=True)
@@ -143,7 +122,8 @@ def _pointwise(terms):
 
 
 def _forms(terms):
-    """The user LineForms' kernels as the compiled loop takes them: (their C functions'
+    """The kernels called by address (the Morison terms, the bed, the bending lines' loop
+    and the users' LineForms) as the compiled loop takes them: (their C functions'
     addresses (FORMS,), the count, their packed ints and floats (one buffer each), each
     form's start in both (FORMS, 2))."""
     kernels = [term.step_kernel for term in terms]
@@ -174,7 +154,8 @@ def lowered_terms(system):
         if kind == "form":
             kinds["form"].append(term)
             if len(kinds["form"]) > FORMS:
-                return f"{name}: more than {FORMS} user LineForms", kinds
+                return (f"{name}: more than {FORMS} kernels called by address (the Morison "
+                        "terms, the bed, bending lines and the users' LineForms)"), kinds
         if kind in ("point load", "body load"):
             kinds["load"].append(term)
             if len(kinds["load"]) > LOADS:
@@ -185,8 +166,8 @@ def lowered_terms(system):
     if isinstance(system.kernel, HermiteKernel):  # bending lines: their loop as a form's
         kinds["form"].insert(0, system.kernel)
         if len(kinds["form"]) > FORMS:
-            return (f"bending lines and {len(kinds['form']) - 1} LineForms: at most {FORMS} "
-                    "in all"), kinds
+            return (f"bending lines and {len(kinds['form']) - 1} other kernels called by "
+                    f"address: at most {FORMS} in all"), kinds
     if system.committing:
         return "terms with a memory of the past", kinds
     if system.nonlinear_inertia:
@@ -203,7 +184,7 @@ def build(system, C, scheme, tol, maxiter):
     why, kinds = lowered_terms(system)
     if why is not None:
         return _refuse(why)
-    hydro, bed, surface = (kinds.get(k) for k in ("morison", "seabed", "surface"))
+    surface = kinds.get("surface")
     width = ElementPattern(lines, position=system.dofs.position).bandwidth if system.nf else 0
     width = max(width, 1)
     try:
@@ -214,7 +195,7 @@ def build(system, C, scheme, tol, maxiter):
         return _refuse("mass or damping coupling line DOFs beyond the lines' band")
     damped = C is not None and C.count_nonzero() > 0
     C_matrix = C if C is not None else sp.csr_matrix(system.M.shape)
-    return CompiledStep(system, hydro, bed, surface, kinds, M, Cs, C_matrix, damped, width,
+    return CompiledStep(system, surface, kinds, M, Cs, C_matrix, damped, width,
                         scheme, tol, maxiter)
 
 
@@ -239,9 +220,9 @@ class CompiledStep:
 
     handed_back = TO_PYTHON  # the failure of a step that is the Python step's to take
 
-    def __init__(self, system, hydro, bed, surface, kinds, M, C, C_matrix, damped, width,
+    def __init__(self, system, surface, kinds, M, C, C_matrix, damped, width,
                  scheme, tol, maxiter):
-        self.system, self.hydro, self.bed = system, hydro, bed
+        self.system = system
         self.forms = _forms(kinds["form"]) + _pointwise(kinds["load"])
         self._kept = kinds["form"] + kinds["load"]  # their C functions stay while called
         self.M, self.C, self.damped, self.width = M, C, damped, width
@@ -298,7 +279,6 @@ class CompiledStep:
         # of the residual carries)
         self.broyden = (np.zeros((BROYDEN_HISTORY, n)), np.zeros(BROYDEN_HISTORY))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
-        self.water = _steady_current(lines, hydro)
         self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
 
     def _terms(self):
@@ -307,25 +287,16 @@ class CompiledStep:
         elements = NO_P1 if isinstance(k, HermiteKernel) else (
             k.Xp, k.T, k.law, k.knots, k.coef, k.BA, k.h, k.weight, k.dofs_i, k.dofs_j)
         cable = (*elements, bool(self.system.damped), k.constant, self.system.weight)
-        hydro, bed = NO_HYDRO, NO_BED
-        if self.hydro is not None:
-            hydro = self.hydro.step_arrays()
-        if self.bed is not None:
-            b = self.bed
-            bed = (b.X, b.ends, b.h, b.n, b.offset, b.k, b.c, b.onset, b.mu_a, b.mu_l, b.v0,
-                   b.friction, b.stride)
-        key = tuple(map(id, cable + hydro + bed))
+        key = tuple(map(id, cable))
         if self._terms_cache[0] != key:
-            arrays = (_contiguous(cable), _contiguous(hydro), _contiguous(bed))
-            # kept while the kernels hold these very arrays, unless a conversion copied a
+            arrays = _contiguous(cable)
+            # kept while the kernel holds these very arrays, unless a conversion copied a
             # float one (a change in place would not show in the copy; index arrays are
             # the mesh's, never changed)
-            same = all(a is b or a.dtype.kind in "iub"
-                       for given, used in zip((cable, hydro, bed), arrays)
-                       for a, b in zip(given, used) if isinstance(a, np.ndarray))
+            same = all(a is b or a.dtype.kind in "iub" for a, b in zip(cable, arrays)
+                       if isinstance(a, np.ndarray))
             self._terms_cache = (key if same else None, arrays)
-        cable, hydro, bed = self._terms_cache[1]
-        return cable, hydro, self.hydro is not None, bed, self.bed is not None
+        return self._terms_cache[1]
 
     def steps(self, x, v, a, force_old, times, h, report=None, trend=None):
         """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R),
@@ -364,9 +335,7 @@ class CompiledStep:
         report = np.zeros(count, np.int64) if report is None else np.array(report, np.int64)
         lines_out = np.empty((2, count, system.lines.ndofs))
         ends_out = np.empty((count, 2, len(system.fairlead_dofs), 3))
-        cable, hydro, has_hydro, bed, has_bed = self._terms()
-        model = (self.topology, cable, hydro, has_hydro, bed, has_bed, self.water,
-                 self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
+        model = (self.topology, self._terms(), self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
                  self.damped, self.width, self.forms)
         done, code = _run(x, v, a, force_old, h, np.asarray(times, float), self.scheme,
                           self.tol, self.maxiter, model, loads, pres_u, pres_v, driven, pres_a,
@@ -401,8 +370,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
     at the surface, 1 none failed)."""
     am, af, beta, gamma = scheme
     Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
-    mass = model[10][0]
-    data = _StepData(model, work, factors)
+    mass = model[5][0]
+    data = _StepData(*model, work, factors)
     no = x.size < 0  # False as a plain bool: a literal False would compile _residual again
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
@@ -503,13 +472,13 @@ def _report(work, report_dofs, resting, u, ud, ends):
 
 
 @njit(cache=True, no_cpython_wrapper=True)
-def _user_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C):
-    """Adds the user LineForms (their C functions, by address) into the full residual
-    and the element blocks."""
+def _line_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C):
+    """Adds the kernels called by address (:func:`_forms`) into the full residual and
+    the element blocks."""
     functions, count, ints, floats, starts = forms[:5]
-    for k in range(count):
+    for k in range(count):  # (each form's buffers from their starts: 8-byte items)
         call_form(functions[k], u.ctypes.data, ud.ctypes.data, u.size, t,
-                  ints[starts[k, 0]:].ctypes.data, floats[starts[k, 1]:].ctypes.data,
+                  ints.ctypes.data + 8 * starts[k, 0], floats.ctypes.data + 8 * starts[k, 1],
                   full.ctypes.data, blocks_K.ctypes.data, blocks_C.ctypes.data,
                   1 if tangent else 0)
 
@@ -625,9 +594,8 @@ def _residual(x, v, data, inputs, tangent, R):
     cable residual in work[2] (``coupling.System.residual``, one body per 6 DOFs). False
     (nothing computed) when a node of a line with a SurfaceTerm comes within half a
     diameter of the surface: the step is then Python's."""
-    (topology, cable, hydro, has_hydro, bed, has_bed, water, points, bodies, prescribed_dofs,
-     _, _, _, _, _, forms) = data.model
-    work = data.work
+    topology, cable, points, bodies = data.topology, data.cable, data.points, data.bodies
+    prescribed_dofs, forms, work = data.prescribed, data.forms, data.work
     loads, pres_u, pres_v, t = inputs
     position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
@@ -658,22 +626,8 @@ def _residual(x, v, data, inputs, tangent, R):
     # (bending lines: no P1 element here; their loop is called as a form's, below)
     _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
            blocks_K, blocks_C, 1.0)
-    if has_hydro:
-        hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes = hydro
-        waves = x.size < 0  # no waves: False as a plain bool (a literal compiles again)
-        nodes, nodal_dofs, heights, speeds, heading, flow, still = water
-        for p in range(nodal_dofs.shape[0]):  # a steady current at the displaced nodes
-            speed = current_speed(nodes[p, 2] + u[nodal_dofs[p, 2]], heights, speeds)
-            flow[p, 0] = speed * heading[0]  # (Current.velocity; no current: flow is still)
-            flow[p, 1] = speed * heading[1]
-        _morison(hXp, hh, phi, wphi, kn, kt, mn, dm, hedofs, enodes, u, ud, flow, still,
-                 waves, full, blocks_K, blocks_C)
-    if has_bed:
-        X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, stride = bed
-        _seabed(X, ends, bh, normals, offsets, kb, cb, onset, mu_a, mu_l, v0, friction, u,
-                ud, full, blocks_K, blocks_C, stride)
-    if forms[1]:  # the user LineForms' generated kernels
-        _user_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C)
+    if forms[1]:  # the LineForms called by address (Morison, the bed, bending, the users')
+        _line_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C)
     R[:] = 0.0
     for g in range(full.size):
         if position[g] >= 0:
@@ -742,9 +696,9 @@ def _combine(out, a, A, b, B):
 def _assemble(x, v, data, cx, cv, af):
     """The Newton matrix cx M + (1 - af)(cv (C + Kv) + K) into the factor arrays, from
     the blocks and Jacobians :func:`_residual` left in ``work``."""
-    model, work, factors = data.model, data.work, data.factors
-    topology, points, bodies, forms = model[0], model[7], model[8], model[15]
-    M, C, damped, width = model[11], model[12], model[13], model[14]
+    work, factors = data.work, data.factors
+    topology, points, bodies, forms = data.topology, data.points, data.bodies, data.forms
+    M, C, damped, width = data.M, data.C, data.damped, data.width
     position, end_row, end_body, end_dofs, r_local, edofs, nf = topology[:7]
     full, Ke, Ce, J, S = work[2], work[3], work[4], work[5], work[6]
     ab, E, F, D = factors[0], factors[1], factors[2], factors[3]
@@ -842,8 +796,8 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, s
     with ``tangent`` its Newton matrix into ``factors``, factorized. Returns SOLVED,
     SINGULAR (the matrix) or SURFACE (a line reached the free surface: Python's step)."""
     am, af, beta, gamma = scheme
-    model, work, factors = data.model, data.work, data.factors
-    products, damped, width = model[10], model[13], model[14]
+    work, factors = data.work, data.factors
+    products, damped, width = data.products, data.damped, data.width
     R, a1, v1, Ma, Cv = work[7], work[9], work[10], work[11], work[12]
     for i in range(y.size):
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
@@ -892,12 +846,12 @@ def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, data, inputs, drive
     backtracking line search from constant velocity. Returns the iterations used, 0 when
     Newton does not converge in maxiter, -1 when a correction is not finite."""
     am, af, beta, gamma = scheme
-    model, work, factors = data.model, data.work, data.factors
-    width = model[14]
+    work, factors = data.work, data.factors
+    width = data.width
     n = x0.size
     B, Ma, trial, dx = work[8], work[11], work[13], work[14]
     x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
-    _product(model[10][0], a0, Ma)
+    _product(data.products[0], a0, Ma)
     for i in range(n):  # (into work arrays: no allocation per step)
         x_pred[i] = x0[i] + h * v0[i] + h * h * (0.5 - beta) * a0[i]
         v_pred[i] = v0[i] + h * (1 - gamma) * a0[i]
