@@ -335,8 +335,8 @@ class CompiledStep:
         report = np.zeros(count, np.int64) if report is None else np.array(report, np.int64)
         lines_out = np.empty((2, count, system.lines.ndofs))
         ends_out = np.empty((count, 2, len(system.fairlead_dofs), 3))
-        model = (self.topology, self._terms(), self.points, self.bodies, self.prescribed_dofs, self.products, self.M, self.C,
-                 self.damped, self.width, self.forms)
+        model = (self.topology, self._terms(), self.points, self.bodies, self.prescribed_dofs,
+                 self.products, self.M, self.C, self.damped, self.width, self.forms)
         done, code = _run(x, v, a, force_old, h, np.asarray(times, float), self.scheme,
                           self.tol, self.maxiter, model, loads, pres_u, pres_v, driven, pres_a,
                           self.factors, self.state, self.work, out, iterations, report,
@@ -367,30 +367,142 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
     (x, v, a), for the first guess (h_prev 0: none; overwritten); broyden: the scratch of
     :func:`_broyden`. Returns (the steps done,
     the failed step's code: 0 Newton did not converge, -1 a correction not finite, -2 a line
-    at the surface, 1 none failed)."""
+    at the surface, 1 none failed).
+
+    Each step is ``dynamics.integrate``'s (its ``advance``), with the prescribed ends'
+    inertia on the free DOFs: modified Newton from constant acceleration plus the trend of
+    a_prev (:meth:`dynamics._Stepper.first_guess`), and when that fails Newton with the
+    backtracking line search from constant velocity (one function with the loop over the
+    steps: a calling level less for numba to compile)."""
     am, af, beta, gamma = scheme
-    Ma0, Ma1 = np.empty(x.size), np.empty(x.size)
+    n = x.size
+    Ma0, Ma1 = np.empty(n), np.empty(n)
     mass = model[5][0]
     data = _StepData(*model, work, factors)
-    no = x.size < 0  # False as a plain bool: a literal False would compile _residual again
+    width = data.width
+    B, Ma, trial, dx = work[8], work[11], work[13], work[14]
+    x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
+    history, squares = broyden
+    yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
-        it = _advance(x, v, a, force, h, scheme, tol, maxiter, data,
-                      (loads[i], pres_u[i], pres_v[i], times[i]), driven[i], state,
-                      x1, a_prev, h_prev, broyden)
-        if it <= 0:
-            return i, it
+        inputs = (loads[i], pres_u[i], pres_v[i], times[i])
+        _product(mass, a, Ma)
+        for j in range(n):  # (into work arrays: no allocation per step)
+            x_pred[j] = x[j] + h * v[j] + h * h * (0.5 - beta) * a[j]
+            v_pred[j] = v[j] + h * (1 - gamma) * a[j]
+            inertia_old[j] = am * Ma[j] + af * force[j]
+        for j in range(driven.shape[1]):  # M_fp a_p at t1: a load given in time, at the
+            inertia_old[j] += (1 - af) * driven[i, j]  # alpha_f level as R (constant)
+        if state[1] != h:  # a factorization of another step's matrix: make a new one
+            state[0] = 0.0
+            state[1] = h
+        # modified Newton on the kept factors, its corrections Broyden's (newton.broyden),
+        # the factors made new when a correction shrinks slower than BROYDEN_CONTRACTION
+        for j in range(n):
+            y[j] = x[j] + h * v[j] + 0.5 * h * h * a[j]
+            if h_prev > 0.0:  # the acceleration's trend over the last step (first_guess)
+                y[j] += h**3 / (6.0 * h_prev) * (a[j] - a_prev[j])
+        tangent = state[0] == 0.0
+        previous = scale = np.inf
+        used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
+        it = stalls = stored = 0  # it: the step's iterations once solved
+        for k in range(1, maxiter + 1):
+            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs,
+                            tangent, state, B)
+            if code == SURFACE:
+                return i, -2
+            if code == SINGULAR:
+                used = k
+                break
+            if tangent:
+                stored = 0
+            size = _solve(B, factors, width)
+            if math.isfinite(size) and stored > 0:
+                size = _broyden(B, history, squares, stored + 0)  # (+ 0: an int64 even
+                # where stored is a literal 0, which would compile _broyden again)
+                if size < 0.0:  # the secant update is degenerate: a new matrix at y
+                    tangent, stored = True, 0
+                    continue
+            if not math.isfinite(size):
+                used = k
+                break
+            for j in range(n):
+                y[j] += B[j]
+            if k == 1:  # the step's change, to scale the tolerance
+                scale = _distance(y, x)
+            if size <= tol * scale + 1e-12:
+                _copy(x1, y)
+                it = k
+                break
+            if tangent and k > 1 and size > STALL * previous:
+                stalls += 1
+                if stalls == 2:
+                    used = k  # cycling across a kink (a node at the bed): the line search
+                    break
+            else:
+                stalls = 0
+            _copy(history[stored], B)
+            squares[stored] = _dot(B, B)
+            stored += 1
+            tangent = size > BROYDEN_CONTRACTION * previous or stored == BROYDEN_HISTORY
+            previous = size
+        if it == 0:  # Newton with the line search (dynamics._newton with full=True)
+            for j in range(n):
+                y[j] = x[j] + h * v[j]
+            previous = np.inf
+            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes,
+                            state, B)
+            norm = _norm(B)
+            for k in range(1, maxiter + 1):
+                if code == SURFACE:
+                    return i, -2
+                if code == SINGULAR:
+                    return i, -1
+                _copy(dx, B)
+                size = _solve(dx, factors, width)
+                if not math.isfinite(size):
+                    return i, -1
+                for j in range(n):
+                    trial[j] = y[j] + dx[j]
+                if k == 1:
+                    scale = _distance(trial, x)
+                if size <= tol * scale + 1e-12:
+                    _copy(x1, trial)
+                    it = used + k
+                    break
+                length = 1.0
+                for halving in range(LINE_SEARCH + 1):
+                    code = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, data,
+                                    inputs, no, state, B)
+                    if code == SURFACE:
+                        return i, -2
+                    norm_try = _norm(B)
+                    if (norm_try <= (1 - 1e-4 * length) * norm or not math.isfinite(norm_try)
+                            or halving == LINE_SEARCH):
+                        break
+                    length *= 0.5
+                    for j in range(n):
+                        trial[j] = y[j] + length * dx[j]
+                _copy(y, trial)
+                slow = halving == LINE_SEARCH or size > CONTRACTION * previous
+                previous = size
+                if slow and math.isfinite(norm_try):  # a new matrix where the search stopped
+                    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs,
+                                    yes, state, B)
+                norm = norm_try
+            if it == 0:
+                return i, 0
         iterations[i] = it
-        for j in range(x.size):  # the scheme's update, as dynamics.integrate's
+        for j in range(n):  # the scheme's update, as dynamics.integrate's
             a1[j] = (x1[j] - (x[j] + h * v[j] + h * h * (0.5 - beta) * a[j])) / (beta * h * h)
             v1[j] = v[j] + h * (1 - gamma) * a[j] + gamma * h * a1[j]
         _product(mass, a, Ma0)
         _product(mass, a1, Ma1)
-        for j in range(x.size):
+        for j in range(n):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
         if report[i] > 0:  # (the residual called here, not in _report: a level less to compile)
-            if _residual(x1, v1, data, (loads[i], pres_u[i], pres_v[i], times[i]), no,
-                         work[7]):
+            if _residual(x1, v1, data, inputs, no, work[7]):
                 _report(work, report_dofs, resting, lines_out[0, i], lines_out[1, i],
                         ends_out[i])
                 _less_held_inertia(held, a1, pres_a[i], ends_out[i])
@@ -834,129 +946,6 @@ def _solve(B, factors, width):
             return np.inf
         size = max(size, abs(B[i]))
     return size
-
-
-@njit(cache=True, no_cpython_wrapper=True)
-def _advance(x0, v0, a0, force_old, h, scheme, tol, maxiter, data, inputs, driven, state,
-             x1, a_prev, h_prev, broyden):
-    """One step of ``dynamics.integrate`` (its ``advance``) with the prescribed ends'
-    inertia on the free DOFs ``driven`` (M_fp a_p, N; empty: none), x1 the solution: modified
-    Newton from constant acceleration plus the trend of a_prev, h_prev s before
-    (:meth:`dynamics._Stepper.first_guess`), and when that fails Newton with the
-    backtracking line search from constant velocity. Returns the iterations used, 0 when
-    Newton does not converge in maxiter, -1 when a correction is not finite."""
-    am, af, beta, gamma = scheme
-    work, factors = data.work, data.factors
-    width = data.width
-    n = x0.size
-    B, Ma, trial, dx = work[8], work[11], work[13], work[14]
-    x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
-    _product(data.products[0], a0, Ma)
-    for i in range(n):  # (into work arrays: no allocation per step)
-        x_pred[i] = x0[i] + h * v0[i] + h * h * (0.5 - beta) * a0[i]
-        v_pred[i] = v0[i] + h * (1 - gamma) * a0[i]
-        inertia_old[i] = am * Ma[i] + af * force_old[i]
-    for i in range(driven.size):  # M_fp a_p at t1: a load given in time, at the alpha_f
-        inertia_old[i] += (1 - af) * driven[i]  # level as R (constant over the iterations)
-    if state[1] != h:  # a factorization of another step's matrix: make a new one
-        state[0] = 0.0
-        state[1] = h
-    # modified Newton on the kept factors, its corrections Broyden's (newton.broyden),
-    # the factors made new when a correction shrinks slower than BROYDEN_CONTRACTION
-    for i in range(n):
-        y[i] = x0[i] + h * v0[i] + 0.5 * h * h * a0[i]
-        if h_prev > 0.0:  # the acceleration's trend over the last step (newton.first_guess)
-            y[i] += h**3 / (6.0 * h_prev) * (a0[i] - a_prev[i])
-    tangent = state[0] == 0.0
-    previous = scale = np.inf
-    used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
-    stalls = 0
-    history, squares = broyden
-    stored = 0
-    for it in range(1, maxiter + 1):
-        code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent,
-                        state, B)
-        if code == SURFACE:
-            return -2
-        if code == SINGULAR:
-            used = it
-            break
-        if tangent:
-            stored = 0
-        size = _solve(B, factors, width)
-        if math.isfinite(size) and stored > 0:
-            size = _broyden(B, history, squares, stored + 0)  # (+ 0: an int64 even
-            # where stored is a literal 0, which would compile _broyden again)
-            if size < 0.0:  # the secant update is degenerate: a new matrix at y
-                tangent, stored = True, 0
-                continue
-        if not math.isfinite(size):
-            used = it
-            break
-        for i in range(n):
-            y[i] += B[i]
-        if it == 1:  # the step's change, to scale the tolerance
-            scale = _distance(y, x0)
-        if size <= tol * scale + 1e-12:
-            _copy(x1, y)
-            return it
-        if tangent and it > 1 and size > STALL * previous:
-            stalls += 1
-            if stalls == 2:
-                used = it  # cycling across a kink (a node at the bed): the line search at once
-                break
-        else:
-            stalls = 0
-        history[stored] = B
-        squares[stored] = _dot(B, B)
-        stored += 1
-        tangent = size > BROYDEN_CONTRACTION * previous or stored == BROYDEN_HISTORY
-        previous = size
-    # Newton with the line search (dynamics._newton with full=True)
-    for i in range(n):
-        y[i] = x0[i] + h * v0[i]
-    yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
-    previous = np.inf
-    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes,
-                    state, B)
-    norm = _norm(B)
-    for it in range(1, maxiter + 1):
-        if code == SURFACE:
-            return -2
-        if code == SINGULAR:
-            return -1
-        _copy(dx, B)
-        size = _solve(dx, factors, width)
-        if not math.isfinite(size):
-            return -1
-        for i in range(n):
-            trial[i] = y[i] + dx[i]
-        if it == 1:
-            scale = _distance(trial, x0)
-        if size <= tol * scale + 1e-12:
-            _copy(x1, trial)
-            return used + it
-        length = 1.0
-        for halving in range(LINE_SEARCH + 1):
-            code = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, data, inputs,
-                            no, state, B)
-            if code == SURFACE:
-                return -2
-            norm_try = _norm(B)
-            if (norm_try <= (1 - 1e-4 * length) * norm or not math.isfinite(norm_try)
-                    or halving == LINE_SEARCH):
-                break
-            length *= 0.5
-            for i in range(n):
-                trial[i] = y[i] + length * dx[i]
-        _copy(y, trial)
-        slow = halving == LINE_SEARCH or size > CONTRACTION * previous
-        previous = size
-        if slow and math.isfinite(norm_try):  # a new matrix where the search stopped
-            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes,
-                            state, B)
-        norm = norm_try
-    return 0
 
 
 @njit(cache=True, no_cpython_wrapper=True)
