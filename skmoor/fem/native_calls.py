@@ -10,7 +10,8 @@ call from Python costs no typing of function objects). Pointers are passed as ad
 from __future__ import annotations
 
 from llvmlite import ir
-from numba import types
+from numba import errors, typeof, types
+from numba.core import cgutils
 from numba.extending import intrinsic
 
 _DOUBLE = ir.DoubleType().as_pointer()
@@ -71,3 +72,39 @@ def advanced(typingctx, pointer, count):
         return builder.gep(args[0], [args[1]])
 
     return pointer(pointer, types.int64), codegen
+
+
+@intrinsic
+def call_compiled(typingctx, function, address, arguments):
+    """``function(*arguments)`` through ``address``, the native entry of its compilation for
+    exactly these argument types (:func:`compiled_address`): the caller's machine code
+    calls it without linking it in, so numba optimizes and emits the callee's code once,
+    not again with every calling level. Its errors propagate as a direct call's."""
+    dispatcher = function.dispatcher
+    argtypes = tuple(arguments.types)
+    if argtypes not in dispatcher.overloads:
+        raise errors.TypingError(
+            f"{dispatcher.py_func.__name__} is not compiled for {argtypes}: compile it with "
+            "compiled_address for the types it is called with")
+    restype = dispatcher.overloads[argtypes].signature.return_type
+
+    def codegen(context, builder, sig, args):
+        values = [builder.extract_value(args[2], i) for i in range(len(argtypes))]
+        kind = context.call_conv.get_function_type(restype, argtypes)
+        target = builder.inttoptr(args[1], kind.as_pointer())
+        status, result = context.call_conv.call_function(builder, target, restype, argtypes,
+                                                          values)
+        with cgutils.if_unlikely(builder, status.is_error):
+            context.call_conv.return_status_propagate(builder, status)
+        return result
+
+    return restype(function, types.int64, arguments), codegen
+
+
+def compiled_address(function, *arguments):
+    """The address (int) of ``function``'s native entry compiled for the numba types of
+    ``arguments`` (Python values), for :func:`call_compiled`."""
+    argtypes = tuple(typeof(a) for a in arguments)
+    function.compile(argtypes)
+    result = function.overloads[argtypes]
+    return result.library.get_pointer_to_function(result.fndesc.llvm_func_name)

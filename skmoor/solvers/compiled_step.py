@@ -39,7 +39,7 @@ from numba.experimental import structref
 
 from ..bodies.body import rotation_and_slopes
 from ..fem.form_compiler import POINTWISE_SIGNATURE, STEP_SIGNATURE
-from ..fem.native_calls import call_form, call_load
+from ..fem.native_calls import call_compiled, call_form, call_load, compiled_address
 from ..fem.patterns import ElementPattern
 from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
@@ -77,7 +77,7 @@ class _StepData(structref.StructRefProxy):
 
 structref.define_proxy(_StepData, _StepDataType, [
     "topology", "cable", "points", "bodies", "prescribed", "products", "M", "C", "damped",
-    "width", "forms", "work", "factors"])  # the model's parts (each function reads its own)
+    "width", "forms", "work", "factors", "callees"])  # the model's parts (each function reads its own)
 
 # stand-ins for an absent term (the compiled loop gets the same argument types)
 NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
@@ -280,6 +280,8 @@ class CompiledStep:
         self.broyden = (np.zeros((BROYDEN_HISTORY, n)), np.zeros(BROYDEN_HISTORY))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
+        self.callees = np.zeros(4, np.int64)  # (_find_callees)
+        self._step_data = (None, None)  # (the cable's arrays, the step's data made with them)
 
     def _terms(self):
         """The kernels' current arrays (a strain law may be refreshed between steps)."""
@@ -298,6 +300,35 @@ class CompiledStep:
             self._terms_cache = (key if same else None, arrays)
         return self._terms_cache[1]
 
+    def _data(self):
+        """The model, scratch and factors as the compiled functions take them (one
+        reference, :class:`_StepData`), made again when the cable's arrays change."""
+        terms = self._terms()
+        if self._step_data[0] is not terms:
+            self._step_data = (terms, _StepData(
+                self.topology, terms, self.points, self.bodies, self.prescribed_dofs,
+                self.products, self.M, self.C, self.damped, self.width, self.forms, self.work,
+                self.factors, self.callees))
+        return self._step_data[1]
+
+    def _find_callees(self, data, loads, pres_u, pres_v, out):
+        """``callees`` <- the addresses of :func:`_balance`, :func:`_residual`,
+        :func:`_assemble` and ``bordered.factor`` compiled for the types they are called
+        with (each called by address, :func:`~skmoor.fem.native_calls.call_compiled`: numba
+        optimizes and emits each one's code once, not again in every caller). Once; numba's
+        disk cache keeps them."""
+        if self.callees[0]:
+            return
+        work, factors = self.work, self.factors
+        inputs = (loads[0], pres_u[0], pres_v[0], 0.0)
+        self.callees[1:] = (  # (the callees of _balance first: its typing checks them)
+            compiled_address(_residual, out[0, 0], out[0, 0], data, inputs, True, work[7]),
+            compiled_address(_assemble, work[18], work[10], data, 0.1, 0.1, 0.1),
+            compiled_address(bordered.factor, factors[0], self.width, *factors[1:]))
+        self.callees[0] = compiled_address(_balance, work[18], work[15], work[16], work[17],
+                                           0.1, self.scheme, data, inputs, True, self.state,
+                                           work[8])
+
     def steps(self, x, v, a, force_old, times, h, report=None, trend=None):
         """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R),
         ``trend`` the acceleration a step before and that step, (a_prev, h_prev) (None: none):
@@ -307,6 +338,8 @@ class CompiledStep:
         anchor forces)) as ``System.full_state`` and ``System.end_forces`` give them (m,
         m/s; (nlines, 3) N each), computed here; None at the others."""
         system, count = self.system, len(times)
+        if not count:
+            return [], None
         nbodies, m = len(system.bodies), len(self.prescribed_dofs)
         pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
         loads = np.zeros((count, nbodies, 6))
@@ -335,11 +368,11 @@ class CompiledStep:
         report = np.zeros(count, np.int64) if report is None else np.array(report, np.int64)
         lines_out = np.empty((2, count, system.lines.ndofs))
         ends_out = np.empty((count, 2, len(system.fairlead_dofs), 3))
-        model = (self.topology, self._terms(), self.points, self.bodies, self.prescribed_dofs,
-                 self.products, self.M, self.C, self.damped, self.width, self.forms)
+        data = self._data()
+        self._find_callees(data, loads, pres_u, pres_v, out)
         done, code = _run(x, v, a, force_old, h, np.asarray(times, float), self.scheme,
-                          self.tol, self.maxiter, model, loads, pres_u, pres_v, driven, pres_a,
-                          self.factors, self.state, self.work, out, iterations, report,
+                          self.tol, self.maxiter, data, loads, pres_u, pres_v, driven, pres_a,
+                          self.state, out, iterations, report,
                           self.report_dofs, self.resting, self.held, lines_out,
                           ends_out.reshape(count, -1),
                           np.zeros(len(x)) if trend is None else np.array(trend[0], float),
@@ -353,11 +386,11 @@ class CompiledStep:
 
 
 @njit(cache=True)
-def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, pres_v,
-         driven, pres_a, factors, state, work, out, iterations, report, report_dofs, resting,
+def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pres_v,
+         driven, pres_a, state, out, iterations, report, report_dofs, resting,
          held, lines_out, ends_out, a_prev, h_prev, broyden):
-    """Steps of h from (x, v, a, force = C v + R), step i to times[i] (s) with the inputs
-    loads[i], pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free
+    """Steps of h from (x, v, a, force = C v + R) of the model ``data`` (a :class:`_StepData`),
+    step i to times[i] (s) with the inputs loads[i], pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free
     DOFs, N; empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
     iterations into iterations[i]; where report[i], the lines' full displacement and
     velocity into lines_out[:, i] and the end forces (minus the full residual at
@@ -377,13 +410,13 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
     am, af, beta, gamma = scheme
     n = x.size
     Ma0, Ma1 = np.empty(n), np.empty(n)
-    mass = model[5][0]
-    data = _StepData(*model, work, factors)
+    work, factors, mass = data.work, data.factors, data.products[0]
     width = data.width
     B, Ma, trial, dx = work[8], work[11], work[13], work[14]
     x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
     history, squares = broyden
     yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
+    balance_at, residual_at = data.callees[0], data.callees[1]
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         inputs = (loads[i], pres_u[i], pres_v[i], times[i])
@@ -408,8 +441,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
         used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
         it = stalls = stored = 0  # it: the step's iterations once solved
         for k in range(1, maxiter + 1):
-            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs,
-                            tangent, state, B)
+            code = call_compiled(_balance, balance_at, (
+                y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, state, B))
             if code == SURFACE:
                 return i, -2
             if code == SINGULAR:
@@ -451,8 +484,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
             for j in range(n):
                 y[j] = x[j] + h * v[j]
             previous = np.inf
-            code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes,
-                            state, B)
+            code = call_compiled(_balance, balance_at, (
+                y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes, state, B))
             norm = _norm(B)
             for k in range(1, maxiter + 1):
                 if code == SURFACE:
@@ -473,8 +506,9 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
                     break
                 length = 1.0
                 for halving in range(LINE_SEARCH + 1):
-                    code = _balance(trial, x_pred, v_pred, inertia_old, h, scheme, data,
-                                    inputs, no, state, B)
+                    code = call_compiled(_balance, balance_at, (
+                        trial, x_pred, v_pred, inertia_old, h, scheme, data, inputs, no, state,
+                        B))
                     if code == SURFACE:
                         return i, -2
                     norm_try = _norm(B)
@@ -488,8 +522,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
                 slow = halving == LINE_SEARCH or size > CONTRACTION * previous
                 previous = size
                 if slow and math.isfinite(norm_try):  # a new matrix where the search stopped
-                    code = _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs,
-                                    yes, state, B)
+                    code = call_compiled(_balance, balance_at, (
+                        y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes, state, B))
                 norm = norm_try
             if it == 0:
                 return i, 0
@@ -502,7 +536,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, model, loads, pres_u, p
         for j in range(n):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
         if report[i] > 0:  # (the residual called here, not in _report: a level less to compile)
-            if _residual(x1, v1, data, inputs, no, work[7]):
+            if call_compiled(_residual, residual_at, (x1, v1, data, inputs, no, work[7])):
                 _report(work, report_dofs, resting, lines_out[0, i], lines_out[1, i],
                         ends_out[i])
                 _less_held_inertia(held, a1, pres_a[i], ends_out[i])
@@ -914,7 +948,8 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, s
     for i in range(y.size):
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
         v1[i] = v_pred[i] + gamma * h * a1[i]
-    if not _residual(y, v1, data, inputs, tangent, R):
+    residual_at, assemble_at, factor_at = data.callees[1], data.callees[2], data.callees[3]
+    if not call_compiled(_residual, residual_at, (y, v1, data, inputs, tangent, R)):
         return SURFACE
     _product(products[0], a1, Ma)
     if damped:
@@ -924,10 +959,11 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, s
                  + inertia_old[i])
     if not tangent:
         return SOLVED
-    _assemble(y, v1, data, (1 - am) / (beta * h * h), gamma / (beta * h), af)
+    call_compiled(_assemble, assemble_at, (y, v1, data, (1 - am) / (beta * h * h),
+                                           gamma / (beta * h), af))
     ab, E, F, D, piv_band, piv_schur = factors
     state[2] += 1.0
-    if not bordered.factor(ab, width, E, F, D, piv_band, piv_schur):
+    if not call_compiled(bordered.factor, factor_at, (ab, width, E, F, D, piv_band, piv_schur)):
         state[0] = 0.0
         return SINGULAR
     state[0] = 1.0
