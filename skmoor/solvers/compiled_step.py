@@ -59,6 +59,7 @@ if (CONTRACTION, STALL, LINE_SEARCH, BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYD
 last_refusal = ""  # why the last build() returned None
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
 SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
+_CALLEES = {}  # the addresses of the step's parts by the numba type of its model (_find_callees)
 
 
 @structref.register
@@ -315,19 +316,23 @@ class CompiledStep:
         """``callees`` <- the addresses of :func:`_balance`, :func:`_residual`,
         :func:`_assemble` and ``bordered.factor`` compiled for the types they are called
         with (each called by address, :func:`~skmoor.fem.native_calls.call_compiled`: numba
-        optimizes and emits each one's code once, not again in every caller). Once; numba's
-        disk cache keeps them."""
+        optimizes and emits each one's code once, not again in every caller). Found once
+        per model type (the types follow from it); numba's disk cache keeps the code."""
         if self.callees[0]:
             return
-        work, factors = self.work, self.factors
-        inputs = (loads[0], pres_u[0], pres_v[0], 0.0)
-        self.callees[1:] = (  # (the callees of _balance first: its typing checks them)
-            compiled_address(_residual, out[0, 0], out[0, 0], data, inputs, True, work[7]),
-            compiled_address(_assemble, work[18], work[10], data, 0.1, 0.1, 0.1),
-            compiled_address(bordered.factor, factors[0], self.width, *factors[1:]))
-        self.callees[0] = compiled_address(_balance, work[18], work[15], work[16], work[17],
-                                           0.1, self.scheme, data, inputs, True, self.state,
-                                           work[8])
+        key = data._numba_type_
+        if key not in _CALLEES:
+            work, factors = self.work, self.factors
+            inputs = (loads[0], pres_u[0], pres_v[0], 0.0)
+            residual = compiled_address(_residual, out[0, 0], out[0, 0], data, inputs, True,
+                                        work[7])
+            assemble = compiled_address(_assemble, work[18], work[10], data, 0.1, 0.1, 0.1)
+            factor = compiled_address(bordered.factor, factors[0], self.width, *factors[1:])
+            # (the callees of _balance first: its typing checks them)
+            balance = compiled_address(_balance, work[18], work[15], work[16], work[17], 0.1,
+                                       self.scheme, data, inputs, True, self.state, work[8])
+            _CALLEES[key] = (balance, residual, assemble, factor)
+        self.callees[:] = _CALLEES[key]
 
     def steps(self, x, v, a, force_old, times, h, report=None, trend=None):
         """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R),
