@@ -281,7 +281,7 @@ class CompiledStep:
         self.broyden = (np.zeros((BROYDEN_HISTORY, n)), np.zeros(BROYDEN_HISTORY))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
-        self.callees = np.zeros(4, np.int64)  # (_find_callees)
+        self.callees = np.zeros(6, np.int64)  # (_find_callees)
         self._step_data = (None, None)  # (the cable's arrays, the step's data made with them)
 
     def _terms(self):
@@ -314,16 +314,19 @@ class CompiledStep:
 
     def _find_callees(self, data, loads, pres_u, pres_v, out):
         """``callees`` <- the addresses of :func:`_balance`, :func:`_residual`,
-        :func:`_assemble` and ``bordered.factor`` compiled for the types they are called
-        with (each called by address, :func:`~skmoor.fem.native_calls.call_compiled`: numba
+        :func:`_assemble`, ``bordered.factor``, the cable kernel and :func:`_solve` compiled
+        for the types they are called with (each called by address, :func:`~skmoor.fem.native_calls.call_compiled`: numba
         optimizes and emits each one's code once, not again in every caller). Found once
         per model type (the types follow from it); numba's disk cache keeps the code."""
         if self.callees[0]:
             return
         key = data._numba_type_
         if key not in _CALLEES:
-            work, factors = self.work, self.factors
+            work, factors, cable = self.work, self.factors, self._terms()
             inputs = (loads[0], pres_u[0], pres_v[0], 0.0)
+            elements = compiled_address(_cable, *cable[:10], work[0], work[1], cable[10],
+                                        work[2], work[3], work[4], 1.0)  # (statics' too)
+            solve = compiled_address(_solve, work[8], factors, self.width)
             residual = compiled_address(_residual, out[0, 0], out[0, 0], data, inputs, True,
                                         work[7])
             assemble = compiled_address(_assemble, work[18], work[10], data, 0.1, 0.1, 0.1)
@@ -331,7 +334,7 @@ class CompiledStep:
             # (the callees of _balance first: its typing checks them)
             balance = compiled_address(_balance, work[18], work[15], work[16], work[17], 0.1,
                                        self.scheme, data, inputs, True, self.state, work[8])
-            _CALLEES[key] = (balance, residual, assemble, factor)
+            _CALLEES[key] = (balance, residual, assemble, factor, elements, solve)
         self.callees[:] = _CALLEES[key]
 
     def steps(self, x, v, a, force_old, times, h, report=None, trend=None):
@@ -421,7 +424,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
     x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
     history, squares = broyden
     yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
-    balance_at, residual_at = data.callees[0], data.callees[1]
+    balance_at, residual_at, solve_at = data.callees[0], data.callees[1], data.callees[5]
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         inputs = (loads[i], pres_u[i], pres_v[i], times[i])
@@ -455,7 +458,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
                 break
             if tangent:
                 stored = 0
-            size = _solve(B, factors, width)
+            size = call_compiled(_solve, solve_at, (B, factors, width))
             if math.isfinite(size) and stored > 0:
                 size = _broyden(B, history, squares, stored + 0)  # (+ 0: an int64 even
                 # where stored is a literal 0, which would compile _broyden again)
@@ -498,7 +501,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
                 if code == SINGULAR:
                     return i, -1
                 _copy(dx, B)
-                size = _solve(dx, factors, width)
+                size = call_compiled(_solve, solve_at, (dx, factors, width))
                 if not math.isfinite(size):
                     return i, -1
                 for j in range(n):
@@ -775,8 +778,8 @@ def _residual(x, v, data, inputs, tangent, R):
     blocks_K = Ke if tangent else Ke[:0]  # no blocks: a view (the residual allocates nothing)
     blocks_C = Ce if tangent else Ce[:0]
     # (bending lines: no P1 element here; their loop is called as a form's, below)
-    _cable(Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, u, ud, damped, full,
-           blocks_K, blocks_C, 1.0)
+    call_compiled(_cable, data.callees[4], (Xp, T, law, knots, coef, BA, h, weight, dofs_i,
+                                            dofs_j, u, ud, damped, full, blocks_K, blocks_C, 1.0))
     if forms[1]:  # the LineForms called by address (Morison, the bed, bending, the users')
         _line_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C)
     R[:] = 0.0
