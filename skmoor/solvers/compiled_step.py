@@ -80,6 +80,15 @@ structref.define_proxy(_StepData, _StepDataType, [
     "topology", "cable", "points", "bodies", "prescribed", "products", "M", "C", "damped",
     "width", "forms", "work", "factors", "callees"])  # the model's parts (each function reads its own)
 
+@njit(cache=True)
+def _step_data(topology, cable, points, bodies, prescribed, products, M, C, damped, width,
+               forms, work, factors, callees):
+    """A :class:`_StepData` made in compiled code (numba's own Python constructor of a
+    structref is compiled again in every process: this one is cached)."""
+    return _StepData(topology, cable, points, bodies, prescribed, products, M, C, damped,
+                     width, forms, work, factors, callees)
+
+
 # stand-ins for an absent term (the compiled loop gets the same argument types)
 NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.zeros((0, 0)),
          np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3), np.int64),
@@ -306,7 +315,7 @@ class CompiledStep:
         reference, :class:`_StepData`), made again when the cable's arrays change."""
         terms = self._terms()
         if self._step_data[0] is not terms:
-            self._step_data = (terms, _StepData(
+            self._step_data = (terms, _step_data(
                 self.topology, terms, self.points, self.bodies, self.prescribed_dofs,
                 self.products, self.M, self.C, self.damped, self.width, self.forms, self.work,
                 self.factors, self.callees))
