@@ -112,7 +112,7 @@ def rotation_and_slopes(angles):
     ca, sa = math.cos(angles[0]), math.sin(angles[0])
     cb, sb = math.cos(angles[1]), math.sin(angles[1])
     cc, sc = math.cos(angles[2]), math.sin(angles[2])
-    out = np.array([
+    out = np.array((  # (a tuple: numba types it far faster than a list)
         cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc,  # R
         cb * sc, sa * sb * sc + ca * cc, ca * sb * sc - sa * cc,
         -sb, sa * cb, ca * cb,
@@ -124,7 +124,7 @@ def rotation_and_slopes(angles):
         -cb, -sa * sb, -ca * sb,
         -cb * sc, -sa * sb * sc - ca * cc, sa * cc - ca * sb * sc,  # dR/drz
         cb * cc, sa * sb * cc - ca * sc, ca * sb * cc + sa * sc,
-        0.0, 0.0, 0.0]).reshape(4, 3, 3)
+        0.0, 0.0, 0.0)).reshape(4, 3, 3)
     return out[0], out[1:]
 
 
