@@ -480,10 +480,7 @@ def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     z_dofs = carray(advanced(ints, 4 + 16 * nel), (nnodes,))
     Xp = carray(floats, (nel, nqp, 3))
     shapes = carray(advanced(floats, 3 * points), (nel, nqp, 9))
-    kn = carray(advanced(floats, 12 * points), (nel, nqp))
-    kt = carray(advanced(floats, 13 * points), (nel, nqp))
-    mn = carray(advanced(floats, 14 * points), (nel, nqp))
-    dm = carray(advanced(floats, 15 * points), (nel, nqp))
+    kn, kt, mn, dm = _coefficients(floats, 12 * points, nel, nqp)
     at = 16 * points
     u = carray(u_p, (ndofs,))
     water = _water(u, z_dofs, floats, at, nnodes, nprofile)
@@ -509,16 +506,21 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
     at += nel + 2 * nqp
     wphi = carray(advanced(floats, at), (nel, 2, nqp))
     at += 2 * points
-    kn = carray(advanced(floats, at), (nel, nqp))
-    kt = carray(advanced(floats, at + points), (nel, nqp))
-    mn = carray(advanced(floats, at + 2 * points), (nel, nqp))
-    dm = carray(advanced(floats, at + 3 * points), (nel, nqp))
+    kn, kt, mn, dm = _coefficients(floats, at, nel, nqp)
     u = carray(u_p, (ndofs,))
     water = _water(u, z_dofs, floats, at + 4 * points, nnodes, nprofile)
     blocks = nel if tangent else 0
     _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, carray(ud_p, (ndofs,)),
              water, water, False, carray(R_p, (ndofs,)), carray(K_p, (blocks, 6, 6)),
              carray(C_p, (blocks, 6, 6)))
+
+
+@njit(cache=True)
+def _coefficients(floats, at, nel, nqp):
+    """The packed Morison coefficients (drag_n, drag_t, inertia_n, inertia_t - inertia_n;
+    each (nel, nqp)) from item ``at`` of the float buffer on."""
+    block = carray(advanced(floats, at), (4, nel, nqp))
+    return block[0], block[1], block[2], block[3]
 
 
 @njit(cache=True)
