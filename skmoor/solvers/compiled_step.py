@@ -76,9 +76,11 @@ class _StepData(structref.StructRefProxy):
     arrays is passed member by member, and numba's compile time grows with that)."""
 
 
+# the model's parts (each function reads its own) and the addresses of the step's parts
 structref.define_proxy(_StepData, _StepDataType, [
     "topology", "cable", "points", "bodies", "prescribed", "products", "M", "C", "damped",
-    "width", "forms", "work", "factors", "callees"])  # the model's parts (each function reads its own)
+    "width", "forms", "work", "factors", "callees"])
+
 
 @njit(cache=True)
 def _step_data(topology, cable, points, bodies, prescribed, products, M, C, damped, width,
@@ -289,7 +291,8 @@ class CompiledStep:
         # of the residual carries)
         self.broyden = (np.zeros((BROYDEN_HISTORY, n)), np.zeros(BROYDEN_HISTORY))
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
-        self._terms_cache = (None, None)  # (the arrays' ids, the arrays as compiled code takes them)
+        # (the arrays' ids, the arrays as compiled code takes them)
+        self._terms_cache = (None, None)
         self.callees = np.zeros(6, np.int64)  # (_find_callees)
         self._step_data = (None, None)  # (the cable's arrays, the step's data made with them)
 
@@ -324,9 +327,10 @@ class CompiledStep:
     def _find_callees(self, data, loads, pres_u, pres_v, out):
         """``callees`` <- the addresses of :func:`_balance`, :func:`_residual`,
         :func:`_assemble`, ``bordered.factor``, the cable kernel and :func:`_solve` compiled
-        for the types they are called with (each called by address, :func:`~skmoor.fem.native_calls.call_compiled`: numba
-        optimizes and emits each one's code once, not again in every caller). Found once
-        per model type (the types follow from it); numba's disk cache keeps the code."""
+        for the types they are called with (each called by address,
+        :func:`~skmoor.fem.native_calls.call_compiled`: numba optimizes and emits each
+        one's code once, not again in every caller). Found once per model type (the types
+        follow from it); numba's disk cache keeps the code."""
         if self.callees[0]:
             return
         key = data._numba_type_
@@ -406,9 +410,10 @@ class CompiledStep:
 def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pres_v,
          driven, pres_a, state, out, iterations, report, report_dofs, resting,
          held, lines_out, ends_out, a_prev, h_prev, broyden):
-    """Steps of h from (x, v, a, force = C v + R) of the model ``data`` (a :class:`_StepData`),
-    step i to times[i] (s) with the inputs loads[i], pres_u[i], pres_v[i], driven[i] (the prescribed ends' inertia on the free
-    DOFs, N; empty rows: none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
+    """Steps of h from (x, v, a, force = C v + R) of the model ``data`` (a
+    :class:`_StepData`), step i to times[i] (s) with the inputs loads[i], pres_u[i],
+    pres_v[i], driven[i] (the prescribed ends' inertia on the free DOFs, N; empty rows:
+    none): (x1, v1, a1, force1) of step i into out[:, i], its Newton
     iterations into iterations[i]; where report[i], the lines' full displacement and
     velocity into lines_out[:, i] and the end forces (minus the full residual at
     report_dofs, minus the held ends' inertia ``held`` with the prescribed ends'
