@@ -434,7 +434,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
     Ma0, Ma1 = np.empty(n), np.empty(n)
     work, factors, mass = data.work, data.factors, data.products[0]
     width = data.width
-    B, Ma, trial, dx = work[8], work[11], work[13], work[14]
+    B, trial, dx = work[8], work[13], work[14]
     x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
     history, squares = broyden
     yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
@@ -442,11 +442,11 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         inputs = (loads[i], pres_u[i], pres_v[i], times[i])
-        _product(mass, a, Ma)
+        _product(mass, a, Ma0)  # M a of the step's start (for inertia_old and force1)
         for j in range(n):  # (into work arrays: no allocation per step)
             x_pred[j] = x[j] + h * v[j] + h * h * (0.5 - beta) * a[j]
             v_pred[j] = v[j] + h * (1 - gamma) * a[j]
-            inertia_old[j] = am * Ma[j] + af * force[j]
+            inertia_old[j] = am * Ma0[j] + af * force[j]
         for j in range(driven.shape[1]):  # M_fp a_p at t1: a load given in time, at the
             inertia_old[j] += (1 - af) * driven[i, j]  # alpha_f level as R (constant)
         if state[1] != h:  # a factorization of another step's matrix: make a new one
@@ -553,7 +553,6 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
         for j in range(n):  # the scheme's update, as dynamics.integrate's
             a1[j] = (x1[j] - (x[j] + h * v[j] + h * h * (0.5 - beta) * a[j])) / (beta * h * h)
             v1[j] = v[j] + h * (1 - gamma) * a[j] + gamma * h * a1[j]
-        _product(mass, a, Ma0)
         _product(mass, a1, Ma1)
         for j in range(n):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
