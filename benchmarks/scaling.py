@@ -35,8 +35,8 @@ Times, each code at its step:
   printed apart;
 - whole process: a new Python process that imports the code, makes the line, its static
   state (MoorDyn: its settled initial state) and runs the loop, timed from start to exit,
-  with its peak memory; skmoor's first compile (the same process with an empty numba
-  cache, as after an install) is printed apart.
+  with its peak memory (skmoor's first compile after an install, with an empty numba
+  cache: ``benchmarks/first_run.py``).
 
 Run: ``python benchmarks/scaling.py [--segments 10 20 50 100 200] [--no-plot]
 [--write-docs]`` (about 15 min on 2 cores); prints the tables, the log-log slope of
@@ -316,16 +316,13 @@ def peak_memory() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def whole_process(code, n, dt, workdir, cold=False):
+def whole_process(code, n, dt, workdir):
     """dict(whole (s: the process from start to exit), loop (s), peak_mb) of the case in a
-    new process that imports only its code; cold: with an empty numba cache (skmoor's
-    first-compile cost)."""
+    new process that imports only its code."""
     if code != "skmoor":  # the peer's decks, written here (their set-up uses skmoor)
         _deck(code, n, dt, workdir)
         _deck(code, n, IC_STEP, workdir)
     env = dict(os.environ)
-    if cold:
-        env["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="skmoor-cold-")
     started = time.perf_counter()
     out = subprocess.run([sys.executable, __file__, "--one", code, str(n), repr(dt),
                           str(workdir)],
@@ -367,12 +364,10 @@ def markdown_table(table, short=False):
     return "\n".join(rows)
 
 
-def write_tables(table, cold):
+def write_tables(table):
     """The tables into README.md (short) and docs/speed.md, between their markers."""
-    note = (f"\n\nskmoor's first compile (an empty numba cache, paid once per install): "
-            f"{cold:.0f} s more than a warm process.") if cold is not None else ""
     write_block(ROOT / "README.md", "scaling.py table", markdown_table(table, short=True))
-    write_block(ROOT / "docs" / "speed.md", "scaling.py table", markdown_table(table) + note)
+    write_block(ROOT / "docs" / "speed.md", "scaling.py table", markdown_table(table))
 
 
 
@@ -474,20 +469,11 @@ def main(argv=None):
               f"{md['wall']:>8.3f} | {cd['dt']:>11.4g} {cd['wall']:>8.3f} | "
               f"{sk['wall'] / md['wall']:>6.2f} {sk['wall'] / cd['wall']:>6.2f} | "
               f"{row['sk-md']:>10.1%} {row['sk-cd']:>6.1%} {row['md-cd']:>6.1%}")
-    cold = None
-    if table:  # skmoor's first compile: a process with an empty numba cache, once
-        first = table[0]
-        with tempfile.TemporaryDirectory() as workdir:
-            cold = whole_process("skmoor", first["n"], first["skmoor"]["dt"], workdir,
-                                 cold=True)["whole"]
-        cold -= first["skmoor"]["whole"]
-        print(f"\nskmoor's first compile (empty numba cache): {cold:.1f} s more than a warm "
-              "process")
     print("\ntime loop (MoorDyn: its Step calls alone) / whole process (interpreter start, "
           "imports, the line, its static state or settled start, the loop) / peak memory:\n")
     print(markdown_table(table))
     if args.write_docs:
-        write_tables(table, cold)
+        write_tables(table)
     n = np.array([row["n"] for row in table], float)
     wall = np.array([row["skmoor"]["wall"] for row in table])
     if len(n) > 1:

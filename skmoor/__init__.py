@@ -41,6 +41,7 @@ from .model.model import Model, build, from_network
 from .model.openfast_motion import openfast_motion
 from .post.results import Results
 from .run.equilibrium import equilibrium, mooring_stiffness
+from .run.first_compile import precompile
 from .run.outputs import summary, write_outputs
 from .run.recorder import static_results
 from .run.simulate import run_case, simulate
@@ -56,7 +57,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Case", "paper_case", "build", "Model", "simulate", "run_case", "summary",
-    "write_outputs", "equilibrium", "static_results", "Results", "LineType", "Line", "LineSet",
+    "write_outputs", "equilibrium", "precompile", "static_results", "Results", "LineType", "Line", "LineSet",
     "read_line_mesh", "write_line_mesh", "Catenary", "solve_catenary", "RigidBody",
     "System", "Term", "solve_static", "ConvergenceError", "eigenmodes", "integrate",
     "LineFailure", "Scheme", "DivergenceError", "BodyLoad", "PointLoad", "LineForm", "check_tangent",

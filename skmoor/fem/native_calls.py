@@ -75,36 +75,40 @@ def advanced(typingctx, pointer, count):
 
 
 @intrinsic
-def call_compiled(typingctx, function, address, arguments):
+def call_compiled(typingctx, function, address, arguments, result):
     """``function(*arguments)`` through ``address``, the native entry of its compilation for
-    exactly these argument types (:func:`compiled_address`): the caller's machine code
-    calls it without linking it in, so numba optimizes and emits the callee's code once,
-    not again with every calling level. Its errors propagate as a direct call's."""
+    exactly these argument types (:func:`compiled_address`), returning a value of
+    ``result``'s type (a value of it: False, 0, 0.0; None for nothing): the caller's machine
+    code calls the callee without linking it in, so numba optimizes and emits the callee's
+    code once, not again with every calling level, and the caller compiles without it (in
+    another process, as :mod:`skmoor.run.first_compile` does). Where the callee is compiled
+    already its result type is checked. Its errors propagate as a direct call's."""
     dispatcher = function.dispatcher
     argtypes = tuple(arguments.types)
-    if argtypes not in dispatcher.overloads:
+    restype = types.unliteral(result)
+    compiled = dispatcher.overloads.get(argtypes)
+    if compiled is not None and compiled.signature.return_type != restype:
         raise errors.TypingError(
-            f"{dispatcher.py_func.__name__} is not compiled for {argtypes}: compile it with "
-            "compiled_address for the types it is called with")
-    restype = dispatcher.overloads[argtypes].signature.return_type
+            f"{dispatcher.py_func.__name__} returns {compiled.signature.return_type}, not "
+            f"{restype} as its caller expects")
 
     def codegen(context, builder, sig, args):
         values = [builder.extract_value(args[2], i) for i in range(len(argtypes))]
         kind = context.call_conv.get_function_type(restype, argtypes)
         target = builder.inttoptr(args[1], kind.as_pointer())
-        status, result = context.call_conv.call_function(builder, target, restype, argtypes,
-                                                          values)
+        status, value = context.call_conv.call_function(builder, target, restype, argtypes,
+                                                         values)
         with cgutils.if_unlikely(builder, status.is_error):
             context.call_conv.return_status_propagate(builder, status)
-        return result
+        return value
 
-    return restype(function, types.int64, arguments), codegen
+    return restype(function, types.int64, arguments, result), codegen
 
 
 def compiled_address(function, *arguments):
     """The address (int) of ``function``'s native entry compiled for the numba types of
-    ``arguments`` (Python values), for :func:`call_compiled`."""
-    argtypes = tuple(typeof(a) for a in arguments)
+    ``arguments`` (Python values, or numba types), for :func:`call_compiled`."""
+    argtypes = tuple(a if isinstance(a, types.Type) else typeof(a) for a in arguments)
     function.compile(argtypes)
     result = function.overloads[argtypes]
     return result.library.get_pointer_to_function(result.fndesc.llvm_func_name)

@@ -33,7 +33,7 @@ import math
 
 import numpy as np
 import scipy.sparse as sp
-from numba import cfunc, njit
+from numba import cfunc, njit, typeof
 from numba.core import types
 from numba.experimental import structref
 
@@ -57,6 +57,11 @@ if (CONTRACTION, STALL, LINE_SEARCH, BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYD
                       "skmoor.solvers.newton's; change them in both files")
 
 last_refusal = ""  # why the last build() returned None
+# the step's compile units, each calling the others by address (compiled_address): those
+# :func:`_run` calls through ``callees``, in that array's order, and _run itself
+CALLEES = ("balance", "residual", "assemble", "factor", "cable", "solve")
+PARTS = CALLEES + ("run",)
+_shared = None  # (a process compiling some PARTS, their names): share_compile
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
 SOLVED, SINGULAR, SURFACE = 1, 0, 2  # what _balance returns
 _CALLEES = {}  # the addresses of the step's parts by the numba type of its model (_find_callees)
@@ -77,9 +82,9 @@ class _StepData(structref.StructRefProxy):
 
 
 # the model's parts (each function reads its own) and the addresses of the step's parts
-structref.define_proxy(_StepData, _StepDataType, [
-    "topology", "cable", "points", "bodies", "prescribed", "products", "M", "C", "damped",
-    "width", "forms", "work", "factors", "callees"])
+FIELDS = ("topology", "cable", "points", "bodies", "prescribed", "products", "M", "C",
+          "damped", "width", "forms", "work", "factors", "callees")
+structref.define_proxy(_StepData, _StepDataType, FIELDS)
 
 
 @njit(cache=True)
@@ -100,6 +105,38 @@ NO_P1 = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 6)), np.zeros((0, 0)), np.z
 def _refuse(why):
     global last_refusal
     last_refusal = why
+
+
+def cached():
+    """Whether numba's disk cache holds the compiled step for this source (False: the
+    first run after an install or a change compiles it)."""
+    try:
+        return bool(_run._cache._cache_file._load_index())
+    except (AttributeError, OSError):  # another numba's cache: assume it is there
+        return True
+
+
+def share_compile(process, parts):
+    """``process`` (a ``subprocess.Popen``) compiles the step's ``parts`` (names in
+    :data:`PARTS`) into numba's disk cache: the first step of this process compiles the
+    other parts, waits for it, then reads these from the cache instead of compiling them
+    too (:mod:`skmoor.run.first_compile`)."""
+    global _shared
+    _shared = (process, tuple(parts))
+
+
+def _wait_for_shared():
+    """The parts another process was compiling (share_compile), once it has ended
+    (compiled into the cache, or failed: then they compile here)."""
+    global _shared
+    if _shared is None:
+        return ()
+    (process, parts), _shared = _shared, None
+    try:
+        process.wait(timeout=600)
+    except Exception:  # noqa: BLE001 (a process that hangs or cannot be waited for)
+        process.kill()
+    return parts
 
 
 # the kernels a term may lower to (Term.lowered), and those the step holds one of
@@ -324,43 +361,70 @@ class CompiledStep:
                 self.factors, self.callees))
         return self._step_data[1]
 
-    def _find_callees(self, data, loads, pres_u, pres_v, out):
-        """``callees`` <- the addresses of :func:`_balance`, :func:`_residual`,
-        :func:`_assemble`, ``bordered.factor``, the cable kernel and :func:`_solve` compiled
-        for the types they are called with (each called by address,
+    def _data_type(self):
+        """numba's type of :meth:`_data`, made without compiling :func:`_step_data` (it
+        is the same for every model: one compiled step serves all)."""
+        values = (self.topology, self._terms(), self.points, self.bodies,
+                  self.prescribed_dofs, self.products, self.M, self.C, self.damped,
+                  self.width, self.forms, self.work, self.factors, self.callees)
+        return _StepDataType([(name, typeof(value)) for name, value in zip(FIELDS, values)])
+
+    def _part_arguments(self, part, data):
+        """(function, arguments) of the step's compile unit ``part`` (in :data:`PARTS`),
+        its arguments of the types a run calls it with (``data``: a :class:`_StepData` or
+        its numba type)."""
+        work, factors, cable = self.work, self.factors, self._terms()
+        y = np.zeros(self.system.n)
+        inputs = (np.zeros((len(self.system.bodies), 6)), np.zeros(len(self.prescribed_dofs)),
+                  np.zeros(len(self.prescribed_dofs)), 0.0)
+        if part == "run":
+            return _run, self._run_arguments(y, y, y, y, np.zeros(1), 0.1, None, None, data)[0]
+        return {"balance": (_balance, (work[18], work[15], work[16], work[17], 0.1,
+                                       self.scheme, data, inputs, True, self.state, work[8])),
+                "residual": (_residual, (y, y, data, inputs, True, work[7])),
+                "assemble": (_assemble, (work[18], work[10], data, 0.1, 0.1, 0.1)),
+                "factor": (bordered.factor, (factors[0], self.width, *factors[1:])),
+                "cable": (_cable, (*cable[:10], work[0], work[1], cable[10], work[2],
+                                   work[3], work[4], 1.0)),  # (statics' overload too)
+                "solve": (_solve, (work[8], factors, self.width))}[part]
+
+    def compile(self, parts, data=None):
+        """The step's compile units ``parts`` (names in :data:`PARTS`) compiled for the
+        types a run calls them with (numba's disk cache keeps them; data: as
+        :meth:`_part_arguments`, None: its type): {part: its address}."""
+        data = self._data_type() if data is None else data
+        addresses = {}
+        for part in parts:
+            function, arguments = self._part_arguments(part, data)
+            if part == "run":
+                function.compile(tuple(a if isinstance(a, types.Type) else typeof(a)
+                                       for a in arguments))
+            else:
+                addresses[part] = compiled_address(function, *arguments)
+        return addresses
+
+    def _find_callees(self, data):
+        """``callees`` <- the addresses of :data:`CALLEES` compiled for the types they are
+        called with (each called by address,
         :func:`~skmoor.fem.native_calls.call_compiled`: numba optimizes and emits each
-        one's code once, not again in every caller). Found once per model type (the types
-        follow from it); numba's disk cache keeps the code."""
+        one's code once, not again in every caller), and :func:`_run` compiled. Found
+        once per model type (the types follow from it); numba's disk cache keeps the code.
+        Parts another process compiles (:func:`share_compile`) are read from the cache
+        once it is done, the others compiled here meanwhile."""
         if self.callees[0]:
             return
         key = data._numba_type_
         if key not in _CALLEES:
-            work, factors, cable = self.work, self.factors, self._terms()
-            inputs = (loads[0], pres_u[0], pres_v[0], 0.0)
-            elements = compiled_address(_cable, *cable[:10], work[0], work[1], cable[10],
-                                        work[2], work[3], work[4], 1.0)  # (statics' too)
-            solve = compiled_address(_solve, work[8], factors, self.width)
-            residual = compiled_address(_residual, out[0, 0], out[0, 0], data, inputs, True,
-                                        work[7])
-            assemble = compiled_address(_assemble, work[18], work[10], data, 0.1, 0.1, 0.1)
-            factor = compiled_address(bordered.factor, factors[0], self.width, *factors[1:])
-            # (the callees of _balance first: its typing checks them)
-            balance = compiled_address(_balance, work[18], work[15], work[16], work[17], 0.1,
-                                       self.scheme, data, inputs, True, self.state, work[8])
-            _CALLEES[key] = (balance, residual, assemble, factor, elements, solve)
+            shared = _shared[1] if _shared is not None else ()
+            addresses = self.compile([p for p in PARTS if p not in shared], data)
+            addresses.update(self.compile(_wait_for_shared(), data))
+            _CALLEES[key] = tuple(addresses[p] for p in CALLEES)
         self.callees[:] = _CALLEES[key]
 
-    def steps(self, x, v, a, force_old, times, h, report=None, trend=None):
-        """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R),
-        ``trend`` the acceleration a step before and that step, (a_prev, h_prev) (None: none):
-        (a list of ((x1, v1, a1, C v1 + R1, None), iterations, report), None), or with
-        fewer steps than ``times`` and why Newton failed at the step after the last.
-        report: a bool per step; at those steps the report is ((u, ud), (fairlead forces,
-        anchor forces)) as ``System.full_state`` and ``System.end_forces`` give them (m,
-        m/s; (nlines, 3) N each), computed here; None at the others."""
+    def _run_arguments(self, x, v, a, force_old, times, h, report, trend, data):
+        """(:func:`_run`'s arguments for :meth:`steps`, (out, iterations, report, lines_out,
+        ends_out): its outputs)."""
         system, count = self.system, len(times)
-        if not count:
-            return [], None
         nbodies, m = len(system.bodies), len(self.prescribed_dofs)
         pres_u, pres_v = np.zeros((count, m)), np.zeros((count, m))
         loads = np.zeros((count, nbodies, 6))
@@ -389,15 +453,30 @@ class CompiledStep:
         report = np.zeros(count, np.int64) if report is None else np.array(report, np.int64)
         lines_out = np.empty((2, count, system.lines.ndofs))
         ends_out = np.empty((count, 2, len(system.fairlead_dofs), 3))
+        arguments = (x, v, a, force_old, h, np.asarray(times, float), self.scheme, self.tol,
+                     self.maxiter, data, loads, pres_u, pres_v, driven, pres_a, self.state,
+                     out, iterations, report, self.report_dofs, self.resting, self.held,
+                     lines_out, ends_out.reshape(count, -1),
+                     np.zeros(len(x)) if trend is None else np.array(trend[0], float),
+                     0.0 if trend is None else float(trend[1]), self.broyden)
+        return arguments, (out, iterations, report, lines_out, ends_out)
+
+    def steps(self, x, v, a, force_old, times, h, report=None, trend=None):
+        """Steps of h (s) to each of ``times`` in turn from level 0 (x, v, a, C v + R),
+        ``trend`` the acceleration a step before and that step, (a_prev, h_prev) (None: none):
+        (a list of ((x1, v1, a1, C v1 + R1, None), iterations, report), None), or with
+        fewer steps than ``times`` and why Newton failed at the step after the last.
+        report: a bool per step; at those steps the report is ((u, ud), (fairlead forces,
+        anchor forces)) as ``System.full_state`` and ``System.end_forces`` give them (m,
+        m/s; (nlines, 3) N each), computed here; None at the others."""
+        count = len(times)
+        if not count:
+            return [], None
         data = self._data()
-        self._find_callees(data, loads, pres_u, pres_v, out)
-        done, code = _run(x, v, a, force_old, h, np.asarray(times, float), self.scheme,
-                          self.tol, self.maxiter, data, loads, pres_u, pres_v, driven, pres_a,
-                          self.state, out, iterations, report,
-                          self.report_dofs, self.resting, self.held, lines_out,
-                          ends_out.reshape(count, -1),
-                          np.zeros(len(x)) if trend is None else np.array(trend[0], float),
-                          0.0 if trend is None else float(trend[1]), self.broyden)
+        self._find_callees(data)
+        arguments, (out, iterations, report, lines_out, ends_out) = self._run_arguments(
+            x, v, a, force_old, times, h, report, trend, data)
+        done, code = _run(*arguments)
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
@@ -464,7 +543,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
         it = stalls = stored = 0  # it: the step's iterations once solved
         for k in range(1, maxiter + 1):
             code = call_compiled(_balance, balance_at, (
-                y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, state, B))
+                y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, state, B),
+                SOLVED)
             if code == SURFACE:
                 return i, -2
             if code == SINGULAR:
@@ -472,7 +552,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
                 break
             if tangent:
                 stored = 0
-            size = call_compiled(_solve, solve_at, (B, factors, width))
+            size = call_compiled(_solve, solve_at, (B, factors, width), 0.0)
             if math.isfinite(size) and stored > 0:
                 size = _broyden(B, history, squares, stored + 0)  # (+ 0: an int64 even
                 # where stored is a literal 0, which would compile _broyden again)
@@ -507,7 +587,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
                 y[j] = x[j] + h * v[j]
             previous = np.inf
             code = call_compiled(_balance, balance_at, (
-                y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes, state, B))
+                y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes, state, B), SOLVED)
             norm = _norm(B)
             for k in range(1, maxiter + 1):
                 if code == SURFACE:
@@ -515,7 +595,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
                 if code == SINGULAR:
                     return i, -1
                 _copy(dx, B)
-                size = call_compiled(_solve, solve_at, (dx, factors, width))
+                size = call_compiled(_solve, solve_at, (dx, factors, width), 0.0)
                 if not math.isfinite(size):
                     return i, -1
                 for j in range(n):
@@ -530,7 +610,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
                 for halving in range(LINE_SEARCH + 1):
                     code = call_compiled(_balance, balance_at, (
                         trial, x_pred, v_pred, inertia_old, h, scheme, data, inputs, no, state,
-                        B))
+                        B), SOLVED)
                     if code == SURFACE:
                         return i, -2
                     norm_try = _norm(B)
@@ -545,7 +625,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
                 previous = size
                 if slow and math.isfinite(norm_try):  # a new matrix where the search stopped
                     code = call_compiled(_balance, balance_at, (
-                        y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes, state, B))
+                        y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, yes, state,
+                        B), SOLVED)
                 norm = norm_try
             if it == 0:
                 return i, 0
@@ -557,7 +638,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
         for j in range(n):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
         if report[i] > 0:  # (the residual called here, not in _report: a level less to compile)
-            if call_compiled(_residual, residual_at, (x1, v1, data, inputs, no, work[7])):
+            if call_compiled(_residual, residual_at, (x1, v1, data, inputs, no, work[7]),
+                             True):
                 _report(work, report_dofs, resting, lines_out[0, i], lines_out[1, i],
                         ends_out[i])
                 _less_held_inertia(held, a1, pres_a[i], ends_out[i])
@@ -792,7 +874,8 @@ def _residual(x, v, data, inputs, tangent, R):
     blocks_C = Ce if tangent else Ce[:0]
     # (bending lines: no P1 element here; their loop is called as a form's, below)
     call_compiled(_cable, data.callees[4], (Xp, T, law, knots, coef, BA, h, weight, dofs_i,
-                                            dofs_j, u, ud, damped, full, blocks_K, blocks_C, 1.0))
+                                            dofs_j, u, ud, damped, full, blocks_K, blocks_C, 1.0),
+                  None)
     if forms[1]:  # the LineForms called by address (Morison, the bed, bending, the users')
         _line_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C)
     R[:] = 0.0
@@ -970,7 +1053,7 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, s
         a1[i] = (y[i] - x_pred[i]) / (beta * h * h)
         v1[i] = v_pred[i] + gamma * h * a1[i]
     residual_at, assemble_at, factor_at = data.callees[1], data.callees[2], data.callees[3]
-    if not call_compiled(_residual, residual_at, (y, v1, data, inputs, tangent, R)):
+    if not call_compiled(_residual, residual_at, (y, v1, data, inputs, tangent, R), True):
         return SURFACE
     _product(products[0], a1, Ma)
     if damped:
@@ -981,10 +1064,11 @@ def _balance(y, x_pred, v_pred, inertia_old, h, scheme, data, inputs, tangent, s
     if not tangent:
         return SOLVED
     call_compiled(_assemble, assemble_at, (y, v1, data, (1 - am) / (beta * h * h),
-                                           gamma / (beta * h), af))
+                                           gamma / (beta * h), af), None)
     ab, E, F, D, piv_band, piv_schur = factors
     state[2] += 1.0
-    if not call_compiled(bordered.factor, factor_at, (ab, width, E, F, D, piv_band, piv_schur)):
+    if not call_compiled(bordered.factor, factor_at, (ab, width, E, F, D, piv_band, piv_schur),
+                         True):
         state[0] = 0.0
         return SINGULAR
     state[0] = 1.0

@@ -1,9 +1,10 @@
 """Calls by address between compiled functions (skmoor.fem.native_calls.call_compiled):
 the callee's result, its in-place writes and its errors reach the caller as a direct
-call's would, and a call with types it was not compiled for is refused while compiling."""
+call's would; the caller compiles before its callee, and a caller that expects another
+result type than the compiled callee's is refused while compiling."""
 import numpy as np
 import pytest
-from numba import errors, njit
+from numba import errors, njit, types
 
 from skmoor.fem.native_calls import call_compiled, compiled_address
 
@@ -22,7 +23,7 @@ def _weighted_sum(values, weights, out):
 
 @njit
 def _by_address(address, values, weights, out):
-    return call_compiled(_weighted_sum, address, (values, weights, out))
+    return call_compiled(_weighted_sum, address, (values, weights, out), 0)
 
 
 def test_a_call_by_address_returns_and_writes_what_the_function_computes():
@@ -42,11 +43,36 @@ def test_an_error_in_the_callee_reaches_the_caller():
         _by_address(address, empty, weights, out)
 
 
-def test_a_call_with_types_the_callee_was_not_compiled_for_is_refused():
-    @njit
-    def by_address_int(address, values, out):
-        return call_compiled(_weighted_sum, address, (values, (1, 2), out))
+@njit(no_cpython_wrapper=True)
+def _scaled(values, factor):
+    """values <- factor * values; their new sum."""
+    total = 0.0
+    for i in range(values.size):
+        values[i] *= factor
+        total += values[i]
+    return total
 
-    values, out = np.ones(2), np.zeros(1)
-    with pytest.raises(errors.TypingError, match="not compiled for"):
-        by_address_int(0, values, out)
+
+@njit
+def _scaled_by_address(address, values, factor):
+    return call_compiled(_scaled, address, (values, factor), 0.0)
+
+
+def test_the_caller_compiles_before_its_callee():
+    values = np.array([1.0, 2.0])
+    _scaled_by_address.compile((types.int64, types.float64[::1], types.float64))
+    assert not _scaled.overloads  # the caller's code needs only the callee's types
+    address = compiled_address(_scaled, values, 2.0)
+    assert _scaled_by_address(address, values, 2.0) == 6.0  # a dropped factor gives 3
+    assert list(values) == [2.0, 4.0]
+
+
+def test_a_caller_expecting_another_result_type_is_refused():
+    @njit
+    def by_address_float(address, values, weights, out):
+        return call_compiled(_weighted_sum, address, (values, weights, out), 0.0)
+
+    values, weights, out = np.ones(2), (1.0, 2.0), np.zeros(1)
+    compiled_address(_weighted_sum, values, weights, out)  # returns an int64
+    with pytest.raises(errors.TypingError, match="returns int64, not float64"):
+        by_address_float(0, values, weights, out)
