@@ -35,12 +35,13 @@ import math
 
 import numpy as np
 from numba import carray, cfunc, njit
-from skfem import Basis, BilinearForm, LinearForm
+from skfem import BilinearForm, LinearForm, asm
 
 from ..fem.form_compiler import STEP_SIGNATURE
 from ..fem.hermite import hermite_shapes
 from ..fem.ops import dot
 from ..fem.patterns import NO_BLOCKS_12, ElementPattern
+from .cable_forms import reference_force
 from .cable_kernel import _stress, _stress_plain, law_table
 
 
@@ -86,11 +87,15 @@ class HermiteKernel:
         self.refresh_laws()
         lineset._kernels.append(self)
         self.constant = lineset.reference_force()
+        users = lineset.user_law_cells
+        if users.any():  # a user's law: its term (skmoor.lines.user_law) carries the whole
+            # axial force of its elements, their reference part with it
+            self.shapes[users, :, 4] = 0.0
+            self.constant -= asm(reference_force, basis, Xp=f["Xp"],
+                                 T=f["T"] * users[:, None])
         _, dNm, d2Nm = hermite_shapes(np.array([0.5]), self.h)
         self._midpoint = (dNm, d2Nm)
-        middle = Basis(lineset.mesh, lineset.basis.elem,
-                       quadrature=(np.array([[0.5]]), np.array([1.0])))
-        self._middle_fields = {k: v[..., 0] for k, v in lineset._fields(middle).items()}
+        self._middle_fields = lineset.midpoint_fields()
         # the bending form is linear in u: its 4 x 4 weights (the same on x, y and z) and
         # its force at u = 0, EI X'' . v'', side by side (nel, 4, 7)
         weighted = basis.dx * f["EI"]

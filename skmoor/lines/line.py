@@ -609,12 +609,35 @@ class LineSet:
 
     def element_slopes(self, u):
         """(3, nel) u' on each element (constant for P1; at the mid-point on Hermite)."""
-        if self.hermite:
-            _, dN, _ = bending.hermite_shapes(np.array([0.5]), self.element_lengths)
-            return np.einsum("eb,ebc->ce", dN[:, 0], u[self.element_dofs].reshape(-1, 4, 3))
-        U = u[self.nodal_dofs]  # (nnodes, 3)
-        t = self.mesh.t
-        return ((U[t[1]] - U[t[0]]) / self.element_lengths[:, None]).T
+        weights, dofs = self.midpoint_slope()
+        return np.einsum("eb,ebc->ce", weights, u[dofs])
+
+    def midpoint_slope(self):
+        """(weights (nel, nb), dofs (nel, nb, 3) int64): d/ds of a field at each element's
+        mid-point, sum_b weights[e, b] u[dofs[e, b]] (1/m on values; P1: the nodes' values,
+        nb = 2; Hermite: the nodes' values and slopes, nb = 4)."""
+        if "_midpoint_slope" not in self.__dict__:
+            if self.hermite:
+                _, dN, _ = bending.hermite_shapes(np.array([0.5]), self.element_lengths)
+                weights, dofs = dN[:, 0], self.element_dofs.reshape(-1, 4, 3)
+            else:
+                h, t = self.element_lengths, self.mesh.t
+                weights = np.stack([-1.0 / h, 1.0 / h], axis=1)
+                dofs = np.stack([self.nodal_dofs[t[0]], self.nodal_dofs[t[1]]], axis=1)
+            self.__dict__["_midpoint_slope"] = (np.ascontiguousarray(weights, float),
+                                                np.ascontiguousarray(dofs, np.int64))
+        return self.__dict__["_midpoint_slope"]
+
+    def midpoint_fields(self):
+        """The reference fields at each element's mid-point, (nel,) each (Xp (3, nel))."""
+        if not self.hermite:  # the cable's points are the mid-points
+            return {name: value[..., 0] for name, value in self.cable_fields.items()}
+        if "_midpoint_fields" not in self.__dict__:
+            middle = Basis(self.mesh, self.basis.elem,
+                           quadrature=(np.array([[0.5]]), np.array([1.0])))
+            self.__dict__["_midpoint_fields"] = {
+                name: value[..., 0] for name, value in self._fields(middle).items()}
+        return self.__dict__["_midpoint_fields"]
 
     @property
     def bandwidth(self) -> int:

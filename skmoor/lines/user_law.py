@@ -16,7 +16,8 @@ Which strain the law sees: ``e`` is the engineering strain of the UNSTRETCHED li
 (stretched length over unstretched length, minus 1), as the built-in laws and MoorDyn
 use it, so a threshold written in the law (a kink at 1 % strain) is at 1 % from the
 unstretched line, not from the static state: at a point of reference (static) stretch
-1 + e_ref stretched further by lambda = |X' + u'|, e = (1 + e_ref) lambda - 1, and
+1 + e_ref stretched further by lambda = sqrt(1 + 2 eps) (eps the strain of Eq. 3 from the
+reference state; lambda = |X' + u'| where |X'| = 1), e = (1 + e_ref) lambda - 1, and
 de/dt = (1 + e_ref) (r' . udot') / lambda. A line type's BA (internal damping) still
 adds BA de/dt in the cable kernel; a law with its own rate term can leave BA at 0.
 """
@@ -167,8 +168,9 @@ class UserLaw(Law):
 def law_residual(v, w):
     # Eq. 11 with the user's tension, and the line type's axial damping BA as the cable
     # kernel has it: int [N(e, de/dt) / |r'| + BA r' . udot'] r' . dv' ds on its lines
-    rp = w.Xp + d_ds(w.u)
-    stretch = ops.norm(rp)
+    up = d_ds(w.u)
+    rp = w.Xp + up
+    stretch = ops.sqrt(1.0 + 2.0 * dot(w.Xp + 0.5 * up, up))  # from the reference (Eq. 3)
     grow = 1.0 + w.e_ref
     strain = grow * stretch - 1.0
     green_rate = dot(rp, d_ds(w.du))  # d/dt of the strain of Eq. 3
@@ -180,9 +182,6 @@ def law_terms(lines) -> list:
     """One line form per user law of ``lines`` (a LineSet), on that law's lines, at the
     element mid-points as the cable kernel; none without user laws."""
     terms, seen = [], []
-    if lines.hermite and lines.has_user_law:
-        raise ValueError("UserLaw: a user's law on bending (Hermite) lines is not supported "
-                         "yet; give the line type EI = 0 or a built-in law")
     for law in lines.laws:
         if isinstance(law, UserLaw) and not any(law is s for s in seen):
             seen.append(law)
@@ -191,7 +190,8 @@ def law_terms(lines) -> list:
             on = np.repeat(cells.astype(float)[:, None],
                            lines.cable_fields["T"].shape[1], axis=1)
             terms.append(LineForm(law_residual, fields={"on": on, "law": law},
-                                  quadrature="midpoint", lines=lines, name=law.label))
+                                  quadrature="gauss" if lines.hermite else "midpoint",
+                                  lines=lines, name=law.label))
     return terms
 
 
@@ -199,47 +199,52 @@ def law_tension(lines, u, ud=None) -> np.ndarray:
     """(nel,) the user laws' tension at the element mid-points less the reference
     tension the cable kernel reports there (N; 0 on other lines)."""
     plan = lines.__dict__.get("_user_law_plan")
-    if plan is None:  # per law: its elements' DOFs, lengths, X', 1 + e_ref and T
-        f, t, nodal = lines.cable_fields, lines.mesh.t, lines.nodal_dofs
+    if plan is None:  # per law: its elements' mid-point slope, X', 1 + e_ref and T
+        weights, dofs = lines.midpoint_slope()
+        f = lines.midpoint_fields()
         laws = []  # each law once, with all its lines' elements
         for law in lines.laws:
             if isinstance(law, UserLaw) and not any(law is seen for seen in laws):
                 laws.append(law)
         plan = lines.__dict__["_user_law_plan"] = [
-            (law, cells, nodal[t[0]][cells].astype(np.int64),
-             nodal[t[1]][cells].astype(np.int64), lines.element_lengths[cells][:, None],
-             np.ascontiguousarray(f["Xp"][:, cells, 0].T), 1.0 + f["e_ref"][cells, 0],
-             np.ascontiguousarray(f["T"][cells, 0]))
+            (law, cells, np.ascontiguousarray(weights[cells]),
+             np.ascontiguousarray(dofs[cells]), np.ascontiguousarray(f["Xp"][:, cells].T),
+             1.0 + f["e_ref"][cells], np.ascontiguousarray(f["T"][cells]))
             for law, cells in ((law, np.nonzero(np.isin(lines.line_of_cell, [
                 k for k, other in enumerate(lines.laws) if other is law]))[0])
                 for law in laws)]
     out = np.zeros(len(lines.line_of_cell))
-    for law, cells, dofs_i, dofs_j, h, Xp, grow, T in plan:
+    for law, cells, weights, dofs, Xp, grow, T in plan:
         compiled = law.compiled()
         if compiled is not None:
             _tensions(compiled.address, u, u if ud is None else ud, ud is not None, cells,
-                      dofs_i, dofs_j, h[:, 0], Xp, grow, T, out)
+                      weights, dofs, Xp, grow, T, out)
             continue
-        rp = Xp + (u[dofs_j] - u[dofs_i]) / h
-        stretch = np.sqrt(np.einsum("ij,ij->i", rp, rp))
-        rate = (np.zeros_like(stretch) if ud is None else
-                grow * np.einsum("ij,ij->i", rp, (ud[dofs_j] - ud[dofs_i]) / h) / stretch)
+        up = np.einsum("eb,ebc->ec", weights, u[dofs])
+        rp = Xp + up
+        stretch = np.sqrt(1.0 + 2.0 * np.einsum("ij,ij->i", Xp + 0.5 * up, up))
+        rate = (np.zeros_like(stretch) if ud is None else grow * np.einsum(
+            "ij,ij->i", rp, np.einsum("eb,ebc->ec", weights, ud[dofs])) / stretch)
         out[cells] = law.axial(grow * stretch - 1.0, rate) - T
     return out
 
 
 @njit(cache=True)
-def _tensions(address, u, ud, moving, cells, dofs_i, dofs_j, h, Xp, grow, T, out):
+def _tensions(address, u, ud, moving, cells, weights, dofs, Xp, grow, T, out):
     """out[cells] = N(e, de/dt) - T at the elements' mid-points, N by the law's C
-    function at ``address`` (de/dt 0 unless ``moving``)."""
+    function at ``address`` (de/dt 0 unless ``moving``); the slopes there sum_b
+    weights[k, b] u[dofs[k, b]] (``LineSet.midpoint_slope``)."""
     z, N = np.empty(2), np.empty(1)
     for k in range(cells.size):
-        squared = rate = 0.0
+        eps = rate = 0.0
         for c in range(3):
-            rp = Xp[k, c] + (u[dofs_j[k, c]] - u[dofs_i[k, c]]) / h[k]
-            squared += rp * rp
-            rate += rp * (ud[dofs_j[k, c]] - ud[dofs_i[k, c]]) / h[k]
-        stretch = math.sqrt(squared)
+            up = vp = 0.0
+            for b in range(weights.shape[1]):
+                up += weights[k, b] * u[dofs[k, b, c]]
+                vp += weights[k, b] * ud[dofs[k, b, c]]
+            eps += (Xp[k, c] + 0.5 * up) * up  # Eq. 3
+            rate += (Xp[k, c] + up) * vp
+        stretch = math.sqrt(1.0 + 2.0 * eps)
         z[0] = grow[k] * stretch - 1.0
         z[1] = grow[k] * rate / stretch if moving else 0.0
         call_load(address, z.ctypes.data, N.ctypes.data)

@@ -7,8 +7,8 @@ cable kernel and the line terms, the reduction to the bodies and free points (Eq
 coupling), the Newton matrix, its factorization (:mod:`skmoor.numerics.bordered`) and the solve --
 is one numba function, so that a step costs what its arithmetic costs.
 
-It covers P1 lines with any built-in strain law or a user's (:mod:`skmoor.lines.user_law`)
-and bending (Hermite) lines (12 x 12 element blocks), MoorDyn-style or skmoor's Morison
+It covers P1 and bending (Hermite: 12 x 12 element blocks) lines with any built-in strain
+law or a user's (:mod:`skmoor.lines.user_law`), MoorDyn-style or skmoor's Morison
 terms in still water or a steady current (at the displaced nodes), a plane sea bed (these
 three called by address as a user's LineForm is, their ``step_kernel``, each compiled only
 when a run has it), the dry part of the lines in
