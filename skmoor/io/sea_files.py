@@ -14,7 +14,10 @@ source/Seafloor.cpp); the files have MoorDyn's fixed names in the deck's folder:
   every ``dtWave`` s, its FFT below 0.5 Hz, on the grid of ``water_grid.txt``.
 - ``WaveKin 7``: ``wave_frequencies.txt`` summed at the points (no grid):
   :class:`~skmoor.sea.water_grids.SpectrumWaves`.
-- ``Currents 1``: ``current_profile.txt`` (3 header lines, then z ux [uy [uz]]).
+- ``Currents 1``: ``current_profile.txt`` (3 header lines, then z ux [uy [uz]]); a
+  profile of horizontal velocities along one heading is a steady
+  :class:`~skmoor.sea.waves.Current` (linear in z and held beyond its ends, as the grid
+  is; the compiled time step takes it), any other a grid.
 - ``Currents 2``: ``current_profile_dynamic.txt`` (line 5: the z's; from line 7: t and
   ux at each z [then uy, uz]).
 - ``Currents 5``: ``current_profile_4d.txt`` (line 1: nx ny nz nt; lines 2-5: the x, y,
@@ -55,7 +58,7 @@ from ..sea.water_grids import (
     evenly_spaced,
     resampled_current,
 )
-from ..sea.waves import Sea
+from ..sea.waves import Current, Sea
 from .paths import resolve_inside
 
 WAVE_FILES = {2: ("wave_frequencies.txt", "water_grid.txt"),
@@ -322,12 +325,31 @@ def deck_bathymetry(deck):
         raise ValueError(f"{deck.where('SeafloorFile')}: SeafloorFile: {err}") from None
 
 
-def _current(deck, mode):
+def steady_profile(z, velocity):
+    """The :class:`~skmoor.sea.waves.Current` of a profile (z m, velocity (nz, 3) m/s)
+    whose velocities are horizontal and along one heading (signed speeds along it), or
+    None."""
+    horizontal = velocity[:, :2]
+    size = np.linalg.norm(horizontal, axis=1)
+    if np.any(velocity[:, 2] != 0) or not size.max() > 0:
+        return None
+    direction = horizontal[np.argmax(size)] / size.max()
+    speeds = horizontal @ direction
+    if np.abs(horizontal - speeds[:, None] * direction).max() > 1e-12 * size.max():
+        return None
+    return Current(profile=np.c_[z, speeds],
+                   heading_deg=math.degrees(math.atan2(direction[1], direction[0])))
+
+
+def _current(deck, mode, steady=False):
+    """The deck's current (``steady``: a steady Current where the profile is one, else
+    a grid)."""
     folder = Path(deck.folder)
     path = folder / CURRENT_FILES[mode]
     if mode == 1:
         z, velocity = read_current_profile(path)
-        return CurrentGrid([0.0], [0.0], z, 1.0, velocity[None, None, :, None, :])
+        current = steady_profile(z, velocity) if steady else None
+        return current or CurrentGrid([0.0], [0.0], z, 1.0, velocity[None, None, :, None, :])
     if mode == 2:
         z, times, velocity = read_dynamic_current(path)
         return resampled_current([0.0], [0.0], z, times, velocity[None, None])
@@ -364,23 +386,26 @@ def deck_sea(deck, bathymetry=None) -> Sea:
     waves = _mode(deck, "WaveKin", (1, 2, 3, 7))
     currents = _mode(deck, "Currents", tuple(CURRENT_FILES))
     stretching = Stretching(deck.depth, bathymetry)
-    fields = []
+    fields, steady = [], None
     where = {"WaveKin": waves, "Currents": currents}
     try:
         for name, mode in where.items():
             if name == "WaveKin" and mode in WAVE_FILES:
                 fields.append(_waves(deck, mode, stretching))
             if name == "Currents" and mode:
-                current = _current(deck, mode)
                 unify = deck.option("UnifyCurrentGrid", 1.0) != 0
                 if fields and isinstance(fields[0], WaveGrid) and unify:
-                    fields[0].currents.append(current)
+                    fields[0].currents.append(_current(deck, mode))
+                    continue
+                current = _current(deck, mode, steady=True)
+                if isinstance(current, Current):
+                    steady = current
                 else:
                     fields.append(current)
     except ValueError as err:
         raise ValueError(f"{deck.where(name)}: option {name} = {deck.options[name]}: "
                          f"{err}") from None
-    return Sea(stretching.depth, rho=deck.rho, g=deck.g, fields=fields)
+    return Sea(stretching.depth, rho=deck.rho, g=deck.g, current=steady, fields=fields)
 
 
 def still_water(deck, bathymetry=None) -> Sea:

@@ -24,9 +24,16 @@ wetted share of its segments).
 """
 from __future__ import annotations
 
-import numpy as np
+import functools
+import math
 
+import numpy as np
+from numba import carray, cfunc, njit
+
+from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.native_calls import advanced
 from ..fem.terms import Term
+from .hydro import current_speed
 
 RMS_STEPS = 500  # MoorDyn's n_m: steps dtM in the running mean square
 
@@ -54,9 +61,13 @@ def phase_rate(phase, phase_motion, normal_speed, diameter, cF, dF):
 class VortexLift(Term):
     """The VIV lift on the internal nodes of every line whose LineType has Cl > 0 (its
     ``Cl``, ``viv_dF``, ``viv_cF``); sea: the water (currents), None for still water;
-    rms_time: the running mean square's time constant, s."""
+    rms_time: the running mean square's time constant, s. Its state (the last committed
+    time, each node's phase, phase rate, mean squares and velocity) is one array, which
+    the compiled time step advances in place with :attr:`step_commit` (still water or a
+    steady current; the Python step with :meth:`commit`)."""
 
     acts_on = "lines"
+    why_python = "VIV lift in waves or water fields"
 
     def __init__(self, lines, sea=None, rms_time=RMS_STEPS * 1e-4):
         if not rms_time > 0:
@@ -87,7 +98,80 @@ class VortexLift(Term):
         self.first_phase = np.concatenate(first_phase)
         self.rho, self.d, self.Cl, self.cF, self.dF, self.length = np.concatenate(coefficients, axis=1)
         self.dofs = lines.nodal_dofs[self.nodes]
-        self._t = None  # no committed state yet: no lift
+        n = self.nodes.size
+        # [t, phase (n), rate (n), yd_ms (n), ydd_ms (n), velocity (n, 3)]; t NaN: no
+        # committed state yet (no lift)
+        self._state = np.full(1 + 7 * n, np.nan)
+
+    def _part(self, start, stop, shape=None):
+        part = self._state[1 + start * self.nodes.size: 1 + stop * self.nodes.size]
+        return part if shape is None else part.reshape(shape)
+
+    @property
+    def _t(self):
+        """The last committed time (s), None before the first commit."""
+        return None if math.isnan(self._state[0]) else float(self._state[0])
+
+    @property
+    def _phase(self):
+        return self._part(0, 1)
+
+    @property
+    def _rate(self):
+        return self._part(1, 2)
+
+    @property
+    def _yd_ms(self):
+        return self._part(2, 3)
+
+    @property
+    def _ydd_ms(self):
+        return self._part(3, 4)
+
+    @property
+    def _velocity(self):
+        return self._part(4, 7, (-1, 3))
+
+    @property
+    def steady(self) -> bool:
+        """Still water or a steady current: what the compiled kernels evaluate."""
+        sea = self.sea
+        return sea is None or sea.still or (sea.current is not None and not sea.waves
+                                            and not sea.fields)
+
+    def lowered(self):
+        return "form" if self.steady else None
+
+    @property
+    def step_kernel(self):
+        """(C function, ints, floats): the lift (:func:`_lift_packed`) as the compiled time
+        step calls a LineForm, by address; ints [nodes, profile points, the nodes' DOFs
+        and their neighbours' (3 x (n, 3))], floats [the reference positions of the nodes
+        and their neighbours (3 x (n, 3), m), rho, d, Cl, cF, dF, length (6 x n), the
+        first phases (n, rad), the current's heading (2) and profile (heights m, speeds
+        m/s), rms_time (s), the state (:attr:`step_state`), scratch (10 n)]."""
+        lines, n = self.lines, self.nodes.size
+        current = None if self.sea is None else self.sea.current
+        heading, heights, speeds = ([0.0, 0.0], [], []) if current is None else (
+            current.direction[:2], current.z, current.speeds)
+        nodal = lines.nodal_dofs
+        ints = np.concatenate([[n, len(heights)], *(nodal[self.nodes + k].ravel()
+                                                    for k in (0, -1, 1))]).astype(np.int64)
+        floats = np.concatenate([
+            *(lines.points[self.nodes + k].ravel() for k in (0, -1, 1)),
+            self.rho, self.d, self.Cl, self.cF, self.dF, self.length, self.first_phase,
+            heading, heights, speeds, [self.rms_time], self._state, np.zeros(10 * n)])
+        return _lift_step(), ints, floats.astype(float)
+
+    @property
+    def step_commit(self):
+        """The C function that advances the state in the buffers of :attr:`step_kernel` to
+        an accepted step (:func:`_commit_packed`; the compiled step calls it, by address)."""
+        return _commit_step()
+
+    def step_state(self):
+        """(the state array, its offset from the end of :attr:`step_kernel`'s floats)."""
+        return self._state, self._state.size + 10 * self.nodes.size
 
     def _flow(self, u, v, t):
         """(node tangents q, normal relative flow v_p, node velocities, wet fractions) at
@@ -119,20 +203,149 @@ class VortexLift(Term):
         a time at or before the last one starts anew (a new run)."""
         q, v_normal, velocity, _ = self._flow(u, v, t)
         if self._t is None or t <= self._t:
-            self._phase = self.first_phase.copy()
+            self._phase[:] = self.first_phase
             acceleration = np.zeros_like(velocity)
-            self._yd_ms = self._ydd_ms = np.zeros(self.nodes.size)
+            self._yd_ms[:] = self._ydd_ms[:] = 0.0
             weight = 1.0 / RMS_STEPS
         else:
             h = t - self._t
-            self._phase = np.mod(self._phase + self._rate * h, 2 * np.pi)
+            self._phase[:] = np.mod(self._phase + self._rate * h, 2 * np.pi)
             acceleration = (velocity - self._velocity) / h
             weight = min(1.0, h / self.rms_time)
         speed = np.linalg.norm(v_normal, axis=1)
         y = np.cross(q, v_normal) / np.where(speed > 0, speed, 1.0)[:, None]
         yd, ydd = np.sum(velocity * y, axis=1), np.sum(acceleration * y, axis=1)
-        self._yd_ms = self._yd_ms + weight * (yd ** 2 - self._yd_ms)
-        self._ydd_ms = self._ydd_ms + weight * (ydd ** 2 - self._ydd_ms)
+        self._yd_ms[:] = self._yd_ms + weight * (yd ** 2 - self._yd_ms)
+        self._ydd_ms[:] = self._ydd_ms + weight * (ydd ** 2 - self._ydd_ms)
         phase_y = motion_phase(yd, ydd, np.sqrt(self._yd_ms), np.sqrt(self._ydd_ms))
-        self._rate = phase_rate(self._phase, phase_y, speed, self.d, self.cF, self.dF)
-        self._t, self._velocity = t, velocity
+        self._rate[:] = phase_rate(self._phase, phase_y, speed, self.d, self.cF, self.dF)
+        self._state[0] = t
+        self._velocity[:] = velocity
+
+
+# --- the compiled kernels: add_to and commit above on the packed buffers of step_kernel
+
+@njit(cache=True)
+def _unpacked(ints, floats):
+    """The buffers of ``VortexLift.step_kernel`` as arrays: (node DOFs (3, n, 3): the
+    node's and its neighbours', reference positions (3, n, 3), coefficients (6, n),
+    first phases, heading, heights, speeds, rms_time (1,), state, scratch (10, n))."""
+    n, nprofile = ints[0], ints[1]
+    dofs = carray(advanced(ints, 2), (3, n, 3))
+    X = carray(floats, (3, n, 3))
+    at = 9 * n
+    coefficients = carray(advanced(floats, at), (6, n))
+    first = carray(advanced(floats, at + 6 * n), (n,))
+    at += 7 * n
+    heading = carray(advanced(floats, at), (2,))
+    heights = carray(advanced(floats, at + 2), (nprofile,))
+    speeds = carray(advanced(floats, at + 2 + nprofile), (nprofile,))
+    at += 2 + 2 * nprofile
+    rms_time = carray(advanced(floats, at), (1,))
+    state = carray(advanced(floats, at + 1), (1 + 7 * n,))
+    scratch = carray(advanced(floats, at + 2 + 7 * n), (10, n))
+    return dofs, X, coefficients, first, heading, heights, speeds, rms_time, state, scratch
+
+
+@njit(cache=True)
+def _flow_at(u, v, dofs, X, d, heading, heights, speeds, scratch):
+    """``VortexLift._flow`` into the scratch rows: q (0-2), v_p (3-5), the node velocity
+    (6-8) and the wet fraction (9), per node (still water or a steady current, z = 0 the
+    surface)."""
+    for k in range(X.shape[1]):
+        length = 0.0
+        for c in range(3):
+            q = (X[2, k, c] + u[dofs[2, k, c]]) - (X[1, k, c] + u[dofs[1, k, c]])
+            scratch[c, k] = q
+            length += q * q
+        length = math.sqrt(length)
+        z = X[0, k, 2] + u[dofs[0, k, 2]]
+        current = current_speed(z, heights, speeds) if heights.size else 0.0
+        along = 0.0
+        for c in range(3):
+            scratch[c, k] /= length
+            scratch[6 + c, k] = v[dofs[0, k, c]]
+            flow = -scratch[6 + c, k] + (current * heading[c] if c < 2 else 0.0)
+            scratch[3 + c, k] = flow
+            along += flow * scratch[c, k]
+        for c in range(3):
+            scratch[3 + c, k] -= along * scratch[c, k]
+        scratch[9, k] = min(max(0.5 - z / d[k], 0.0), 1.0)
+
+
+def _lift_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """``VortexLift.add_to`` on the buffers of its ``step_kernel`` (no tangents)."""
+    dofs, X, coefficients, first, heading, heights, speeds, rms_time, state, scratch = (
+        _unpacked(ints, floats))
+    if math.isnan(state[0]):
+        return
+    n = X.shape[1]
+    u, v, R = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), carray(R_p, (ndofs,))
+    rho, d, Cl = coefficients[0], coefficients[1], coefficients[2]
+    _flow_at(u, v, dofs, X, d, heading, heights, speeds, scratch)
+    for k in range(n):
+        phase = state[1 + k] + state[1 + n + k] * (t - state[0])
+        speed = math.sqrt(scratch[3, k] ** 2 + scratch[4, k] ** 2 + scratch[5, k] ** 2)
+        size = 0.5 * rho[k] * d[k] * Cl[k] * speed * math.cos(phase) * (
+            scratch[9, k] * coefficients[5, k])
+        qx, qy, qz = scratch[0, k], scratch[1, k], scratch[2, k]
+        px, py, pz = scratch[3, k], scratch[4, k], scratch[5, k]
+        R[dofs[0, k, 0]] -= size * (qy * pz - qz * py)
+        R[dofs[0, k, 1]] -= size * (qz * px - qx * pz)
+        R[dofs[0, k, 2]] -= size * (qx * py - qy * px)
+
+
+def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """``VortexLift.commit`` on the buffers of its ``step_kernel`` (R, K, C unused)."""
+    dofs, X, coefficients, first, heading, heights, speeds, rms_time, state, scratch = (
+        _unpacked(ints, floats))
+    n = X.shape[1]
+    u, v = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,))
+    d, cF, dF = coefficients[1], coefficients[3], coefficients[4]
+    _flow_at(u, v, dofs, X, d, heading, heights, speeds, scratch)
+    restart = math.isnan(state[0]) or t <= state[0]
+    h = 0.0 if restart else t - state[0]
+    weight = 1.0 / RMS_STEPS if restart else min(1.0, h / rms_time[0])
+    phase, rate = state[1: 1 + n], state[1 + n: 1 + 2 * n]
+    yd_ms, ydd_ms = state[1 + 2 * n: 1 + 3 * n], state[1 + 3 * n: 1 + 4 * n]
+    velocity = state[1 + 4 * n:]
+    for k in range(n):
+        if restart:
+            phase[k] = first[k]
+            yd_ms[k] = ydd_ms[k] = 0.0
+        else:
+            phase[k] = (phase[k] + rate[k] * h) % (2 * np.pi)
+        px, py, pz = scratch[3, k], scratch[4, k], scratch[5, k]
+        speed = math.sqrt(px * px + py * py + pz * pz)
+        scale = speed if speed > 0 else 1.0
+        qx, qy, qz = scratch[0, k], scratch[1, k], scratch[2, k]
+        y = ((qy * pz - qz * py) / scale, (qz * px - qx * pz) / scale,
+             (qx * py - qy * px) / scale)
+        yd = ydd = 0.0
+        for c in range(3):
+            now = scratch[6 + c, k]
+            yd += now * y[c]
+            if not restart:
+                ydd += (now - velocity[3 * k + c]) / h * y[c]
+            velocity[3 * k + c] = now
+        yd_ms[k] += weight * (yd * yd - yd_ms[k])
+        ydd_ms[k] += weight * (ydd * ydd - ydd_ms[k])
+        yd_rms, ydd_rms = math.sqrt(yd_ms[k]), math.sqrt(ydd_ms[k])
+        if yd_rms > 0 and ydd_rms > 0:
+            phase_y = math.atan2(-ydd / ydd_rms, yd / yd_rms) % (2 * np.pi)
+        else:
+            phase_y = math.atan2(-ydd, yd) % (2 * np.pi)
+        rate[k] = 2 * np.pi * (cF[k] + dF[k] * math.sin(phase_y - phase[k])) * speed / d[k]
+    state[0] = t
+
+
+@functools.cache
+def _lift_step():
+    """The C function of :func:`_lift_packed`, compiled when first asked for."""
+    return cfunc(STEP_SIGNATURE, cache=True)(_lift_packed)
+
+
+@functools.cache
+def _commit_step():
+    """The C function of :func:`_commit_packed`, compiled when first asked for."""
+    return cfunc(STEP_SIGNATURE, cache=True)(_commit_packed)

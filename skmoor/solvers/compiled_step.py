@@ -186,6 +186,15 @@ def _forms(terms):
     return functions, len(kernels), ints.astype(np.int64), floats.astype(float), starts
 
 
+def _commits(terms):
+    """The commits of the kernels called by address (a term with a memory of the past
+    advances it in the compiled step, ``step_commit``): (their C functions' addresses
+    (FORMS,), 0 where a kernel has none; how many have one)."""
+    commits = [getattr(term, "step_commit", None) for term in terms]
+    addresses = [0 if c is None else c.address for c in commits] + [0] * (FORMS - len(terms))
+    return np.array(addresses, np.int64), sum(c is not None for c in commits)
+
+
 def lowered_terms(system):
     """(why not, kinds): why the compiled step cannot take ``system``'s terms (the first
     term that lowers to no compiled kernel, named, with its reason) or None, and the
@@ -217,8 +226,10 @@ def lowered_terms(system):
         if len(kinds["form"]) > FORMS:
             return (f"bending lines and {len(kinds['form']) - 1} other kernels called by "
                     f"address: at most {FORMS} in all"), kinds
-    if system.committing:
-        return "terms with a memory of the past", kinds
+    for term in system.committing:  # a memory the compiled step cannot advance
+        if getattr(term, "step_commit", None) is None or term.lowered() != "form":
+            name = getattr(term, "name", None) or type(term).__name__
+            return f"{name}: a memory of the past with no compiled commit", kinds
     if system.nonlinear_inertia:
         return "a body with rotations='exact'", kinds
     return None, kinds
@@ -272,7 +283,14 @@ class CompiledStep:
     def __init__(self, system, surface, kinds, M, C, C_matrix, damped, width,
                  scheme, tol, maxiter):
         self.system = system
-        self.forms = _forms(kinds["form"]) + _pointwise(kinds["load"])
+        self.forms = (_forms(kinds["form"]) + _pointwise(kinds["load"])
+                      + _commits(kinds["form"]))
+        # the terms whose memory the step advances: (term, its state's start in the
+        # packed floats), copied in before a batch of steps and out after it
+        starts = self.forms[4]
+        self.memories = [(term, starts[k, 1] + term.step_kernel[2].size - term.step_state()[1])
+                         for k, term in enumerate(kinds["form"])
+                         if getattr(term, "step_commit", None) is not None]
         self._kept = kinds["form"] + kinds["load"]  # their C functions stay while called
         self.M, self.C, self.damped, self.width = M, C, damped, width
         self.products = (_csr(system.M), _csr(C_matrix))
@@ -476,7 +494,14 @@ class CompiledStep:
         self._find_callees(data)
         arguments, (out, iterations, report, lines_out, ends_out) = self._run_arguments(
             x, v, a, force_old, times, h, report, trend, data)
+        floats = self.forms[3]
+        for term, start in self.memories:  # the memories as the Python steps left them
+            state = term.step_state()[0]
+            floats[start:start + state.size] = state
         done, code = _run(*arguments)
+        for term, start in self.memories:  # ... and as the compiled steps leave them
+            state = term.step_state()[0]
+            state[:] = floats[start:start + state.size]
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
@@ -637,6 +662,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
         _product(mass, a1, Ma1)
         for j in range(n):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
+        if data.forms[10]:  # the memories advance to the accepted step
+            _commit_forms(x1, v1, data, inputs)
         if report[i] > 0:  # (the residual called here, not in _report: a level less to compile)
             if call_compiled(_residual, residual_at, (x1, v1, data, inputs, no, work[7]),
                              True):
@@ -736,7 +763,7 @@ def _line_forms(forms, u, ud, t, tangent, full, blocks_K, blocks_C):
 def _user_loads(forms, x, v, t, tangent, columns, nf, R):
     """R -= F of the user point and body loads (their C functions, by address) and, with
     ``tangent``, their dF/dq, dF/dqdot into the forms' slopes for :func:`_assemble`."""
-    loads_at, count, targets, slopes = forms[5:]
+    loads_at, count, targets, slopes = forms[5:9]
     z, out = np.empty(13), np.empty(78)
     for k in range(count):
         n = 3 if targets[k, 0] == 0 else 6
@@ -759,7 +786,7 @@ def _user_loads(forms, x, v, t, tangent, columns, nf, R):
 def _user_load_slopes(forms, columns, wK, wV, kv, ab, D):
     """-(wK dF/dq + wV dF/dqdot) of the user point and body loads into the Newton
     matrix: a point's into the band ``ab`` (kv: its diagonal row), a body's into D."""
-    _, count, targets, slopes = forms[5:]
+    _, count, targets, slopes = forms[5:9]
     for k in range(count):
         n = 3 if targets[k, 0] == 0 else 6
         for c in range(n):
@@ -835,6 +862,44 @@ def _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud):
 
 # (over 100 lines: the residual of every lowered kind in one compiled pass over the state)
 @njit(cache=True, no_cpython_wrapper=True)
+def _expand(x, v, data, inputs):
+    """The lines' full displacement and velocity at (x, v) with the step's inputs into
+    work[0], work[1] (and the body ends' J into work[5])."""
+    topology, work = data.topology, data.work
+    _, pres_u, pres_v, _ = inputs
+    position, _, end_body, end_dofs, r_local, _, nf = topology[:7]
+    u, ud = work[0], work[1]
+    u[:] = 0.0
+    ud[:] = 0.0
+    for g in range(u.size):
+        if position[g] >= 0:
+            u[g] = x[position[g]]
+            ud[g] = v[position[g]]
+    if r_local.shape[0]:
+        _body_ends(x, v, nf, end_body, end_dofs, r_local, work[5], u, ud)
+    prescribed_dofs = data.prescribed
+    for m in range(prescribed_dofs.size):
+        u[prescribed_dofs[m]] = pres_u[m]
+        ud[prescribed_dofs[m]] = pres_v[m]
+
+
+@njit(cache=True, no_cpython_wrapper=True)
+def _commit_forms(x, v, data, inputs):
+    """The kernels with a memory of the past (their ``step_commit``, by address) advance
+    it to the accepted step (x, v) at the inputs' time."""
+    _expand(x, v, data, inputs)
+    work = data.work
+    u, ud = work[0], work[1]
+    functions, count, ints, floats, starts = data.forms[:5]
+    commits = data.forms[9]
+    for k in range(count):
+        if commits[k]:
+            call_form(commits[k], u.ctypes.data, ud.ctypes.data, u.size, inputs[3],
+                      ints.ctypes.data + 8 * starts[k, 0], floats.ctypes.data + 8 * starts[k, 1],
+                      work[2].ctypes.data, work[3].ctypes.data, work[4].ctypes.data, 0)
+
+
+@njit(cache=True, no_cpython_wrapper=True)
 def _residual(x, v, data, inputs, tangent, R):
     """R(x, v, t) reduced (N, N m) into R, with the inputs (body loads, prescribed
     displacements and velocities, the time t) of the step; with ``tangent`` the element
@@ -844,22 +909,12 @@ def _residual(x, v, data, inputs, tangent, R):
     (nothing computed) when a node of a line with a SurfaceTerm comes within half a
     diameter of the surface: the step is then Python's."""
     topology, cable, points, bodies = data.topology, data.cable, data.points, data.bodies
-    prescribed_dofs, forms, work = data.prescribed, data.forms, data.work
-    loads, pres_u, pres_v, t = inputs
+    forms, work = data.forms, data.work
+    loads, _, _, t = inputs
     position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
-    u[:] = 0.0
-    ud[:] = 0.0
-    for g in range(u.size):
-        if position[g] >= 0:
-            u[g] = x[position[g]]
-            ud[g] = v[position[g]]
+    _expand(x, v, data, inputs)
     nends = r_local.shape[0]
-    if nends:
-        _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud)
-    for m in range(prescribed_dofs.size):
-        u[prescribed_dofs[m]] = pres_u[m]
-        ud[prescribed_dofs[m]] = pres_v[m]
     surface_dofs, surface_z, surface_reach = topology[7], topology[8], topology[9]
     for i in range(surface_dofs.size):  # SurfaceTerm is zero while the lines stay this deep
         if surface_z[i] + u[surface_dofs[i]] > surface_reach:

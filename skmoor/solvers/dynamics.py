@@ -112,7 +112,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     that were split so far. compiled: run each step's modified Newton as one compiled
     function where :mod:`skmoor.solvers.compiled_step` covers the system (the same iteration; a
     step it does not converge goes on in Python as above). A system with ``commit(t, x, v)`` has it called with the
-    initial state and after every accepted step, the halves of a split step included
+    initial state and after every accepted step, the halves of a split step included (the
+    compiled step advances the memories it covers itself, ``step_commit``)
     (terms with a memory of the past, :mod:`skmoor.bodies.radiation`, keep their history so).
     report_every: every that many steps (and at the start) the State carries the lines'
     full state and end forces (a :class:`~skmoor.coupling.system.System`; 0: never), computed
@@ -149,7 +150,7 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
                                        report=numbers % report_every == 0 if reports else None,
                                        trend=stepper.trend)
             ahead.reverse()
-        reported = None
+        reported, committed = None, bool(ahead)  # (the compiled step commits its own)
         if ahead:
             out, it, reported = ahead.pop()
         elif failed is not None and failed != fast.handed_back:  # failed as advance would
@@ -167,7 +168,8 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
                 raise DivergenceError(_hint(t1, step, dt, f"{why}{tried}"), t1, step)
             subdivided += 1  # (the split left its last half's trend)
         else:
-            commit(t1, out[0], out[1])
+            if not committed:
+                commit(t1, out[0], out[1])
             stepper.accepted(a, dt)
         x, v, a, force_old, G = out
         t = t1
@@ -240,9 +242,8 @@ class Stepping:
         if self.fast is not None:
             done, _ = self.fast.steps(*level[:4], np.array([t1]), h,
                                       report=[True] if report else None, trend=stepper.trend)
-            if done:
+            if done:  # (the compiled step committed it)
                 out, it, reported = done[0]
-                stepper.commit(t1, out[0], out[1])
                 stepper.accepted(self.a, h)
         if out is None:
             out, it = stepper.advance(*level, t1, h, self.matrix)
@@ -285,8 +286,7 @@ class Stepping:
             done, _ = self.fast.steps(self.x, self.v, self.a, self.force, times, h,
                                       report=flags, trend=self.stepper.trend)
             before = self.a
-            for k, (out, it, reported) in enumerate(done):
-                self.stepper.commit(times[k], out[0], out[1])
+            for out, it, reported in done:  # (committed by the compiled step)
                 self.stepper.accepted(before, h)
                 before = out[2]
             if done:

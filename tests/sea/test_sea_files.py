@@ -3,7 +3,8 @@
 Independent numbers: the kinematics of an Airy wave (closed form, Wheeler-stretched as
 MoorDyn stretches them) from the files that describe it (an elevation record, one
 frequency component); a current profile's linear interpolation at given depths and
-times; a bad file refused naming the file, its line and the reason. MoorDyn's own
+times (a steady profile along one heading read as a Current, the same velocities); a bad
+file refused naming the file, its line and the reason. MoorDyn's own
 kinematics (``moordyn.GetWavesKin``) on the decks of its set side by side:
 tests/sea/test_sea_moordyn.py.
 """
@@ -178,6 +179,34 @@ def test_current_profiles_interpolate_in_depth_and_time(tmp_path):
     for t, expected in ((0.0, 0.5), (5.0, 0.75), (15.0, 1.5), (20.0, 0.5), (25.0, 0.5),
                         (32.5, 0.625)):
         assert sea.velocity(point, t)[0, 0] == pytest.approx(expected, abs=1e-14), t
+
+
+def test_a_profile_along_one_heading_is_a_steady_current(tmp_path):
+    """Currents 1 with every velocity along one horizontal heading (0.6, 0.8), one of
+    them against it: a steady Current (what the compiled step takes), the same
+    velocities as the grid of the same file at every depth, beyond the ends too; a
+    profile that turns, or rises, stays a grid."""
+    from skmoor.io.sea_files import steady_profile
+    from skmoor.sea.water_grids import CurrentGrid
+    from skmoor.sea.waves import Current
+
+    rows = [(-50.0, -0.1), (-20.0, 0.4), (0.0, 1.0)]
+    text = "h\nh\nh\n" + "".join(f"{z} {0.6 * s} {0.8 * s}\n" for z, s in rows)
+    sea = deck_sea(deck_folder(tmp_path, {"Currents": 1}, {"current_profile.txt": text}))
+    assert isinstance(sea.current, Current) and not sea.fields
+    z = np.linspace(-70.0, 10.0, 33)
+    points = np.stack([np.zeros(z.size), np.zeros(z.size), z], axis=-1)
+    velocity = np.array([[0.6 * s, 0.8 * s, 0.0] for _, s in rows])
+    grid = CurrentGrid([0.0], [0.0], [r[0] for r in rows], 1.0,
+                       velocity[None, None, :, None, :])
+    np.testing.assert_allclose(sea.velocity(points, 3.0), grid.kinematics(points)[0],
+                               atol=1e-14)
+    turned = velocity.copy()
+    turned[0, :2] = [0.1, 0.0]
+    rising = velocity.copy()
+    rising[1, 2] = 0.01
+    assert steady_profile(np.array([r[0] for r in rows]), turned) is None
+    assert steady_profile(np.array([r[0] for r in rows]), rising) is None
 
 
 def test_unified_current_is_sampled_on_the_wave_grid(tmp_path):

@@ -12,6 +12,7 @@ import skmoor
 from skmoor.lines.line import Line, LineSet, LineType
 from skmoor.sea.viv import VortexLift, lift_per_length, motion_phase, phase_rate
 from skmoor.sea.waves import Current, Sea
+from skmoor.solvers import compiled_step, dynamics
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 
@@ -183,16 +184,25 @@ def locked_response(zeta, duration=6.0, since=4.0):
     model, f_n, m, h = lock_in_case(zeta)
     lift = next(t for t in model.system.line_terms if isinstance(t, VortexLift))
     lift.rms_time = 2 / f_n  # two periods: a clean rms of a harmonic motion
-    phases, commit = [], lift.commit
+    phases, commit, steps = [], lift.commit, compiled_step.CompiledStep.steps
 
-    def recording_commit(t, u, v):
+    def recording_commit(t, u, v):  # a Python step's
         commit(t, u, v)
         phases.append((t, lift._phase[0]))
 
+    def recording_steps(self, x, v, a, force, times, h, **kw):  # a compiled step's
+        done = steps(self, x, v, a, force, times, h, **kw)
+        if done[0]:
+            phases.append((times[0], lift._phase[0]))
+        return done
+
     lift.commit = recording_commit
     dt = 1 / (50 * f_n)
-    results = skmoor.simulate(model, duration=duration, dt=dt, output_interval=dt,
-                              progress=False)
+    with pytest.MonkeyPatch.context() as patch:  # one step per call: its phase after it
+        patch.setattr(dynamics, "COMPILED_BATCH", 1)
+        patch.setattr(compiled_step.CompiledStep, "steps", recording_steps)
+        results = skmoor.simulate(model, duration=duration, dt=dt, output_interval=dt,
+                                  progress=False)
     t, y = results.t, results.displacement[:, 1, 1]
     late = t > since
     t, y = t[late], y[late] - y[late].mean()
@@ -235,6 +245,35 @@ def test_lift_locks_a_cross_flow_oscillator_at_the_closed_form_frequency():
     assert amplitude == pytest.approx(static / np.hypot(1 - r * r, 2 * zeta * r), rel=0.03)
 
 
+def test_the_compiled_step_advances_the_lift_as_the_python_step():
+    """The lock-in case's first 300 steps in the compiled step (the lift by address, its
+    phases advanced by its compiled commit) and in the Python step: the same motion to
+    round-off and the same phases, rates and mean squares; the lift moves the string
+    (without it the motion differs by far more)."""
+    def run(compiled, lift_on=True):
+        model, f_n, _, _ = lock_in_case(0.15)
+        system = model.system
+        lift = next(t for t in system.line_terms if isinstance(t, VortexLift))
+        lift.rms_time = 2 / f_n
+        eq = skmoor.equilibrium(model)
+        if not lift_on:
+            lift.Cl = np.zeros_like(lift.Cl)
+        assert compiled_step.lowered_terms(system)[0] is None
+        dt = 1 / (50 * f_n)
+        states = [s.x.copy() for s in dynamics.integrate(
+            system, eq.x, np.zeros(system.n), dt, 300 * dt, C=eq.C, compiled=compiled,
+            tol=1e-10)]
+        return np.array(states), lift._state.copy()
+
+    fast, state_fast = run(True)
+    slow, state_slow = run(False)
+    motion = np.abs(slow - slow[0]).max()
+    assert np.abs(fast - slow).max() < 1e-9 * motion
+    assert state_fast == pytest.approx(state_slow, rel=1e-9, abs=1e-12)
+    unlifted, _ = run(True, lift_on=False)
+    assert np.abs(unlifted - slow).max() > 0.1 * motion
+
+
 def tension_period(t, tension):
     """Mean period (s) between the upward crossings of a tension's mean."""
     x = tension - tension.mean()
@@ -272,8 +311,8 @@ def moordyn_viv(path):
 @pytest.mark.filterwarnings("ignore")
 def test_viv_deck_against_moordyn(tmp_path, monkeypatch):
     """MoorDyn's viv.txt (Thorsen's catenary riser in a uniform 0.2 m/s current: 23.71 m,
-    100 segments, EI 10.5 N m2, Cl 0.7) in skmoor (Hermite line, form_path 'compiled',
-    dt 5 ms) and MoorDyn side by side, both from the still-water static state (MoorDyn's
+    100 segments, EI 10.5 N m2, Cl 0.7) in skmoor (Hermite line, dt 5 ms, the compiled
+    step) and MoorDyn side by side, both from the still-water static state (MoorDyn's
     IC solve sees no current) with the current on from t = 0, over 8 to 12 s: the
     fairlead tension's period within 0.01 s of MoorDyn's and of MoorDyn's own test's
     target 1 / (2 x 1.04 Hz) = 0.4808 s (tests/viv.cpp, which checks 0.01 s after 10 s),
@@ -283,8 +322,7 @@ def test_viv_deck_against_moordyn(tmp_path, monkeypatch):
     at the Strouhal frequency cF U / d = 1.5 Hz (a tension period of 0.333 s) but at a
     riser mode of 1.04 Hz inside the synchronization band (cF -+ dF) U / d = 0.83 to
     2.17 Hz: the motion's frequency is checked in that band, off the Strouhal one.
-    3 to 8 min (skmoor's 2400 steps, the later ones 4 to 8 times the cost of the first:
-    see docs/api/hydro.md; MoorDyn about 1/3 of it)."""
+    About 2 min, nearly all MoorDyn's (skmoor's 2400 steps: seconds)."""
     from skmoor.io.deck import read_deck
     from skmoor.io.sea_files import still_water
     from skmoor.model.from_deck import deck_network
@@ -299,7 +337,6 @@ def test_viv_deck_against_moordyn(tmp_path, monkeypatch):
     models = []
     for sea in (still_water(deck), None):
         network, settings = deck_network(deck, sea=sea)
-        network.form_path = "compiled"  # the Hermite line's drag and bed as numba kernels
         models.append(from_network(network, settings=settings))
     eq = skmoor.equilibrium(models[0])
     results = skmoor.simulate(models[1], duration=VIV_END, dt=VIV_SAMPLE,
