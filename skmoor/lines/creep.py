@@ -26,14 +26,23 @@ with their static laws (``LineSet.use_static_laws``) and the term adds nothing t
 time the cable kernel keeps each such element's mean tension T_mean along it (the law's
 dynamic parameters, which balance the reference part of Eq. 9), and the term adds
 N - T_mean along r'.
-It runs in Python (vectorized over the elements): the compiled step leaves a model with
-it to the Python step.
+Its state (the accepted time, z, dz/dt, e and the law's values there) is one array. With
+Viscoelastic laws on P1 lines the compiled time step runs the term (:func:`_creep_packed`,
+by address) and advances that array after each step (:func:`_commit_packed`); Syrope's
+laws, whose memory is Python's, leave the run to the Python step.
 """
 from __future__ import annotations
 
-import numpy as np
+import functools
+import math
 
+import numpy as np
+from numba import carray, cfunc, njit
+
+from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.native_calls import advanced
 from ..fem.terms import Term
+from .laws import Viscoelastic
 
 __all__ = ["CreepTerm", "has_creep", "relaxed_creep"]
 
@@ -58,11 +67,25 @@ def relaxed_creep(law, e, EA, memory=None, iterations=80):
     return 0.5 * (lo + hi)
 
 
+def _state_part(k):
+    """The property of part k of the state array (after its time): n values."""
+    def get(self):
+        n = self.cells.size
+        return self._state[1 + k * n: 1 + (k + 1) * n]
+
+    def put(self, value):
+        get(self)[:] = np.nan if value is None else value
+
+    return property(get, put)
+
+
 class CreepTerm(Term):
     """The axial force of every element whose line's law has a creep state (see the
     module docstring), with its creep state z integrated over the accepted steps."""
 
     acts_on = "lines"
+    # the state array [t_n, then n each: z, dz/dt, e, F_1, F_1', a, b, dG/dz]
+    z, zdot, _e_n = _state_part(0), _state_part(1), _state_part(2)
 
     def __init__(self, lineset):
         self.lines = lineset
@@ -83,9 +106,67 @@ class CreepTerm(Term):
         t = lineset.mesh.t
         nodal = lineset.nodal_dofs
         self.dofs_i, self.dofs_j = nodal[t[0]][self.cells], nodal[t[1]][self.cells]
-        self.t_n = None  # the accepted state: time, z, dz/dt, the laws' memories
-        self.z = self.zdot = None
-        self.memory = [None] * len(self.groups)
+        self._state = np.full(1 + 8 * self.cells.size, np.nan)  # no accepted state yet
+        self.memory = [None] * len(self.groups)  # the laws' memories
+
+    @property
+    def t_n(self):
+        """The accepted state's time (s), None before the first."""
+        return None if math.isnan(self._state[0]) else float(self._state[0])
+
+    @t_n.setter
+    def t_n(self, value):
+        self._state[0] = np.nan if value is None else value
+
+    @property
+    def _values(self):
+        """F_1, dF_1/dz, a, b, dG/dz at the accepted state, per element."""
+        n = self.cells.size
+        return tuple(self._state[1 + k * n: 1 + (k + 1) * n] for k in range(3, 8))
+
+    @_values.setter
+    def _values(self, values):
+        for part, value in zip(self._values, values):
+            part[:] = value
+
+    # --- the compiled step's kernels (Viscoelastic laws on P1 lines)
+    def lowered(self):
+        compiled = not self.lines.hermite and all(type(law) is Viscoelastic
+                                                  for law, _, _ in self.groups)
+        return "form" if compiled else None
+
+    why_python = "a creep law with a memory (Syrope's) or on bending lines"
+
+    @property
+    def step_kernel(self):
+        """(C function, ints, floats): :func:`_creep_packed` as the compiled time step calls
+        a LineForm (by address); ints [n, the elements' node DOFs (2, n, 3), their
+        indices (n)], floats [X' (n, 3), then n each: 1 + e_ref, h, T0, BA, BA_D, EA_s, EA_d
+        (NaN: alphaMBL and beta set it), alphaMBL, beta; the state (:meth:`step_state`)]."""
+        n = self.cells.size
+        params = np.zeros((6, n))
+        BA, BA_D = self._dampers()
+        for law, idx, EA in self.groups:
+            where = np.searchsorted(self.cells, idx)
+            EA_d = law.EA_dynamic if law.EA_dynamic is not None else np.nan
+            params[:, where] = np.array([law.static.nominal_EA(EA), EA_d,
+                                         law.alpha_MBL or 0.0, law.beta or 0.0, 0.0, 0.0]
+                                        )[:, None]
+        ints = np.concatenate([[n], self.dofs_i.ravel(), self.dofs_j.ravel(), self.cells])
+        floats = np.concatenate([
+            self.Xp.ravel(), self.grow, self.h, self.lines.cable_fields["T0"][self.cells, 0],
+            BA, BA_D, params[0], params[1], params[2], params[3], self._state])
+        return _creep_step(), ints.astype(np.int64), floats.astype(float)
+
+    @property
+    def step_commit(self):
+        """The C function that advances the state in :attr:`step_kernel`'s buffers to an
+        accepted step (:func:`_commit_packed`, by address)."""
+        return _commit_step()
+
+    def step_state(self):
+        """(the state array, its offset from the end of :attr:`step_kernel`'s floats)."""
+        return self._state, self._state.size
 
     # --- kinematics of the elements
     def _strains(self, u, v):
@@ -204,3 +285,152 @@ class CreepTerm(Term):
             blocks[self.cells, :3, 3:] -= slope
             blocks[self.cells, 3:, :3] -= slope
             blocks[self.cells, 3:, 3:] += slope
+
+
+# --- the compiled kernels: add_to and commit above on the packed buffers of step_kernel,
+# for Viscoelastic laws
+
+@njit(cache=True)
+def _unpacked(ints, floats):
+    """The buffers of ``CreepTerm.step_kernel`` as arrays: (node DOFs (2, n, 3), element
+    indices (n,), X' (n, 3), the parameters (9, n), the state (1 + 8 n,))."""
+    n = ints[0]
+    dofs = carray(advanced(ints, 1), (2, n, 3))
+    cells = carray(advanced(ints, 1 + 6 * n), (n,))
+    Xp = carray(floats, (n, 3))
+    params = carray(advanced(floats, 3 * n), (9, n))
+    state = carray(advanced(floats, 12 * n), (1 + 8 * n,))
+    return dofs, cells, Xp, params, state
+
+
+@njit(cache=True)
+def _kinematics(u, v, dofs, Xp, grow, h, k, unit, turn):
+    """(e, de/dt, |r'|) of element k (``CreepTerm._strains``), r' / |r'| into unit and
+    (v' - lamdot r^) / |r'| into turn."""
+    lam = 0.0
+    for c in range(3):
+        unit[c] = Xp[k, c] + (u[dofs[1, k, c]] - u[dofs[0, k, c]]) / h[k]
+        lam += unit[c] * unit[c]
+    lam = math.sqrt(lam)
+    lamdot = 0.0
+    for c in range(3):
+        unit[c] /= lam
+        turn[c] = (v[dofs[1, k, c]] - v[dofs[0, k, c]]) / h[k]
+        lamdot += unit[c] * turn[c]
+    for c in range(3):
+        turn[c] = (turn[c] - lamdot * unit[c]) / lam
+    return grow[k] * lam - 1.0, grow[k] * lamdot, lam
+
+
+@njit(cache=True)
+def _step_at(e, edot, h, F1, dF1, a, b, dG, BA, BA_D, zdot_n):
+    """``CreepTerm._step`` of one element: (N, dN/de, dN/d(de/dt), zdot)."""
+    D = BA + BA_D - 0.5 * h * dG
+    zdot = (a * e - b + 0.5 * h * dG * zdot_n + BA_D * edot) / D
+    held = 1.0 if e >= 0.0 else 0.0
+    spring = held * (F1 + 0.5 * h * dF1 * (zdot_n + zdot))
+    gain = held * 0.5 * h * dF1 + BA
+    return spring + BA * zdot, gain * a / D, gain * BA_D / D, zdot
+
+
+@njit(cache=True)
+def _stiffnesses(z, EA_s, EA_d, alpha, beta):
+    """``Viscoelastic.stiffnesses``: (EA_1, EA_d), N."""
+    if math.isnan(EA_d):
+        a, b = alpha, beta * max(z, 0.0) * EA_s
+        EA_d = 0.5 * (a + b + EA_s + math.sqrt(a * a + 2 * a * (b - EA_s) + (b + EA_s) ** 2))
+    return EA_d * EA_s / (EA_d - EA_s), EA_d
+
+
+def _creep_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """``CreepTerm.add_to`` on the buffers of its ``step_kernel``."""
+    dofs, cells, Xp, params, state = _unpacked(ints, floats)
+    n = cells.size
+    if math.isnan(state[0]):
+        return
+    u, v, R = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), carray(R_p, (ndofs,))
+    blocks = carray(K_p, (0, 6, 6))
+    damping = carray(C_p, (0, 6, 6))
+    if tangent:
+        nel = 0  # the element blocks of every element: as many as the last index needs
+        for k in range(n):
+            nel = max(nel, cells[k] + 1)
+        blocks, damping = carray(K_p, (nel, 6, 6)), carray(C_p, (nel, 6, 6))
+    grow, h, T0, BA, BA_D = params[0], params[1], params[2], params[3], params[4]
+    zdot_n = state[1 + n: 1 + 2 * n]
+    F1, dF1, a, b, dG = (state[1 + 3 * n: 1 + 4 * n], state[1 + 4 * n: 1 + 5 * n],
+                         state[1 + 5 * n: 1 + 6 * n], state[1 + 6 * n: 1 + 7 * n],
+                         state[1 + 7 * n: 1 + 8 * n])
+    step = max(t - state[0], 0.0)
+    unit, turn = np.empty(3), np.empty(3)
+    for k in range(n):
+        e, edot, lam = _kinematics(u, v, dofs, Xp, grow, h, k, unit, turn)
+        N, dN_de, dN_drate, _ = _step_at(e, edot, step, F1[k], dF1[k], a[k], b[k], dG[k],
+                                         BA[k], BA_D[k], zdot_n[k])
+        N -= T0[k]  # the kernel keeps T0 along r'
+        for c in range(3):
+            R[dofs[1, k, c]] += N * unit[c]
+            R[dofs[0, k, c]] -= N * unit[c]
+        if not tangent:
+            continue
+        cell = cells[k]
+        for p in range(3):
+            for q in range(3):
+                slope = (unit[p] * (dN_de * grow[k] * unit[q] + dN_drate * grow[k] * turn[q])
+                         + N / lam * ((1.0 if p == q else 0.0) - unit[p] * unit[q])) / h[k]
+                rate = dN_drate * grow[k] * unit[p] * unit[q] / h[k]
+                for target, value in ((blocks, slope), (damping, rate)):
+                    target[cell, p, q] += value
+                    target[cell, p, q + 3] -= value
+                    target[cell, p + 3, q] -= value
+                    target[cell, p + 3, q + 3] += value
+
+
+def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """``CreepTerm.commit`` on the buffers of its ``step_kernel``, after the start (a
+    start, t at or before the state's time, is the Python commit's)."""
+    dofs, cells, Xp, params, state = _unpacked(ints, floats)
+    n = cells.size
+    if math.isnan(state[0]) or t <= state[0]:
+        return
+    u, v = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,))
+    grow, h, BA, BA_D = params[0], params[1], params[3], params[4]
+    EA_s, EA_d, alpha, beta = params[5], params[6], params[7], params[8]
+    z, zdot_n, e_n = state[1: 1 + n], state[1 + n: 1 + 2 * n], state[1 + 2 * n: 1 + 3 * n]
+    F1, dF1, a, b, dG = (state[1 + 3 * n: 1 + 4 * n], state[1 + 4 * n: 1 + 5 * n],
+                         state[1 + 5 * n: 1 + 6 * n], state[1 + 6 * n: 1 + 7 * n],
+                         state[1 + 7 * n: 1 + 8 * n])
+    step = t - state[0]
+    unit, turn = np.empty(3), np.empty(3)
+    for k in range(n):
+        e, edot, _ = _kinematics(u, v, dofs, Xp, grow, h, k, unit, turn)
+        zdot = _step_at(e, edot, step, F1[k], dF1[k], a[k], b[k], dG[k], BA[k], BA_D[k],
+                        zdot_n[k])[3]
+        z[k] += 0.5 * step * (zdot_n[k] + zdot)
+        e_n[k] = e
+        # the law's values at the new z (Viscoelastic; its derivatives as the Python
+        # term's central differences)
+        dz = 1e-7 * max(abs(z[k]), 1e-3)
+        EA_1, EA_dk = _stiffnesses(z[k], EA_s[k], EA_d[k], alpha[k], beta[k])
+        up_1, up_d = _stiffnesses(z[k] + dz, EA_s[k], EA_d[k], alpha[k], beta[k])
+        down_1, down_d = _stiffnesses(z[k] - dz, EA_s[k], EA_d[k], alpha[k], beta[k])
+        F1[k] = EA_1 * z[k]
+        dF1[k] = (up_1 * (z[k] + dz) - down_1 * (z[k] - dz)) / (2 * dz)
+        a[k], b[k] = EA_dk, (EA_1 + EA_dk) * z[k]
+        dG[k] = ((up_d - down_d) * e - ((up_1 + up_d) * (z[k] + dz)
+                                        - (down_1 + down_d) * (z[k] - dz))) / (2 * dz)
+        zdot_n[k] = _step_at(e, edot, 0.0, F1[k], dF1[k], a[k], b[k], dG[k], BA[k], BA_D[k],
+                             zdot_n[k])[3]
+    state[0] = t
+
+
+@functools.cache
+def _creep_step():
+    """The C function of :func:`_creep_packed`, compiled when first asked for."""
+    return cfunc(STEP_SIGNATURE, cache=True)(_creep_packed)
+
+
+@functools.cache
+def _commit_step():
+    """The C function of :func:`_commit_packed`, compiled when first asked for."""
+    return cfunc(STEP_SIGNATURE, cache=True)(_commit_packed)

@@ -18,6 +18,8 @@ the dynamic one (EA_d, BA_D), EA_1 = EA_d EA_s / (EA_d - EA_s). Written out here
 3. The load-dependent stiffness (``EA_s|alphaMBL|beta``): MoorDyn's closed form of EA_d
    satisfies its defining relation EA_d = alphaMBL + beta EA_1 z; the term's tangent passes
    the Taylor test within a step.
+4. The compiled step runs the term and advances its state as the Python step does: the
+   same motion, end forces, Newton iterations and creep states, step by step.
 """
 import numpy as np
 import pytest
@@ -26,6 +28,8 @@ import skmoor
 from skmoor import laws
 from skmoor.fem.terms import check_tangent
 from skmoor.lines import creep
+from skmoor.solvers import compiled_step
+from skmoor.solvers.dynamics import integrate
 
 EA_S, EA_D = 1.0e8, 3.0e8  # N
 EA_1 = EA_D * EA_S / (EA_D - EA_S)
@@ -123,3 +127,29 @@ def test_load_dependent_stiffness_and_the_tangent(tmp_path):
     term.commit(0.0, u0, u0)
     check = check_tangent(model, term, t=0.05, steps=np.logspace(-1, -4, 7))
     assert check.ok, str(check)
+
+
+@pytest.mark.parametrize("EA", [f"{EA_S!r}|{EA_D!r}", f"{EA_S!r}|2e8|0.4"])
+def test_the_compiled_step_runs_the_creep_as_the_python_step(tmp_path, EA):
+    """The harmonic stretch of test 2 on four segments for three tau, both stiffness
+    forms: a wrong creep tension shows in the fairlead force (it pulls all segments alike,
+    so not in the motion), a wrong tangent in the iterations, a wrong commit in the states."""
+    def run(compiled):
+        model = skmoor.build(deck(tmp_path / "sine.dat", segments=4, options="", EA=EA),
+                             motion=lambda t: np.array([0.01 * (1 - np.cos(t / TAU)), 0, 0]))
+        eq = skmoor.equilibrium(model)
+        system = model.system
+        assert compiled_step.lowered_terms(system)[0] is None
+        term = next(t for t in system._terms["lines"] if isinstance(t, creep.CreepTerm))
+        states = list(integrate(system, eq.x, np.zeros(system.n), 0.02 * TAU, 3 * TAU,
+                                C=eq.C, compiled=compiled, tol=1e-10, report_every=1))
+        return (np.array([s.x for s in states]), np.array([s.iterations for s in states]),
+                np.array([s.reactions[0][0] for s in states]), term._state.copy())
+
+    x, iterations, force, state = run(True)
+    x_py, iterations_py, force_py, state_py = run(False)
+    assert np.abs(x - x_py).max() < 1e-9 * np.abs(x_py - x_py[0]).max()
+    assert np.array_equal(iterations, iterations_py)
+    assert np.abs(force - force_py).max() < 1e-9 * np.abs(force_py).max()
+    assert state == pytest.approx(state_py, rel=1e-9, abs=1e-15)
+    assert np.ptp(state[1:5]) > 0  # the creep strains moved
