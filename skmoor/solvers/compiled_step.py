@@ -543,6 +543,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
     history, squares = broyden
     yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
     balance_at, residual_at, solve_at = data.callees[0], data.callees[1], data.callees[5]
+    memories = data.forms[10]  # kernels with a compiled commit
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         inputs = (loads[i], pres_u[i], pres_v[i], times[i])
@@ -662,7 +663,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
         _product(mass, a1, Ma1)
         for j in range(n):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
-        if data.forms[10]:  # the memories advance to the accepted step
+        if memories:  # the memories advance to the accepted step
             _commit_forms(x1, v1, data, inputs)
         if report[i] > 0:  # (the residual called here, not in _report: a level less to compile)
             if call_compiled(_residual, residual_at, (x1, v1, data, inputs, no, work[7]),
@@ -862,13 +863,11 @@ def _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud):
 
 # (over 100 lines: the residual of every lowered kind in one compiled pass over the state)
 @njit(cache=True, no_cpython_wrapper=True)
-def _expand(x, v, data, inputs):
-    """The lines' full displacement and velocity at (x, v) with the step's inputs into
-    work[0], work[1] (and the body ends' J into work[5])."""
-    topology, work = data.topology, data.work
-    _, pres_u, pres_v, _ = inputs
+def _expand(x, v, topology, prescribed_dofs, pres_u, pres_v, u, ud, J):
+    """The lines' full displacement and velocity at (x, v) with the step's prescribed
+    ones into u, ud (and the body ends' J into J). (Arrays, not the step's data: each
+    read of a field of it counts references to all its arrays.)"""
     position, _, end_body, end_dofs, r_local, _, nf = topology[:7]
-    u, ud = work[0], work[1]
     u[:] = 0.0
     ud[:] = 0.0
     for g in range(u.size):
@@ -876,8 +875,7 @@ def _expand(x, v, data, inputs):
             u[g] = x[position[g]]
             ud[g] = v[position[g]]
     if r_local.shape[0]:
-        _body_ends(x, v, nf, end_body, end_dofs, r_local, work[5], u, ud)
-    prescribed_dofs = data.prescribed
+        _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud)
     for m in range(prescribed_dofs.size):
         u[prescribed_dofs[m]] = pres_u[m]
         ud[prescribed_dofs[m]] = pres_v[m]
@@ -887,9 +885,9 @@ def _expand(x, v, data, inputs):
 def _commit_forms(x, v, data, inputs):
     """The kernels with a memory of the past (their ``step_commit``, by address) advance
     it to the accepted step (x, v) at the inputs' time."""
-    _expand(x, v, data, inputs)
     work = data.work
     u, ud = work[0], work[1]
+    _expand(x, v, data.topology, data.prescribed, inputs[1], inputs[2], u, ud, work[5])
     functions, count, ints, floats, starts = data.forms[:5]
     commits = data.forms[9]
     for k in range(count):
@@ -910,10 +908,10 @@ def _residual(x, v, data, inputs, tangent, R):
     diameter of the surface: the step is then Python's."""
     topology, cable, points, bodies = data.topology, data.cable, data.points, data.bodies
     forms, work = data.forms, data.work
-    loads, _, _, t = inputs
+    loads, pres_u, pres_v, t = inputs
     position, end_row, end_body, end_dofs, r_local, _, nf = topology[:7]
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
-    _expand(x, v, data, inputs)
+    _expand(x, v, topology, data.prescribed, pres_u, pres_v, u, ud, J)
     nends = r_local.shape[0]
     surface_dofs, surface_z, surface_reach = topology[7], topology[8], topology[9]
     for i in range(surface_dofs.size):  # SurfaceTerm is zero while the lines stay this deep
