@@ -20,6 +20,7 @@ own compiler (``jax.jit``).
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib.util
 import math
@@ -540,6 +541,15 @@ def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
 STEP_SIGNATURE = ("void(CPointer(float64), CPointer(float64), int64, float64, CPointer(int64), "
                   "CPointer(float64), CPointer(float64), CPointer(float64), CPointer(float64), "
                   "int64)")
+
+
+def compiled_when_asked(kernel):
+    """A getter of ``kernel`` (a Python function of :data:`STEP_SIGNATURE`'s arguments) as
+    a C function, compiled on the getter's first call and kept (numba's disk cache keeps
+    its machine code): a built-in kernel a run does not use costs no compile."""
+    from numba import cfunc
+
+    return functools.cache(lambda: cfunc(STEP_SIGNATURE, cache=True)(kernel))
 _STEP = '''
 
 @cfunc("{signature}", cache=True)

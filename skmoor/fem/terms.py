@@ -105,6 +105,22 @@ class Term:
                                 layout, rate=True)
 
 
+def state_part(k, width=1):
+    """A property of a term whose memory is one array ``_state`` ([its time, then blocks
+    of ``_per_block`` values], what a compiled commit advances in place): blocks k to
+    k + width - 1 as a view (shape (-1, width) when width > 1); assigning to it writes
+    into the array (None: NaN)."""
+    def view(self):
+        n = self._per_block
+        part = self._state[1 + k * n: 1 + (k + width) * n]
+        return part if width == 1 else part.reshape(-1, width)
+
+    def put(self, value):
+        view(self)[...] = np.nan if value is None else value
+
+    return property(view, put)
+
+
 @functools.cache
 def _jax_field():
     """scikit-fem's JaxDiscreteField with the operators a form may use on a field

@@ -30,14 +30,13 @@ hold it equal to the forms' assembly.
 """
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
-from numba import carray, cfunc, njit
+from numba import carray, njit
 from skfem import BilinearForm, LinearForm, asm
 
-from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.form_compiler import compiled_when_asked
 from ..fem.hermite import hermite_shapes
 from ..fem.ops import dot
 from ..fem.patterns import NO_BLOCKS_12, ElementPattern
@@ -304,8 +303,4 @@ def _hermite_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
              carray(K_p, (blocks, 12, 12)), carray(C_p, (blocks, 12, 12)))
 
 
-@functools.cache
-def _hermite_step():
-    """The C function of :func:`_hermite_packed`, compiled when first asked for (numba's
-    disk cache keeps it)."""
-    return cfunc(STEP_SIGNATURE, cache=True)(_hermite_packed)
+_hermite_step = compiled_when_asked(_hermite_packed)  # (its C function, when first asked for)

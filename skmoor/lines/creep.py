@@ -33,15 +33,14 @@ laws, whose memory is Python's, leave the run to the Python step.
 """
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
-from numba import carray, cfunc, njit
+from numba import carray, njit
 
-from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.form_compiler import compiled_when_asked
 from ..fem.native_calls import advanced
-from ..fem.terms import Term
+from ..fem.terms import Term, state_part
 from .laws import Viscoelastic
 
 __all__ = ["CreepTerm", "has_creep", "relaxed_creep"]
@@ -67,25 +66,17 @@ def relaxed_creep(law, e, EA, memory=None, iterations=80):
     return 0.5 * (lo + hi)
 
 
-def _state_part(k):
-    """The property of part k of the state array (after its time): n values."""
-    def get(self):
-        n = self.cells.size
-        return self._state[1 + k * n: 1 + (k + 1) * n]
-
-    def put(self, value):
-        get(self)[:] = np.nan if value is None else value
-
-    return property(get, put)
-
-
 class CreepTerm(Term):
     """The axial force of every element whose line's law has a creep state (see the
     module docstring), with its creep state z integrated over the accepted steps."""
 
     acts_on = "lines"
     # the state array [t_n, then n each: z, dz/dt, e, F_1, F_1', a, b, dG/dz]
-    z, zdot, _e_n = _state_part(0), _state_part(1), _state_part(2)
+    z, zdot, _e_n = (state_part(k) for k in range(3))
+
+    @property
+    def _per_block(self):
+        return self.cells.size
 
     def __init__(self, lineset):
         self.lines = lineset
@@ -424,13 +415,7 @@ def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     state[0] = t
 
 
-@functools.cache
-def _creep_step():
-    """The C function of :func:`_creep_packed`, compiled when first asked for."""
-    return cfunc(STEP_SIGNATURE, cache=True)(_creep_packed)
+_creep_step = compiled_when_asked(_creep_packed)  # (its C function, when first asked for)
 
 
-@functools.cache
-def _commit_step():
-    """The C function of :func:`_commit_packed`, compiled when first asked for."""
-    return cfunc(STEP_SIGNATURE, cache=True)(_commit_packed)
+_commit_step = compiled_when_asked(_commit_packed)  # (its C function, when first asked for)

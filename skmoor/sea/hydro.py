@@ -29,16 +29,14 @@ tau = (X' + u') / |X' + u'|.
 """
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 import scipy.sparse as sp
-from numba import carray, cfunc, njit
+from numba import carray, njit
 from skfem import BilinearForm, LinearForm, asm
 
 from ..bodies.loads import BodyLoad
 from ..fem import ops
-from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.form_compiler import compiled_when_asked
 from ..fem.hermite import hermite_shapes
 from ..fem.native_calls import advanced
 from ..fem.ops import d_ds, dot
@@ -542,10 +540,7 @@ def _water(u, z_dofs, floats, at, nnodes, nprofile):
     return water
 
 
-@functools.cache
-def _morison_p1_step():
-    """The C function of :func:`_morison_p1_packed`, compiled when first asked for."""
-    return cfunc(STEP_SIGNATURE, cache=True)(_morison_p1_packed)
+_morison_p1_step = compiled_when_asked(_morison_p1_packed)  # (its C function, when first asked for)
 
 
 @njit(cache=True)
@@ -562,11 +557,7 @@ def current_speed(z, heights, speeds):
     return speeds[k] + w * (speeds[k + 1] - speeds[k])
 
 
-@functools.cache
-def _morison_step():
-    """The C function of :func:`_morison_packed`, compiled when first asked for (numba's
-    disk cache keeps it)."""
-    return cfunc(STEP_SIGNATURE, cache=True)(_morison_packed)
+_morison_step = compiled_when_asked(_morison_packed)  # (its C function, when first asked for)
 
 
 def _check_sea(lines, sea):

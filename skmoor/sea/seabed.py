@@ -34,15 +34,14 @@ nodal reactions, one contact decision per node and a node-diagonal normal tangen
 """
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
-from numba import carray, cfunc, njit
+from numba import carray, njit
 from skfem import BilinearForm, LinearForm
 
 from ..fem import ops
-from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.form_compiler import compiled_when_asked
 from ..fem.native_calls import advanced
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS
@@ -689,11 +688,7 @@ def _seabed_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
             carray(K_p, (blocks, nloc, nloc)), carray(C_p, (blocks, nloc, nloc)), stride)
 
 
-@functools.cache
-def _seabed_step():
-    """The C function of :func:`_seabed_packed`, compiled when first asked for (numba's
-    disk cache keeps it)."""
-    return cfunc(STEP_SIGNATURE, cache=True)(_seabed_packed)
+_seabed_step = compiled_when_asked(_seabed_packed)  # (its C function, when first asked for)
 
 
 class RestingSupport:

@@ -24,15 +24,14 @@ wetted share of its segments).
 """
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
-from numba import carray, cfunc, njit
+from numba import carray, njit
 
-from ..fem.form_compiler import STEP_SIGNATURE
+from ..fem.form_compiler import compiled_when_asked
 from ..fem.native_calls import advanced
-from ..fem.terms import Term
+from ..fem.terms import Term, state_part
 from .hydro import current_speed
 
 RMS_STEPS = 500  # MoorDyn's n_m: steps dtM in the running mean square
@@ -103,34 +102,17 @@ class VortexLift(Term):
         # committed state yet (no lift)
         self._state = np.full(1 + 7 * n, np.nan)
 
-    def _part(self, start, stop, shape=None):
-        part = self._state[1 + start * self.nodes.size: 1 + stop * self.nodes.size]
-        return part if shape is None else part.reshape(shape)
+    _phase, _rate, _yd_ms, _ydd_ms = (state_part(k) for k in range(4))
+    _velocity = state_part(4, 3)
+
+    @property
+    def _per_block(self):
+        return self.nodes.size
 
     @property
     def _t(self):
         """The last committed time (s), None before the first commit."""
         return None if math.isnan(self._state[0]) else float(self._state[0])
-
-    @property
-    def _phase(self):
-        return self._part(0, 1)
-
-    @property
-    def _rate(self):
-        return self._part(1, 2)
-
-    @property
-    def _yd_ms(self):
-        return self._part(2, 3)
-
-    @property
-    def _ydd_ms(self):
-        return self._part(3, 4)
-
-    @property
-    def _velocity(self):
-        return self._part(4, 7, (-1, 3))
 
     @property
     def steady(self) -> bool:
@@ -339,13 +321,7 @@ def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     state[0] = t
 
 
-@functools.cache
-def _lift_step():
-    """The C function of :func:`_lift_packed`, compiled when first asked for."""
-    return cfunc(STEP_SIGNATURE, cache=True)(_lift_packed)
+_lift_step = compiled_when_asked(_lift_packed)  # (its C function, when first asked for)
 
 
-@functools.cache
-def _commit_step():
-    """The C function of :func:`_commit_packed`, compiled when first asked for."""
-    return cfunc(STEP_SIGNATURE, cache=True)(_commit_packed)
+_commit_step = compiled_when_asked(_commit_packed)  # (its C function, when first asked for)
