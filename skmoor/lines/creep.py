@@ -135,18 +135,17 @@ class CreepTerm(Term):
         indices (n)], floats [X' (n, 3), then n each: 1 + e_ref, h, T0, BA, BA_D, EA_s, EA_d
         (NaN: alphaMBL and beta set it), alphaMBL, beta; the state (:meth:`step_state`)]."""
         n = self.cells.size
-        params = np.zeros((6, n))
+        params = np.zeros((4, n))  # EA_s, EA_d, alphaMBL, beta
         BA, BA_D = self._dampers()
         for law, idx, EA in self.groups:
-            where = np.searchsorted(self.cells, idx)
             EA_d = law.EA_dynamic if law.EA_dynamic is not None else np.nan
-            params[:, where] = np.array([law.static.nominal_EA(EA), EA_d,
-                                         law.alpha_MBL or 0.0, law.beta or 0.0, 0.0, 0.0]
-                                        )[:, None]
+            params[:, np.searchsorted(self.cells, idx)] = np.array(
+                [law.static.nominal_EA(EA), EA_d, law.alpha_MBL or 0.0, law.beta or 0.0]
+            )[:, None]
         ints = np.concatenate([[n], self.dofs_i.ravel(), self.dofs_j.ravel(), self.cells])
         floats = np.concatenate([
             self.Xp.ravel(), self.grow, self.h, self.lines.cable_fields["T0"][self.cells, 0],
-            BA, BA_D, params[0], params[1], params[2], params[3], self._state])
+            BA, BA_D, *params, self._state])
         return _creep_step(), ints.astype(np.int64), floats.astype(float)
 
     @property
