@@ -59,7 +59,7 @@ if (CONTRACTION, STALL, LINE_SEARCH, BROYDEN_CONTRACTION, BROYDEN_HISTORY, BROYD
 last_refusal = ""  # why the last build() returned None
 # the step's compile units, each calling the others by address (compiled_address): those
 # :func:`_run` calls through ``callees``, in that array's order, and _run itself
-CALLEES = ("balance", "residual", "assemble", "factor", "cable", "solve")
+CALLEES = ("balance", "residual", "assemble", "factor", "cable", "solve", "commit")
 PARTS = CALLEES + ("run",)
 _shared = None  # (a process compiling some PARTS, their names): share_compile
 TO_PYTHON = "the step is the Python step's"  # a step handed back (a line at the surface)
@@ -348,7 +348,7 @@ class CompiledStep:
         self.state = np.zeros(3)  # [factorized (0 / 1), its step h, factorizations made]
         # (the arrays' ids, the arrays as compiled code takes them)
         self._terms_cache = (None, None)
-        self.callees = np.zeros(6, np.int64)  # (_find_callees)
+        self.callees = np.zeros(len(CALLEES), np.int64)  # (_find_callees)
         self._step_data = (None, None)  # (the cable's arrays, the step's data made with them)
 
     def _terms(self):
@@ -404,7 +404,8 @@ class CompiledStep:
                 "factor": (bordered.factor, (factors[0], self.width, *factors[1:])),
                 "cable": (_cable, (*cable[:10], work[0], work[1], cable[10], work[2],
                                    work[3], work[4], 1.0)),  # (statics' overload too)
-                "solve": (_solve, (work[8], factors, self.width))}[part]
+                "solve": (_solve, (work[8], factors, self.width)),
+                "commit": (_commit_forms, (y, y, data, inputs))}[part]
 
     def compile(self, parts, data=None):
         """The step's compile units ``parts`` (names in :data:`PARTS`) compiled for the
@@ -543,7 +544,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
     history, squares = broyden
     yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
     balance_at, residual_at, solve_at = data.callees[0], data.callees[1], data.callees[5]
-    memories = data.forms[10]  # kernels with a compiled commit
+    memories, commit_at = data.forms[10], data.callees[6]  # kernels with a compiled commit
     for i in range(out.shape[1]):
         x1, v1, a1, force1 = out[0, i], out[1, i], out[2, i], out[3, i]
         inputs = (loads[i], pres_u[i], pres_v[i], times[i])
@@ -663,8 +664,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
         _product(mass, a1, Ma1)
         for j in range(n):
             force1[j] = -((1 - am) * Ma1[j] + am * Ma0[j] + af * force[j]) / (1 - af)
-        if memories:  # the memories advance to the accepted step
-            _commit_forms(x1, v1, data, inputs)
+        if memories:  # the memories advance to the accepted step (by address: its code
+            call_compiled(_commit_forms, commit_at, (x1, v1, data, inputs), None)  # not here)
         if report[i] > 0:  # (the residual called here, not in _report: a level less to compile)
             if call_compiled(_residual, residual_at, (x1, v1, data, inputs, no, work[7]),
                              True):
