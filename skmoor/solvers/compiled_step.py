@@ -863,11 +863,11 @@ def _body_ends(x, v, nf, end_body, end_dofs, r_local, J, u, ud):
 
 
 # (over 100 lines: the residual of every lowered kind in one compiled pass over the state)
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
 def _expand(x, v, topology, prescribed_dofs, pres_u, pres_v, u, ud, J):
     """The lines' full displacement and velocity at (x, v) with the step's prescribed
-    ones into u, ud (and the body ends' J into J). (Arrays, not the step's data: each
-    read of a field of it counts references to all its arrays.)"""
+    ones into u, ud (and the body ends' J into J). Inlined where it is called: a call
+    counts references to every array it is passed, a cost per residual."""
     position, _, end_body, end_dofs, r_local, _, nf = topology[:7]
     u[:] = 0.0
     ud[:] = 0.0
