@@ -105,10 +105,15 @@ def call_compiled(typingctx, function, address, arguments, result):
     return restype(function, types.int64, arguments, result), codegen
 
 
+def argument_types(arguments):
+    """numba's types of ``arguments`` (Python values, or numba types as they are)."""
+    return tuple(a if isinstance(a, types.Type) else typeof(a) for a in arguments)
+
+
 def compiled_address(function, *arguments):
     """The address (int) of ``function``'s native entry compiled for the numba types of
     ``arguments`` (Python values, or numba types), for :func:`call_compiled`."""
-    argtypes = tuple(a if isinstance(a, types.Type) else typeof(a) for a in arguments)
+    argtypes = argument_types(arguments)
     function.compile(argtypes)
     result = function.overloads[argtypes]
     return result.library.get_pointer_to_function(result.fndesc.llvm_func_name)

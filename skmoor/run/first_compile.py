@@ -24,7 +24,10 @@ HELPER_PARTS = ("run", "residual", "factor")
 def precompile():
     """Starts the helper when numba's cache does not hold the compiled step (call it first
     thing: it works while the model is built and settled); True if it did (the first run
-    after an install, which then says why its first step waits)."""
+    after an install, which then says why its first step waits; also when one is at
+    work already)."""
+    if compiled_step.compiling_elsewhere():
+        return True
     if compiled_step.cached():
         return False
     package = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -39,7 +39,13 @@ from numba.experimental import structref
 
 from ..bodies.body import rotation_and_slopes
 from ..fem.form_compiler import POINTWISE_SIGNATURE, STEP_SIGNATURE
-from ..fem.native_calls import call_compiled, call_form, call_load, compiled_address
+from ..fem.native_calls import (
+    argument_types,
+    call_compiled,
+    call_form,
+    call_load,
+    compiled_address,
+)
 from ..fem.patterns import ElementPattern
 from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
@@ -123,6 +129,11 @@ def share_compile(process, parts):
     too (:mod:`skmoor.run.first_compile`)."""
     global _shared
     _shared = (process, tuple(parts))
+
+
+def compiling_elsewhere():
+    """Whether another process compiles parts of the step for this one (share_compile)."""
+    return _shared is not None
 
 
 def _wait_for_shared():
@@ -287,8 +298,9 @@ class CompiledStep:
                       + _commits(kinds["form"]))
         # the terms whose memory the step advances: (term, its state's start in the
         # packed floats), copied in before a batch of steps and out after it
-        starts = self.forms[4]
-        self.memories = [(term, starts[k, 1] + term.step_kernel[2].size - term.step_state()[1])
+        count, floats, starts = self.forms[1], self.forms[3], self.forms[4]
+        ends = [*starts[1:count, 1], floats.size]  # where each form's floats end
+        self.memories = [(term, ends[k] - term.step_state()[1])
                          for k, term in enumerate(kinds["form"])
                          if getattr(term, "step_commit", None) is not None]
         self._kept = kinds["form"] + kinds["load"]  # their C functions stay while called
@@ -416,8 +428,7 @@ class CompiledStep:
         for part in parts:
             function, arguments = self._part_arguments(part, data)
             if part == "run":
-                function.compile(tuple(a if isinstance(a, types.Type) else typeof(a)
-                                       for a in arguments))
+                function.compile(argument_types(arguments))
             else:
                 addresses[part] = compiled_address(function, *arguments)
         return addresses
