@@ -111,14 +111,12 @@ class CreepTerm(Term):
 
     @property
     def _values(self):
-        """F_1, dF_1/dz, a, b, dG/dz at the accepted state, per element."""
-        n = self.cells.size
-        return tuple(self._state[1 + k * n: 1 + (k + 1) * n] for k in range(3, 8))
+        """F_1, dF_1/dz, a, b, dG/dz at the accepted state, per element (views)."""
+        return self._state[1 + 3 * self.cells.size:].reshape(5, -1)
 
     @_values.setter
     def _values(self, values):
-        for part, value in zip(self._values, values):
-            part[:] = value
+        self._values[...] = values
 
     # --- the compiled step's kernels (Viscoelastic laws on P1 lines)
     def lowered(self):
@@ -283,14 +281,16 @@ class CreepTerm(Term):
 @njit(cache=True)
 def _unpacked(ints, floats):
     """The buffers of ``CreepTerm.step_kernel`` as arrays: (node DOFs (2, n, 3), element
-    indices (n,), X' (n, 3), the parameters (9, n), the state (1 + 8 n,))."""
+    indices (n,), X' (n, 3), the parameters (9, n), the state (1 + 8 n,) and its parts
+    after the time (8, n): z, dz/dt, e, F_1, F_1', a, b, dG/dz)."""
     n = ints[0]
     dofs = carray(advanced(ints, 1), (2, n, 3))
     cells = carray(advanced(ints, 1 + 6 * n), (n,))
     Xp = carray(floats, (n, 3))
     params = carray(advanced(floats, 3 * n), (9, n))
     state = carray(advanced(floats, 12 * n), (1 + 8 * n,))
-    return dofs, cells, Xp, params, state
+    parts = carray(advanced(floats, 12 * n + 1), (8, n))  # the state after its time
+    return dofs, cells, Xp, params, state, parts
 
 
 @njit(cache=True)
@@ -334,7 +334,7 @@ def _stiffnesses(z, EA_s, EA_d, alpha, beta):
 
 def _creep_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """``CreepTerm.add_to`` on the buffers of its ``step_kernel``."""
-    dofs, cells, Xp, params, state = _unpacked(ints, floats)
+    dofs, cells, Xp, params, state, parts = _unpacked(ints, floats)
     n = cells.size
     if math.isnan(state[0]):
         return
@@ -347,10 +347,7 @@ def _creep_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
             nel = max(nel, cells[k] + 1)
         blocks, damping = carray(K_p, (nel, 6, 6)), carray(C_p, (nel, 6, 6))
     grow, h, T0, BA, BA_D = params[0], params[1], params[2], params[3], params[4]
-    zdot_n = state[1 + n: 1 + 2 * n]
-    F1, dF1, a, b, dG = (state[1 + 3 * n: 1 + 4 * n], state[1 + 4 * n: 1 + 5 * n],
-                         state[1 + 5 * n: 1 + 6 * n], state[1 + 6 * n: 1 + 7 * n],
-                         state[1 + 7 * n: 1 + 8 * n])
+    zdot_n, F1, dF1, a, b, dG = parts[1], parts[3], parts[4], parts[5], parts[6], parts[7]
     step = max(t - state[0], 0.0)
     unit, turn = np.empty(3), np.empty(3)
     for k in range(n):
@@ -379,17 +376,15 @@ def _creep_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
 def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """``CreepTerm.commit`` on the buffers of its ``step_kernel``, after the start (a
     start, t at or before the state's time, is the Python commit's)."""
-    dofs, cells, Xp, params, state = _unpacked(ints, floats)
+    dofs, cells, Xp, params, state, parts = _unpacked(ints, floats)
     n = cells.size
     if math.isnan(state[0]) or t <= state[0]:
         return
     u, v = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,))
     grow, h, BA, BA_D = params[0], params[1], params[3], params[4]
     EA_s, EA_d, alpha, beta = params[5], params[6], params[7], params[8]
-    z, zdot_n, e_n = state[1: 1 + n], state[1 + n: 1 + 2 * n], state[1 + 2 * n: 1 + 3 * n]
-    F1, dF1, a, b, dG = (state[1 + 3 * n: 1 + 4 * n], state[1 + 4 * n: 1 + 5 * n],
-                         state[1 + 5 * n: 1 + 6 * n], state[1 + 6 * n: 1 + 7 * n],
-                         state[1 + 7 * n: 1 + 8 * n])
+    z, zdot_n, e_n, F1, dF1, a, b, dG = (parts[0], parts[1], parts[2], parts[3], parts[4],
+                                         parts[5], parts[6], parts[7])
     step = t - state[0]
     unit, turn = np.empty(3), np.empty(3)
     for k in range(n):
