@@ -439,19 +439,10 @@ def zero_outputs(jaxpr, consts, n_inputs):
     return {k for k, v in enumerate(flat) if _number(v) and float(v) == 0.0}
 
 
-_LOOP = '''
-
-@njit(cache=True, error_model="numpy")
-def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
-    """Adds the form's residual into R and, with ``tangent``, its element blocks."""
-    nel, nqp = dx.shape
-    NP, ND = P.shape[2], D.shape[0]
-    z = np.empty({n_inputs})
-    out = np.empty({n_outputs})
-    for e in range(nel):
-        he = h[e]
-        for q in range(nqp):
-            for c in range(3):
+# the inputs z at quadrature point q of element e (the loops' shared body): u, u', udot,
+# udot' (P1: phi (2, nqp) and the slope over the length he), t, the arclength, the
+# per-point fields P and the P1 fields D with their slopes
+_P1_INPUTS = """            for c in range(3):
                 a, b = u[edofs[e, c]], u[edofs[e, 3 + c]]
                 z[c] = phi[0, q] * a + phi[1, q] * b
                 z[3 + c] = (b - a) / he
@@ -467,26 +458,10 @@ def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
                     a, b = D[m, edofs[e, c]], D[m, edofs[e, 3 + c]]
                     z[14 + NP + 6 * m + c] = phi[0, q] * a + phi[1, q] * b
                     z[17 + NP + 6 * m + c] = (b - a) / he
-            if tangent:
-                point_tangent(z, out)
-            else:
-                point(z, out)
-{scatter}'''
+"""
 
-# the same on the Hermite element: phi (2, nel, nqp, 4) holds each element's cubics and
-# their d/ds for the DOFs [u_i, u_i', u_j, u_j'], local DOF 3 b + c of cubic b, component c
-_HERMITE_LOOP = '''
-
-@njit(cache=True, error_model="numpy")
-def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
-    """Adds the form's residual into R and, with ``tangent``, its element blocks."""
-    nel, nqp = dx.shape
-    NP, ND = P.shape[2], D.shape[0]
-    z = np.empty({n_inputs})
-    out = np.empty({n_outputs})
-    for e in range(nel):
-        for q in range(nqp):
-            for c in range(3):
+# the same on the Hermite element (phi (2, nel, nqp, 4): see _HERMITE_SCATTER)
+_HERMITE_INPUTS = """            for c in range(3):
                 z[c] = z[3 + c] = z[6 + c] = z[9 + c] = 0.0
                 for b in range(4):
                     k = edofs[e, 3 * b + c]
@@ -505,11 +480,30 @@ def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
                         k = edofs[e, 3 * b + c]
                         z[14 + NP + 6 * m + c] += phi[0, e, q, b] * D[m, k]
                         z[17 + NP + 6 * m + c] += phi[1, e, q, b] * D[m, k]
-            if tangent:
+"""
+
+_LOOP = '''
+
+@njit(cache=True, error_model="numpy")
+def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
+    """Adds the form's residual into R and, with ``tangent``, its element blocks."""
+    nel, nqp = dx.shape
+    NP, ND = P.shape[2], D.shape[0]
+    z = np.empty({n_inputs})
+    out = np.empty({n_outputs})
+    for e in range(nel):
+        he = h[e]
+        for q in range(nqp):
+{inputs}            if tangent:
                 point_tangent(z, out)
             else:
                 point(z, out)
-            w = dx[e, q]
+{scatter}'''
+
+# the Hermite element's accumulation at one point: phi (2, nel, nqp, 4) holds each
+# element's cubics and their d/ds for the DOFs [u_i, u_i', u_j, u_j'], local DOF 3 b + c
+# of cubic b, component c
+_HERMITE_SCATTER = """            w = dx[e, q]
             for i in range(4):
                 for c in range(3):
                     R[edofs[e, 3 * i + c]] += w * (out[c] * phi[0, e, q, i]
@@ -532,7 +526,7 @@ def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
                             Ce[e, 3 * i + c, 3 * j + d] += w * (
                                 out[ra + 6 + d] * pp + out[ra + 9 + d] * ps
                                 + out[rb + 6 + d] * sp_ + out[rb + 9 + d] * ss)
-'''
+"""
 
 
 # the generated kernel behind a C signature, for the compiled time step: the step passes
@@ -550,16 +544,13 @@ def compiled_when_asked(kernel):
     from numba import cfunc
 
     return functools.cache(lambda: cfunc(STEP_SIGNATURE, cache=True)(kernel))
-_STEP = '''
-
-@cfunc("{signature}", cache=True)
-def step_kernel(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
-    """``kernel`` on the arrays packed by skmoor.fem.form_compiler.packed."""
-    nel, nloc, nqp, NP, ND = ints[0], ints[1], ints[2], ints[3], ints[4]
+# the packed arrays unpacked (see :func:`packed`); ``total``: how many floats they are
+_UNPACK = """    nel, nloc, nqp, NP, ND = ints[0], ints[1], ints[2], ints[3], ints[4]
     edofs = carray(ints, (5 + nel * nloc,))[5:].reshape((nel, nloc))
     nphi = {phi_size}
     sizes = (nel, nel * nqp, nphi, nel * nqp, nel * nqp * NP, ND * ndofs)
-    flat = carray(floats, (sizes[0] + sizes[1] + sizes[2] + sizes[3] + sizes[4] + sizes[5],))
+    total = sizes[0] + sizes[1] + sizes[2] + sizes[3] + sizes[4] + sizes[5]
+    flat = carray(floats, (total + {extra},))
     h = flat[:nel]
     start = nel
     dx = flat[start: start + sizes[1]].reshape((nel, nqp))
@@ -571,10 +562,49 @@ def step_kernel(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     P = flat[start: start + sizes[4]].reshape((nel, nqp, NP))
     start += sizes[4]
     D = flat[start: start + sizes[5]].reshape((ND, ndofs))
-    nblocks = nel if tangent else 0
+"""
+
+_STEP = '''
+
+@cfunc("{signature}", cache=True)
+def step_kernel(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """``kernel`` on the arrays packed by skmoor.fem.form_compiler.packed."""
+{unpack}    nblocks = nel if tangent else 0
     kernel(carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), t, edofs, h, dx, phi, x, P, D,
            carray(R_p, (ndofs,)), carray(K_p, (nblocks, nloc, nloc)),
            carray(C_p, (nblocks, nloc, nloc)), tangent != 0)
+'''
+
+# a form with a memory: its state is per-point fields (columns of P) that change only
+# when a step is accepted, to ``update``'s values from the point's inputs and the step dt
+_COMMIT = '''
+
+@njit(cache=True, error_model="numpy")
+def commit(u, ud, t, edofs, h, dx, phi, x, P, D, columns, dt):
+    """Writes the state's new values at each point into its columns of P."""
+    nel, nqp = dx.shape
+    NP, ND = P.shape[2], D.shape[0]
+    z = np.empty({n_inputs} + 1)
+    out = np.empty({n_state})
+    for e in range(nel):
+        he = h[e]
+        for q in range(nqp):
+{inputs}            z[{n_inputs}] = dt
+            update(z, out)
+            for k in range({n_state}):
+                P[e, q, columns[k]] = out[k]
+
+
+@cfunc("{signature}", cache=True)
+def step_commit(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """``commit`` on the packed arrays (ints: then the state's columns of P; floats: then
+    the time of the last commit, NaN before the first: dt 0 there and on a restart)."""
+{unpack}    columns = carray(ints, (5 + nel * nloc + {n_state},))[5 + nel * nloc:]
+    last = flat[total]
+    dt = t - last if t >= last else 0.0
+    commit(carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), t, edofs, h, dx, phi, x, P, D,
+           columns, dt)
+    flat[total] = t
 '''
 
 
@@ -645,25 +675,32 @@ def _p1_scatter(zero):
     return "\n".join(lines + (body or ["                    pass"])) + "\n"
 
 
-def build_kernel(residual_jaxpr, tangent_jaxpr, n_inputs, hermite=False):
+def build_kernel(residual_jaxpr, tangent_jaxpr, n_inputs, hermite=False, update_jaxpr=None):
     """Writes (once) and imports the numba module of a form; returns the module: its
     ``kernel`` (element loop of the P1 line element, or with ``hermite`` of the Hermite
-    one) and ``step_kernel`` (the same behind :data:`STEP_SIGNATURE`), and its path."""
+    one) and ``step_kernel`` (the same behind :data:`STEP_SIGNATURE`), and its path. With
+    ``update_jaxpr`` (a memory's new values from z and the step dt, z[n_inputs]) also
+    ``commit`` and ``step_commit`` (see :data:`_COMMIT`)."""
     point, n_point = scalar_function(*residual_jaxpr, n_inputs, "point")
     tangent, n_tangent = scalar_function(*tangent_jaxpr, n_inputs, "point_tangent")
     if n_point != 6 or n_tangent != 6 + 6 * STATE:
         raise Unsupported(f"unexpected output sizes {n_point}, {n_tangent}")
-    source = "\n".join(['"""Generated by skmoor.fem.form_compiler: one user form (do not edit)."""',
-                        "import math", "", "import numpy as np",
-                        "from numba import carray, cfunc, njit", "", "", point, "", "",
-                        tangent, _HERMITE_LOOP.format(n_inputs=n_inputs, n_outputs=n_tangent)
-                        if hermite else _LOOP.format(
-                            n_inputs=n_inputs, n_outputs=n_tangent,
-                            scatter=_p1_scatter(zero_outputs(*tangent_jaxpr, n_inputs))),
-                        _STEP.format(signature=STEP_SIGNATURE,
-                                     phi_size="2 * nel * nqp * 4" if hermite else "2 * nqp",
-                                     phi_shape="(2, nel, nqp, 4)" if hermite else "(2, nqp)")])
-    return _load_module(source, "form")
+    inputs = _HERMITE_INPUTS if hermite else _P1_INPUTS
+    phi = dict(phi_size="2 * nel * nqp * 4" if hermite else "2 * nqp",
+               phi_shape="(2, nel, nqp, 4)" if hermite else "(2, nqp)")
+    parts = ['"""Generated by skmoor.fem.form_compiler: one user form (do not edit)."""',
+             "import math", "", "import numpy as np", "from numba import carray, cfunc, njit",
+             "", "", point, "", "", tangent,
+             _LOOP.format(n_inputs=n_inputs, n_outputs=n_tangent, inputs=inputs,
+                          scatter=_HERMITE_SCATTER if hermite else _p1_scatter(
+                              zero_outputs(*tangent_jaxpr, n_inputs))),
+             _STEP.format(signature=STEP_SIGNATURE, unpack=_UNPACK.format(extra=0, **phi))]
+    if update_jaxpr is not None:
+        update, n_state = scalar_function(*update_jaxpr, n_inputs + 1, "update")
+        parts += ["", "", update, _COMMIT.format(
+            signature=STEP_SIGNATURE, n_inputs=n_inputs, n_state=n_state, inputs=inputs,
+            unpack=_UNPACK.format(extra=1, **phi))]
+    return _load_module("\n".join(parts), "form")
 
 
 def _load_module(source, kind):

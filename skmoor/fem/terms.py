@@ -176,6 +176,15 @@ class LineForm(Term):
     stiffness, damping: hand-written BilinearForms of its d/du and d/dv (optional; given,
     they are used on scikit-fem's assembly). mass: a BilinearForm of a constant mass (kg/m).
     quadrature: 'gauss', 'midpoint' or 'nodal' (see :class:`~skmoor.lines.line.LineSet`).
+    state, update: a memory of the past (both or neither): ``state`` a dict of per-point
+    values (name -> initial value, a number or an (nel, nqp) array) the residual reads as
+    fields, ``update`` a function of w (as the residual's, with the step ``w.dt``, s)
+    returning their new values (a dict by name). The time integration calls the form's
+    ``commit`` with the initial state and after each accepted step; within a step the
+    residual sees the last accepted values (an explicit update, first order in dt); a
+    time before the last accepted one (a new run) starts from the initial values. On
+    path 'compiled' (numba) the update is generated too and the compiled time step
+    advances it (``step_commit``).
     path: how the residual and its tangents are evaluated:
 
     - 'compiled': the integrand and its derivatives traced once by JAX and written out as
@@ -188,7 +197,8 @@ class LineForm(Term):
     """
 
     def __init__(self, residual, *, stiffness=None, damping=None, mass=None, fields=None,
-                 quadrature="gauss", path="auto", lines=None, name=None):
+                 quadrature="gauss", path="auto", lines=None, name=None, state=None,
+                 update=None):
         if quadrature not in ("gauss", "midpoint", "nodal"):
             raise ValueError(f"LineForm quadrature: {quadrature!r} is not 'gauss', "
                              "'midpoint' or 'nodal'")
@@ -209,8 +219,15 @@ class LineForm(Term):
         self.mass, self.quadrature, self.path = mass, quadrature, path
         self.fields = {} if fields is None else fields
         self.name = name or getattr(_raw(residual), "__name__", "form")
+        self.state, self.update = _checked_state(self, state, update)
         self._engine = None
         self.step_kernel = None  # (C function, ints, floats) the compiled time step calls
+        # the memory: [values, the time of the last commit (NaN: none)] (see _memory);
+        # the numba engine keeps it as [P, D, that time], the state in P's columns
+        self._memory, self._state_layout, self._commit_kernel = None, None, None
+        self.step_commit = None  # the generated commit the compiled step calls (numba)
+        if self.state:
+            self.commit = self._commit  # System.committing calls it
         if lines is not None:
             self.lines = lines
 
@@ -233,11 +250,76 @@ class LineForm(Term):
 
     def _w(self, u, v, t):
         basis, base = self.basis_and_fields()
-        return basis, dict(base, **self.fields_at(t, u), t=t, u=u, du=v)
+        return basis, dict(base, **self.fields_at(t, u), **self.state_values(), t=t, u=u,
+                           du=v)
+
+    # --- the memory (state, update)
+    def state_values(self) -> dict:
+        """The state's last accepted values, name -> (nel, nqp) view (empty without a
+        state)."""
+        if not self.state:
+            return {}
+        if self._memory is None:  # the initial values
+            shape = self._point_shape()
+            try:
+                values = [np.broadcast_to(np.asarray(v, float), shape) for v in self.state.values()]
+            except ValueError as error:
+                raise ValueError(f"LineForm {self.name} state: each initial value must be a "
+                                 f"number or an array of shape (nel, nqp) = {shape}") from error
+            self._memory = np.append(np.ravel(values), np.nan)
+        memory = self._memory
+        if self._state_layout is None:
+            nel, nqp = self._point_shape()
+            values = memory[:-1].reshape(len(self.state), nel, nqp)
+            return dict(zip(self.state, values))
+        (nel, nqp, NP), columns = self._state_layout
+        P = memory[:nel * nqp * NP].reshape(nel, nqp, NP)
+        return {name: P[:, :, k] for name, k in zip(self.state, columns)}
+
+    def _point_shape(self):
+        """(nel, nqp) of this form's quadrature."""
+        basis, _ = self.basis_and_fields()
+        return basis.dx.shape
+
+    def _commit(self, t, u, v):
+        """The state advanced to the accepted step (t, s; u, v the LineSet's
+        displacement and velocity): ``update``'s values at each point."""
+        if self._engine is None:
+            self.add_to(u, v, t, np.zeros(self.lines.ndofs))
+        self._start_again_before(t)
+        memory = self._memory
+        last = memory[-1]
+        dt = float(t - last) if t >= last else 0.0  # the first commit: 0
+        if self._commit_kernel is not None:  # the generated update (numba)
+            commit, edofs, h, dx, phi, x, columns = self._commit_kernel
+            (nel, nqp, NP), _ = self._state_layout
+            P = memory[:nel * nqp * NP].reshape(nel, nqp, NP)
+            D = memory[nel * nqp * NP:-1].reshape(-1, self.lines.ndofs)
+            commit(np.asarray(u, float), np.asarray(v, float), float(t), edofs, h, dx, phi,
+                   x, P, D, columns, dt)
+        else:
+            new = _numpy_update(self, u, v, t, dt)
+            for name, value in self.state_values().items():
+                value[...] = new[name]
+        self._memory[-1] = t
+
+    def _start_again_before(self, t):
+        """A time before the last accepted one is a new run: the initial values again."""
+        if self._memory is not None and t < self._memory[-1]:
+            for name, value in self.state_values().items():
+                value[...] = self.state[name]
+            self._memory[-1] = np.nan
+
+    def step_state(self):
+        """(the memory array, its offset from the end of :attr:`step_kernel`'s floats)."""
+        self.state_values()
+        return self._memory, self._memory.size
 
     # --- the protocol
     def add_to(self, u, v, t, R, K=None, C=None):
         v = np.zeros_like(u) if v is None else v  # no velocity given: at rest
+        if self.state:
+            self._start_again_before(t)
         try:
             if self._engine is None:
                 self._engine = _ENGINES[self.path](self)
@@ -272,6 +354,52 @@ class LineForm(Term):
             return None
         basis, w = self._w(np.zeros(self.lines.ndofs), np.zeros(self.lines.ndofs), 0.0)
         return asm(self.mass, basis, **w).tocsr()
+
+
+_RESERVED = ("u", "du", "t", "x", "dt")
+
+
+def _checked_state(term, state, update):
+    """(state, update) of a LineForm: a dict of names to initial values and a function,
+    or ({}, None)."""
+    if state is None and update is None:
+        return {}, None
+    if state is None or update is None:
+        raise ValueError(f"LineForm {term.name} state, update: give both (the memory's "
+                         "initial values and the function of w that returns its new ones)")
+    if not isinstance(state, dict) or not state:
+        raise ValueError(f"LineForm {term.name} state: need a dict of names to initial "
+                         f"values, got {state!r}")
+    if not callable(update):
+        raise ValueError(f"LineForm {term.name} update: need a function of w returning "
+                         "the state's new values by name")
+    fields = {} if callable(term.fields) else term.fields
+    for name in state:
+        if not isinstance(name, str) or name in _RESERVED or name in fields:
+            raise ValueError(f"LineForm {term.name} state: the name {name!r} is taken (by "
+                             f"w.{name} or a field) or not a string")
+    return dict(state), update
+
+
+def _numpy_update(term, u, v, t, dt):
+    """``term.update``'s new state values at each point, evaluated with NumPy."""
+    local = _Local(term)
+    _, w = term._w(u, v, t)
+    per, dofs, const = local.split({k: x for k, x in w.items() if k not in ("u", "du", "t")})
+    w = _point_fields(np, _numpy_field, u[local.edofs], v[local.edofs], t, local.h, local.x,
+                      local.phi, per, dofs, const)
+    w["dt"] = dt
+    return _new_state(term, term.update(w), lambda value: np.broadcast_to(
+        np.asarray(value, float), (local.nel, local.nqp)))
+
+
+def _new_state(term, new, shaped):
+    """The update's values by name (each through ``shaped``), its keys checked."""
+    if not isinstance(new, dict) or set(new) != set(term.state):
+        raise ValueError(f"LineForm {term.name} update: must return a dict with the "
+                         f"state's names {sorted(term.state)}, got "
+                         f"{sorted(new) if isinstance(new, dict) else type(new).__name__}")
+    return {name: shaped(new[name]) for name in term.state}
 
 
 # --- the engines: each returns f(u, v, t, R, K, C) adding into R and the element blocks
@@ -448,10 +576,9 @@ def _hermite_tests(xp, h, phi):
     return out
 
 
-def _element_residual(xp, field, raw, ue, ude, t, h, dx, x, phi, per, dofs, const):
-    """(nel, nloc) element residual vectors of the integrand ``raw``."""
-    interpolate, tests = ((_hermite_field, _hermite_tests) if phi.ndim == 3
-                          else (_p1_field, _tests))
+def _point_fields(xp, field, ue, ude, t, h, x, phi, per, dofs, const):
+    """The w a residual integrand sees at the quadrature points of the elements."""
+    interpolate = _hermite_field if phi.ndim == 3 else _p1_field
     w = {name: value for name, value in const.items()}
     w.update(per)
     for name, values in dofs.items():
@@ -459,7 +586,13 @@ def _element_residual(xp, field, raw, ue, ude, t, h, dx, x, phi, per, dofs, cons
     w["u"] = field(*interpolate(xp, ue, h, phi))
     w["du"] = field(*interpolate(xp, ude, h, phi))
     w["t"], w["x"] = t, x
-    w = FormExtraParams(w)
+    return FormExtraParams(w)
+
+
+def _element_residual(xp, field, raw, ue, ude, t, h, dx, x, phi, per, dofs, const):
+    """(nel, nloc) element residual vectors of the integrand ``raw``."""
+    tests = _hermite_tests if phi.ndim == 3 else _tests
+    w = _point_fields(xp, field, ue, ude, t, h, x, phi, per, dofs, const)
     columns = [xp.sum(raw(field(value, grad), w) * dx, axis=-1)
                for value, grad in tests(xp, h, phi)]
     return xp.stack(columns, axis=-1).reshape(h.shape[0], ue.shape[1])
@@ -559,8 +692,8 @@ def _numba_engine(term):
         return JaxDiscreteField(z[start: start + 3].reshape(3, 1, 1),
                                 z[start + 3: start + 6].reshape(3, 1, 1, 1))
 
-    def flux(z):
-        # (a, b): the integrand at one point is a . v + b . v'
+    def point_w(z):
+        # w at one point from the kernel's inputs z
         w = dict(const)
         offset = 14
         for name, shape in shapes.items():
@@ -571,7 +704,11 @@ def _numba_engine(term):
             w[name] = field(z, offset)
             offset += 6
         w.update(u=field(z, 0), du=field(z, 6), t=z[12], x=z[13].reshape(1, 1, 1))
-        w = FormExtraParams(w)
+        return FormExtraParams(w)
+
+    def flux(z):
+        # (a, b): the integrand at one point is a . v + b . v'
+        w = point_w(z)
         tests = ([JaxDiscreteField(unit[c], zero_grad) for c in range(3)]
                  + [JaxDiscreteField(zero_value, unit[c][:, None]) for c in range(3)])
         return jnp.stack([jnp.sum(local.raw(v, w)) for v in tests])
@@ -580,12 +717,23 @@ def _numba_engine(term):
         slopes = jax.jacfwd(lambda s: flux(jnp.concatenate([s, z[STATE:]])))(z[:STATE])
         return jnp.concatenate([flux(z), slopes.ravel()])
 
+    def new_state(z):
+        # the memory's new values at one point; the step dt is z[n_inputs]
+        w = point_w(z)
+        w["dt"] = z[n_inputs]
+        new = _new_state(term, term.update(w), lambda value: jnp.reshape(value, ()))
+        return jnp.stack([new[name] for name in term.state])
+
     z0 = jnp.zeros(n_inputs)
     residual_jaxpr = jax.make_jaxpr(flux)(z0)
     tangent_jaxpr = jax.make_jaxpr(with_tangent)(z0)
+    update_jaxpr = None
+    if term.state:
+        traced = jax.make_jaxpr(new_state)(jnp.zeros(n_inputs + 1))
+        update_jaxpr = (traced.jaxpr, traced.consts)
     module, term.source = build_kernel((residual_jaxpr.jaxpr, residual_jaxpr.consts),
                                        (tangent_jaxpr.jaxpr, tangent_jaxpr.consts), n_inputs,
-                                       hermite=local.hermite)
+                                       hermite=local.hermite, update_jaxpr=update_jaxpr)
     kernel = module.kernel
     edofs = np.ascontiguousarray(local.edofs, dtype=np.int64)
     h, dx, phi = local.h, np.ascontiguousarray(local.dx), np.ascontiguousarray(local.phi)
@@ -600,11 +748,26 @@ def _numba_engine(term):
                    blocks.copy(), tangent)
     except Exception as error:  # numba's typing and lowering errors
         raise Unsupported(f"numba: {str(error).strip().splitlines()[0][:120]}") from error
+    if term.state:  # the memory becomes [P, D, the last commit's time], the state in P
+        last = term.step_state()[0][-1]
+        offsets = np.cumsum([0] + [int(np.prod(shape, dtype=int)) for shape in shapes.values()])
+        columns = np.array([offsets[list(shapes).index(name)] for name in term.state], np.int64)
+        term._memory = np.concatenate([P0.ravel(), D0.ravel(), [last]])
+        term._state_layout = (P0.shape, columns)
+        term._commit_kernel = (module.commit, edofs, h, dx, phi, x, columns)
     if not varying:  # the compiled time step calls it with these arrays
-        term.step_kernel = (module.step_kernel, *packed(edofs, h, dx, phi, x, P0, D0))
+        ints, floats = packed(edofs, h, dx, phi, x, P0, D0)
+        if term.state:  # (its step_commit reads the state's columns and last time after them)
+            ints, floats = np.concatenate([ints, columns]), np.append(floats, np.nan)
+            term.step_commit = module.step_commit
+        term.step_kernel = (module.step_kernel, ints, floats)
 
     def run(u, v, t, R, K, C):
         P, D = P0, D0
+        if term.state:  # the memory's current values
+            size = P0.size
+            P = term._memory[:size].reshape(P0.shape)
+            D = term._memory[size:-1].reshape(D0.shape)
         if varying:
             _, w = term._w(u, v, t)
             layout = _point_layout(local, {k: a for k, a in w.items()
@@ -630,7 +793,8 @@ def _jax_engine(term):
     JaxDiscreteField = _jax_field()
     local = _Local(term)
     _, w0 = term._w(np.zeros(local.ndofs), np.zeros(local.ndofs), 0.0)
-    varying = callable(term.fields) or type(term).fields_at is not LineForm.fields_at
+    varying = (callable(term.fields) or type(term).fields_at is not LineForm.fields_at
+               or bool(term.state))
     static = {k: x for k, x in w0.items() if k not in ("u", "du", "t")}
     if varying:  # time- or u-dependent fields are arguments; the LineSet's are constants
         _, base = term.basis_and_fields()

@@ -20,6 +20,13 @@ unstretched line, not from the static state: at a point of reference (static) st
 reference state; lambda = |X' + u'| where |X'| = 1), e = (1 + e_ref) lambda - 1, and
 de/dt = (1 + e_ref) (r' . udot') / lambda. A line type's BA (internal damping) still
 adds BA de/dt in the cable kernel; a law with its own rate term can leave BA at 0.
+
+A law with a memory (a permanent stretch, the largest strain seen, a spring in series
+with a dashpot) is N(e, de/dt, state) with its update state_new = update(e, de/dt, state,
+dt): the state is kept at each quadrature point of the law's lines, starts at the given
+values, and advances after each accepted time step (generated and compiled like the
+tension); within a step the tension sees the last accepted state. Statics use the initial
+state.
 """
 from __future__ import annotations
 
@@ -50,28 +57,36 @@ class UserLaw(Law):
     label: str = "user law"
     max_strain: float = 0.3
     samples: int = 301
+    initial_state: tuple = ()
+    update: object = None
     name = "user"
 
     def __init__(self, tension, *, name=None, tension_only=True, max_strain=0.3,
-                 samples=301):
-        if not callable(tension):
-            raise ValueError("UserLaw tension: need a function tension(strain, rate) -> N")
+                 samples=301, state=None, update=None):
         label = name or getattr(tension, "__name__", "user law")
+        if not callable(tension):
+            raise ValueError(f"UserLaw {label} tension: need a function tension(strain, "
+                             "rate) -> N (with a state: tension(strain, rate, state))")
         if not (np.isfinite(max_strain) and max_strain > 0):
             raise ValueError(f"UserLaw {label} max_strain: must be a strain > 0, got "
                              f"{max_strain!r}")
         if int(samples) < 2:
             raise ValueError(f"UserLaw {label} samples: need at least 2, got {samples!r}")
+        initial = _initial_state(label, state, update)
         for key, value in dict(function=tension, label=label, tension_only=bool(tension_only),
-                               max_strain=float(max_strain), samples=int(samples)).items():
+                               max_strain=float(max_strain), samples=int(samples),
+                               initial_state=initial, update=update).items():
             object.__setattr__(self, key, value)
         e = np.linspace(0.0, self.max_strain, self.samples)
+        signature = "tension(strain, rate, state)" if initial else "tension(strain, rate)"
         try:
             with np.errstate(all="ignore"):  # a NaN or inf is named below
-                T = np.asarray(self.function(e, np.zeros_like(e)), float) * np.ones_like(e)
+                T = np.asarray(self._evaluate(e, np.zeros_like(e)), float) * np.ones_like(e)
         except Exception as error:
-            raise ValueError(f"UserLaw {label}: tension(strain, rate) failed on arrays of "
+            raise ValueError(f"UserLaw {label}: {signature} failed on arrays of "
                              f"strains: {error}") from error
+        if initial:
+            _check_update(self, e)
         if not np.all(np.isfinite(T)):
             raise ValueError(f"UserLaw {label}: tension(strain, 0) is not finite at strain "
                              f"{e[~np.isfinite(T)][0]:g}")
@@ -88,6 +103,15 @@ class UserLaw(Law):
     def __repr__(self):
         return f"UserLaw({self.label})"
 
+    def _evaluate(self, e, rate, state=None):
+        """The user's tension (N) at strains e, rates de/dt and the state (its initial
+        values where None)."""
+        if not self.initial_state:
+            return self.function(e, rate)
+        if state is None:
+            state = tuple(value + 0.0 * e for value in self.initial_state)
+        return self.function(e, rate, tuple(state))
+
     # --- statics
     def static_pieces(self, EA=None):
         e, T = self._table
@@ -101,7 +125,7 @@ class UserLaw(Law):
 
     def static_tension(self, e, EA=None):
         e = np.asarray(e, float)
-        T = np.asarray(self.function(e, np.zeros_like(e)), float) * np.ones_like(e)
+        T = np.asarray(self._evaluate(e, np.zeros_like(e)), float) * np.ones_like(e)
         return np.maximum(T, 0.0) if self.tension_only else T
 
     def static_strain(self, T, EA=None):
@@ -138,15 +162,16 @@ class UserLaw(Law):
         p.update(T0=np.asarray(T, float) * 1.0, e0=e_ref * np.ones_like(T), k=0.0 * p["k"])
         return p, None
 
-    def axial(self, e, rate):
-        """The tension N(e, de/dt) (N) as the cable sees it (cut at 0 when tension-only)."""
-        N = self.function(e, rate)
+    def axial(self, e, rate, state=None):
+        """The tension N(e, de/dt[, state]) (N) as the cable sees it (cut at 0 when
+        tension-only; the initial state where None)."""
+        N = self._evaluate(e, rate, state)
         return ops.maximum(N, 0.0) if self.tension_only else N
 
     def compiled(self):
-        """The generated C function z = [e, de/dt] -> [N] of :meth:`axial` (its
-        ``address`` for compiled callers), or None where JAX or the generator cannot
-        take the law (then NumPy evaluates it)."""
+        """The generated C function z = [e, de/dt, the state] -> [N] of :meth:`axial`
+        (its ``address`` for compiled callers), or None where JAX or the generator
+        cannot take the law (then NumPy evaluates it)."""
         if "_compiled" not in self.__dict__:
             object.__setattr__(self, "_compiled", None)
             if HAS_JAX:
@@ -156,31 +181,85 @@ class UserLaw(Law):
 
                 from ..fem.form_compiler import build_pointwise
                 try:
-                    traced = jax.make_jaxpr(lambda z: jnp.reshape(
-                        self.axial(z[0], z[1]), (1,)))(jnp.zeros(2))
+                    n = 2 + len(self.initial_state)
+                    traced = jax.make_jaxpr(lambda z: jnp.reshape(self.axial(
+                        z[0], z[1], tuple(z[2:]) if n > 2 else None), (1,)))(jnp.zeros(n))
                     object.__setattr__(self, "_compiled", build_pointwise(
-                        traced.jaxpr, traced.consts, 2, f"UserLaw {self.label}"))
+                        traced.jaxpr, traced.consts, n, f"UserLaw {self.label}"))
                 except Exception:  # JAX cannot trace it, or Unsupported: NumPy evaluates it
                     pass
         return self._compiled
 
 
-def law_residual(v, w):
-    # Eq. 11 with the user's tension, and the line type's axial damping BA as the cable
-    # kernel has it: int [N(e, de/dt) / |r'| + BA r' . udot'] r' . dv' ds on its lines
+def _initial_state(label, state, update):
+    """The law's initial state as a tuple of floats (() without a memory)."""
+    if state is None and update is None:
+        return ()
+    if state is None or not callable(update):
+        raise ValueError(f"UserLaw {label} state, update: a law with a memory needs both, "
+                         "the initial values and update(strain, rate, state, dt) -> new "
+                         "values")
+    values = tuple(np.atleast_1d(np.asarray(state, float)).ravel())
+    if not values or not all(np.isfinite(values)):
+        raise ValueError(f"UserLaw {label} state: need one or more finite initial values, "
+                         f"got {state!r}")
+    return values
+
+
+def _check_update(law, e):
+    """The update evaluated once on arrays: as many finite values as the state."""
+    state = tuple(value + 0.0 * e for value in law.initial_state)
+    try:
+        with np.errstate(all="ignore"):
+            new = law.update(e, np.zeros_like(e), state, 0.1)
+        new = [np.asarray(value, float) * np.ones_like(e) for value in new]
+    except Exception as error:
+        raise ValueError(f"UserLaw {law.label}: update(strain, rate, state, dt) failed on "
+                         f"arrays of strains: {error}") from error
+    if len(new) != len(state):
+        raise ValueError(f"UserLaw {law.label} update: returned {len(new)} values for a "
+                         f"state of {len(state)}")
+    if not all(np.all(np.isfinite(value)) for value in new):
+        raise ValueError(f"UserLaw {law.label} update: not finite at strains in [0, "
+                         f"{law.max_strain:g}] (dt 0.1 s, the initial state)")
+
+
+def _state_names(law):
+    return [f"law_state_{k}" for k in range(len(law.initial_state))]
+
+
+def _strain_and_rate(w):
+    """(e, de/dt, |r'|, r' . udot'): the law's strain from the unstretched line and its
+    rate at the points of w (see the module docstring)."""
     up = d_ds(w.u)
     rp = w.Xp + up
     stretch = ops.sqrt(1.0 + 2.0 * dot(w.Xp + 0.5 * up, up))  # from the reference (Eq. 3)
     grow = 1.0 + w.e_ref
-    strain = grow * stretch - 1.0
     green_rate = dot(rp, d_ds(w.du))  # d/dt of the strain of Eq. 3
-    axial = w.law.axial(strain, grow * green_rate / stretch) / stretch + w.BA * green_rate
-    return w.on * axial * dot(rp, d_ds(v))
+    return grow * stretch - 1.0, grow * green_rate / stretch, stretch, green_rate
+
+
+def law_residual(v, w):
+    # Eq. 11 with the user's tension, and the line type's axial damping BA as the cable
+    # kernel has it: int [N(e, de/dt) / |r'| + BA r' . udot'] r' . dv' ds on its lines
+    strain, rate, stretch, green_rate = _strain_and_rate(w)
+    state = tuple(w[name] for name in _state_names(w.law)) or None
+    axial = w.law.axial(strain, rate, state) / stretch + w.BA * green_rate
+    return w.on * axial * dot(w.Xp + d_ds(w.u), d_ds(v))
+
+
+def law_update(w):
+    """The law's state after the step w.dt (s), at the points of w."""
+    strain, rate, _, _ = _strain_and_rate(w)
+    names = _state_names(w.law)
+    new = w.law.update(strain, rate, tuple(w[name] for name in names), w.dt)
+    return dict(zip(names, new))
 
 
 def law_terms(lines) -> list:
     """One line form per user law of ``lines`` (a LineSet), on that law's lines, at the
-    element mid-points as the cable kernel; none without user laws."""
+    element mid-points as the cable kernel; none without user laws. A law with a memory
+    keeps it in its form (registered on ``lines`` for the reported tension)."""
     terms, seen = [], []
     for law in lines.laws:
         if isinstance(law, UserLaw) and not any(law is s for s in seen):
@@ -189,9 +268,14 @@ def law_terms(lines) -> list:
                             [k for k, other in enumerate(lines.laws) if other is law])
             on = np.repeat(cells.astype(float)[:, None],
                            lines.cable_fields["T"].shape[1], axis=1)
-            terms.append(LineForm(law_residual, fields={"on": on, "law": law},
-                                  quadrature="gauss" if lines.hermite else "midpoint",
-                                  lines=lines, name=law.label))
+            memory = (dict(state=dict(zip(_state_names(law), law.initial_state)),
+                           update=law_update) if law.initial_state else {})
+            term = LineForm(law_residual, fields={"on": on, "law": law},
+                            quadrature="gauss" if lines.hermite else "midpoint",
+                            lines=lines, name=law.label, **memory)
+            if memory:
+                lines.__dict__.setdefault("_law_memories", {})[id(law)] = term
+            terms.append(term)
     return terms
 
 
@@ -215,27 +299,40 @@ def law_tension(lines, u, ud=None) -> np.ndarray:
                 for law in laws)]
     out = np.zeros(len(lines.line_of_cell))
     for law, cells, weights, dofs, Xp, grow, T in plan:
+        states = _element_states(lines, law, cells)  # (ncells, nstate)
         compiled = law.compiled()
         if compiled is not None:
             _tensions(compiled.address, u, u if ud is None else ud, ud is not None, cells,
-                      weights, dofs, Xp, grow, T, out)
+                      weights, dofs, Xp, grow, T, states, out)
             continue
         up = np.einsum("eb,ebc->ec", weights, u[dofs])
         rp = Xp + up
         stretch = np.sqrt(1.0 + 2.0 * np.einsum("ij,ij->i", Xp + 0.5 * up, up))
         rate = (np.zeros_like(stretch) if ud is None else grow * np.einsum(
             "ij,ij->i", rp, np.einsum("eb,ebc->ec", weights, ud[dofs])) / stretch)
-        out[cells] = law.axial(grow * stretch - 1.0, rate) - T
+        out[cells] = law.axial(grow * stretch - 1.0, rate, tuple(states.T) or None) - T
     return out
 
 
+def _element_states(lines, law, cells) -> np.ndarray:
+    """(ncells, nstate) the law's last accepted state on the elements (the mean over
+    their quadrature points; the initial state before its form is in a model)."""
+    term = lines.__dict__.get("_law_memories", {}).get(id(law))
+    if term is None:
+        return np.tile(np.asarray(law.initial_state, float), (cells.size, 1))
+    values = term.state_values()
+    return np.stack([values[name][cells].mean(axis=1) for name in _state_names(law)],
+                    axis=1) if values else np.zeros((cells.size, 0))
+
+
 @njit(cache=True)
-def _tensions(address, u, ud, moving, cells, weights, dofs, Xp, grow, T, out):
-    """out[cells] = N(e, de/dt) - T at the elements' mid-points, N by the law's C
+def _tensions(address, u, ud, moving, cells, weights, dofs, Xp, grow, T, states, out):
+    """out[cells] = N(e, de/dt, state) - T at the elements' mid-points, N by the law's C
     function at ``address`` (de/dt 0 unless ``moving``); the slopes there sum_b
     weights[k, b] u[dofs[k, b]] (``LineSet.midpoint_slope``)."""
-    z, N = np.empty(2), np.empty(1)
+    z, N = np.empty(2 + states.shape[1]), np.empty(1)
     for k in range(cells.size):
+        z[2:] = states[k]
         eps = rate = 0.0
         for c in range(3):
             up = vp = 0.0

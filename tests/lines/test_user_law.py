@@ -144,3 +144,67 @@ def test_the_static_strain_inverts_the_law():
     T = np.array([0.0, 1e5, EA * KINK, 3e6])
     e = law.static_strain(T)
     assert np.allclose(law.tension(e), T, rtol=1e-12, atol=1e-6)
+
+
+# --- a law with a memory: a spring EA in series with a Kelvin element (spring 3 EA,
+# dashpot C_DASH), N = EA (e - e_v), the Kelvin strain e_v advanced by implicit Euler
+C_DASH = 8.0 * EA  # N s: the Kelvin strain follows within about 2 s
+
+
+def zener(strain, rate, state):
+    return EA * (strain - state[0])
+
+
+def zener_update(strain, rate, state, dt):
+    return ((state[0] + dt * EA * strain / C_DASH) / (1.0 + dt * 4.0 * EA / C_DASH),)
+
+
+def test_a_law_with_a_memory_advances_it_on_the_strain_from_the_unstretched_line():
+    """The Kelvin strain after the run against the same implicit Euler run here on the
+    strains of the recorded steps (e from the unstretched line, independently of the
+    law's form); the reported tension against EA (e - e_v); the Python step against the
+    compiled one. A law that saw the strain from the static state (off by e_ref, about
+    1e-3), a step dt off, a commit skipped or the state left out of the reported tension
+    would fail it."""
+    law = skmoor.UserLaw(zener, state=[0.0], update=zener_update)
+    system, x0 = _chain(law)
+    why, kinds = compiled_step.lowered_terms(system)
+    assert why is None and [t.name for t in kinds["form"]] == ["zener"]
+    states, tension = _history(system, x0)
+    e_ref = system.lines.cable_fields["e_ref"][:, 0]
+    e_v = np.zeros_like(e_ref)
+    for k, x in enumerate(states[1:], start=1):  # (the first commit, at t = 0: dt = 0)
+        u, _ = system.full_state(x, np.zeros(system.n), 0.1 * k)
+        e = (1 + e_ref) * np.sqrt(1 + 2 * system.lines.element_strain(u)) - 1
+        e_v = (e_v + 0.1 * EA * e / C_DASH) / (1.0 + 0.4 * EA / C_DASH)
+    kept = system.lines._law_memories[id(law)].state_values()["law_state_0"][:, 0]
+    assert e_v.max() > 0.2 * e_ref.max()  # the Kelvin element did take strain
+    assert np.abs(kept - e_v).max() < 1e-12 * e_v.max()
+    assert np.abs(tension - EA * (e - e_v)).max() < 1e-8 * tension.max()
+    slow, _ = _history(system, x0, compiled=False)  # (a new run: the state starts again)
+    assert np.abs(slow - states).max() < 1e-9 * np.abs(states - states[0]).max()
+    hooke_run, _ = _history(*_chain(skmoor.UserLaw(hooke)))
+    assert np.abs(hooke_run - states).max() > 1e-2  # the memory changes the motion
+
+
+def test_a_law_with_a_memory_on_a_bending_chain_runs_compiled_as_in_python():
+    law = skmoor.UserLaw(zener, state=[0.0], update=zener_update)
+    system, x0 = _chain(law, EI=2e5)
+    assert compiled_step.lowered_terms(system)[0] is None
+    fast, _ = _history(system, x0, steps=30)
+    kept = system.lines._law_memories[id(law)].state_values()["law_state_0"].copy()
+    slow, _ = _history(system, x0, compiled=False, steps=30)
+    assert np.abs(slow - fast).max() < 1e-9 * np.abs(fast - fast[0]).max()
+    again = system.lines._law_memories[id(law)].state_values()["law_state_0"]
+    assert kept.max() > 1e-4 and np.abs(again - kept).max() < 1e-12
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(state=[0.0]), "needs both"),
+    (dict(state=[np.nan], update=zener_update), "finite initial values"),
+    (dict(state=[0.0], update=lambda e, r, s, dt: (s[0], s[0])), "returned 2 values"),
+    (dict(state=[0.0], update=lambda e, r, s, dt: (s[0] / 0.0,)), "not finite"),
+])
+def test_a_bad_memory_of_a_law_is_refused_with_its_reason(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        skmoor.UserLaw(zener, **kwargs)
