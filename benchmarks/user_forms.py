@@ -30,9 +30,12 @@ user term against its built-in equivalent: the user drag above added by
 ``model.add(LineForm(..., path='compiled'))`` against the line type's Cd_n, Cd_t (the
 built-in Morison kernel); the engineering strain law written as a ``skmoor.UserLaw``
 against the built-in Engineering law; a small distributed load in time (1 N/m) written as a
-LineForm against the case without it (what evaluating the term costs). Wall time of the time loop only (the
-static state and modes computed before, ``simulate(..., eq=eq)``), best of seven after an untimed run of each, runs
-alternated; the two runs' fairlead tension and surge histories compared.
+LineForm against the case without it (what evaluating the term costs). Wall time of the
+time loop only (the static state and modes computed before, ``simulate(..., eq=eq)``), in
+PAIRS pairs after an untimed run of each, the order alternating from pair to pair: the
+median of the pairs' ratios and its quartiles (one run's time on a shared 2-core machine
+varies by 10-20 %, a pair's ratio much less); the two runs' fairlead tension and surge
+histories compared.
 
 Run: ``python benchmarks/user_forms.py [--quick] [--out docs/user_forms.md]``
 (about 5 min; --quick: 11 and 100 elements, 20 s of the paper's case, under a minute
@@ -69,6 +72,7 @@ PATHS = ("assembly", "fd", "autodiff", "compiled")
 CD_N, CD_T = 1.2, 0.008  # MoorDyn's Cd and CdAx
 SLOW = 10.0  # s: a path predicted slower than this per call is left out at that size
 DURATION = 200.0  # s of the paper's case
+PAIRS = 15  # of the paper case's runs, per user term
 SWAY = 1.0  # N/m: the user's load, small so that the motion and Newton's work stay the case's
 
 
@@ -265,28 +269,35 @@ def histories(results):
     return results.body_series("surge"), results.fairlead_tension
 
 
-def paper_case_comparison(duration=DURATION, repeat=7, models=None):
-    """Per user term: wall times of the two time loops (best of ``repeat``, alternated,
-    after an untimed run of each that loads or compiles its kernels) and the distance between the two runs' histories (largest difference over the
-    range), whether the user's run took the compiled step."""
+def paper_case_comparison(duration=DURATION, repeat=PAIRS, models=None):
+    """Per user term: the two time loops run in ``repeat`` pairs (after an untimed run of
+    each that loads or compiles its kernels; the order within a pair alternating), the
+    median and quartiles of the pairs' ratios user / built-in, and the distance between
+    the two runs' histories (largest difference over the range), whether the user's run
+    took the compiled step."""
     from skmoor.solvers.compiled_step import lowered_terms
 
     out = {}
     for name, (builtin, user, term) in (models or paper_models()).items():
         eqs = [skmoor.equilibrium(m) for m in (builtin, user)]
-        walls, runs = [[], []], [None, None]
+        ratios, runs = [], [None, None]
         for model, eq in zip((builtin, user), eqs):
             skmoor.simulate(model, duration=min(duration, 1.0), eq=eq, progress=False)
-        for _ in range(repeat):
-            for k, (model, eq) in enumerate(zip((builtin, user), eqs)):
+        for pair in range(repeat):
+            wall = [0.0, 0.0]
+            for k in ((0, 1) if pair % 2 == 0 else (1, 0)):
+                model, eq = (builtin, user)[k], eqs[k]
                 started = time.perf_counter()
                 runs[k] = skmoor.simulate(model, duration=duration, eq=eq, progress=False)
-                walls[k].append(time.perf_counter() - started)
+                wall[k] = time.perf_counter() - started
+            ratios.append(wall[1] / wall[0])
         (surge_b, tension_b), (surge_u, tension_u) = (histories(r) for r in runs)
         agree = {"surge": float(np.max(np.abs(surge_u - surge_b)) / np.ptp(surge_b)),
                  "fairlead tension": float(np.max(np.abs(tension_u - tension_b))
                                            / np.ptp(tension_b))}
-        out[name] = {"builtin": min(walls[0]), "user": min(walls[1]), "agree": agree,
+        out[name] = {"ratio": float(np.median(ratios)),
+                     "quartiles": tuple(float(q) for q in np.quantile(ratios, [0.25, 0.75])),
+                     "pairs": repeat, "agree": agree,
                      "compiled": lowered_terms(user.system)[0] is None,
                      "steps": runs[0].meta["steps"], "duration": duration}
     return out
@@ -330,13 +341,14 @@ ROWS = {"drag": ("user drag form, `model.add(LineForm(drag))`",
 
 
 def format_case(case) -> str:
-    lines = ["| user term | compared with | time loop / the other's | compiled step "
+    lines = ["| user term | compared with | time loop / the other's (quartiles) | compiled step "
              "| histories apart (surge, fairlead tension) |", "|---|---|---|---|---|"]
     for name, row in case.items():
         user, builtin = ROWS[name]
         apart = f"{row['agree']['surge']:.1e}, {row['agree']['fairlead tension']:.1e}"
         apart += f" (the {SWAY:g} N/m load)" if name == "load" else ""
-        lines.append(f"| {user} | {builtin} | **{row['user'] / row['builtin']:.2f}** | "
+        low, high = row["quartiles"]
+        lines.append(f"| {user} | {builtin} | **{row['ratio']:.2f}** ({low:.2f}-{high:.2f}) | "
                      f"{'yes' if row['compiled'] else 'no'} | {apart} |")
     first = next(iter(case.values()))
     lines += ["", f"{first['duration']:g} s of the paper's case, {first['steps']} steps; "
@@ -373,9 +385,10 @@ def report(rows, case, env, quick, seconds) -> str:
         "",
         "## The paper's case with a user's drag, law and load",
         "",
-        "Wall time of the time loop (best of seven after an untimed run of each, the two runs alternated) with each "
-        "user term over the built-in equivalent (the load: over the case without it). "
-        "Goal: within 1.3, histories equal to 1e-10." if not quick
+        f"Wall time of the time loop with each user term over the built-in equivalent (the "
+        f"load: over the case without it): the median of {PAIRS} pairs' ratios (quartiles "
+        "in brackets), after an untimed run of each, the order alternating from pair to "
+        "pair. Goal: within 1.3 (1.1), histories equal to 1e-10." if not quick
         else "Wall time of the time loop (one run).",
         "",
         format_case(case),
@@ -394,7 +407,8 @@ def main(argv=None):
     sizes = ELEMENTS[:2] if args.quick else ELEMENTS
     rows = term_table(sizes, budget=0.3 if args.quick else 2.0)
     print(format_terms(rows), flush=True)
-    case = paper_case_comparison(20.0 if args.quick else DURATION, repeat=1 if args.quick else 3)
+    case = paper_case_comparison(20.0 if args.quick else DURATION,
+                                 repeat=1 if args.quick else PAIRS)
     print()
     print(format_case(case))
     text = report(rows, case, env, args.quick, time.perf_counter() - started)

@@ -416,18 +416,24 @@ def _static_index(s, what):
 
 
 def scalar_function(jaxpr, consts, n_inputs, name):
-    """Source of ``def name(z, out)``: the jaxpr's outputs (flattened) from z (n_inputs,)."""
+    """(source of ``def name(z, out)``: the jaxpr's outputs (flattened) from z (n_inputs,),
+    the number of outputs, the indices of the inputs they depend on)."""
     code = _Code()
     if len(jaxpr.invars) != 1:
         raise Unsupported("a jaxpr of one input vector z was expected")
     args = [np.array([f"z{k}" for k in range(n_inputs)], dtype=object)]
     outputs = _Evaluator(code).run(jaxpr, consts, args)
     flat = np.concatenate([np.asarray(o, dtype=object).ravel() for o in outputs])
-    body = [f"    z{k} = z[{k}]" for k in range(n_inputs)]
-    body += [f"    {n} = {e}" for n, e in code.used(list(flat))]
+    kept = code.used(list(flat))
+    names = {n for n, _ in kept}
+    read = {o for n, _, operands in code.lines if n in names for o in operands}
+    read.update(v for v in flat if isinstance(v, str))
+    used = sorted(k for k in range(n_inputs) if f"z{k}" in read)
+    body = [f"    z{k} = z[{k}]" for k in used]
+    body += [f"    {n} = {e}" for n, e in kept]
     body += [f"    out[{k}] = {_text(v)}" for k, v in enumerate(flat)]
     return "\n".join(["@njit(cache=True, error_model='numpy')", f"def {name}(z, out):"]
-                     + body), flat.size
+                     + body), flat.size, used
 
 
 def zero_outputs(jaxpr, consts, n_inputs):
@@ -439,48 +445,41 @@ def zero_outputs(jaxpr, consts, n_inputs):
     return {k for k, v in enumerate(flat) if _number(v) and float(v) == 0.0}
 
 
-# the inputs z at quadrature point q of element e (the loops' shared body): u, u', udot,
-# udot' (P1: phi (2, nqp) and the slope over the length he), t, the arclength, the
-# per-point fields P and the P1 fields D with their slopes
-_P1_INPUTS = """            for c in range(3):
-                a, b = u[edofs[e, c]], u[edofs[e, 3 + c]]
-                z[c] = phi[0, q] * a + phi[1, q] * b
-                z[3 + c] = (b - a) / he
-                a, b = ud[edofs[e, c]], ud[edofs[e, 3 + c]]
-                z[6 + c] = phi[0, q] * a + phi[1, q] * b
-                z[9 + c] = (b - a) / he
-            z[12] = t
-            z[13] = x[e, q]
-            for k in range(NP):
-                z[14 + k] = P[e, q, k]
-            for m in range(ND):
-                for c in range(3):
-                    a, b = D[m, edofs[e, c]], D[m, edofs[e, 3 + c]]
-                    z[14 + NP + 6 * m + c] = phi[0, q] * a + phi[1, q] * b
-                    z[17 + NP + 6 * m + c] = (b - a) / he
-"""
+def _inputs_code(used, hermite, NP):
+    """The loops' code that fills z at quadrature point q of element e, the inputs in
+    ``used`` only: u, u', udot, udot' (z 0-11; P1: phi (2, nqp) and the slope over the
+    length he; Hermite: phi (2, nel, nqp, 4), see :data:`_HERMITE_SCATTER`), t (12), the
+    arclength (13), the per-point fields P (14 ...) and the DOF fields D with their
+    slopes (after P, 6 each)."""
+    used, lines = set(used), []
 
-# the same on the Hermite element (phi (2, nel, nqp, 4): see _HERMITE_SCATTER)
-_HERMITE_INPUTS = """            for c in range(3):
-                z[c] = z[3 + c] = z[6 + c] = z[9 + c] = 0.0
-                for b in range(4):
-                    k = edofs[e, 3 * b + c]
-                    z[c] += phi[0, e, q, b] * u[k]
-                    z[3 + c] += phi[1, e, q, b] * u[k]
-                    z[6 + c] += phi[0, e, q, b] * ud[k]
-                    z[9 + c] += phi[1, e, q, b] * ud[k]
-            z[12] = t
-            z[13] = x[e, q]
-            for k in range(NP):
-                z[14 + k] = P[e, q, k]
-            for m in range(ND):
-                for c in range(3):
-                    z[14 + NP + 6 * m + c] = z[17 + NP + 6 * m + c] = 0.0
-                    for b in range(4):
-                        k = edofs[e, 3 * b + c]
-                        z[14 + NP + 6 * m + c] += phi[0, e, q, b] * D[m, k]
-                        z[17 + NP + 6 * m + c] += phi[1, e, q, b] * D[m, k]
-"""
+    def interpolated(vector, value, slope, c):  # z[value], z[slope] of component c
+        if value not in used and slope not in used:
+            return
+        if hermite:
+            lines.extend([
+                "s0 = s1 = 0.0", "for b in range(4):",
+                f"    k = edofs[e, 3 * b + {c}]",
+                f"    s0 += phi[0, e, q, b] * {vector.format('k')}",
+                f"    s1 += phi[1, e, q, b] * {vector.format('k')}"])
+            a, b = "s0", "s1"
+        else:
+            lines.append(f"a, b = {vector.format(f'edofs[e, {c}]')}, "
+                         f"{vector.format(f'edofs[e, {3 + c}]')}")
+            a, b = "phi[0, q] * a + phi[1, q] * b", "(b - a) / he"
+        lines.extend([f"z[{value}] = {a}"] * (value in used)
+                     + [f"z[{slope}] = {b}"] * (slope in used))
+
+    for base, vector in ((0, "u[{}]"), (6, "ud[{}]")):
+        for c in range(3):
+            interpolated(vector, base + c, base + 3 + c, c)
+    lines.extend(["z[12] = t"] * (12 in used) + ["z[13] = x[e, q]"] * (13 in used))
+    lines.extend(f"z[{14 + k}] = P[e, q, {k}]" for k in range(NP) if 14 + k in used)
+    for m in sorted({(k - 14 - NP) // 6 for k in used if k >= 14 + NP}):
+        for c in range(3):
+            interpolated(f"D[{m}, {{}}]", 14 + NP + 6 * m + c, 17 + NP + 6 * m + c, c)
+    return "".join(f"            {line}\n" for line in lines)
+
 
 _LOOP = '''
 
@@ -544,24 +543,22 @@ def compiled_when_asked(kernel):
     from numba import cfunc
 
     return functools.cache(lambda: cfunc(STEP_SIGNATURE, cache=True)(kernel))
-# the packed arrays unpacked (see :func:`packed`); ``total``: how many floats they are
+# the packed arrays unpacked (see :func:`packed`) as C arrays at their offsets;
+# ``total``: how many floats they are
 _UNPACK = """    nel, nloc, nqp, NP, ND = ints[0], ints[1], ints[2], ints[3], ints[4]
-    edofs = carray(ints, (5 + nel * nloc,))[5:].reshape((nel, nloc))
+    edofs = carray(advanced(ints, 5), (nel, nloc))
     nphi = {phi_size}
-    sizes = (nel, nel * nqp, nphi, nel * nqp, nel * nqp * NP, ND * ndofs)
-    total = sizes[0] + sizes[1] + sizes[2] + sizes[3] + sizes[4] + sizes[5]
-    flat = carray(floats, (total + {extra},))
-    h = flat[:nel]
-    start = nel
-    dx = flat[start: start + sizes[1]].reshape((nel, nqp))
-    start += sizes[1]
-    phi = flat[start: start + nphi].reshape({phi_shape})
+    h = carray(floats, (nel,))
+    dx = carray(advanced(floats, nel), (nel, nqp))
+    start = nel + nel * nqp
+    phi = carray(advanced(floats, start), {phi_shape})
     start += nphi
-    x = flat[start: start + sizes[3]].reshape((nel, nqp))
-    start += sizes[3]
-    P = flat[start: start + sizes[4]].reshape((nel, nqp, NP))
-    start += sizes[4]
-    D = flat[start: start + sizes[5]].reshape((ND, ndofs))
+    x = carray(advanced(floats, start), (nel, nqp))
+    start += nel * nqp
+    P = carray(advanced(floats, start), (nel, nqp, NP))
+    start += nel * nqp * NP
+    D = carray(advanced(floats, start), (ND, ndofs))
+    total = start + ND * ndofs
 """
 
 _STEP = '''
@@ -599,12 +596,12 @@ def commit(u, ud, t, edofs, h, dx, phi, x, P, D, columns, dt):
 def step_commit(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """``commit`` on the packed arrays (ints: then the state's columns of P; floats: then
     the time of the last commit, NaN before the first: dt 0 there and on a restart)."""
-{unpack}    columns = carray(ints, (5 + nel * nloc + {n_state},))[5 + nel * nloc:]
-    last = flat[total]
+{unpack}    columns = carray(advanced(ints, 5 + nel * nloc), ({n_state},))
+    last = floats[total]
     dt = t - last if t >= last else 0.0
     commit(carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), t, edofs, h, dx, phi, x, P, D,
            columns, dt)
-    flat[total] = t
+    floats[total] = t
 '''
 
 
@@ -633,7 +630,7 @@ def build_pointwise(jaxpr, consts, n_inputs, label):
     """Writes (once) and imports the numba module of a pointwise load's jaxpr (outputs F
     and its derivatives, from z = [q, qdot, t]); returns its ``step_load`` (C function
     of :data:`POINTWISE_SIGNATURE`)."""
-    body, n_outputs = scalar_function(jaxpr, consts, n_inputs, "load")
+    body, n_outputs, _ = scalar_function(jaxpr, consts, n_inputs, "load")
     source = "\n".join([f'"""Generated by skmoor.fem.form_compiler: {label} (do not edit)."""',
                         "import math", "", "import numpy as np",
                         "from numba import carray, cfunc, njit", "", "", body,
@@ -675,31 +672,34 @@ def _p1_scatter(zero):
     return "\n".join(lines + (body or ["                    pass"])) + "\n"
 
 
-def build_kernel(residual_jaxpr, tangent_jaxpr, n_inputs, hermite=False, update_jaxpr=None):
-    """Writes (once) and imports the numba module of a form; returns the module: its
-    ``kernel`` (element loop of the P1 line element, or with ``hermite`` of the Hermite
-    one) and ``step_kernel`` (the same behind :data:`STEP_SIGNATURE`), and its path. With
-    ``update_jaxpr`` (a memory's new values from z and the step dt, z[n_inputs]) also
-    ``commit`` and ``step_commit`` (see :data:`_COMMIT`)."""
-    point, n_point = scalar_function(*residual_jaxpr, n_inputs, "point")
-    tangent, n_tangent = scalar_function(*tangent_jaxpr, n_inputs, "point_tangent")
+def build_kernel(residual_jaxpr, tangent_jaxpr, n_inputs, n_fields, hermite=False,
+                 update_jaxpr=None):
+    """Writes (once) and imports the numba module of a form (``n_fields`` per-point
+    fields P); returns the module: its ``kernel`` (element loop of the P1 line element,
+    or with ``hermite`` of the Hermite one) and ``step_kernel`` (the same behind
+    :data:`STEP_SIGNATURE`), and its path. With ``update_jaxpr`` (a memory's new values
+    from z and the step dt, z[n_inputs]) also ``commit`` and ``step_commit`` (see
+    :data:`_COMMIT`)."""
+    point, n_point, used = scalar_function(*residual_jaxpr, n_inputs, "point")
+    tangent, n_tangent, used_too = scalar_function(*tangent_jaxpr, n_inputs, "point_tangent")
     if n_point != 6 or n_tangent != 6 + 6 * STATE:
         raise Unsupported(f"unexpected output sizes {n_point}, {n_tangent}")
-    inputs = _HERMITE_INPUTS if hermite else _P1_INPUTS
     phi = dict(phi_size="2 * nel * nqp * 4" if hermite else "2 * nqp",
                phi_shape="(2, nel, nqp, 4)" if hermite else "(2, nqp)")
     parts = ['"""Generated by skmoor.fem.form_compiler: one user form (do not edit)."""',
              "import math", "", "import numpy as np", "from numba import carray, cfunc, njit",
-             "", "", point, "", "", tangent,
-             _LOOP.format(n_inputs=n_inputs, n_outputs=n_tangent, inputs=inputs,
+             "", "from skmoor.fem.native_calls import advanced", "", "", point, "", "", tangent,
+             _LOOP.format(n_inputs=n_inputs, n_outputs=n_tangent,
+                          inputs=_inputs_code(set(used) | set(used_too), hermite, n_fields),
                           scatter=_HERMITE_SCATTER if hermite else _p1_scatter(
                               zero_outputs(*tangent_jaxpr, n_inputs))),
-             _STEP.format(signature=STEP_SIGNATURE, unpack=_UNPACK.format(extra=0, **phi))]
+             _STEP.format(signature=STEP_SIGNATURE, unpack=_UNPACK.format(**phi))]
     if update_jaxpr is not None:
-        update, n_state = scalar_function(*update_jaxpr, n_inputs + 1, "update")
+        update, n_state, used = scalar_function(*update_jaxpr, n_inputs + 1, "update")
         parts += ["", "", update, _COMMIT.format(
-            signature=STEP_SIGNATURE, n_inputs=n_inputs, n_state=n_state, inputs=inputs,
-            unpack=_UNPACK.format(extra=1, **phi))]
+            signature=STEP_SIGNATURE, n_inputs=n_inputs, n_state=n_state,
+            inputs=_inputs_code(set(used) - {n_inputs}, hermite, n_fields),
+            unpack=_UNPACK.format(**phi))]
     return _load_module("\n".join(parts), "form")
 
 

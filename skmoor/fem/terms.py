@@ -733,7 +733,8 @@ def _numba_engine(term):
         update_jaxpr = (traced.jaxpr, traced.consts)
     module, term.source = build_kernel((residual_jaxpr.jaxpr, residual_jaxpr.consts),
                                        (tangent_jaxpr.jaxpr, tangent_jaxpr.consts), n_inputs,
-                                       hermite=local.hermite, update_jaxpr=update_jaxpr)
+                                       P0.shape[2], hermite=local.hermite,
+                                       update_jaxpr=update_jaxpr)
     kernel = module.kernel
     edofs = np.ascontiguousarray(local.edofs, dtype=np.int64)
     h, dx, phi = local.h, np.ascontiguousarray(local.dx), np.ascontiguousarray(local.phi)
