@@ -16,8 +16,12 @@ Each code is run the way it runs in a host: skmoor ``build(deck, motion=...)`` a
 damping, as a deck has none); MoorDyn v2
 (its RK2 at dtM, coupled at every step: the fairleads move from the start of each step at
 its mean velocity) from its own settled initial state; CableDyn (implicit generalized-alpha) through its in-process interface,
-the fairlead kinematics given at the end of every step. Wall times are
-time.perf_counter around the time loop only (no parsing, statics or initial conditions).
+the fairlead kinematics given at the end of every step. Time-loop wall times are
+time.perf_counter around the time loop only (no parsing, statics or initial conditions);
+whole-process times are those of a new Python process that imports only its code, reads
+the deck, finds its start (skmoor's static solve, MoorDyn's own initial-condition stage
+at the run's step, CableDyn's) and runs the loop, the parent timing it from start to exit
+(numba's cache warm: skmoor's first compile is benchmarks/first_run.py's).
 
 Why rho_inf 0.5: a chain node resting on MoorDyn's bed is a spring of period ~0.17 s
 (kBot d over the node's mass and added mass; the bed's damping fades in with penetration),
@@ -37,7 +41,8 @@ compared with each other (std and peak), which says whether the codes compute th
 physics.
 
 Run: ``python benchmarks/volturnus.py [--segments 50 100 200] [--codes skmoor moordyn
-cabledyn] [--duration 300]`` prints the table and the ratios. MoorDyn's explicit step
+cabledyn] [--duration 300] [--steps CODE=DT | CODE@N=DT ...] [--write-docs]`` prints the
+table and the ratios. MoorDyn's explicit step
 falls with the segment length: at 200 segments its reference run alone takes tens of
 minutes on this machine.
 """
@@ -51,6 +56,7 @@ for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import argparse  # noqa: E402
 import copy  # noqa: E402
 import functools  # noqa: E402
+import json  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
@@ -64,8 +70,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import steps  # noqa: E402
 from _cases import ROOT, quiet, write_block  # noqa: E402
 
-import skmoor  # noqa: E402
-from skmoor.solvers.newton import DivergenceError
+# skmoor is imported where it is used: a peer's whole process does not import it
 
 DECK_PATH = "OpenFAST/IEA-15-240-RWT-UMaineSemi/IEA-15-240-RWT-UMaineSemi_MoorDyn.dat"
 DEPTH = 200.0  # m
@@ -76,6 +81,7 @@ HEAVE, HEAVE_PERIOD = 2.0, 12.0  # m, s
 OUTPUT = 0.125  # s, output interval
 TOLERANCE = 0.01  # of the reference's tension std and peak
 REPEATS = 3
+WHOLE_ROUNDS = 2  # of the whole processes, interleaved
 CODES = ("skmoor", "moordyn", "cabledyn")
 SEGMENTS = (50, 100, 200)
 START = {"skmoor": -1, "cabledyn": -1, "moordyn": -6}  # log2 of the first (largest) step
@@ -92,6 +98,8 @@ def mirror_path() -> Path:
 @functools.cache
 def iea_deck():
     """The IEA deck as skmoor reads it (a skmoor.io.deck.Deck)."""
+    import skmoor
+
     text = subprocess.run(["git", "-C", str(mirror_path()), "show", f"HEAD:{DECK_PATH}"],
                           capture_output=True, text=True, check=False)
     if text.returncode:
@@ -105,7 +113,13 @@ def iea_deck():
 
 def write_deck(code, n, dt, workdir) -> Path:
     """The IEA deck for ``code`` on n segments per line at step dt (s): the water depth
-    added, the outputs cleared, the options each code needs."""
+    added, the outputs cleared, the options each code needs (written once: a whole
+    process reads the one its parent wrote)."""
+    path = Path(workdir) / f"{code}_{n}_{dt:g}.dat"
+    if path.exists():
+        return path
+    import skmoor
+
     deck = copy.deepcopy(iea_deck())
     for line in deck.lines:
         line.n_segments = n
@@ -118,7 +132,7 @@ def write_deck(code, n, dt, workdir) -> Path:
         options.update(TMax=repr(DURATION), rhoInf=repr(RHO_INF))
     deck.options, deck.outputs = options, []
     deck.option_lines = {}
-    return skmoor.write_deck(deck, Path(workdir) / f"{code}_{n}_{dt:g}.dat")
+    return skmoor.write_deck(deck, path)
 
 
 def fade(t):
@@ -140,16 +154,22 @@ def skmoor_motion(t):
     return y
 
 
-def fairleads():
-    """(3, 3) the deck's fairlead positions, in its order of coupled points."""
-    return np.array([p.position for p in iea_deck().points if p.kind.lower() in ("coupled", "vessel")],
-                    float)
+def fairleads(workdir):
+    """(3, 3) the deck's fairlead positions, in its order of coupled points (kept in
+    workdir for the whole processes)."""
+    path = Path(workdir) / "fairleads.npy"
+    if not path.exists():
+        np.save(path, np.array([p.position for p in iea_deck().points
+                                if p.kind.lower() in ("coupled", "vessel")], float))
+    return np.load(path)
 
 
 # ------------------------------------------------------------------ the three codes
 
 @functools.cache
 def skmoor_model(n, workdir):
+    import skmoor
+
     model = skmoor.build(write_deck("skmoor", n, 1e-3, workdir), motion=skmoor_motion)
     model.solver.update(scheme="generalized-alpha", rho_inf=RHO_INF)  # as CableDyn's
     return model, skmoor.equilibrium(model)
@@ -157,6 +177,8 @@ def skmoor_model(n, workdir):
 
 def run_skmoor(n, dt, workdir):
     """(wall s, fairlead tensions (samples, 3) N every OUTPUT s or every step)."""
+    import skmoor
+
     model, eq = skmoor_model(n, workdir)
     started = time.perf_counter()
     results = skmoor.simulate(model, duration=DURATION, dt=dt,
@@ -175,26 +197,31 @@ def moordyn_initial_state(n, workdir):
     path = Path(workdir) / f"moordyn_{n}_ic.bin"
     with quiet():
         md = moordyn.Create(str(write_deck("moordyn", n, 2.0**-13, workdir)))
-        moordyn.Init(md, list(fairleads().ravel()), [0.0] * 9)
+        moordyn.Init(md, list(fairleads(workdir).ravel()), [0.0] * 9)
         moordyn.SaveState(md, str(path))
         moordyn.Close(md)
     return str(path)
 
 
-def run_moordyn(n, dt, workdir):
+def run_moordyn(n, dt, workdir, settle=False):
     """MoorDyn v2 (RK2 at dtM = dt) from its settled state, coupled at every one of its
     steps (the fairleads from the start of the step at its mean velocity; coupling every
     0.125 s instead lowers the std of its tensions by 4-8 % here, 0.8-1.7 % every 1/32 s);
-    the tension is the end node's net force (the line's pull on the fairlead, as skmoor's)."""
+    the tension is the end node's net force (the line's pull on the fairlead, as skmoor's).
+    With ``settle`` (a whole process) it finds its start itself, with its initial-condition
+    stage at dt, instead of loading the state settled at a small step."""
     import moordyn
 
-    state = moordyn_initial_state(n, workdir)
-    base = fairleads()
+    base = fairleads(workdir)
     stride = max(1, int(round(OUTPUT / dt)))
+    state = None if settle else moordyn_initial_state(n, workdir)
     with quiet():
         md = moordyn.Create(str(write_deck("moordyn", n, dt, workdir)))
-        moordyn.Init_NoIC(md, list(base.ravel()), [0.0] * 9)
-        moordyn.LoadState(md, state)
+        if settle:
+            moordyn.Init(md, list(base.ravel()), [0.0] * 9)
+        else:
+            moordyn.Init_NoIC(md, list(base.ravel()), [0.0] * 9)
+            moordyn.LoadState(md, state)
     lines = [moordyn.GetLine(md, k) for k in (1, 2, 3)]
     offsets = np.array([fairlead_offset(k * dt) for k in range(int(round(DURATION / dt)) + 1)])
     try:
@@ -254,12 +281,43 @@ RUNNERS = {"skmoor": run_skmoor, "moordyn": run_moordyn, "cabledyn": run_cabledy
 
 def run(code, n, dt, workdir):
     """(wall, tensions) or (nan, None) when the run fails."""
+    from skmoor.solvers.newton import DivergenceError
+
     try:
         return RUNNERS[code](n, dt, workdir)
     except (DivergenceError, RuntimeError, ValueError) as error:
         print(f"    {code} n={n} dt={dt:g}: failed ({type(error).__name__}: {error})",
               flush=True)
         return np.nan, None
+
+
+def one_process(code, n, dt, workdir):
+    """The child of :func:`whole_process`: the run as a user makes it in a new process
+    (imports, the deck, the start, the time loop) from the deck its parent wrote in
+    workdir; prints the loop's time as JSON."""
+    if code == "moordyn":
+        wall, tensions = run_moordyn(n, dt, workdir, settle=True)
+    else:
+        wall, tensions = RUNNERS[code](n, dt, workdir)
+    print(json.dumps({"loop": wall, "ok": tensions is not None}))
+
+
+def whole_process(code, n, dt, workdir):
+    """(s from the process's start to its exit, s of its time loop) of the run in a new
+    Python process (:func:`one_process`); nan where it fails."""
+    write_deck(code, n, 1e-3 if code == "skmoor" else dt, workdir)  # (skmoor: its deck)
+    fairleads(workdir)
+    started = time.perf_counter()
+    out = subprocess.run([sys.executable, __file__, "--one", code, str(n), repr(dt),
+                          str(workdir)], capture_output=True, text=True, check=False)
+    whole = time.perf_counter() - started
+    try:
+        info = json.loads(out.stdout.strip().splitlines()[-1])
+    except (IndexError, ValueError):
+        print(f"    {code} n={n} dt={dt:g}: the whole process failed: {out.stderr[-600:]}",
+              flush=True)
+        return np.nan, np.nan
+    return whole, info["loop"]
 
 
 # ------------------------------------------------------------------ accuracy and step
@@ -289,8 +347,26 @@ def find_step(code, n, workdir):
                            START[code], first, TOLERANCE, 1, label=code, report=report)
 
 
+def given_steps(items, segments, codes):
+    """{(code, n): dt} of --steps items CODE=DT (every segment count) and CODE@N=DT."""
+    given = {}
+    for item in items:
+        key, dt = item.split("=")
+        code, _, n = key.partition("@")
+        for m in ([int(n)] if n else segments):
+            given[(code, m)] = float(dt)
+    missing = [f"{c}@{n}" for n in segments for c in codes if (c, n) not in given]
+    if given and missing:
+        raise SystemExit(f"--steps: no step for {', '.join(missing)}")
+    return given
+
+
 def main(argv=None):
     global DURATION
+    if argv is None and sys.argv[1:2] == ["--one"]:  # a whole process's child
+        code, n, dt, workdir = sys.argv[2:6]
+        one_process(code, int(n), float(dt), workdir)
+        return
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--segments", type=int, nargs="+", default=list(SEGMENTS))
     parser.add_argument("--codes", nargs="+", default=list(CODES), choices=CODES)
@@ -299,43 +375,59 @@ def main(argv=None):
                         "docs/speed.md (after the last segment count)")
     parser.add_argument("--steps", nargs="+", default=(), metavar="CODE=DT",
                         help="time each code at these steps (s) without the search (steps "
-                             "an earlier search found; one segment count; the references "
-                             "column then compares the runs at these steps)")
+                             "an earlier search found; CODE@N=DT for one segment count; the "
+                             "references column then compares the runs at these steps)")
     args = parser.parse_args(argv)
     DURATION = args.duration
-    given = {code: float(dt) for code, dt in (item.split("=") for item in args.steps)}
-    if given and (len(args.segments) != 1 or set(given) != set(args.codes)):
-        raise SystemExit("--steps: give one step per code of --codes, for one --segments")
+    given = given_steps(args.steps, args.segments, args.codes)
     rows = []
     with tempfile.TemporaryDirectory() as workdir:
         for n in args.segments:
             results = {}
             for code in args.codes:
                 print(f"{code}, {n} segments per line", flush=True)
-                results[code] = (dict(dt=given[code], ref=run(code, n, given[code], workdir)[1])
+                results[code] = (dict(dt=given[(code, n)],
+                                      ref=run(code, n, given[(code, n)], workdir)[1])
                                  if given else find_step(code, n, workdir))
-            best = steps.interleaved_walls({code: res["dt"] for code, res in results.items()},
-                                           lambda code, dt: run(code, n, dt, workdir), REPEATS)
+            chosen = {code: res["dt"] for code, res in results.items()}
+            best = steps.interleaved_walls(chosen, lambda code, dt: run(code, n, dt, workdir),
+                                           REPEATS)
+            whole = steps.interleaved_walls(
+                chosen, lambda code, dt: whole_process(code, n, dt, workdir), WHOLE_ROUNDS)
             for code, res in results.items():
-                res["wall"] = best[code]
-                print(f"    {code} n={n} dt={res['dt']:g}: timed {res['wall']:.2f} s (best of "
-                      f"{REPEATS}, interleaved)", flush=True)
+                res["wall"], res["whole"] = best[code], whole[code]
+                print(f"    {code} n={n} dt={res['dt']:g}: time loop {res['wall']:.2f} s (best "
+                      f"of {REPEATS}, interleaved), whole process {res['whole']:.2f} s (best "
+                      f"of {WHOLE_ROUNDS})", flush=True)
             rows.append((n, results))
-            report(rows, args.codes, args.write_docs and n == args.segments[-1])
+            report(rows, args.codes, bool(given), args.write_docs and n == args.segments[-1])
 
 
-def report(rows, codes, write_docs=False):
+NAMES = {"skmoor": "skmoor", "moordyn": "MoorDyn", "cabledyn": "CableDyn"}
+
+
+def report(rows, codes, given=False, write_docs=False):
     """Print the table (and with write_docs, write it into docs/speed.md)."""
-    head = " | ".join(f"{c} step / wall" for c in codes)
-    ratios = [c for c in codes if c != "skmoor"] if "skmoor" in codes else []
-    lines = [f"| segments | {head} | " + " | ".join(f"skmoor/{c}" for c in ratios)
-             + " | references: " + ", ".join(f"skmoor-{c}" for c in ratios) + " |",
-             "|---" * (1 + len(codes) + 2 * len(ratios)) + "|"]
+    head = " | ".join(f"{NAMES[c]} step / loop / whole" for c in codes)
+    peers = [c for c in codes if c != "skmoor"] if "skmoor" in codes else []
+    ratios = " | ".join(f"skmoor/{NAMES[c]} loop | whole" for c in peers)
+    lines = [f"| segments | {head} | {ratios} | references apart: "
+             + ", ".join(f"skmoor-{NAMES[c]}" for c in peers) + " |",
+             "|---" * (2 + len(codes) + 2 * len(peers)) + "|"]
     for n, res in rows:
-        cells = [f"{1e3 * res[c]['dt']:g} ms / {res[c]['wall']:.2f} s" for c in codes]
-        cells += [f"**{res['skmoor']['wall'] / res[c]['wall']:.2f}**" for c in ratios]
-        cells += [f"{error(res['skmoor']['ref'], res[c]['ref']):.4f}" for c in ratios]
+        cells = [f"{1e3 * res[c]['dt']:g} ms / {res[c]['wall']:.2f} s / {res[c]['whole']:.1f} s"
+                 for c in codes]
+        sk = res["skmoor"] if peers else None
+        for c in peers:
+            cells += [f"**{sk['wall'] / res[c]['wall']:.2f}**", f"{sk['whole'] / res[c]['whole']:.2f}"]
+        cells.append(", ".join(f"{error(sk['ref'], res[c]['ref']):.4f}" for c in peers))
         lines.append(f"| {n} | " + " | ".join(cells) + " |")
+    lines += ["", ("Steps: " + ("given (found by an earlier run of the full search)" if given
+                               else "each code's own search") + f"; {DURATION:g} s of motion; "
+                   "loop: the time loop alone, best of "
+                   f"{REPEATS} interleaved rounds; whole: the whole process, best of "
+                   f"{WHOLE_ROUNDS}; references apart: the largest relative difference in "
+                   "fairlead-tension std and peak between the codes' runs.")]
     print("\n" + "\n".join(lines))
     sys.stdout.flush()
     if write_docs:
