@@ -26,10 +26,11 @@ with their static laws (``LineSet.use_static_laws``) and the term adds nothing t
 time the cable kernel keeps each such element's mean tension T_mean along it (the law's
 dynamic parameters, which balance the reference part of Eq. 9), and the term adds
 N - T_mean along r'.
-Its state (the accepted time, z, dz/dt, e and the law's values there) is one array. With
-Viscoelastic laws on P1 lines the compiled time step runs the term (:func:`_creep_packed`,
-by address) and advances that array after each step (:func:`_commit_packed`); Syrope's
-laws, whose memory is Python's, leave the run to the Python step.
+Its state (the accepted time, z, dz/dt, e, the law's values there and Syrope's highest
+mean tension) is one array. On P1 lines the compiled time step runs the term
+(:func:`_creep_packed`, by address) and advances that array after each step
+(:func:`_commit_packed`; Syrope's working curves rebuilt there when the highest tension
+rises, :func:`_working_curve`).
 """
 from __future__ import annotations
 
@@ -42,6 +43,7 @@ from ..fem.form_compiler import compiled_when_asked
 from ..fem.native_calls import advanced
 from ..fem.terms import Term, state_part
 from .laws import Viscoelastic
+from .syrope import FORMS, SyropeCreep
 
 __all__ = ["CreepTerm", "has_creep", "relaxed_creep"]
 
@@ -71,8 +73,10 @@ class CreepTerm(Term):
     module docstring), with its creep state z integrated over the accepted steps."""
 
     acts_on = "lines"
-    # the state array [t_n, then n each: z, dz/dt, e, F_1, F_1', a, b, dG/dz]
+    # the state array [t_n, then n each: z, dz/dt, e, F_1, F_1', a, b, dG/dz, the
+    # highest mean tension (Syrope's memory, N; NaN for laws without one)]
     z, zdot, _e_n = (state_part(k) for k in range(3))
+    _highest = state_part(8)
 
     @property
     def _per_block(self):
@@ -97,8 +101,21 @@ class CreepTerm(Term):
         t = lineset.mesh.t
         nodal = lineset.nodal_dofs
         self.dofs_i, self.dofs_j = nodal[t[0]][self.cells], nodal[t[1]][self.cells]
-        self._state = np.full(1 + 8 * self.cells.size, np.nan)  # no accepted state yet
-        self.memory = [None] * len(self.groups)  # the laws' memories
+        self._where = [np.searchsorted(self.cells, idx) for _, idx, _ in self.groups]
+        self._state = np.full(1 + 9 * self.cells.size, np.nan)  # no accepted state yet
+
+    @property
+    def memory(self):
+        """The laws' memories per group: Syrope's highest mean tension per element (N,
+        views of the state), None for a law without one."""
+        return [self._highest[where] if isinstance(law, SyropeCreep) else None
+                for (law, _, _), where in zip(self.groups, self._where)]
+
+    @memory.setter
+    def memory(self, values):
+        for where, value in zip(self._where, values):
+            if value is not None:
+                self._highest[where] = value
 
     @property
     def t_n(self):
@@ -112,26 +129,28 @@ class CreepTerm(Term):
     @property
     def _values(self):
         """F_1, dF_1/dz, a, b, dG/dz at the accepted state, per element (views)."""
-        return self._state[1 + 3 * self.cells.size:].reshape(5, -1)
+        n = self.cells.size
+        return self._state[1 + 3 * n: 1 + 8 * n].reshape(5, -1)
 
     @_values.setter
     def _values(self, values):
         self._values[...] = values
 
-    # --- the compiled step's kernels (Viscoelastic laws on P1 lines)
+    # --- the compiled step's kernels (Viscoelastic and SyropeCreep laws on P1 lines)
     def lowered(self):
-        compiled = not self.lines.hermite and all(type(law) is Viscoelastic
+        compiled = not self.lines.hermite and all(type(law) in (Viscoelastic, SyropeCreep)
                                                   for law, _, _ in self.groups)
         return "form" if compiled else None
 
-    why_python = "a creep law with a memory (Syrope's) or on bending lines"
+    why_python = "a creep law on bending lines, or of a kind the compiled kernels lack"
 
     @property
     def step_kernel(self):
         """(C function, ints, floats): :func:`_creep_packed` as the compiled time step calls
         a LineForm (by address); ints [n, the elements' node DOFs (2, n, 3), their
-        indices (n)], floats [X' (n, 3), then n each: 1 + e_ref, h, T0, BA, BA_D, EA_s, EA_d
-        (NaN: alphaMBL and beta set it), alphaMBL, beta; the state (:meth:`step_state`)]."""
+        indices (n), then the working curves' (:meth:`_curves`)], floats [X' (n, 3), then
+        n each: 1 + e_ref, h, T0, BA, BA_D, EA_s, EA_d (NaN: alphaMBL and beta set it),
+        alphaMBL, beta; the state (:meth:`step_state`); the working curves']."""
         n = self.cells.size
         params = np.zeros((4, n))  # EA_s, EA_d, alphaMBL, beta
         BA, BA_D = self._dampers()
@@ -140,11 +159,37 @@ class CreepTerm(Term):
             params[:, np.searchsorted(self.cells, idx)] = np.array(
                 [law.static.nominal_EA(EA), EA_d, law.alpha_MBL or 0.0, law.beta or 0.0]
             )[:, None]
-        ints = np.concatenate([[n], self.dofs_i.ravel(), self.dofs_j.ravel(), self.cells])
+        curve_ints, curve_floats = self._curves()
+        ints = np.concatenate([[n], self.dofs_i.ravel(), self.dofs_j.ravel(), self.cells,
+                               curve_ints])
         floats = np.concatenate([
             self.Xp.ravel(), self.grow, self.h, self.lines.cable_fields["T0"][self.cells, 0],
-            BA, BA_D, *params, self._state])
+            BA, BA_D, *params, self._state, curve_floats])
         return _creep_step(), ints.astype(np.int64), floats.astype(float)
+
+    def _curves(self):
+        """(ints, floats) of the Syrope elements' working curves for the compiled commit:
+        ints [n each: 1 for Syrope, the WCType (index in FORMS), samples, first OWC point,
+        OWC points; then the table width NT and the OWC points of all], floats [n each:
+        k1, k2, the highest tension each element's table is built for (NaN: none yet),
+        its points; the tables (n, 3, NT): strain, tension, creep strain; the OWCs'
+        strains, then their tensions]."""
+        n = self.cells.size
+        ints, k12 = np.zeros((5, n), np.int64), np.zeros((2, n))
+        strains, tensions = [], []
+        for (law, _, _), where in zip(self.groups, self._where):
+            if isinstance(law, SyropeCreep):
+                wc = law.static
+                ints[:, where] = np.array([1, FORMS.index(wc.form), wc.points,
+                                           sum(map(len, strains)), len(wc.owc[0])])[:, None]
+                k12[:, where] = np.array([wc.k1, wc.k2])[:, None]
+                strains.append(np.asarray(wc.owc[0], float))
+                tensions.append(np.asarray(wc.owc[1], float))
+        width = max([p + m for p, m in zip(ints[2], ints[4])] + [1])
+        owc = sum(map(len, strains))
+        return (np.concatenate([ints.ravel(), [width, owc]]),
+                np.concatenate([k12.ravel(), np.full(n, np.nan), np.zeros(n),
+                                np.zeros(n * 3 * width), *strains, *tensions]))
 
     @property
     def step_commit(self):
@@ -154,7 +199,7 @@ class CreepTerm(Term):
 
     def step_state(self):
         """(the state array, its offset from the end of :attr:`step_kernel`'s floats)."""
-        return self._state, self._state.size
+        return self._state, self._state.size + self._curves()[1].size
 
     # --- kinematics of the elements
     def _strains(self, u, v):
@@ -226,12 +271,15 @@ class CreepTerm(Term):
         self._damping = self._dampers()
         z, relax = np.empty_like(e), np.zeros_like(e)
         T = self.lines.cable_fields["T"][self.cells, 0]
-        for k, (law, idx, EA) in enumerate(self.groups):
+        memories = []
+        for law, idx, EA in self.groups:
             where = np.searchsorted(self.cells, idx)
-            start, self.memory[k] = law.creep_start(e[where], T[where], EA)
-            z[where] = (relaxed_creep(law, e[where], EA, self.memory[k]) if start is None
+            start, memory = law.creep_start(e[where], T[where], EA)
+            memories.append(memory)
+            z[where] = (relaxed_creep(law, e[where], EA, memory) if start is None
                         else start)
             relax[where] = getattr(law, "relax", None) or 0.0
+        self.memory = memories
         self.z, self._e_n, rest = z, e, np.zeros_like(e)
         self.zdot = rest
         for duration in np.unique(relax[relax > 0]):
@@ -276,21 +324,108 @@ class CreepTerm(Term):
 
 
 # --- the compiled kernels: add_to and commit above on the packed buffers of step_kernel,
-# for Viscoelastic laws
+# for Viscoelastic and SyropeCreep laws
 
 @njit(cache=True)
 def _unpacked(ints, floats):
     """The buffers of ``CreepTerm.step_kernel`` as arrays: (node DOFs (2, n, 3), element
-    indices (n,), X' (n, 3), the parameters (9, n), the state (1 + 8 n,) and its parts
-    after the time (8, n): z, dz/dt, e, F_1, F_1', a, b, dG/dz)."""
+    indices (n,), X' (n, 3), the parameters (9, n), the state (1 + 9 n,) and its parts
+    after the time (9, n): z, dz/dt, e, F_1, F_1', a, b, dG/dz, the highest tension)."""
     n = ints[0]
     dofs = carray(advanced(ints, 1), (2, n, 3))
     cells = carray(advanced(ints, 1 + 6 * n), (n,))
     Xp = carray(floats, (n, 3))
     params = carray(advanced(floats, 3 * n), (9, n))
-    state = carray(advanced(floats, 12 * n), (1 + 8 * n,))
-    parts = carray(advanced(floats, 12 * n + 1), (8, n))  # the state after its time
+    state = carray(advanced(floats, 12 * n), (1 + 9 * n,))
+    parts = carray(advanced(floats, 12 * n + 1), (9, n))  # the state after its time
     return dofs, cells, Xp, params, state, parts
+
+
+@njit(cache=True)
+def _curves_unpacked(ints, floats, n):
+    """The working curves of ``CreepTerm._curves`` as arrays: (the ints (5, n), k1 and k2
+    (2, n), the highest tension of each table (n,), its points (n,), the tables (n, 3,
+    NT), the OWCs' strains and tensions (2, points))."""
+    curve_ints = carray(advanced(ints, 1 + 7 * n), (5, n))
+    width, owc = ints[1 + 12 * n], ints[2 + 12 * n]
+    start = 21 * n + 1
+    k12 = carray(advanced(floats, start), (2, n))
+    built = carray(advanced(floats, start + 2 * n), (n,))
+    counts = carray(advanced(floats, start + 3 * n), (n,))
+    tables = carray(advanced(floats, start + 4 * n), (n, 3, width))
+    owcs = carray(advanced(floats, start + 4 * n + 3 * n * width), (2, owc))
+    return curve_ints, k12, built, counts, tables, owcs
+
+
+@njit(cache=True)
+def _curve_of(k, highest, curve_ints, k12, built, counts, tables, owcs, alpha, beta):
+    """The points of element k's table, built for its highest tension where it is not."""
+    if built[k] != highest[k]:
+        first, points = curve_ints[3, k], curve_ints[4, k]
+        counts[k] = _working_curve(owcs[0, first:first + points], owcs[1, first:first + points],
+                                   curve_ints[1, k], k12[0, k], k12[1, k], highest[k],
+                                   curve_ints[2, k], alpha[k], beta[k], tables[k])
+        built[k] = highest[k]
+    return int(counts[k])
+
+
+@njit(cache=True)
+def _interp(x, xp, fp, count):
+    """np.interp(x, xp[:count], fp[:count]): linear, the end values beyond the ends."""
+    if x <= xp[0]:
+        return fp[0]
+    if x >= xp[count - 1]:
+        return fp[count - 1]
+    low, high = 0, count - 1
+    while high - low > 1:
+        middle = (low + high) // 2
+        if xp[middle] <= x:
+            low = middle
+        else:
+            high = middle
+    return fp[low] + (fp[high] - fp[low]) / (xp[high] - xp[low]) * (x - xp[low])
+
+
+@njit(cache=True)
+def _working_curve(owc_e, owc_T, form, k1, k2, T_max, points, alpha, beta, table):
+    """``syrope.working_curve`` of highest tension T_max (N) and its creep strains
+    (``syrope.slow_strain``) into table (3, NT): strain, tension, creep strain; returns
+    how many points it has."""
+    eps_max = _interp(T_max, owc_T, owc_e, owc_T.size)
+    if form == 0 and k1 >= 1.0:  # LINEAR with the slope k1
+        eps_min = eps_max - T_max / k1
+    else:
+        eps_min = owc_e[0] + k1 * (eps_max - owc_e[0])
+    step = 1.0 / (points - 1)
+    for i in range(points):
+        xi = i * step if i < points - 1 else 1.0
+        if form == 0 or (form == 2 and abs(math.expm1(k2)) < 1e-14):
+            shape = xi
+        elif form == 1:
+            shape = xi * (k2 * xi + 1.0 - k2)
+        else:
+            shape = math.expm1(k2 * xi) / math.expm1(k2)
+        table[0, i] = eps_min + (eps_max - eps_min) * xi
+        table[1, i] = T_max * shape
+    count = points
+    for j in range(owc_T.size):  # the OWC above T_max
+        if owc_T[j] > T_max * (1 + 1e-12):
+            table[0, count], table[1, count] = owc_e[j], owc_T[j]
+            count += 1
+    for i in range(count):
+        slow = (table[1, i] / alpha if beta == 0.0
+                else math.log1p(beta * table[1, i] / alpha) / beta)
+        table[2, i] = table[0, i] - slow
+    return count
+
+
+@njit(cache=True)
+def _on_the_curve(z, table, count, alpha, beta):
+    """(creep spring's tension F_1, a, b) of a Syrope element at creep strain z: its
+    working curve's tension there, a = alpha + beta F_1, b = a e_wc(F_1)."""
+    tension = _interp(z, table[2], table[1], count)
+    a = alpha + beta * tension
+    return tension, a, a * _interp(tension, table[1], table[0], count)
 
 
 @njit(cache=True)
@@ -383,8 +518,10 @@ def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     u, v = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,))
     grow, h, BA, BA_D = params[0], params[1], params[3], params[4]
     EA_s, EA_d, alpha, beta = params[5], params[6], params[7], params[8]
-    z, zdot_n, e_n, F1, dF1, a, b, dG = (parts[0], parts[1], parts[2], parts[3], parts[4],
-                                         parts[5], parts[6], parts[7])
+    z, zdot_n, e_n, F1, dF1, a, b, dG, highest = (
+        parts[0], parts[1], parts[2], parts[3], parts[4], parts[5], parts[6], parts[7],
+        parts[8])
+    curve_ints, k12, built, counts, tables, owcs = _curves_unpacked(ints, floats, n)
     step = t - state[0]
     unit, turn = np.empty(3), np.empty(3)
     for k in range(n):
@@ -393,17 +530,32 @@ def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
                         zdot_n[k])[3]
         z[k] += 0.5 * step * (zdot_n[k] + zdot)
         e_n[k] = e
-        # the law's values at the new z (Viscoelastic; its derivatives as the Python
-        # term's central differences)
+        # the law's values at the new z (their derivatives as the Python term's central
+        # differences)
         dz = 1e-7 * max(abs(z[k]), 1e-3)
-        EA_1, EA_dk = _stiffnesses(z[k], EA_s[k], EA_d[k], alpha[k], beta[k])
-        up_1, up_d = _stiffnesses(z[k] + dz, EA_s[k], EA_d[k], alpha[k], beta[k])
-        down_1, down_d = _stiffnesses(z[k] - dz, EA_s[k], EA_d[k], alpha[k], beta[k])
-        F1[k] = EA_1 * z[k]
-        dF1[k] = (up_1 * (z[k] + dz) - down_1 * (z[k] - dz)) / (2 * dz)
-        a[k], b[k] = EA_dk, (EA_1 + EA_dk) * z[k]
-        dG[k] = ((up_d - down_d) * e - ((up_1 + up_d) * (z[k] + dz)
-                                        - (down_1 + down_d) * (z[k] - dz))) / (2 * dz)
+        if curve_ints[0, k]:  # Syrope: on the working curve of the highest tension
+            count = _curve_of(k, highest, curve_ints, k12, built, counts, tables, owcs,
+                              alpha, beta)
+            passed = _on_the_curve(z[k], tables[k], count, alpha[k], beta[k])[0]
+            if passed > highest[k]:  # back on the OWC: a new working curve
+                highest[k] = passed
+                count = _curve_of(k, highest, curve_ints, k12, built, counts, tables, owcs,
+                                  alpha, beta)
+            F1[k], a[k], b[k] = _on_the_curve(z[k], tables[k], count, alpha[k], beta[k])
+            up_1, up_a, up_b = _on_the_curve(z[k] + dz, tables[k], count, alpha[k], beta[k])
+            down_1, down_a, down_b = _on_the_curve(z[k] - dz, tables[k], count, alpha[k],
+                                                   beta[k])
+            dF1[k] = (up_1 - down_1) / (2 * dz)
+            dG[k] = ((up_a - down_a) * e - (up_b - down_b)) / (2 * dz)
+        else:  # Viscoelastic
+            EA_1, EA_dk = _stiffnesses(z[k], EA_s[k], EA_d[k], alpha[k], beta[k])
+            up_1, up_d = _stiffnesses(z[k] + dz, EA_s[k], EA_d[k], alpha[k], beta[k])
+            down_1, down_d = _stiffnesses(z[k] - dz, EA_s[k], EA_d[k], alpha[k], beta[k])
+            F1[k] = EA_1 * z[k]
+            dF1[k] = (up_1 * (z[k] + dz) - down_1 * (z[k] - dz)) / (2 * dz)
+            a[k], b[k] = EA_dk, (EA_1 + EA_dk) * z[k]
+            dG[k] = ((up_d - down_d) * e - ((up_1 + up_d) * (z[k] + dz)
+                                            - (down_1 + down_d) * (z[k] - dz))) / (2 * dz)
         zdot_n[k] = _step_at(e, edot, 0.0, F1[k], dF1[k], a[k], b[k], dG[k], BA[k], BA_D[k],
                              zdot_n[k])[3]
     state[0] = t

@@ -40,7 +40,9 @@ import numpy as np
 import pytest
 
 import skmoor
-from skmoor.lines import syrope
+from skmoor.lines import creep, syrope
+from skmoor.solvers import compiled_step
+from skmoor.solvers.dynamics import integrate
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 import moordyn_decks as md_decks  # noqa: E402
@@ -335,3 +337,36 @@ def test_syrope_deck_reader(tmp_path):
         skmoor.read_deck(syrope_deck(tmp_path, settings="owc.dat OWC\nEXP WCType\n0.2 k1\n"))
     with pytest.raises(ValueError, match="writing Syrope line types is not supported"):
         skmoor.write_deck(deck, tmp_path / "out.txt")
+
+
+def test_the_compiled_step_runs_syrope_as_the_python_step(tmp_path, monkeypatch, capfd):
+    """The linear deck stretched 1 % past its strain in 10 s, held for two creep times,
+    and let back: its creep tension passes Tmax0 (the commit builds the working curve of
+    the new highest tension), then the rope unloads on that curve. The compiled step's
+    fairlead force and creep state (the highest tension included) equal the Python
+    step's, which evaluates the curves with NumPy (a wrong curve, a highest tension not
+    raised or raised from the wrong curve would show in the force after the peak)."""
+    monkeypatch.chdir(tmp_path)
+    deck = mirror_deck(tmp_path, "linear_wc")
+
+    def stretch(t):
+        return 0.01 * np.interp(t, [0.0, 10.0, 150.0, 160.0], [0.0, 1.0, 1.0, 0.3])
+
+    def run(compiled):
+        model = skmoor.build(deck, motion=lambda t: np.array([stretch(t), 0.0, 0.0]))
+        system = model.system
+        assert compiled_step.lowered_terms(system)[0] is None
+        eq = skmoor.equilibrium(model)
+        term = next(t for t in system._terms["lines"] if isinstance(t, creep.CreepTerm))
+        states = list(integrate(system, eq.x, np.zeros(system.n), 0.25, 200.0, C=eq.C,
+                                compiled=compiled, tol=1e-10, report_every=1))
+        return np.array([np.linalg.norm(s.reactions[0][0]) for s in states]), term._state.copy()
+
+    force, state = run(True)
+    force_py, state_py = run(False)
+    capfd.readouterr()
+    highest = state[-1]  # the one element's highest tension (the state's last part)
+    assert highest > 1.005 * T_MAX0, highest  # the creep tension passed Tmax0: new curves
+    assert force.max() > 1.2 * T_MAX0, force.max()
+    assert np.abs(force - force_py).max() < 1e-9 * force_py.max()
+    assert state == pytest.approx(state_py, rel=1e-9, abs=1e-15)
