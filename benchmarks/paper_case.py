@@ -26,14 +26,22 @@ F_x = 1e5 sin(1.6 t) N, 200 s from static rest. Both codes get the same physics:
   in tension between 2 and 0.1 ms), which would blur the step search.
 
 Accuracy: each code is run at a converged reference step (skmoor dt = 2.5 ms; MoorDyn
-dtM = 0.025 ms with a 2 ms coupling step) and then at steps from large to small; the step
-used is the largest whose fairlead tensions (all four lines, sampled every 0.1 s) stay
-within 1 % of the tension range of that code's own reference over the whole run. The
-timed run is then repeated at that step (best of three), and the wall times (everything
-from the built model to the tension histories: skmoor's static solve, modes and time
-loop; MoorDyn's own time, Create, Init and its Step calls, with this script's body
-integrator between the calls printed apart, not counted; the best of three rounds that
-run both codes in turn) give the ratio.
+dtM = 0.025 ms with a 2 ms coupling step) and then at every step of its list, from large
+to small; the step used is the largest whose fairlead tensions (all four lines, sampled
+every 0.1 s), and those of every smaller step of the list, stay within 1 % of the tension
+range of that code's own reference over the whole run (the error need not fall
+monotonically with the step). The timed run is then repeated at that step, and the wall
+times (everything from the built model to the tension histories: skmoor's static solve,
+modes and time loop; MoorDyn's own time, Create, Init and its Step calls, with this
+script's body integrator between the calls printed apart, not counted; the best of
+three rounds that run both codes in turn) give the ratio.
+
+Whole processes beside them (best of two interleaved rounds): skmoor in a new Python
+process that imports it, builds the case, and simulates (static solve, modes, time
+loop; numba's cache warm, its first compile is benchmarks/first_run.py's); MoorDyn in a
+new process that imports it, reads the deck, and runs Init and its Step calls along the
+fairlead motion its coupled run recorded (so without the body integrator it cannot do
+itself).
 The distance between the two codes' references is printed as a check of the physics; a
 variant whose references differ by more than 5 % (the 'paper' one) compares different
 physics, and its ratio is printed as such, not as a speed claim.
@@ -43,7 +51,9 @@ Run: python benchmarks/paper_case.py [--duration 200] [--variant both|paper|moor
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -55,10 +65,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 import moordyn  # noqa: E402
 from _cases import ROOT, write_block  # noqa: E402
-from peers import chain_length_for, condensed_line_stiffness  # noqa: E402
 
-import skmoor  # noqa: E402
-from skmoor.model.from_case import line_type
+# skmoor and its test helpers are imported where they are used: MoorDyn's whole process
+# does not import them
 
 TOLERANCE = 0.01  # of the reference's fairlead tension range
 SAMPLE = 0.1  # s, comparison grid
@@ -85,6 +94,11 @@ class Scenario:
     """
 
     def __init__(self, name):
+        from peers import condensed_line_stiffness
+
+        import skmoor
+        from skmoor.model.from_case import line_type
+
         self.name = name
         paper = skmoor.build(skmoor.paper_case(mooring__strain_law="engineering"))
         eq = skmoor.equilibrium(paper)
@@ -101,19 +115,31 @@ class Scenario:
         else:  # MoorDyn's -zeta convention: BA = zeta (L / N) sqrt(EA m)
             lt, line = line_type(paper.case, "steel"), paper.lines.lines[0]
             self.BA = LINE_ZETA * line.length / (len(line.s) - 1) * np.sqrt(EA * lt.mass)
-            self.model = skmoor.build(skmoor.paper_case(
-                mooring__strain_law="engineering", damping__ratio=0.0,
-                line_types__steel__BA=self.BA))
-            self.model.body.linear_damping = self.body_damping
+            self.model = variant_model(name, self.BA, self.body_damping)
             self.description = (f"MoorDyn's line damping in both, BA = -{LINE_ZETA:g} "
                                 f"(= {self.BA:.3g} N s), and the same body damping")
         self.eq = skmoor.equilibrium(self.model)
+
+
+def variant_model(name, BA, body_damping):
+    """skmoor's model of a variant (``BA`` N s and ``body_damping`` (6, 6) N s/m, N m s
+    for 'moordyn-damping'), as a user builds it."""
+    import skmoor
+
+    if name == "paper":
+        return skmoor.build(skmoor.paper_case(mooring__strain_law="engineering"))
+    model = skmoor.build(skmoor.paper_case(mooring__strain_law="engineering",
+                                           damping__ratio=0.0, line_types__steel__BA=BA))
+    model.body.linear_damping = body_damping
+    return model
 
 
 # ------------------------------------------------------------------------------ skmoor
 
 def run_skmoor(scenario, dt, duration):
     """(sample times, fairlead tensions (n, 4) N, wall time s) of skmoor at step dt."""
+    import skmoor
+
     started = time.perf_counter()
     results = skmoor.simulate(scenario.model, duration=duration, dt=dt,
                               output_interval=max(dt, SAMPLE), progress=False)
@@ -144,7 +170,9 @@ class CoupledBody:
 
     def fairleads(self, q, qdot):
         """Fairlead positions (4, 3) and velocities, m and m/s, and the Jacobians."""
-        R, dR = skmoor.bodies.body.rotation_and_slopes(q[3:])
+        from skmoor.bodies.body import rotation_and_slopes
+
+        R, dR = rotation_and_slopes(q[3:])
         J = np.zeros((len(self.r_local), 3, 6))
         J[:, :, :3] = np.eye(3)
         J[:, :, 3:] = np.einsum("akl,nl->nka", dR, self.r_local)
@@ -161,6 +189,8 @@ class CoupledBody:
 
 def moordyn_deck(path, model, body, lengths, dtM):
     """A MoorDyn v2 deck of the paper's lines: fixed anchors, coupled fairleads."""
+    from skmoor.model.from_case import line_type
+
     lt = line_type(model.case, "steel")
     num = lambda v: repr(float(v))  # noqa: E731
     fair, _, _ = body.fairleads(body.q0, np.zeros(6))
@@ -202,15 +232,18 @@ ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
     return path
 
 
-def coupled_moordyn(md, body, duration, coupling, clock=None):
+def coupled_moordyn(md, body, duration, coupling, clock=None, motion=None):
     """Initialise the created MoorDyn system md at the body's static rest and step it with
     the body integrated here by velocity Verlet at the coupling step (s): yields (t,
     fairlead forces (4, 3) N, body displacement q) at the end of every step. clock: a
-    dict whose "moordyn" entry gathers the time (s) spent inside Init and Step."""
+    dict whose "moordyn" entry gathers the time (s) spent inside Init and Step; motion: a
+    list that gets the fairleads' (positions, velocities) given at Init and every Step."""
     clock = {} if clock is None else clock
+    motion = [] if motion is None else motion
     clock.setdefault("moordyn", 0.0)
     q, qdot = body.q0.copy(), np.zeros(6)
     position, velocity, _ = body.fairleads(q, qdot)
+    motion.append((position.ravel(), velocity.ravel()))
     started = time.perf_counter()
     if moordyn.Init(md, position.ravel().tolist(), velocity.ravel().tolist()) != 0:
         raise RuntimeError("MoorDyn: Init failed")
@@ -221,6 +254,7 @@ def coupled_moordyn(md, body, duration, coupling, clock=None):
         # MoorDyn takes the coupled points' state at the start of the step and
         # extrapolates it with the velocity over the step
         position, velocity, _ = body.fairleads(q, qdot)
+        motion.append((position.ravel(), velocity.ravel()))
         r, u = position.ravel().tolist(), velocity.ravel().tolist()
         started = time.perf_counter()
         out = moordyn.Step(md, r, u, t, coupling)
@@ -237,11 +271,11 @@ def coupled_moordyn(md, body, duration, coupling, clock=None):
 GLUE = {}  # (dtM, coupling) -> s of this script's Python (the body integrator) in a run
 
 
-def run_moordyn(model, body, lengths, dtM, duration, coupling, workdir="."):
+def run_moordyn(model, body, lengths, dtM, duration, coupling, workdir=".", motion=None):
     """(sample times, fairlead tensions (n, 4) N, MoorDyn's own time s: Create, Init and
     the Step calls) of MoorDyn at step dtM; the script's body integrator and glue between
     the calls is kept in GLUE, not counted (MoorDyn cannot integrate a body under the
-    paper's harmonic load itself)."""
+    paper's harmonic load itself); motion: see :func:`coupled_moordyn`."""
     deck = moordyn_deck(Path(workdir) / "paper.txt", model, body, lengths, dtM)
     whole = time.perf_counter()
     md = moordyn.Create(str(deck))
@@ -255,7 +289,7 @@ def run_moordyn(model, body, lengths, dtM, duration, coupling, workdir="."):
         every = int(round(SAMPLE / coupling))
         times, tensions = [], []
         for k, (t, forces, _) in enumerate(coupled_moordyn(md, body, duration, coupling,
-                                                           clock)):
+                                                           clock, motion)):
             if not np.all(np.isfinite(forces)) or np.abs(forces).max() > 1e12:
                 return None, None, own()
             if (k + 1) % every == 0:
@@ -278,25 +312,35 @@ def error(t, tension, t_ref, tension_ref):
 
 
 def largest_step(label, steps, run, reference):
-    """The largest step (s) whose run is within TOLERANCE of the reference, and its error;
-    (None, error) when none is, or when the error stops falling with the step (a floor
-    set by something else, e.g. MoorDyn's body coupling step)."""
-    best = np.inf
+    """The largest step (s) of ``steps`` (from large to small) whose run, and the run at
+    every smaller step of the list, is within TOLERANCE of the reference, and its error;
+    (None, the least error) when none is, or when the error stops falling with the step
+    before any step holds (a floor set by something else, e.g. MoorDyn's body coupling
+    step)."""
+    best, tried = np.inf, []
     for dt in steps:
         t, tension, wall = run(dt)
         err = error(t, tension, *reference)
         print(f"  {label} dt = {dt * 1e3:8.4g} ms: error {err:9.2%} of the tension range "
               f"({wall:6.2f} s)", flush=True)
-        if err <= TOLERANCE:
-            return dt, err
-        if np.isfinite(best) and err > 0.95 * best:
+        tried.append((dt, err))
+        held = any(e <= TOLERANCE for _, e in tried)
+        if not held and np.isfinite(best) and err > 0.95 * best:
             break
         best = min(best, err)
-    return None, best
+    picked = None
+    for dt, err in reversed(tried):  # from the smallest step up: stop at the first failure
+        if not err <= TOLERANCE:
+            break
+        picked = (dt, err)
+    return picked if picked is not None else (None, best)
 
 
 def compare(scenario, duration):
-    """Search both codes' steps for one scenario; returns (wall skmoor, wall MoorDyn)."""
+    """Search both codes' steps for one scenario and time them at theirs: a row of the
+    table (steps, time loops, whole processes)."""
+    from peers import chain_length_for
+
     model = scenario.model
     body = CoupledBody(scenario)
     static = np.linalg.norm(model.system.reactions(scenario.eq.x)[0], axis=1)
@@ -336,6 +380,11 @@ def compare(scenario, duration):
     walls = [(run_skmoor(scenario, dt_sk, duration)[2], moordyn_run(dt_md)[2])
              for _ in range(3)]  # interleaved: a load that comes and goes falls on both
     wall_sk, wall_md = (min(w) for w in zip(*walls))
+    motion = []  # MoorDyn's fairlead motion at its step, for its whole process
+    with quiet():
+        run_moordyn(model, body, lengths, dt_md, duration, coupling, workdir, motion)
+    whole_sk, whole_md = whole_processes(scenario, dt_sk, dt_md, coupling, duration, model,
+                                         body, lengths, motion, workdir)
     print(f"  skmoor:  dt  = {dt_sk * 1e3:g} ms, error {err_sk:.2%}, wall {wall_sk:.2f} s")
     print(f"  MoorDyn: dtM = {dt_md * 1e3:g} ms (coupling {coupling * 1e3:g} ms), error "
           f"{err_md:.2%}, wall {wall_md:.2f} s (Create, Init and Step; this script's body "
@@ -346,23 +395,81 @@ def compare(scenario, duration):
               "claim")
     else:
         print(f"  {scenario.name}: ratio skmoor/moordyn = {wall_sk / wall_md:.3f}")
+    print(f"  whole processes: skmoor {whole_sk:.2f} s, MoorDyn {whole_md:.2f} s "
+          f"(ratio {whole_sk / whole_md:.3f})")
     return dict(variant=scenario.name, dt_sk=dt_sk, dt_md=dt_md, coupling=coupling,
                 between=between, wall_sk=wall_sk, wall_md=wall_md,
-                glue=GLUE[(dt_md, coupling)])
+                glue=GLUE[(dt_md, coupling)], whole_sk=whole_sk, whole_md=whole_md)
+
+
+# ------------------------------------------------------------------------------ whole processes
+
+def whole_processes(scenario, dt_sk, dt_md, coupling, duration, model, body, lengths,
+                    motion, workdir, rounds=2):
+    """(skmoor's, MoorDyn's) whole process, s: the best of ``rounds`` interleaved rounds
+    of new Python processes (:func:`one_process`)."""
+    deck = moordyn_deck(Path(workdir) / "whole.txt", model, body, lengths, dt_md)
+    np.savez(Path(workdir) / "whole.npz", r=np.array([m[0] for m in motion]),
+             u=np.array([m[1] for m in motion]),
+             body_damping=getattr(scenario, "body_damping", np.zeros((6, 6))))
+    children = {
+        "skmoor": ["skmoor", scenario.name, repr(float(scenario.BA)), repr(dt_sk),
+                   repr(duration), str(workdir)],
+        "moordyn": ["moordyn", str(deck), repr(coupling), repr(duration), str(workdir)]}
+    walls = {code: [] for code in children}
+    for _ in range(rounds):
+        for code, args in children.items():
+            started = time.perf_counter()
+            out = subprocess.run([sys.executable, __file__, "--one", *args],
+                                 capture_output=True, text=True, check=False)
+            if out.returncode or not out.stdout.strip():
+                raise RuntimeError(f"{code}'s whole process failed: {out.stderr[-800:]}")
+            walls[code].append(time.perf_counter() - started)
+    return min(walls["skmoor"]), min(walls["moordyn"])
+
+
+def one_process(code, *args):
+    """The child of :func:`whole_processes`: one code's run as a user makes it in a new
+    process; prints its time loop's wall time (s) as JSON."""
+    if code == "skmoor":
+        import skmoor
+
+        name, BA, dt, duration, workdir = args
+        saved = np.load(Path(workdir) / "whole.npz")
+        model = variant_model(name, float(BA), saved["body_damping"])
+        results = skmoor.simulate(model, duration=float(duration), dt=float(dt),
+                                  output_interval=max(float(dt), SAMPLE), progress=False)
+        print(json.dumps({"loop": results.meta["wall_time"]}))
+        return
+    deck, coupling, duration, workdir = args
+    saved = np.load(Path(workdir) / "whole.npz")
+    r, u = saved["r"].tolist(), saved["u"].tolist()
+    coupling = float(coupling)
+    md = moordyn.Create(deck)
+    started = time.perf_counter()
+    moordyn.Init(md, r[0], u[0])
+    for k in range(int(round(float(duration) / coupling))):
+        moordyn.Step(md, r[k + 1], u[k + 1], k * coupling, coupling)
+    loop = time.perf_counter() - started
+    moordyn.Close(md)
+    print(json.dumps({"loop": loop}))
 
 
 def markdown_table(rows) -> str:
     """The variants' steps, times and ratios as a markdown table."""
     lines = ["| damping | skmoor dt | MoorDyn dtM / coupling | references apart | skmoor "
-             "[s] | MoorDyn [s] (script's body integrator, not counted) | skmoor/MoorDyn |",
-             "|---|---|---|---|---|---|---|"]
+             "[s] | MoorDyn [s] (script's body integrator, not counted) | skmoor/MoorDyn | "
+             "whole process skmoor / MoorDyn [s] | whole skmoor/MoorDyn |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         same = r["between"] <= 0.05
-        ratio = (f"**{r['wall_sk'] / r['wall_md']:.2f}**" if same else
-                 f"{r['wall_sk'] / r['wall_md']:.3f}: different physics, not a speed claim")
+        ratio, whole = r["wall_sk"] / r["wall_md"], r["whole_sk"] / r["whole_md"]
+        ratio, whole = ((f"**{ratio:.2f}**", f"{whole:.2f}") if same else
+                        (f"{ratio:.3f}: different physics, not a speed claim", f"{whole:.3f}"))
         lines.append(f"| {r['variant']} | {r['dt_sk'] * 1e3:g} ms | {r['dt_md'] * 1e3:g} ms / "
                      f"{r['coupling'] * 1e3:g} ms | {r['between']:.1%} | {r['wall_sk']:.2f} | "
-                     f"{r['wall_md']:.2f} ({r['glue']:.2f}) | {ratio} |")
+                     f"{r['wall_md']:.2f} ({r['glue']:.2f}) | {ratio} | "
+                     f"{r['whole_sk']:.2f} / {r['whole_md']:.2f} | {whole} |")
     return "\n".join(lines)
 
 
@@ -383,6 +490,9 @@ class quiet:
 
 
 def main(argv=None):
+    if argv is None and sys.argv[1:2] == ["--one"]:  # a whole process's child
+        one_process(*sys.argv[2:])
+        return
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--duration", type=float, default=200.0, help="simulated time, s")
     parser.add_argument("--variant", choices=("both", "paper", "moordyn-damping"),
