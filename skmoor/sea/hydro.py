@@ -29,6 +29,8 @@ tau = (X' + u') / |X' + u'|.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.sparse as sp
 from numba import carray, njit
@@ -209,7 +211,7 @@ class LineHydroKernel(Term):
     points, element by element, on P1 lines (:func:`_morison`) or on bending lines' cubics
     (:func:`_morison_shapes`; in the compiled time step by address, :attr:`step_kernel`)."""
 
-    why_python = "moving water (waves, water fields, or a current on bending lines)"
+    why_python = "moving water given as tabulated fields (MoorDyn's wave and current files)"
 
     def __init__(self, lines, sea=None, lumped_mass=True):
         basis = lines.basis
@@ -243,49 +245,46 @@ class LineHydroKernel(Term):
                 self.edofs, self.enodes)
 
     @property
-    def steady_current(self) -> bool:
-        """True when the water moves but only with a steady :class:`Current` (no waves, no
-        water fields): the compiled step's P1 kernel evaluates it at the nodes."""
-        sea = self.sea
-        return (self.moving_water and sea.current is not None and not sea.waves
-                and not sea.fields)
+    def compiled_water(self) -> bool:
+        """True when the water is still or moves with a :class:`Current` and Airy waves
+        only (no tabulated fields): the compiled kernels evaluate it at the nodes."""
+        return not self.moving_water or not self.sea.fields
 
     def lowered(self):
-        if self.moving_water and not self.steady_current:
-            return None
-        return "form"
+        return "form" if self.compiled_water else None
 
     @property
     def step_kernel(self):
-        """In still water or a steady current, (C function, ints, floats): :func:`_morison`
-        (P1) or :func:`_morison_shapes` (bending lines) as the compiled time step calls a
-        user's LineForm (by address, :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`;
-        compiled when first asked for), the current at the displaced nodes, the arrays
-        packed: ints [nel, nqp, nodes, profile points, each element's nodes (P1: 2; bending:
-        4, one per shape, -1 on a slope and all -1 in still water), element DOFs, the
-        nodes' z DOFs], floats [X', (P1: h, phi, w phi; bending: shapes), drag_n, drag_t,
-        inertia_n, inertia_t - inertia_n, the nodes' reference z (m), the current's heading
-        (unit, horizontal), its profile's heights (m) and speeds (m/s), room for the water's
-        velocity at the nodes (nodes, 3; written by the kernel: no allocation per call)];
-        without a current no profile (and on bending lines no nodes)."""
-        if self.moving_water and not self.steady_current:
+        """In still water, a current and Airy waves, (C function, ints, floats):
+        :func:`_morison` (P1) or :func:`_morison_shapes` (bending lines) as the compiled
+        time step calls a user's LineForm (by address,
+        :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`; compiled when first asked for), the
+        water at the displaced nodes (:func:`_water`), the arrays packed: ints [nel, nqp,
+        nodes, profile points, wave components, each element's nodes (P1: 2; bending: 4,
+        one per shape, -1 on a slope and all -1 in still water), element DOFs, the nodes'
+        z DOFs (then with waves their x and y DOFs)], floats [X', (P1: h, phi, w phi;
+        bending: shapes), drag_n, drag_t, inertia_n, inertia_t - inertia_n, then the
+        water's (:func:`_water`)]; in still water no nodes on bending lines."""
+        if not self.compiled_water:
             return None
         nel, nqp = self.kn.shape
         current = self.sea.current if self.moving_water else None
+        waves = wave_components(self.sea.waves if self.moving_water else [])
         hermite = self.lines.hermite
         heading, heights, speeds = ([0.0, 0.0], [], []) if current is None else (
             current.direction[:2], current.z, current.speeds)
-        if hermite and current is None:
-            nodes, z_dofs, z = np.full(4 * nel, -1), [], []
+        if hermite and not self.moving_water:
+            nodes, dofs, X = np.full(4 * nel, -1), np.zeros((0, 3), int), np.zeros((0, 3))
         else:
             nodes = self.nodes.ravel() if hermite else self.enodes.ravel()
-            z_dofs, z = self.nodal_dofs[:, 2], self.points[:, 2]
+            dofs, X = self.nodal_dofs, self.points
+        axes = [2, 0, 1] if len(waves) else [2]  # z, then with waves x and y
         shape = (self.shapes,) if hermite else (self.h, self.phi, self.wphi)
-        ints = np.concatenate([[nel, nqp, len(z_dofs), len(heights)], nodes,
-                               self.edofs.ravel(), z_dofs]).astype(np.int64)
-        floats = np.concatenate([np.ravel(a) for a in (self.Xp, *shape, self.kn, self.kt,
-                                                       self.mn, self.dm, z, heading, heights,
-                                                       speeds, np.zeros(3 * len(z)))])
+        ints = np.concatenate([[nel, nqp, len(dofs), len(heights), len(waves)], nodes,
+                               self.edofs.ravel(), *dofs[:, axes].T]).astype(np.int64)
+        floats = np.concatenate([np.ravel(a) for a in (
+            self.Xp, *shape, self.kn, self.kt, self.mn, self.dm, *X[:, axes].T, heading,
+            heights, speeds, waves, np.zeros(3 * len(X)), np.zeros(3 * len(X) * (len(waves) > 0)))])
         return (_morison_step if hermite else _morison_p1_step)(), ints, floats
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
@@ -468,35 +467,31 @@ def _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, ud, water, acce
 
 
 def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
-    """:func:`_morison_shapes` in still water or a steady current (the water's velocity at
-    the displaced nodes, as Current.velocity) on the buffers of
-    ``LineHydroKernel.step_kernel``."""
-    nel, nqp, nnodes, nprofile = ints[0], ints[1], ints[2], ints[3]
+    """:func:`_morison_shapes` in still water, a current and Airy waves (the water at the
+    displaced nodes, :func:`_water`) on the buffers of ``LineHydroKernel.step_kernel``."""
+    nel, nqp = ints[0], ints[1]
     points = nel * nqp
-    nodes = carray(advanced(ints, 4), (nel, 4))
-    edofs = carray(advanced(ints, 4 + 4 * nel), (nel, 12))
-    z_dofs = carray(advanced(ints, 4 + 16 * nel), (nnodes,))
+    nodes = carray(advanced(ints, 5), (nel, 4))
+    edofs = carray(advanced(ints, 5 + 4 * nel), (nel, 12))
     Xp = carray(floats, (nel, nqp, 3))
     shapes = carray(advanced(floats, 3 * points), (nel, nqp, 9))
     kn, kt, mn, dm = _coefficients(floats, 12 * points, nel, nqp)
-    at = 16 * points
     u = carray(u_p, (ndofs,))
-    water = _water(u, z_dofs, floats, at, nnodes, nprofile)
+    water, acceleration, waves = _water(u, t, ints, 5 + 16 * nel, floats, 16 * points)
     blocks = nel if tangent else 0
     _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, carray(ud_p, (ndofs,)),
-                    water, water, False, carray(R_p, (ndofs,)),
+                    water, acceleration, waves, carray(R_p, (ndofs,)),
                     carray(K_p, (blocks, 12, 12)), carray(C_p, (blocks, 12, 12)))
 
 
 def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
-    """:func:`_morison` in still water or a steady current (the water's velocity at the
-    displaced nodes, as Current.velocity) on the buffers of
-    ``LineHydroKernel.step_kernel`` (P1 lines)."""
-    nel, nqp, nnodes, nprofile = ints[0], ints[1], ints[2], ints[3]
+    """:func:`_morison` in still water, a current and Airy waves (the water at the
+    displaced nodes, :func:`_water`) on the buffers of ``LineHydroKernel.step_kernel``
+    (P1 lines)."""
+    nel, nqp = ints[0], ints[1]
     points = nel * nqp
-    enodes = carray(advanced(ints, 4), (nel, 2))
-    edofs = carray(advanced(ints, 4 + 2 * nel), (nel, 6))
-    z_dofs = carray(advanced(ints, 4 + 8 * nel), (nnodes,))
+    enodes = carray(advanced(ints, 5), (nel, 2))
+    edofs = carray(advanced(ints, 5 + 2 * nel), (nel, 6))
     Xp = carray(floats, (nel, nqp, 3))
     at = 3 * points
     h = carray(advanced(floats, at), (nel,))
@@ -506,10 +501,10 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
     at += 2 * points
     kn, kt, mn, dm = _coefficients(floats, at, nel, nqp)
     u = carray(u_p, (ndofs,))
-    water = _water(u, z_dofs, floats, at + 4 * points, nnodes, nprofile)
+    water, acceleration, waves = _water(u, t, ints, 5 + 8 * nel, floats, at + 4 * points)
     blocks = nel if tangent else 0
     _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, carray(ud_p, (ndofs,)),
-             water, water, False, carray(R_p, (ndofs,)), carray(K_p, (blocks, 6, 6)),
+             water, acceleration, waves, carray(R_p, (ndofs,)), carray(K_p, (blocks, 6, 6)),
              carray(C_p, (blocks, 6, 6)))
 
 
@@ -521,23 +516,87 @@ def _coefficients(floats, at, nel, nqp):
     return block[0], block[1], block[2], block[3]
 
 
+WAVE_COLUMNS = 8  # a component's packed numbers: see wave_components
+
+
+def wave_components(waves) -> np.ndarray:
+    """(components, 8) of Airy waves (:mod:`skmoor.sea.waves`) as the compiled kernels
+    read them: a (m), omega (rad/s), k (rad/m), phase (rad), 1 / (1 - exp(-2 k h)), the
+    heading's x and y, the depth h (m)."""
+    rows = [np.column_stack([w.a, w.omega, w.k, w.phi, w._scale,
+                             np.full(w.a.size, w.direction[0]), np.full(w.a.size, w.direction[1]),
+                             np.full(w.a.size, w.depth)]) for w in waves]
+    return np.concatenate(rows) if rows else np.zeros((0, WAVE_COLUMNS))
+
+
 @njit(cache=True)
-def _water(u, z_dofs, floats, at, nnodes, nprofile):
-    """The water's velocity (nodes, 3; m/s) at the displaced nodes from the packed buffer
-    of ``LineHydroKernel.step_kernel`` from item ``at`` on: [the nodes' reference z (m),
+def wave_kinematics(x, y, z, t, components, out):
+    """Adds the water velocity (out[0:3], m/s) and local acceleration (out[3:6], m/s2) of
+    the Airy components (:func:`wave_components`) at the point (x, y, z) (m) and time t (s)
+    into out: ``skmoor.sea.waves._Components.kinematics``, z clipped to [-h, 0]."""
+    for c in range(components.shape[0]):
+        a, omega, k, phase, scale, dx, dy, depth = (
+            components[c, 0], components[c, 1], components[c, 2], components[c, 3],
+            components[c, 4], components[c, 5], components[c, 6], components[c, 7])
+        theta = (x * dx + y * dy) * k - t * omega + phase
+        zc = min(max(z, -depth), 0.0)
+        up, down = math.exp(k * zc), math.exp(-k * (zc + 2.0 * depth))
+        ch, sh = (up + down) * scale, (up - down) * scale
+        cos, sin = math.cos(theta), math.sin(theta)
+        aw = a * omega
+        aw2 = aw * omega
+        horizontal, rising = ch * cos * aw, ch * sin * aw2
+        out[0] += horizontal * dx
+        out[1] += horizontal * dy
+        out[2] += sh * sin * aw
+        out[3] += rising * dx
+        out[4] += rising * dy
+        out[5] -= sh * cos * aw2
+
+
+@njit(cache=True)
+def _water(u, t, ints, at_ints, floats, at):
+    """(velocity, acceleration, whether waves move it) of the water at the displaced
+    nodes (nodes, 3 each; m/s, m/s2): the current (``Current.velocity``) and the Airy
+    waves (:func:`wave_kinematics`), from the packed buffers of
+    ``LineHydroKernel.step_kernel`` (ints from ``at_ints``: the nodes' z DOFs, then with
+    waves their x and y DOFs; floats from ``at``: the nodes' reference z (then x and y),
     the current's heading (unit, horizontal), its profile's heights (m) and speeds (m/s),
-    room for the velocity], written there (left zero, still water, without a profile)."""
-    z = carray(advanced(floats, at), (nnodes,))
-    heading = carray(advanced(floats, at + nnodes), (2,))
-    heights = carray(advanced(floats, at + nnodes + 2), (nprofile,))
-    speeds = carray(advanced(floats, at + nnodes + 2 + nprofile), (nprofile,))
-    water = carray(advanced(floats, at + nnodes + 2 + 2 * nprofile), (nnodes, 3))
-    if nprofile:
-        for p in range(nnodes):
-            speed = current_speed(z[p] + u[z_dofs[p]], heights, speeds)
+    the wave components (components, 8), room for the velocity (nodes, 3) and with waves
+    for the acceleration), written there (left zero in still water)."""
+    nnodes, nprofile, ncomponents = ints[2], ints[3], ints[4]
+    axes = 3 if ncomponents else 1
+    dofs = carray(advanced(ints, at_ints), (axes, nnodes))
+    X = carray(advanced(floats, at), (axes, nnodes))
+    at += axes * nnodes
+    heading = carray(advanced(floats, at), (2,))
+    heights = carray(advanced(floats, at + 2), (nprofile,))
+    speeds = carray(advanced(floats, at + 2 + nprofile), (nprofile,))
+    at += 2 + 2 * nprofile
+    components = carray(advanced(floats, at), (ncomponents, WAVE_COLUMNS))
+    at += WAVE_COLUMNS * ncomponents
+    water = carray(advanced(floats, at), (nnodes, 3))
+    acceleration = carray(advanced(floats, at + 3 * nnodes),
+                          (nnodes if ncomponents else 0, 3))
+    if not (nprofile or ncomponents):  # still water
+        return water, water, False
+    kinematics = np.empty(6)
+    for p in range(nnodes):
+        z = X[0, p] + u[dofs[0, p]]
+        speed = current_speed(z, heights, speeds) if nprofile else 0.0
+        if not ncomponents:
             water[p, 0] = speed * heading[0]
             water[p, 1] = speed * heading[1]
-    return water
+            continue
+        kinematics[:] = 0.0
+        wave_kinematics(X[1, p] + u[dofs[1, p]], X[2, p] + u[dofs[2, p]], z, t, components,
+                        kinematics)
+        water[p, 0] = speed * heading[0] + kinematics[0]
+        water[p, 1] = speed * heading[1] + kinematics[1]
+        water[p, 2] = kinematics[2]
+        for c in range(3):
+            acceleration[p, c] = kinematics[3 + c]
+    return water, (acceleration if ncomponents else water), ncomponents > 0
 
 
 _morison_p1_step = compiled_when_asked(_morison_p1_packed)  # (its C function, when first asked for)

@@ -9,7 +9,7 @@ is one numba function, so that a step costs what its arithmetic costs.
 
 It covers P1 and bending (Hermite: 12 x 12 element blocks) lines with any built-in strain
 law or a user's (:mod:`skmoor.lines.user_law`), MoorDyn-style or skmoor's Morison
-terms in still water or a steady current (at the displaced nodes), a plane sea bed (these
+terms in still water, a current and Airy waves (at the displaced nodes), a plane sea bed (these
 three called by address as a user's LineForm is, their ``step_kernel``, each compiled only
 when a run has it), the dry part of the lines in
 still water (``SurfaceTerm``: zero while every node stays half a diameter
@@ -20,8 +20,9 @@ one, gives a batch's loads in one call), and the users' LineForms, point and bod
 whose code is generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
-that lowers to none (a form on another path or with fields given as a function, waves
-or currents, a bathymetry, a load in NumPy, radiation memory, exact rotations) makes it
+that lowers to none (a form on another path or with fields given as a function, water
+fields, moving water on points and bodies, a bathymetry, a load in NumPy, radiation
+memory, exact rotations) makes it
 return None, its name and reason in :data:`last_refusal`, and the step then runs in
 Python. When modified Newton does not converge the step retries with the line search
 here, as the Python step does; a step that fails that too goes to the Python step, which

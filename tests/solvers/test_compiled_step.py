@@ -306,17 +306,32 @@ def test_a_chain_in_a_steady_current_steps_as_the_python_newton(profile, EI):
     assert np.abs(flowing[-1] - calm[-1]).max() > 1e-2
 
 
-def test_waves_stay_with_python():
-    """Waves (on any line) are named as the Python step's."""
+@pytest.mark.parametrize("EI", [0.0, 1e5])
+def test_a_chain_in_waves_and_a_current_steps_as_the_python_newton(EI):
+    """The chain with drag and fluid inertia under a JONSWAP sea (30 components, across
+    the line at 60 deg) and a sheared current, on P1 and on bending elements: the
+    compiled step takes it (the Airy components' velocity and acceleration at the
+    displaced nodes at each residual's time, as Sea.kinematics) and steps as the Python
+    Newton. Without the waves' acceleration (the fluid inertia), with the kinematics at
+    the reference nodes or at the step's start time, the runs would part: the waves move
+    the chain by decimetres from its run in the current alone."""
     from skmoor.sea.hydro import line_hydrodynamics
-    from skmoor.sea.waves import AiryWave, Sea
+    from skmoor.sea.waves import Current, JonswapWave, Sea
 
-    motion = lambda t: np.zeros((1, 3))  # noqa: E731
-    for EI in (0.0, 2e4):
-        sea = Sea(30.0, waves=[AiryWave(1.0, 8.0, depth=30.0)])
-        base, _ = _chain_on_the_bed(motion, EI=EI, hydro=False)
+    motion = lambda t: np.array([[0.0, 0.0, 1.0 * np.sin(0.6 * t)]])  # noqa: E731
+    current = Current(profile=SHEAR, heading_deg=30.0)
+    waves = JonswapWave(3.0, 9.0, depth=30.0, heading_deg=60.0, n_components=30, seed=3)
+    runs = {}
+    for name, sea in (("waves", Sea(30.0, current=current, waves=[waves])),
+                      ("current", Sea(30.0, current=current))):
+        base, x0 = _chain_on_the_bed(motion, EI=EI, hydro=False)
         system = skmoor.System(base.lines, fairleads="prescribed", motion=motion,
-                               terms=[*base.terms, line_hydrodynamics(
-                                   base.lines, sea)])
-        assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is None
-        assert "moving water" in compiled_step.last_refusal
+                               terms=[*base.terms, line_hydrodynamics(base.lines, sea)])
+        assert compiled_step.build(system, None, Scheme.generalized_alpha(0.5), TOL, 20) \
+            is not None, compiled_step.last_refusal
+        if name == "waves":
+            assert_same_runs(system, x0, np.zeros(system.n), 0.05, 40,
+                             scheme=Scheme.generalized_alpha(0.5))
+        runs[name], _ = run(system, x0, np.zeros(system.n), 0.05, 40,
+                            scheme=Scheme.generalized_alpha(0.5))
+    assert np.abs(runs["waves"] - runs["current"]).max() > 0.1
