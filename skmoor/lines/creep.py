@@ -102,6 +102,10 @@ class CreepTerm(Term):
         nodal = lineset.nodal_dofs
         self.dofs_i, self.dofs_j = nodal[t[0]][self.cells], nodal[t[1]][self.cells]
         self._where = [np.searchsorted(self.cells, idx) for _, idx, _ in self.groups]
+        syropes = [law.static for law, _, _ in self.groups if isinstance(law, SyropeCreep)]
+        # the working curves' table width (samples + OWC points) and all OWCs' points
+        self._curve_width = max([wc.points + len(wc.owc[0]) for wc in syropes] + [1])
+        self._owc_points = sum(len(wc.owc[0]) for wc in syropes)
         self._state = np.full(1 + 9 * self.cells.size, np.nan)  # no accepted state yet
 
     @property
@@ -185,8 +189,7 @@ class CreepTerm(Term):
                 k12[:, where] = np.array([wc.k1, wc.k2])[:, None]
                 strains.append(np.asarray(wc.owc[0], float))
                 tensions.append(np.asarray(wc.owc[1], float))
-        width = max([p + m for p, m in zip(ints[2], ints[4])] + [1])
-        owc = sum(map(len, strains))
+        width, owc = self._curve_width, self._owc_points
         return (np.concatenate([ints.ravel(), [width, owc]]),
                 np.concatenate([k12.ravel(), np.full(n, np.nan), np.zeros(n),
                                 np.zeros(n * 3 * width), *strains, *tensions]))
@@ -199,7 +202,8 @@ class CreepTerm(Term):
 
     def step_state(self):
         """(the state array, its offset from the end of :attr:`step_kernel`'s floats)."""
-        return self._state, self._state.size + self._curves()[1].size
+        n, width = self.cells.size, self._curve_width
+        return self._state, self._state.size + 4 * n + 3 * n * width + 2 * self._owc_points
 
     # --- kinematics of the elements
     def _strains(self, u, v):
