@@ -262,7 +262,8 @@ class LineForm(Term):
         if self._memory is None:  # the initial values
             shape = self._point_shape()
             try:
-                values = [np.broadcast_to(np.asarray(v, float), shape) for v in self.state.values()]
+                values = [np.broadcast_to(np.asarray(v, float), shape)
+                          for v in self.state.values()]
             except ValueError as error:
                 raise ValueError(f"LineForm {self.name} state: each initial value must be a "
                                  f"number or an array of shape (nel, nqp) = {shape}") from error
@@ -272,9 +273,15 @@ class LineForm(Term):
             nel, nqp = self._point_shape()
             values = memory[:-1].reshape(len(self.state), nel, nqp)
             return dict(zip(self.state, values))
-        (nel, nqp, NP), columns = self._state_layout
-        P = memory[:nel * nqp * NP].reshape(nel, nqp, NP)
-        return {name: P[:, :, k] for name, k in zip(self.state, columns)}
+        P, _ = self._packed_fields()
+        return {name: P[:, :, k] for name, k in zip(self.state, self._state_layout[1])}
+
+    def _packed_fields(self):
+        """(P, D): the numba engine's per-point and DOF fields as views of the memory."""
+        shape = self._state_layout[0]
+        size = shape[0] * shape[1] * shape[2]
+        return (self._memory[:size].reshape(shape),
+                self._memory[size:-1].reshape(-1, self.lines.ndofs))
 
     def _point_shape(self):
         """(nel, nqp) of this form's quadrature."""
@@ -292,9 +299,7 @@ class LineForm(Term):
         dt = float(t - last) if t >= last else 0.0  # the first commit: 0
         if self._commit_kernel is not None:  # the generated update (numba)
             commit, edofs, h, dx, phi, x, columns = self._commit_kernel
-            (nel, nqp, NP), _ = self._state_layout
-            P = memory[:nel * nqp * NP].reshape(nel, nqp, NP)
-            D = memory[nel * nqp * NP:-1].reshape(-1, self.lines.ndofs)
+            P, D = self._packed_fields()
             commit(np.asarray(u, float), np.asarray(v, float), float(t), edofs, h, dx, phi,
                    x, P, D, columns, dt)
         else:
@@ -766,9 +771,7 @@ def _numba_engine(term):
     def run(u, v, t, R, K, C):
         P, D = P0, D0
         if term.state:  # the memory's current values
-            size = P0.size
-            P = term._memory[:size].reshape(P0.shape)
-            D = term._memory[size:-1].reshape(D0.shape)
+            P, D = term._packed_fields()
         if varying:
             _, w = term._w(u, v, t)
             layout = _point_layout(local, {k: a for k, a in w.items()
