@@ -268,11 +268,8 @@ class LineHydroKernel(Term):
         if not self.compiled_water:
             return None
         nel, nqp = self.kn.shape
-        current = self.sea.current if self.moving_water else None
-        waves = wave_components(self.sea.waves if self.moving_water else [])
+        heading, heights, speeds, waves = water_arrays(self.sea)
         hermite = self.lines.hermite
-        heading, heights, speeds = ([0.0, 0.0], [], []) if current is None else (
-            current.direction[:2], current.z, current.speeds)
         if hermite and not self.moving_water:
             nodes, dofs, X = np.full(4 * nel, -1), np.zeros((0, 3), int), np.zeros((0, 3))
         else:
@@ -517,6 +514,19 @@ def _coefficients(floats, at, nel, nqp):
 
 
 WAVE_COLUMNS = 8  # a component's packed numbers: see wave_components
+
+
+def water_arrays(sea):
+    """(the current's heading (2,; unit, horizontal), its profile's heights (m) and speeds
+    (m/s), the Airy components (:func:`wave_components`)) of ``sea`` as the compiled
+    kernels read them: empty in still water, the heading zero without a current."""
+    moving = sea is not None and not sea.still
+    current = sea.current if moving else None
+    heading, heights, speeds = ((np.zeros(2), np.zeros(0), np.zeros(0)) if current is None
+                                else (np.asarray(current.direction[:2], float),
+                                      np.asarray(current.z, float),
+                                      np.asarray(current.speeds, float)))
+    return heading, heights, speeds, wave_components(sea.waves if moving else [])
 
 
 def wave_components(waves) -> np.ndarray:
@@ -804,7 +814,7 @@ class PointDrag(Term):
     reference position plus its displacement, without its gradient)."""
 
     acts_on = "points"
-    why_python = "moving water (waves, water fields or a current)"
+    why_python = "moving water given as tabulated fields (MoorDyn's wave and current files)"
 
     def __init__(self, point, CdA, rho=1025.0, sea=None):
         self.point, self.CdA, self.rho, self.sea = int(point), float(CdA), float(rho), sea
@@ -817,7 +827,11 @@ class PointDrag(Term):
         self.position = system.point_reference[self.point]
 
     def lowered(self):
-        return None if self.moving_water else "point drag"
+        return None if self.moving_water and self.sea.fields else "point drag"
+
+    def step_water(self):
+        """The water the compiled step evaluates at the point: :func:`water_arrays`."""
+        return water_arrays(self.sea)
 
     def add_to(self, u, v, t, R, K=None, C=None):
         relative = -v

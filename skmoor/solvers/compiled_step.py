@@ -14,14 +14,14 @@ three called by address as a user's LineForm is, their ``step_kernel``, each com
 when a run has it), the dry part of the lines in
 still water (``SurfaceTerm``: zero while every node stays half a diameter
 deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
-points (buoyancy, drag in still water), small-rotation rigid bodies whose applied load
+points (buoyancy, drag in still water, a current and Airy waves), small-rotation rigid bodies whose applied load
 depends on time only (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has
 one, gives a batch's loads in one call), and the users' LineForms, point and body loads
 whose code is generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
 that lowers to none (a form on another path or with fields given as a function, water
-fields, moving water on points and bodies, a bathymetry, a load in NumPy, radiation
+fields, moving water on bodies, a bathymetry, a load in NumPy, radiation
 memory, exact rotations) makes it
 return None, its name and reason in :data:`last_refusal`, and the step then runs in
 Python. When modified Newton does not converge the step retries with the line search
@@ -51,6 +51,7 @@ from ..fem.patterns import ElementPattern
 from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
+from ..sea.hydro import current_speed, wave_kinematics
 from . import newton
 
 # numba freezes these into the cached step, whose cache follows this file's source only
@@ -334,11 +335,22 @@ class CompiledStep:
         self.resting = _resting(system)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
         drag = np.zeros(len(system.point_masses))
+        water = (np.zeros(2), np.zeros(0), np.zeros(0), np.zeros((0, 8)))  # still water
         for term in system.built_in_terms:
             if term.acts_on == "points":  # the free points' drag
                 drag[term.point] += term.k
+                water = term.step_water()
+        heading, heights, speeds, waves = water
+        npoints = len(system.point_masses)
+        # the points' columns, lift (N), drag k (kg/m), reference positions (m), room for
+        # the water's velocity at them, the current's heading, profile (heights, speeds)
+        # and the waves' components (skmoor.sea.hydro.water_arrays)
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
-                       lift.reshape(-1), drag.reshape(-1))
+                       lift.reshape(-1), drag.reshape(-1),
+                       np.asarray(system.point_reference, float).reshape(-1, 3),
+                       np.zeros((npoints, 6)), np.ascontiguousarray(heading, float),
+                       np.ascontiguousarray(np.stack([heights, speeds]), float),
+                       np.ascontiguousarray(waves, float).reshape(-1, 8))
         nbodies = len(system.bodies)
         self.bodies = (np.array(system.K_bodies).reshape(nbodies, 6, 6),
                        np.array(system.F_bodies0).reshape(nbodies, 6),
@@ -910,6 +922,25 @@ def _commit_forms(x, v, data, inputs):
                       work[2].ctypes.data, work[3].ctypes.data, work[4].ctypes.data, 0)
 
 
+@njit(cache=True, inline="always")
+def _point_water(x, t, points, p):
+    """Whether the water moves at free point p; if so its velocity (current and waves,
+    as ``Sea.velocity``) at the displaced point at time t (s) into points[4][p, :3]."""
+    columns, reference, water, heading, profile, waves = (points[0], points[3], points[4],
+                                                          points[5], points[6], points[7])
+    if profile.shape[1] == 0 and waves.shape[0] == 0:
+        return False
+    z = reference[p, 2] + x[columns[p, 2]]
+    speed = current_speed(z, profile[0], profile[1]) if profile.shape[1] else 0.0
+    for c in range(6):
+        water[p, c] = 0.0
+    wave_kinematics(reference[p, 0] + x[columns[p, 0]], reference[p, 1] + x[columns[p, 1]],
+                    z, t, waves, water[p])
+    water[p, 0] += speed * heading[0]
+    water[p, 1] += speed * heading[1]
+    return True
+
+
 @njit(cache=True, no_cpython_wrapper=True)
 def _residual(x, v, data, inputs, tangent, R):
     """R(x, v, t) reduced (N, N m) into R, with the inputs (body loads, prescribed
@@ -953,10 +984,19 @@ def _residual(x, v, data, inputs, tangent, R):
             k = end_body[p // 3]
             for j in range(6):
                 R[nf + 6 * k + j] += J[p, j] * full[g]
-    columns, lift, drag = points
+    columns, lift, drag = points[0], points[1], points[2]
     for p in range(columns.shape[0]):
         R[columns[p, 2]] -= lift[p]
         if drag[p] > 0.0:
+            if _point_water(x, t, points, p):  # moving water: -k |w| w, w = U - v
+                water = points[4]
+                speed = 0.0
+                for c in range(3):
+                    speed += (water[p, c] - v[columns[p, c]]) ** 2
+                speed = math.sqrt(speed)
+                for c in range(3):
+                    R[columns[p, c]] -= drag[p] * speed * (water[p, c] - v[columns[p, c]])
+                continue
             speed = 0.0
             for c in range(3):
                 speed += v[columns[p, c]] ** 2
@@ -1090,18 +1130,20 @@ def _assemble(x, v, data, cx, cv, af):
                 D[6 * k + 3 + a, 6 * k + 3 + b] += wK * s
     if forms[6]:  # the user point and body loads: -(dF/dq, dF/dqdot)
         _user_load_slopes(forms, points[0], wK, wV, kv, ab, D)
-    columns, _, drag = points
+    columns, drag, water = points[0], points[2], points[4]
+    moving = points[6].shape[1] > 0 or points[7].shape[0] > 0  # (the residual's water)
     for p in range(columns.shape[0]):
         if drag[p] > 0.0:
             speed = 0.0
             for c in range(3):
-                speed += v[columns[p, c]] ** 2
+                speed += ((water[p, c] if moving else 0.0) - v[columns[p, c]]) ** 2
             speed = math.sqrt(speed)
             if speed > 0.0:
                 for c in range(3):
+                    wc = (water[p, c] if moving else 0.0) - v[columns[p, c]]
                     for d in range(3):
-                        value = drag[p] * (v[columns[p, c]] * v[columns[p, d]] / speed
-                                           + (speed if c == d else 0.0))
+                        wd = (water[p, d] if moving else 0.0) - v[columns[p, d]]
+                        value = drag[p] * (wc * wd / speed + (speed if c == d else 0.0))
                         rc, rd = columns[p, c], columns[p, d]
                         ab[kv + rc - rd, rd] += wV * value
 

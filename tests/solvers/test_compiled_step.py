@@ -68,6 +68,22 @@ def test_damped_lines_on_rotating_bodies_step_as_the_python_newton():
     assert_same_runs(system, eq.x, v0, 0.02, 80)
 
 
+def test_a_network_in_waves_and_a_current_steps_as_the_python_newton():
+    """The two buoys' network in a current and a JONSWAP sea: the free clump's drag takes
+    the water's velocity at the displaced point at the step's time (Sea.velocity in the
+    Python step), the lines' Morison terms theirs at the nodes. A clump drag in still
+    water, at the reference position or at another time would part the runs."""
+    from skmoor.sea.waves import Current, JonswapWave, Sea
+
+    sea = Sea(150.0, current=Current(0.8, heading_deg=30.0),
+              waves=[JonswapWave(3.0, 9.0, depth=150.0, heading_deg=20.0, n_components=20,
+                                 seed=1)])
+    model = skmoor.from_network(network_two_bodies(sea))
+    system = model.system
+    eq = skmoor.equilibrium(model)
+    assert_same_runs(system, eq.x, np.zeros(system.n), 0.02, 80)
+
+
 @pytest.mark.parametrize("friction, surface", [(0.0, False), (0.6, False), (0.0, True)])
 def test_chain_on_the_bed_with_drag_steps_as_the_python_newton(friction, surface):
     """A chain from the bed to a fairlead 1 m under the surface, heaved 2 m (prescribed),
