@@ -8,25 +8,24 @@ coupling), the Newton matrix, its factorization (:mod:`skmoor.numerics.bordered`
 is one numba function, so that a step costs what its arithmetic costs.
 
 It covers P1 and bending (Hermite: 12 x 12 element blocks) lines with any built-in strain
-law or a user's (:mod:`skmoor.lines.user_law`), MoorDyn-style or skmoor's Morison
-terms in still water, a current and Airy waves (at the displaced nodes), a plane sea bed (these
-three called by address as a user's LineForm is, their ``step_kernel``, each compiled only
-when a run has it), the dry part of the lines in
-still water (``SurfaceTerm``: zero while every node stays half a diameter
-deep; a step that brings one up is handed to the Python step), fixed, prescribed and free
-points (buoyancy, drag in still water, a current and Airy waves), small-rotation rigid bodies whose applied load
-depends on time only (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has
-one, gives a batch's loads in one call), and the users' LineForms, point and body loads
-whose code is generated (:mod:`skmoor.fem.form_compiler`), called by address
+law or a user's (:mod:`skmoor.lines.user_law`), MoorDyn-style or skmoor's Morison terms
+in still water, a current and Airy waves (at the displaced nodes), a plane sea bed (these
+three called by address as a user's LineForm is, their ``step_kernel``, each compiled
+only when a run has it), the dry part of the lines in still water (``SurfaceTerm``: zero
+while every node stays half a diameter deep; a step that brings one up is handed to the
+Python step), fixed, prescribed and free points (buoyancy, drag in still water, a current
+and Airy waves), small-rotation rigid bodies whose applied load depends on time only
+(``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
+loads in one call), and the users' LineForms, point and body loads whose code is
+generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
 that lowers to none (a form on another path or with fields given as a function, water
-fields, moving water on bodies, a bathymetry, a load in NumPy, radiation
-memory, exact rotations) makes it
-return None, its name and reason in :data:`last_refusal`, and the step then runs in
-Python. When modified Newton does not converge the step retries with the line search
-here, as the Python step does; a step that fails that too goes to the Python step, which
-splits it. Results are the same as the Python step's to round-off.
+fields, moving water on bodies, a bathymetry, a load in NumPy, radiation memory, exact
+rotations) makes it return None, its name and reason in :data:`last_refusal`, and the
+step then runs in Python. When modified Newton does not converge the step retries with
+the line search here, as the Python step does; a step that fails that too goes to the
+Python step, which splits it. Results are the same as the Python step's to round-off.
 """
 from __future__ import annotations
 
@@ -1130,19 +1129,19 @@ def _assemble(x, v, data, cx, cv, af):
                 D[6 * k + 3 + a, 6 * k + 3 + b] += wK * s
     if forms[6]:  # the user point and body loads: -(dF/dq, dF/dqdot)
         _user_load_slopes(forms, points[0], wK, wV, kv, ab, D)
+    # the water's velocity at the points as the residual left it (zero in still water)
     columns, drag, water = points[0], points[2], points[4]
-    moving = points[6].shape[1] > 0 or points[7].shape[0] > 0  # (the residual's water)
     for p in range(columns.shape[0]):
         if drag[p] > 0.0:
             speed = 0.0
             for c in range(3):
-                speed += ((water[p, c] if moving else 0.0) - v[columns[p, c]]) ** 2
+                speed += (water[p, c] - v[columns[p, c]]) ** 2
             speed = math.sqrt(speed)
             if speed > 0.0:
                 for c in range(3):
-                    wc = (water[p, c] if moving else 0.0) - v[columns[p, c]]
+                    wc = water[p, c] - v[columns[p, c]]
                     for d in range(3):
-                        wd = (water[p, d] if moving else 0.0) - v[columns[p, d]]
+                        wd = water[p, d] - v[columns[p, d]]
                         value = drag[p] * (wc * wd / speed + (speed if c == d else 0.0))
                         rc, rd = columns[p, c], columns[p, d]
                         ab[kv + rc - rd, rd] += wV * value
