@@ -90,17 +90,17 @@ class _StepData(structref.StructRefProxy):
 
 # the model's parts (each function reads its own) and the addresses of the step's parts
 FIELDS = ("topology", "cable", "points", "bodies", "prescribed", "products", "M", "C",
-          "damped", "width", "forms", "work", "factors", "callees")
+          "damped", "width", "forms", "work", "factors", "callees", "water")
 structref.define_proxy(_StepData, _StepDataType, FIELDS)
 
 
 @njit(cache=True)
 def _step_data(topology, cable, points, bodies, prescribed, products, M, C, damped, width,
-               forms, work, factors, callees):
+               forms, work, factors, callees, water):
     """A :class:`_StepData` made in compiled code (numba's own Python constructor of a
     structref is compiled again in every process: this one is cached)."""
     return _StepData(topology, cable, points, bodies, prescribed, products, M, C, damped,
-                     width, forms, work, factors, callees)
+                     width, forms, work, factors, callees, water)
 
 
 # stand-ins for an absent term (the compiled loop gets the same argument types)
@@ -340,16 +340,17 @@ class CompiledStep:
                 drag[term.point] += term.k
                 water = term.step_water()
         heading, heights, speeds, waves = water
-        npoints = len(system.point_masses)
-        # the points' columns, lift (N), drag k (kg/m), reference positions (m), room for
-        # the water's velocity at them, the current's heading, profile (heights, speeds)
-        # and the waves' components (skmoor.sea.hydro.water_arrays)
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
-                       lift.reshape(-1), drag.reshape(-1),
-                       np.asarray(system.point_reference, float).reshape(-1, 3),
-                       np.zeros((npoints, 6)), np.ascontiguousarray(heading, float),
-                       np.ascontiguousarray(np.stack([heights, speeds]), float),
-                       np.ascontiguousarray(waves, float).reshape(-1, 8))
+                       lift.reshape(-1), drag.reshape(-1))
+        # the water at the free points with drag (a field of its own: read only where a
+        # point has drag): their reference positions (m), room for the water's velocity
+        # there, the current's heading, profile (heights, speeds) and the waves'
+        # components (skmoor.sea.hydro.water_arrays)
+        self.water = (np.asarray(system.point_reference, float).reshape(-1, 3),
+                      np.zeros((len(system.point_masses), 6)),
+                      np.ascontiguousarray(heading, float),
+                      np.ascontiguousarray(np.stack([heights, speeds]), float),
+                      np.ascontiguousarray(waves, float).reshape(-1, 8))
         nbodies = len(system.bodies)
         self.bodies = (np.array(system.K_bodies).reshape(nbodies, 6, 6),
                        np.array(system.F_bodies0).reshape(nbodies, 6),
@@ -400,7 +401,7 @@ class CompiledStep:
             self._step_data = (terms, _step_data(
                 self.topology, terms, self.points, self.bodies, self.prescribed_dofs,
                 self.products, self.M, self.C, self.damped, self.width, self.forms, self.work,
-                self.factors, self.callees))
+                self.factors, self.callees, self.water))
         return self._step_data[1]
 
     def _data_type(self):
@@ -408,7 +409,7 @@ class CompiledStep:
         is the same for every model: one compiled step serves all)."""
         values = (self.topology, self._terms(), self.points, self.bodies,
                   self.prescribed_dofs, self.products, self.M, self.C, self.damped,
-                  self.width, self.forms, self.work, self.factors, self.callees)
+                  self.width, self.forms, self.work, self.factors, self.callees, self.water)
         return _StepDataType([(name, typeof(value)) for name, value in zip(FIELDS, values)])
 
     def _part_arguments(self, part, data):
@@ -922,11 +923,11 @@ def _commit_forms(x, v, data, inputs):
 
 
 @njit(cache=True, inline="always")
-def _point_water(x, t, points, p):
+def _point_water(x, t, columns, at_points, p):
     """Whether the water moves at free point p; if so its velocity (current and waves,
-    as ``Sea.velocity``) at the displaced point at time t (s) into points[4][p, :3]."""
-    columns, reference, water, heading, profile, waves = (points[0], points[3], points[4],
-                                                          points[5], points[6], points[7])
+    as ``Sea.velocity``) at the displaced point at time t (s) into at_points[1][p, :3]
+    (``at_points``: the step data's ``water``)."""
+    reference, water, heading, profile, waves = at_points
     if profile.shape[1] == 0 and waves.shape[0] == 0:
         return False
     z = reference[p, 2] + x[columns[p, 2]]
@@ -983,12 +984,13 @@ def _residual(x, v, data, inputs, tangent, R):
             k = end_body[p // 3]
             for j in range(6):
                 R[nf + 6 * k + j] += J[p, j] * full[g]
-    columns, lift, drag = points[0], points[1], points[2]
+    columns, lift, drag = points
     for p in range(columns.shape[0]):
         R[columns[p, 2]] -= lift[p]
         if drag[p] > 0.0:
-            if _point_water(x, t, points, p):  # moving water: -k |w| w, w = U - v
-                water = points[4]
+            at_points = data.water
+            if _point_water(x, t, columns, at_points, p):  # moving water: -k |w| w, w = U - v
+                water = at_points[1]
                 speed = 0.0
                 for c in range(3):
                     speed += (water[p, c] - v[columns[p, c]]) ** 2
@@ -1129,10 +1131,10 @@ def _assemble(x, v, data, cx, cv, af):
                 D[6 * k + 3 + a, 6 * k + 3 + b] += wK * s
     if forms[6]:  # the user point and body loads: -(dF/dq, dF/dqdot)
         _user_load_slopes(forms, points[0], wK, wV, kv, ab, D)
-    # the water's velocity at the points as the residual left it (zero in still water)
-    columns, drag, water = points[0], points[2], points[4]
+    columns, _, drag = points
     for p in range(columns.shape[0]):
         if drag[p] > 0.0:
+            water = data.water[1]  # the water's velocity as the residual left it (or zero)
             speed = 0.0
             for c in range(3):
                 speed += (water[p, c] - v[columns[p, c]]) ** 2
