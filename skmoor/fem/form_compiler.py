@@ -487,7 +487,6 @@ _LOOP = '''
 def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
     """Adds the form's residual into R and, with ``tangent``, its element blocks."""
     nel, nqp = dx.shape
-    NP, ND = P.shape[2], D.shape[0]
     z = np.empty({n_inputs})
     out = np.empty({n_outputs})
     for e in range(nel):
@@ -580,7 +579,6 @@ _COMMIT = '''
 def commit(u, ud, t, edofs, h, dx, phi, x, P, D, columns, dt):
     """Writes the state's new values at each point into its columns of P."""
     nel, nqp = dx.shape
-    NP, ND = P.shape[2], D.shape[0]
     z = np.empty({n_inputs} + 1)
     out = np.empty({n_state})
     for e in range(nel):
