@@ -26,14 +26,16 @@ def band_storage(bandwidth, nf):
 
 @njit(cache=True)
 def band_factor(ab, w, piv):
-    """LU with partial pivoting of the band in ``ab`` (kl = ku = w, in place; LAPACK gbtf2):
-    False when a pivot is zero (singular)."""
+    """LU with partial pivoting of the band in ``ab`` (kl = ku = w, in place; LAPACK gbtf2)
+    and its row swaps in piv (n + 1,), piv[n] the superdiagonals U has (w without a swap,
+    up to 2 w with fill-in): False when a pivot is zero (singular)."""
     n = ab.shape[1]
     kv = 2 * w  # row of the diagonal
     for i in range(w):  # the fill-in rows start at zero
         for j in range(n):
             ab[i, j] = 0.0
     last = 0  # the last column the pivots so far reach
+    upper = min(w, n - 1)
     multipliers = np.empty(max(w, 1))
     for j in range(n):
         below = min(w, n - 1 - j)
@@ -45,6 +47,7 @@ def band_factor(ab, w, piv):
         if big == 0.0:
             return False
         last = max(last, min(j + w + p, n - 1))
+        upper = max(upper, last - j)
         if p:
             for c in range(j, last + 1):
                 top, low = kv + j - c, kv + j + p - c
@@ -59,14 +62,16 @@ def band_factor(ab, w, piv):
                 top = kv + j + 1 - c
                 for i in range(below):
                     ab[top + i, c] -= multipliers[i] * a
+    piv[n] = upper
     return True
 
 
 @njit(cache=True)
 def band_solve(ab, w, piv, b):
-    """b <- A^-1 b (b (n,)) with the factors of :func:`band_factor`."""
+    """b <- A^-1 b (b (n,)) with the factors of :func:`band_factor` (U's back substitution
+    over the superdiagonals it has: half the fill-in rows' work where nothing was swapped)."""
     n = ab.shape[1]
-    kv = 2 * w
+    kv, upper = 2 * w, piv[n]
     for j in range(n):
         p = piv[j]
         if p != j:
@@ -75,7 +80,7 @@ def band_solve(ab, w, piv, b):
             b[j + i] -= ab[kv + i, j] * b[j]
     for j in range(n - 1, -1, -1):
         b[j] /= ab[kv, j]
-        for i in range(1, min(kv, j) + 1):
+        for i in range(1, min(upper, j) + 1):
             b[j - i] -= ab[kv - i, j] * b[j]
 
 
@@ -83,7 +88,7 @@ def band_solve(ab, w, piv, b):
 def band_solve_columns(ab, w, piv, B):
     """B <- A^-1 B, all columns at once (B (n, m), C order)."""
     n, m = B.shape
-    kv = 2 * w
+    kv, upper = 2 * w, piv[n]
     for j in range(n):
         p = piv[j]
         if p != j:
@@ -98,7 +103,7 @@ def band_solve_columns(ab, w, piv, B):
         d = 1.0 / ab[kv, j]
         for r in range(m):
             B[j, r] *= d
-        for i in range(1, min(kv, j) + 1):
+        for i in range(1, min(upper, j) + 1):
             uij = ab[kv - i, j]
             if uij != 0.0:
                 for r in range(m):
@@ -146,8 +151,9 @@ def dense_solve(A, piv, b):
 
 @njit(cache=True)
 def factor(ab, w, E, F, D, piv_band, piv_schur):
-    """Factorize [[B, E], [F, D]] in place: B's LU in ab, B^-1 E in E, the Schur
-    complement D - F B^-1 E's LU in D. False when B or the complement is singular."""
+    """Factorize [[B, E], [F, D]] in place: B's LU in ab (its swaps in piv_band, (nf + 1,):
+    :func:`band_factor`), B^-1 E in E, the Schur complement D - F B^-1 E's LU in D (its
+    swaps in piv_schur, (nb,)). False when B or the complement is singular."""
     if not band_factor(ab, w, piv_band):
         return False
     nb = D.shape[0]

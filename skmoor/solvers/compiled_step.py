@@ -357,7 +357,7 @@ class CompiledStep:
                        np.array([b.linear_damping for b in system.bodies]).reshape(nbodies, 6, 6))
         nf, nb, (nel, nloc) = system.nf, system.nb, lines.element_dofs.shape
         self.factors = (bordered.band_storage(width, nf), np.zeros((nf, nb)),
-                        np.zeros((nb, nf)), np.zeros((nb, nb)), np.zeros(nf, np.int64),
+                        np.zeros((nb, nf)), np.zeros((nb, nb)), np.zeros(nf + 1, np.int64),
                         np.zeros(nb, np.int64))
         # the step's scratch (made once, not per step): the lines' u, ud, full residual and
         # element blocks, the body ends' J and S; R, B, a1, v1, M a, C v, the line search's
@@ -617,7 +617,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
                 y[j] += B[j]
             if k == 1:  # the step's change, to scale the tolerance
                 scale = _distance(y, x)
-            if size <= tol * scale + 1e-12:
+            if size <= tol * scale + 1e-12 or _error_below(size, previous, tol * scale):
                 _copy(x1, y)
                 it = k
                 break
@@ -1215,6 +1215,9 @@ def _broyden(dx, history, squares, stored):
         dx[i] *= scale
         size = max(size, abs(dx[i]))
     return size if math.isfinite(size) else np.inf
+
+
+_error_below = njit(cache=True, no_cpython_wrapper=True)(newton.error_below)
 
 
 @njit(cache=True, no_cpython_wrapper=True)

@@ -97,8 +97,10 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
 
     system: anything with ``M`` (sparse) and ``residual(x, v, t, tangent=..., layout=...)
     -> (R, K, Kv)`` (layouts: :func:`matrix_layout`). C: constant damping matrix (e.g. Rayleigh). tol: Newton stops when
-    the largest correction is below tol times the largest change over the step (as it
-    stands after the first correction; plus 1e-12 m). Newton is modified: the factorized
+    the largest correction, or the error it leaves (estimated from the rate at which the
+    corrections shrink, :func:`~skmoor.solvers.newton.error_below`), is below tol times
+    the largest change over the step (as it stands after the first correction; plus
+    1e-12 m). Newton is modified: the factorized
     matrix is kept over iterations and steps, its corrections within a step Broyden's
     (:func:`~skmoor.solvers.newton.broyden`), and refreshed when a correction is larger
     than ``BROYDEN_CONTRACTION`` times the one before; a step that does not converge so (or

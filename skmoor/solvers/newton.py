@@ -92,8 +92,9 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
 
     Modified (not ``full``), the kept matrix's corrections are Broyden's: each new one
     corrected by the earlier ones since the matrix was made (:func:`broyden`), so the
-    matrix follows a changing tangent (a line's end rotating) without a new factorization.
-    With ``full`` it backtracks, the matrix made new at the start: a correction that does
+    matrix follows a changing tangent (a line's end rotating) without a new factorization;
+    it stops when the error a correction leaves is below the tolerance too
+    (:func:`error_below`). With ``full`` it backtracks, the matrix made new at the start: a correction that does
     not lower the residual's norm is halved (up to ``LINE_SEARCH`` times) until it does
     (Armijo, 1e-4), which breaks the two-cycles Newton falls into across such a kink."""
     B, A = balance(x1, tangent=full or matrix.factor is None)
@@ -118,6 +119,8 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
         if it == 1:  # the step's change, to scale the tolerance
             scale = np.max(np.abs(x_new - x0), initial=0.0)
         if size <= tol * scale + 1e-12:
+            return x_new, it
+        if not full and error_below(size, previous, tol * scale):
             return x_new, it
         if not full:
             stalls = stalls + 1 if A is not None and it > 1 and size > STALL * previous else 0
@@ -145,6 +148,15 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
             B_try, A_try = balance(x1, tangent=True)
         B, A, norm = B_try, A_try, norm_try
     return None, maxiter
+
+
+def error_below(size, previous, bound):
+    """Whether the error a modified-Newton correction of ``size`` leaves is below ``bound``:
+    estimated from the rate theta = size / previous at which the corrections shrink as
+    theta / (1 - theta) size (a geometric tail; Hairer & Wanner, Solving ODEs II, IV.8).
+    No rate before the second correction (previous inf) or while they do not shrink."""
+    theta = size / previous
+    return 0.0 < theta < 1.0 and size * theta <= (1.0 - theta) * bound
 
 
 def broyden(dx, steps):

@@ -161,6 +161,34 @@ def cusp(negative_side):
     return balance
 
 
+def test_modified_newton_stops_on_the_error_it_leaves():
+    """Corrections shrinking at a rate theta (s_k = theta^k) leave the tail
+    s_k theta / (1 - theta) after s_k: error_below says a correction's tail is below a
+    bound exactly when it is (a factor theta, or a tail summed from 1, would be off), and
+    never before a second correction (no rate) or while the corrections grow. On a smooth
+    equation, modified Newton then ends within its tolerance of the root itself."""
+    from skmoor.solvers.newton import _IterationMatrix, _newton, error_below
+
+    for theta in (0.05, 0.3, 0.8):
+        for k in range(2, 30):
+            size, previous = theta**k, theta ** (k - 1)
+            tail = size * theta / (1 - theta)
+            assert error_below(size, previous, tail * (1 + 1e-9))
+            assert not error_below(size, previous, tail * (1 - 1e-9))
+    assert not error_below(1e-3, np.inf, 1.0)  # the first correction: no rate yet
+    assert not error_below(2.0, 1.0, 1e9)  # growing corrections
+
+    def balance(x, tangent):  # x + x^3 / 3 = 2, its matrix made once at the start
+        return x + x**3 / 3 - 2.0, (np.array([[1.0 + x[0] ** 2]]) if tangent else None)
+
+    root = np.roots([1 / 3, 0.0, 1.0, -2.0])
+    root = root[np.isreal(root)].real[0]
+    for tol in (1e-4, 1e-8):
+        x, iterations = _newton(balance, np.array([0.0]), np.array([0.0]),
+                                _IterationMatrix("dense"), tol, 50, full=False)
+        assert abs(x[0] - root) <= tol * 2.0  # the change as the first correction left it
+
+
 def test_modified_newton_leaves_a_cycle_for_the_line_search():
     """On the symmetric cusp the secant (Broyden) update through x = 1 and x = -1 lands on
     the root at once. On a lopsided one (c = 2) the update would shrink the correction to a
