@@ -756,12 +756,29 @@ class BodyDrag(BodyLoad):
     differences in the angles on an exact one)."""
 
     frame_aware = True
+    why_python = "moving water given as tabulated fields (MoorDyn's wave and current files)"
 
     def __init__(self, cda, sea, reference_point, rho, added_mass=None, body=0, axes=None):
         self.cda, self.sea, self.point, self.rho = cda, sea, reference_point, rho
         self.axes = np.eye(3) if axes is None else axes
         self._moving_water = sea is not None and not sea.still
         super().__init__(self.forces, body=body, added_mass=added_mass, tangent=self.tangents)
+
+    def lowered(self):
+        """'body drag' in still water, a current and Airy waves (the compiled step's, on a
+        small-rotation body: an exact one is refused for its rotations)."""
+        return None if self._moving_water and self.sea.fields else "body drag"
+
+    def step_drag(self):
+        """The drag matrices 1/2 rho D(CdA) of the force and the moment at q = 0 (2, 3, 3)
+        as the compiled step reads them (a small body's: they do not turn)."""
+        half = 0.5 * self.rho * self.cda
+        return np.stack([(self.axes * half[:3]) @ self.axes.T,
+                         (self.axes * half[3:]) @ self.axes.T])
+
+    def step_water(self):
+        """The water the compiled step evaluates at the reference point: :func:`water_arrays`."""
+        return water_arrays(self.sea)
 
     def _drag(self, motion, t):
         """(F, M, D_F, D_M, v_r, w_r): the drag force and moment (global, N, N m), the

@@ -14,14 +14,15 @@ three called by address as a user's LineForm is, their ``step_kernel``, each com
 only when a run has it), the dry part of the lines in still water (``SurfaceTerm``: zero
 while every node stays half a diameter deep; a step that brings one up is handed to the
 Python step), fixed, prescribed and free points (buoyancy, drag in still water, a current
-and Airy waves), small-rotation rigid bodies whose applied load depends on time only
+and Airy waves), small-rotation rigid bodies with quadratic drag (in the same water) whose
+applied load depends on time only
 (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
 loads in one call), and the users' LineForms, point and body loads whose code is
 generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
 that lowers to none (a form on another path or with fields given as a function, water
-fields, moving water on bodies, a bathymetry, a load in NumPy, radiation memory, exact
+fields, a bathymetry, a load in NumPy, radiation memory, exact
 rotations) makes it return None, its name and reason in :data:`last_refusal`, and the
 step then runs in Python. When modified Newton does not converge the step retries with
 the line search here, as the Python step does; a step that fails that too goes to the
@@ -152,7 +153,7 @@ def _wait_for_shared():
 
 
 # the kernels a term may lower to (Term.lowered), and those the step holds one of
-LOWERED = ("cable", "surface", "point drag", "body restoring", "time load",
+LOWERED = ("cable", "surface", "point drag", "body drag", "body restoring", "time load",
            "form", "point load", "body load")
 ONCE = ("cable", "surface")
 FORMS = 8  # LineForms the compiled step calls by address (the Morison terms, the bed, the
@@ -211,7 +212,7 @@ def lowered_terms(system):
     """(why not, kinds): why the compiled step cannot take ``system``'s terms (the first
     term that lowers to no compiled kernel, named, with its reason) or None, and the
     lowered kinds with their terms."""
-    kinds = {"form": [], "load": []}  # each lowered kind the step knows: its term(s)
+    kinds = {"form": [], "load": [], "body drag": []}  # each lowered kind: its term(s)
     for term in system.built_in_terms + system.terms:
         kind = term.lowered()
         name = getattr(term, "name", None) or type(term).__name__
@@ -230,6 +231,8 @@ def lowered_terms(system):
             kinds["load"].append(term)
             if len(kinds["load"]) > LOADS:
                 return f"{name}: more than {LOADS} user point and body loads", kinds
+        if kind == "body drag":
+            kinds["body drag"].append(term)
         kinds.setdefault(kind, term)
     if "cable" not in kinds:
         return "no lines", kinds
@@ -244,6 +247,11 @@ def lowered_terms(system):
             return f"{name}: a memory of the past with no compiled commit", kinds
     if system.nonlinear_inertia:
         return "a body with rotations='exact'", kinds
+    seas = {None if term.sea is None or term.sea.still else id(term.sea)
+            for term in system.built_in_terms + system.terms
+            if hasattr(term, "step_water")}  # the points' and bodies' drag
+    if len(seas) > 1:  # (the step holds one sea's water)
+        return "drag on points and bodies in different seas", kinds
     return None, kinds
 
 
@@ -333,28 +341,38 @@ class CompiledStep:
         self.held = _held_inertia(system)
         self.resting = _resting(system)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
-        drag = np.zeros(len(system.point_masses))
+        npoints, nbodies = len(system.point_masses), len(system.bodies)
+        drag = np.zeros(npoints)
+        body_drag = np.zeros((nbodies, 2, 3, 3))
         water = (np.zeros(2), np.zeros(0), np.zeros(0), np.zeros((0, 8)))  # still water
+        references = np.zeros((npoints + nbodies, 3))
+        references[:npoints] = np.asarray(system.point_reference, float).reshape(-1, 3)
         for term in system.built_in_terms:
             if term.acts_on == "points":  # the free points' drag
                 drag[term.point] += term.k
                 water = term.step_water()
+        for term in kinds["body drag"]:
+            body_drag[term.body] += term.step_drag()
+            references[npoints + term.body] = term.point
+            water = term.step_water()
         heading, heights, speeds, waves = water
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
                        lift.reshape(-1), drag.reshape(-1))
-        # the water at the free points with drag (a field of its own: read only where a
-        # point has drag): their reference positions (m), room for the water's velocity
-        # there, the current's heading, profile (heights, speeds) and the waves'
-        # components (skmoor.sea.hydro.water_arrays)
-        self.water = (np.asarray(system.point_reference, float).reshape(-1, 3),
-                      np.zeros((len(system.point_masses), 6)),
+        # the water at the free points and the bodies with drag (a field of its own: read
+        # only where a point or body has drag), a row each (the bodies' after the
+        # points'): the reference positions (m), room for the water's velocity there, the
+        # current's heading, profile (heights, speeds) and the waves' components
+        # (skmoor.sea.hydro.water_arrays)
+        self.water = (references, np.zeros((npoints + nbodies, 6)),
                       np.ascontiguousarray(heading, float),
                       np.ascontiguousarray(np.stack([heights, speeds]), float),
                       np.ascontiguousarray(waves, float).reshape(-1, 8))
-        nbodies = len(system.bodies)
+        # the bodies' hydrostatics, static load, linear damping and drag matrices
+        # 1/2 rho D(CdA) of force and moment (BodyDrag)
         self.bodies = (np.array(system.K_bodies).reshape(nbodies, 6, 6),
                        np.array(system.F_bodies0).reshape(nbodies, 6),
-                       np.array([b.linear_damping for b in system.bodies]).reshape(nbodies, 6, 6))
+                       np.array([b.linear_damping for b in system.bodies]).reshape(nbodies, 6, 6),
+                       body_drag)
         nf, nb, (nel, nloc) = system.nf, system.nb, lines.element_dofs.shape
         self.factors = (bordered.band_storage(width, nf), np.zeros((nf, nb)),
                         np.zeros((nb, nf)), np.zeros((nb, nb)), np.zeros(nf + 1, np.int64),
@@ -923,22 +941,43 @@ def _commit_forms(x, v, data, inputs):
 
 
 @njit(cache=True, inline="always")
-def _point_water(x, t, columns, at_points, p):
-    """Whether the water moves at free point p; if so its velocity (current and waves,
-    as ``Sea.velocity``) at the displaced point at time t (s) into at_points[1][p, :3]
-    (``at_points``: the step data's ``water``)."""
+def _water_at(dx, dy, dz, t, at_points, row):
+    """Whether the water moves; if so its velocity (current and waves, as
+    ``Sea.velocity``) at time t (s) at the reference position of ``row`` of the step
+    data's ``water`` (``at_points``: a free point's, or a body's after them) displaced by
+    (dx, dy, dz) (m), into at_points[1][row, :3]."""
     reference, water, heading, profile, waves = at_points
     if profile.shape[1] == 0 and waves.shape[0] == 0:
         return False
-    z = reference[p, 2] + x[columns[p, 2]]
+    z = reference[row, 2] + dz
     speed = current_speed(z, profile[0], profile[1]) if profile.shape[1] else 0.0
     for c in range(6):
-        water[p, c] = 0.0
-    wave_kinematics(reference[p, 0] + x[columns[p, 0]], reference[p, 1] + x[columns[p, 1]],
-                    z, t, waves, water[p])
-    water[p, 0] += speed * heading[0]
-    water[p, 1] += speed * heading[1]
+        water[row, c] = 0.0
+    wave_kinematics(reference[row, 0] + dx, reference[row, 1] + dy, z, t, waves, water[row])
+    water[row, 0] += speed * heading[0]
+    water[row, 1] += speed * heading[1]
     return True
+
+
+@njit(cache=True, no_cpython_wrapper=True)
+def _body_drag(x, v, t, data, k, R):
+    """R -= body k's quadratic drag (:class:`~skmoor.sea.hydro.BodyDrag` on a small body):
+    the force |v_r| D_F v_r, v_r = u_w - qdot[:3] with the water at the displaced reference
+    point (left in the step data's water row for the tangent), and the moment
+    |w_r| D_M w_r, w_r = -qdot[3:]."""
+    drag, water, nf = data.bodies[3][k], data.water, data.topology[6]
+    base, row = nf + 6 * k, data.points[0].shape[0] + k
+    _water_at(x[base], x[base + 1], x[base + 2], t, water, row)
+    ux, uy, uz = water[1][row, 0], water[1][row, 1], water[1][row, 2]  # (0: still water)
+    for part in range(2):  # the force on the water's velocity, the moment on none
+        at = base + 3 * part
+        wx = (ux if part == 0 else 0.0) - v[at]
+        wy = (uy if part == 0 else 0.0) - v[at + 1]
+        wz = (uz if part == 0 else 0.0) - v[at + 2]
+        speed = math.sqrt(wx * wx + wy * wy + wz * wz)
+        for i in range(3):
+            R[at + i] -= speed * (drag[part, i, 0] * wx + drag[part, i, 1] * wy
+                                  + drag[part, i, 2] * wz)
 
 
 @njit(cache=True, no_cpython_wrapper=True)
@@ -989,7 +1028,8 @@ def _residual(x, v, data, inputs, tangent, R):
         R[columns[p, 2]] -= lift[p]
         if drag[p] > 0.0:
             at_points = data.water
-            if _point_water(x, t, columns, at_points, p):  # moving water: -k |w| w, w = U - v
+            if _water_at(x[columns[p, 0]], x[columns[p, 1]], x[columns[p, 2]], t, at_points,
+                         p):  # moving water: -k |w| w, w = U - v
                 water = at_points[1]
                 speed = 0.0
                 for c in range(3):
@@ -1004,7 +1044,7 @@ def _residual(x, v, data, inputs, tangent, R):
             speed = math.sqrt(speed)
             for c in range(3):
                 R[columns[p, c]] += drag[p] * speed * v[columns[p, c]]
-    K_body, F0, D_body = bodies
+    K_body, F0, D_body, body_drag = bodies
     for k in range(K_body.shape[0]):
         base = nf + 6 * k
         for i in range(6):
@@ -1012,6 +1052,9 @@ def _residual(x, v, data, inputs, tangent, R):
             for j in range(6):
                 s += K_body[k, i, j] * x[base + j] + D_body[k, i, j] * v[base + j]
             R[base + i] += s
+        if body_drag[k, 0, 0, 0] + body_drag[k, 0, 1, 1] + body_drag[k, 0, 2, 2] + \
+                body_drag[k, 1, 0, 0] + body_drag[k, 1, 1, 1] + body_drag[k, 1, 2, 2] > 0.0:
+            _body_drag(x, v, t, data, k, R)  # (D(CdA) positive semi-definite: a trace)
     if forms[6]:  # the user point and body loads' generated kernels
         _user_loads(forms, x, v, t, tangent, columns, nf, R)
     if tangent and nends:
@@ -1110,11 +1153,29 @@ def _assemble(x, v, data, cx, cv, af):
                         for i in range(6):
                             D[ka + i, kb + j] += J[pa, i] * value
     # the bodies: sum f . d2p/dq2 of their line ends, hydrostatics, linear damping
-    K_body, _, D_body = bodies
+    K_body, _, D_body, body_drag = bodies
+    nrow = points[0].shape[0]
     for k in range(K_body.shape[0]):
         for i in range(6):
             for j in range(6):
                 D[6 * k + i, 6 * k + j] += wK * K_body[k, i, j] + wV * D_body[k, i, j]
+        # the drag's d/dqdot: D (|w| I + w w^T / |w|) per part, w the relative velocity
+        # the residual left (v_r with the water in its row, w_r); none with respect to q
+        water = data.water[1]
+        for part in range(2):
+            at = nf + 6 * k + 3 * part
+            wx = (water[nrow + k, 0] if part == 0 else 0.0) - v[at]
+            wy = (water[nrow + k, 1] if part == 0 else 0.0) - v[at + 1]
+            wz = (water[nrow + k, 2] if part == 0 else 0.0) - v[at + 2]
+            speed = math.sqrt(wx * wx + wy * wy + wz * wz)
+            if speed == 0.0:
+                continue
+            for i in range(3):
+                dw = (body_drag[k, part, i, 0] * wx + body_drag[k, part, i, 1] * wy
+                      + body_drag[k, part, i, 2] * wz) / speed
+                for j, wj in enumerate((wx, wy, wz)):
+                    value = speed * body_drag[k, part, i, j] + dw * wj
+                    D[6 * k + 3 * part + i, 6 * k + 3 * part + j] += wV * value
     for p in range(r_local.shape[0]):
         k = end_body[p]
         base = nf + 6 * k

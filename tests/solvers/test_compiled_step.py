@@ -84,6 +84,51 @@ def test_a_network_in_waves_and_a_current_steps_as_the_python_newton():
     assert_same_runs(system, eq.x, np.zeros(system.n), 0.02, 80)
 
 
+@pytest.mark.parametrize("water", ["still", "current and waves"])
+def test_bodies_with_drag_step_as_the_python_newton(water):
+    """The two buoys' network with MoorDyn's body drag (BodyDrag: force on the reference
+    point's velocity relative to the water, moment on the angular velocity, along axes
+    turned from the global ones), the bodies set moving and turning: the compiled step
+    takes it and steps as the Python Newton (the water at the displaced reference point
+    at the step's time, d/dqdot exact). The drag moves the buoys by more than the
+    tolerance: a dropped moment, the water at the reference position or the force's sign
+    would part the runs (checked against the run without drag)."""
+    from scipy.spatial.transform import Rotation
+
+    from skmoor.sea.hydro import body_hydrodynamics
+    from skmoor.sea.waves import Current, JonswapWave, Sea
+
+    sea = None if water == "still" else Sea(
+        150.0, current=Current(0.8, heading_deg=30.0),
+        waves=[JonswapWave(3.0, 9.0, depth=150.0, heading_deg=20.0, n_components=20, seed=1)])
+    axes = Rotation.from_euler("xyz", [10.0, -20.0, 35.0], degrees=True).as_matrix()
+    runs = {}
+    for drag in (True, False):
+        network = network_two_bodies(sea)
+        for body in network.bodies if drag else []:
+            body.terms.append(body_hydrodynamics(
+                drag_coefficients=[1.2, 0.8, 1.0, 0.6, 0.5, 0.7],
+                drag_areas=[12.0, 15.0, 10.0, 40.0, 30.0, 50.0], sea=sea,
+                reference_point=body.position, axes=axes))
+        model = skmoor.from_network(network)
+        system = model.system
+        eq = skmoor.equilibrium(model)
+        v0 = np.zeros(system.n)
+        v0[system.nf:] = [0.4, -0.2, 0.1, 0.05, -0.06, 0.08, -0.2, 0.4, 0.0, -0.04, 0.02, 0.1]
+        if drag:
+            assert_same_runs(system, eq.x, v0, 0.02, 80)
+        runs[drag], _ = run(system, eq.x, v0, 0.02, 80)
+    assert np.abs(runs[True] - runs[False])[:, -12:].max() > 1e-3
+    if sea is not None:  # the step holds one sea: a body's drag in another is Python's
+        network = network_two_bodies(sea)
+        network.bodies[0].terms.append(body_hydrodynamics(
+            drag_coefficients=[1.0] * 6, drag_areas=[10.0] * 6, sea=Sea(150.0),
+            reference_point=network.bodies[0].position))
+        system = skmoor.from_network(network).system
+        assert compiled_step.build(system, None, Scheme.newmark(), TOL, 20) is None
+        assert "different seas" in compiled_step.last_refusal
+
+
 @pytest.mark.parametrize("friction, surface", [(0.0, False), (0.6, False), (0.0, True)])
 def test_chain_on_the_bed_with_drag_steps_as_the_python_newton(friction, surface):
     """A chain from the bed to a fairlead 1 m under the surface, heaved 2 m (prescribed),
