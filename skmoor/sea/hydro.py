@@ -565,6 +565,18 @@ def wave_kinematics(x, y, z, t, components, out):
 
 
 @njit(cache=True)
+def wave_elevation(x, y, t, components):
+    """The free surface's elevation (m) of the Airy components (:func:`wave_components`)
+    at (x, y) (m) and time t (s): ``skmoor.sea.waves._Components.elevation``."""
+    eta = 0.0
+    for c in range(components.shape[0]):
+        theta = ((x * components[c, 5] + y * components[c, 6]) * components[c, 2]
+                 - t * components[c, 1] + components[c, 3])
+        eta += components[c, 0] * math.cos(theta)
+    return eta
+
+
+@njit(cache=True)
 def _water(u, t, ints, at_ints, floats, at):
     """(velocity, acceleration, whether waves move it) of the water at the displaced
     nodes (nodes, 3 each; m/s, m/s2): the current (``Current.velocity``) and the Airy

@@ -32,7 +32,13 @@ from numba import carray, njit
 from ..fem.form_compiler import compiled_when_asked
 from ..fem.native_calls import advanced
 from ..fem.terms import Term, state_part
-from .hydro import current_speed
+from .hydro import (
+    WAVE_COLUMNS,
+    current_speed,
+    wave_components,
+    wave_elevation,
+    wave_kinematics,
+)
 
 RMS_STEPS = 500  # MoorDyn's n_m: steps dtM in the running mean square
 
@@ -62,11 +68,11 @@ class VortexLift(Term):
     ``Cl``, ``viv_dF``, ``viv_cF``); sea: the water (currents), None for still water;
     rms_time: the running mean square's time constant, s. Its state (the last committed
     time, each node's phase, phase rate, mean squares and velocity) is one array, which
-    the compiled time step advances in place with :attr:`step_commit` (still water or a
-    steady current; the Python step with :meth:`commit`)."""
+    the compiled time step advances in place with :attr:`step_commit` (still water, a
+    current and Airy waves; the Python step with :meth:`commit`)."""
 
     acts_on = "lines"
-    why_python = "VIV lift in waves or water fields"
+    why_python = "VIV lift in water fields (MoorDyn's wave and current files)"
 
     def __init__(self, lines, sea=None, rms_time=RMS_STEPS * 1e-4):
         if not rms_time > 0:
@@ -115,35 +121,38 @@ class VortexLift(Term):
         return None if math.isnan(self._state[0]) else float(self._state[0])
 
     @property
-    def steady(self) -> bool:
-        """Still water or a steady current: what the compiled kernels evaluate."""
-        sea = self.sea
-        return sea is None or sea.still or (sea.current is not None and not sea.waves
-                                            and not sea.fields)
+    def compiled_water(self) -> bool:
+        """Still water, a current and Airy waves (no tabulated fields): what the compiled
+        kernels evaluate."""
+        return self.sea is None or self.sea.still or not self.sea.fields
 
     def lowered(self):
-        return "form" if self.steady else None
+        return "form" if self.compiled_water else None
 
     @property
     def step_kernel(self):
         """(C function, ints, floats): the lift (:func:`_lift_packed`) as the compiled time
-        step calls a LineForm, by address; ints [nodes, profile points, the nodes' DOFs
-        and their neighbours' (3 x (n, 3))], floats [the reference positions of the nodes
-        and their neighbours (3 x (n, 3), m), rho, d, Cl, cF, dF, length (6 x n), the
-        first phases (n, rad), the current's heading (2) and profile (heights m, speeds
-        m/s), rms_time (s), the state (:attr:`step_state`), scratch (10 n)]."""
+        step calls a LineForm, by address; ints [nodes, profile points, wave components,
+        the nodes' DOFs and their neighbours' (3 x (n, 3))], floats [the reference
+        positions of the nodes and their neighbours (3 x (n, 3), m), rho, d, Cl, cF, dF,
+        length (6 x n), the first phases (n, rad), the current's heading (2) and profile
+        (heights m, speeds m/s), the Airy components (:func:`~skmoor.sea.hydro.wave_components`),
+        rms_time (s), the state (:attr:`step_state`), scratch (10 n)]."""
         lines, n = self.lines, self.nodes.size
-        current = None if self.sea is None else self.sea.current
+        moving = self.sea is not None and not self.sea.still
+        current = self.sea.current if moving else None
         heading, heights, speeds = ([0.0, 0.0], [], []) if current is None else (
             current.direction[:2], current.z, current.speeds)
+        waves = wave_components(self.sea.waves if moving else [])
         nodal = lines.nodal_dofs
-        ints = np.concatenate([[n, len(heights)], *(nodal[self.nodes + k].ravel()
-                                                    for k in (0, -1, 1))]).astype(np.int64)
+        ints = np.concatenate([[n, len(heights), len(waves)],
+                               *(nodal[self.nodes + k].ravel() for k in (0, -1, 1))])
         floats = np.concatenate([
             *(lines.points[self.nodes + k].ravel() for k in (0, -1, 1)),
             self.rho, self.d, self.Cl, self.cF, self.dF, self.length, self.first_phase,
-            heading, heights, speeds, [self.rms_time], self._state, np.zeros(10 * n)])
-        return _lift_step(), ints, floats.astype(float)
+            heading, heights, speeds, waves.ravel(), [self.rms_time], self._state,
+            np.zeros(10 * n)])
+        return _lift_step(), ints.astype(np.int64), floats.astype(float)
 
     @property
     def step_commit(self):
@@ -211,9 +220,10 @@ class VortexLift(Term):
 def _unpacked(ints, floats):
     """The buffers of ``VortexLift.step_kernel`` as arrays: (node DOFs (3, n, 3): the
     node's and its neighbours', reference positions (3, n, 3), coefficients (6, n),
-    first phases, heading, heights, speeds, rms_time (1,), state, scratch (10, n))."""
-    n, nprofile = ints[0], ints[1]
-    dofs = carray(advanced(ints, 2), (3, n, 3))
+    first phases, heading, heights, speeds, wave components, rms_time (1,), state,
+    scratch (10, n))."""
+    n, nprofile, ncomponents = ints[0], ints[1], ints[2]
+    dofs = carray(advanced(ints, 3), (3, n, 3))
     X = carray(floats, (3, n, 3))
     at = 9 * n
     coefficients = carray(advanced(floats, at), (6, n))
@@ -223,17 +233,21 @@ def _unpacked(ints, floats):
     heights = carray(advanced(floats, at + 2), (nprofile,))
     speeds = carray(advanced(floats, at + 2 + nprofile), (nprofile,))
     at += 2 + 2 * nprofile
+    waves = carray(advanced(floats, at), (ncomponents, WAVE_COLUMNS))
+    at += ncomponents * WAVE_COLUMNS
     rms_time = carray(advanced(floats, at), (1,))
     state = carray(advanced(floats, at + 1), (1 + 7 * n,))
     scratch = carray(advanced(floats, at + 2 + 7 * n), (10, n))
-    return dofs, X, coefficients, first, heading, heights, speeds, rms_time, state, scratch
+    return (dofs, X, coefficients, first, heading, heights, speeds, waves, rms_time, state,
+            scratch)
 
 
 @njit(cache=True)
-def _flow_at(u, v, dofs, X, d, heading, heights, speeds, scratch):
+def _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch):
     """``VortexLift._flow`` into the scratch rows: q (0-2), v_p (3-5), the node velocity
-    (6-8) and the wet fraction (9), per node (still water or a steady current, z = 0 the
-    surface)."""
+    (6-8) and the wet fraction (9), per node at time t (s) (the current and the Airy
+    waves at the displaced node; z = 0 the still surface)."""
+    kinematics = np.zeros(6)  # the waves' velocity and acceleration at a node
     for k in range(X.shape[1]):
         length = 0.0
         for c in range(3):
@@ -241,30 +255,36 @@ def _flow_at(u, v, dofs, X, d, heading, heights, speeds, scratch):
             scratch[c, k] = q
             length += q * q
         length = math.sqrt(length)
+        x, y = X[0, k, 0] + u[dofs[0, k, 0]], X[0, k, 1] + u[dofs[0, k, 1]]
         z = X[0, k, 2] + u[dofs[0, k, 2]]
         current = current_speed(z, heights, speeds) if heights.size else 0.0
+        kinematics[:] = 0.0
+        eta = 0.0
+        if waves.shape[0]:
+            wave_kinematics(x, y, z, t, waves, kinematics)
+            eta = wave_elevation(x, y, t, waves)
         along = 0.0
         for c in range(3):
             scratch[c, k] /= length
             scratch[6 + c, k] = v[dofs[0, k, c]]
-            flow = -scratch[6 + c, k] + (current * heading[c] if c < 2 else 0.0)
+            flow = -scratch[6 + c, k] + (current * heading[c] if c < 2 else 0.0) + kinematics[c]
             scratch[3 + c, k] = flow
             along += flow * scratch[c, k]
         for c in range(3):
             scratch[3 + c, k] -= along * scratch[c, k]
-        scratch[9, k] = min(max(0.5 - z / d[k], 0.0), 1.0)
+        scratch[9, k] = min(max(0.5 - (z - eta) / d[k], 0.0), 1.0)
 
 
 def _lift_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """``VortexLift.add_to`` on the buffers of its ``step_kernel`` (no tangents)."""
-    dofs, X, coefficients, first, heading, heights, speeds, rms_time, state, scratch = (
+    dofs, X, coefficients, first, heading, heights, speeds, waves, rms_time, state, scratch = (
         _unpacked(ints, floats))
     if math.isnan(state[0]):
         return
     n = X.shape[1]
     u, v, R = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), carray(R_p, (ndofs,))
     rho, d, Cl = coefficients[0], coefficients[1], coefficients[2]
-    _flow_at(u, v, dofs, X, d, heading, heights, speeds, scratch)
+    _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch)
     for k in range(n):
         phase = state[1 + k] + state[1 + n + k] * (t - state[0])
         speed = math.sqrt(scratch[3, k] ** 2 + scratch[4, k] ** 2 + scratch[5, k] ** 2)
@@ -279,12 +299,12 @@ def _lift_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
 
 def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """``VortexLift.commit`` on the buffers of its ``step_kernel`` (R, K, C unused)."""
-    dofs, X, coefficients, first, heading, heights, speeds, rms_time, state, scratch = (
+    dofs, X, coefficients, first, heading, heights, speeds, waves, rms_time, state, scratch = (
         _unpacked(ints, floats))
     n = X.shape[1]
     u, v = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,))
     d, cF, dF = coefficients[1], coefficients[3], coefficients[4]
-    _flow_at(u, v, dofs, X, d, heading, heights, speeds, scratch)
+    _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch)
     restart = math.isnan(state[0]) or t <= state[0]
     h = 0.0 if restart else t - state[0]
     weight = 1.0 / RMS_STEPS if restart else min(1.0, h / rms_time[0])

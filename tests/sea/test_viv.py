@@ -151,12 +151,13 @@ def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
     assert results.t[-1] == pytest.approx(0.2) and np.isfinite(results.displacement).all()
 
 
-def lock_in_case(zeta, dF=0.08, cF=0.18):
-    """A weightless taut string of two elements (8 m, vertical) in a current U along x:
-    its middle node a cross-flow oscillator tuned to f_n = (cF + dF / 2) U / d with
-    damping ratio ``zeta`` from the current's drag, ½ rho d Cd U per length across the
-    flow (skmoor integrates the drag at Gauss points: the middle node takes 2/3 of the
-    lumped share, int N^2 = 2 h / 3), lift lumped at the node. (model, f_n, m, h)."""
+def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=()):
+    """A weightless taut string of two elements (8 m, vertical, from z = ``bottom``) in a
+    current U along x (and ``waves``): its middle node a cross-flow oscillator tuned to
+    f_n = (cF + dF / 2) U / d with damping ratio ``zeta`` from the current's drag,
+    ½ rho d Cd U per length across the flow (skmoor integrates the drag at Gauss points:
+    the middle node takes 2/3 of the lumped share, int N^2 = 2 h / 3), lift lumped at the
+    node. (model, f_n, m, h)."""
     from skmoor.coupling.network import MooringLine, Network, Point
     from skmoor.model.model import from_network
 
@@ -169,9 +170,9 @@ def lock_in_case(zeta, dF=0.08, cF=0.18):
     EA = 1e3 * T
     line_type = LineType(EA=EA, mass=m, diameter=D, Cd_n=Cd, rho_water=RHO, g=0.0,
                          Cl=0.05, viv_dF=dF, viv_cF=cF)
-    sea = Sea(depth=50.0, rho=RHO, current=Current(speed=U))
-    network = Network([Point("A", "fixed", [0.0, 0.0, -10.0]),
-                       Point("B", "fixed", [0.0, 0.0, -10.0 + L])],
+    sea = Sea(depth=50.0, rho=RHO, current=Current(speed=U), waves=list(waves))
+    network = Network([Point("A", "fixed", [0.0, 0.0, bottom]),
+                       Point("B", "fixed", [0.0, 0.0, bottom + L])],
                       [MooringLine("string", line_type, "A", "B", L / (1 + T / EA), 2)],
                       depth=50.0, rho=RHO, sea=sea)
     return from_network(network), f_n, m, h
@@ -272,6 +273,66 @@ def test_the_compiled_step_advances_the_lift_as_the_python_step():
     assert state_fast == pytest.approx(state_slow, rel=1e-9, abs=1e-12)
     unlifted, _ = run(True, lift_on=False)
     assert np.abs(unlifted - slow).max() > 0.1 * motion
+
+
+def test_the_compiled_kernels_evaluate_the_waves_as_the_sea():
+    """The compiled step's wave kinematics and elevation (skmoor.sea.hydro) at scattered
+    points and times equal Sea.kinematics and Sea.elevation of a JONSWAP sea plus a regular
+    wave on another heading: a phase sign, a heading's component or a depth factor off
+    would part them."""
+    from skmoor.sea.hydro import wave_components, wave_elevation, wave_kinematics
+    from skmoor.sea.waves import AiryWave, JonswapWave
+
+    waves = [JonswapWave(4.0, 10.0, depth=80.0, heading_deg=25.0, n_components=15, seed=2),
+             AiryWave(2.0, 7.0, depth=80.0, heading_deg=-70.0, phase=0.4)]
+    sea = Sea(80.0, waves=waves)
+    components = wave_components(waves)
+    rng = np.random.default_rng(5)
+    points = rng.uniform([-200.0, -200.0, -80.0], [200.0, 200.0, 0.0], (40, 3))
+    times = rng.uniform(0.0, 300.0, 40)
+    for point, t in zip(points, times):
+        velocity, acceleration = sea.kinematics(point, t)
+        out = np.zeros(6)
+        wave_kinematics(*point, t, components, out)
+        scale = np.abs(velocity).max() + np.abs(acceleration).max()
+        np.testing.assert_allclose(out, np.concatenate([velocity, acceleration]), rtol=0,
+                                   atol=1e-12 * scale)
+        assert wave_elevation(point[0], point[1], t, components) == pytest.approx(
+            float(sea.elevation(point, t)), rel=1e-12, abs=1e-12)
+
+
+def test_the_compiled_step_advances_the_lift_in_waves_as_the_python_step():
+    """The lock-in string raised so that its middle node stands 1 m under the still
+    surface, under a regular wave of 3 m (1.5 m amplitude: the node falls dry in the
+    troughs) across the current: the compiled step (the waves' velocity and elevation at
+    the displaced node at each residual's time) steps as the Python step, and its lift
+    state ends the same. The waves change the motion by far more than the tolerance (a
+    wet fraction on z + eta, or the waves' velocity left out, would part the runs)."""
+    from skmoor.sea.waves import AiryWave
+
+    def run(compiled, waves):
+        model, f_n, _, _ = lock_in_case(0.15, bottom=-5.0, waves=waves)
+        system = model.system
+        lift = next(t for t in system.line_terms if isinstance(t, VortexLift))
+        lift.rms_time = 2 / f_n
+        eq = skmoor.equilibrium(model)
+        assert compiled_step.lowered_terms(system)[0] is None
+        dt = 1 / (50 * f_n)
+        states = [s.x.copy() for s in dynamics.integrate(
+            system, eq.x, np.zeros(system.n), dt, 300 * dt, C=eq.C, compiled=compiled,
+            tol=1e-10)]
+        return np.array(states), lift._state.copy(), lift
+
+    waves = [AiryWave(3.0, 8.0, depth=50.0, heading_deg=60.0, phase=-1.0)]
+    fast, state_fast, lift = run(True, waves)
+    slow, state_slow, _ = run(False, waves)
+    motion = np.abs(slow - slow[0]).max()
+    assert np.abs(fast - slow).max() < 1e-9 * motion
+    assert state_fast == pytest.approx(state_slow, rel=1e-9, abs=1e-12)
+    times = np.linspace(0.0, 300 / (50 * (0.18 + 0.04) * U / D), 200)
+    assert lift.sea.elevation(np.zeros((200, 2)), times).min() < -1.0 - D  # dry there
+    calm, _, _ = run(True, ())
+    assert np.abs(calm - slow).max() > 0.1 * motion
 
 
 def tension_period(t, tension):
