@@ -11,9 +11,9 @@ It covers P1 and bending (Hermite: 12 x 12 element blocks) lines with any built-
 law or a user's (:mod:`skmoor.lines.user_law`), MoorDyn-style or skmoor's Morison terms
 in still water, a current and Airy waves (at the displaced nodes), a plane sea bed (these
 three called by address as a user's LineForm is, their ``step_kernel``, each compiled
-only when a run has it), the dry part of the lines in still water (``SurfaceTerm``: zero
-while every node stays half a diameter deep; a step that brings one up is handed to the
-Python step), fixed, prescribed and free points (buoyancy, drag in still water, a current
+only when a run has it), the dry part of the lines under a flat surface or Airy waves
+(``SurfaceTerm``: zero while every node stays half a diameter under it; a step that brings
+one up is handed to the Python step), fixed, prescribed and free points (buoyancy, drag in still water, a current
 and Airy waves), small-rotation rigid bodies with quadratic drag (in the same water) whose
 applied load depends on time only
 (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
@@ -51,7 +51,7 @@ from ..fem.patterns import ElementPattern
 from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
-from ..sea.hydro import current_speed, wave_kinematics
+from ..sea.hydro import current_speed, wave_elevation, wave_kinematics
 from . import newton
 
 # numba freezes these into the cached step, whose cache follows this file's source only
@@ -328,12 +328,13 @@ class CompiledStep:
                          np.asarray(system.body_end_dofs, np.int64).reshape(-1, 3),
                          np.ascontiguousarray(r_local, float),
                          np.ascontiguousarray(lines.element_dofs, np.int64), system.nf,
-                         # the nodes' z DOFs, reference heights (m) and the depth (m) a
-                         # SurfaceTerm needs them below (none: no term)
-                         np.zeros(0, np.int64) if surface is None
-                         else np.asarray(surface.z_dofs, np.int64),
-                         np.zeros(0) if surface is None
-                         else np.asarray(surface.z_reference, float),
+                         # the nodes' DOFs (n, 3), reference positions (n, 3; m) and the
+                         # depth (m) under the surface a SurfaceTerm needs them below
+                         # (none: no term)
+                         np.zeros((0, 3), np.int64) if surface is None
+                         else np.asarray(lines.nodal_dofs, np.int64).reshape(-1, 3),
+                         np.zeros((0, 3)) if surface is None
+                         else np.asarray(lines.points, float).reshape(-1, 3),
                          0.0 if surface is None else float(surface.deepest_reach))
         self.prescribed_dofs = np.asarray(system.dofs.prescribed_flat, np.int64)
         self.report_dofs = np.concatenate([np.ravel(system.fairlead_dofs),
@@ -355,6 +356,8 @@ class CompiledStep:
             body_drag[term.body] += term.step_drag()
             references[npoints + term.body] = term.point
             water = term.step_water()
+        if surface is not None:  # (its waves' elevation)
+            water = surface.step_water()
         heading, heights, speeds, waves = water
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
                        lift.reshape(-1), drag.reshape(-1))
@@ -996,10 +999,16 @@ def _residual(x, v, data, inputs, tangent, R):
     u, ud, full, Ke, Ce, J, S = work[0], work[1], work[2], work[3], work[4], work[5], work[6]
     _expand(x, v, topology, data.prescribed, pres_u, pres_v, u, ud, J)
     nends = r_local.shape[0]
-    surface_dofs, surface_z, surface_reach = topology[7], topology[8], topology[9]
-    for i in range(surface_dofs.size):  # SurfaceTerm is zero while the lines stay this deep
-        if surface_z[i] + u[surface_dofs[i]] > surface_reach:
-            return False
+    surface_dofs, surface_nodes, surface_reach = topology[7], topology[8], topology[9]
+    if surface_dofs.shape[0]:  # SurfaceTerm is zero while the lines stay this deep under
+        waves = data.water[4]  # the surface (its waves' elevation at the displaced nodes)
+        for i in range(surface_dofs.shape[0]):
+            height = surface_nodes[i, 2] + u[surface_dofs[i, 2]]
+            if waves.shape[0]:
+                height -= wave_elevation(surface_nodes[i, 0] + u[surface_dofs[i, 0]],
+                                         surface_nodes[i, 1] + u[surface_dofs[i, 1]], t, waves)
+            if height > surface_reach:
+                return False
     Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity = cable
     for g in range(full.size):
         full[g] = constant[g] - gravity[g]

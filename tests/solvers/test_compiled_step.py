@@ -204,6 +204,53 @@ def test_a_bending_line_on_the_bed_steps_as_the_python_newton(friction):
                      scheme=Scheme.generalized_alpha(0.5))
 
 
+def test_a_line_under_a_wavy_surface_is_handed_back_where_the_waves_reach_it():
+    """A chain from the bed to a fixed fairlead 1 m under the still surface, with the
+    dry part of the line (SurfaceTerm) under a regular wave (1.2 m amplitude, 4 s): the
+    compiled step takes it and hands the step back to Python where the wave's trough first
+    comes within half a diameter of the fairlead (the highest node): at the first step
+    time t with -1 - eta(0, 0, t) > -d / 2 by Sea.elevation. Still water (or the
+    elevation's sign flipped, or taken at the step's start) would hand back no step there.
+    The run through the handed-back steps is the Python step's."""
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea.hydro import line_hydrodynamics
+    from skmoor.sea.seabed import Seabed, seabed_term
+    from skmoor.sea.surface import SurfaceTerm
+    from skmoor.sea.waves import AiryWave, Sea
+
+    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, BA=7.5e4, Cd_n=2.4,
+                            Ca_n=1.0)
+    cat = solve_catenary([-80.0, 0.0, -30.0], [0.0, 0.0, -1.0], chain.weight, chain.EA,
+                         length=100.0, seabed_z=-30.0)
+    dt, steps = 0.05, 50
+    times = dt * np.arange(1, steps + 1)
+    handed_back = {}
+    for name, sea in (("waves", Sea(30.0, waves=[AiryWave(2.4, 4.0, depth=30.0)])),
+                      ("still", Sea(30.0))):
+        lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 12)], law="engineering")
+        bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter)
+        system = skmoor.System(lines, fairleads="prescribed",
+                               motion=lambda t: np.zeros((1, 3)),
+                               terms=[seabed_term(lines, bed), line_hydrodynamics(lines, sea),
+                                      SurfaceTerm(lines, sea)])
+        x0 = skmoor.solve_static(system).x
+        fast = compiled_step.build(system, None, Scheme.generalized_alpha(0.5), TOL, 20)
+        assert fast is not None, compiled_step.last_refusal
+        v = np.zeros(system.n)
+        R, _, _ = system.residual(x0, v, 0.0, tangent=False)
+        done, why = fast.steps(x0, v, v, R, times, dt)
+        handed_back[name] = len(done) if why == compiled_step.TO_PYTHON else None
+        if name == "waves":
+            assert_same_runs(system, x0, np.zeros(system.n), dt, steps,
+                             scheme=Scheme.generalized_alpha(0.5), same_iterations=False,
+                             rel=1e-8)
+            eta = sea.elevation(np.zeros((steps, 2)), times)
+            expected = int(np.argmax(-1.0 - eta > -0.5 * chain.diameter))
+    assert handed_back["still"] is None
+    assert 10 < expected == handed_back["waves"]
+
+
+
 @pytest.mark.parametrize("maxiter", [4, 3])
 def test_steps_modified_newton_gives_up_on_go_as_in_python(maxiter):
     """With few iterations allowed, modified Newton gives up on some steps: the compiled
