@@ -533,7 +533,7 @@ def wave_components(waves) -> np.ndarray:
     """(components, 8) of Airy waves (:mod:`skmoor.sea.waves`) as the compiled kernels
     read them: a (m), omega (rad/s), k (rad/m), phase (rad), 1 / (1 - exp(-2 k h)), the
     heading's x and y, the depth h (m)."""
-    rows = [np.column_stack([w.a, w.omega, w.k, w.phi, w._scale,
+    rows = [np.column_stack([w.a, w.omega, w.k, w.phi, w.depth_scale,
                              np.full(w.a.size, w.direction[0]), np.full(w.a.size, w.direction[1]),
                              np.full(w.a.size, w.depth)]) for w in waves]
     return np.concatenate(rows) if rows else np.zeros((0, WAVE_COLUMNS))

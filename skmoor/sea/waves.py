@@ -97,7 +97,9 @@ class _Components:
         self.omega = np.atleast_1d(np.asarray(omegas, float))
         self.phi = np.atleast_1d(np.asarray(phases, float))
         self.k = wavenumber(self.omega, self.depth, self.g)
-        self._scale = 1.0 / (1.0 - np.exp(-2.0 * self.k * self.depth))
+        # 1 / (1 - exp(-2 k h)): the depth factors' scale (cosh k(z+h) / sinh kh =
+        # (exp(kz) + exp(-k(z+2h))) depth_scale), per component
+        self.depth_scale = 1.0 / (1.0 - np.exp(-2.0 * self.k * self.depth))
 
     def _phase(self, xy, t):
         """(..., n) phase k (x cos b + y sin b) - omega t + phi (t a scalar or an array
@@ -111,7 +113,7 @@ class _Components:
         z = np.clip(z, -self.depth, 0.0)[..., None]
         up = np.exp(self.k * z)
         down = np.exp(-self.k * (z + 2.0 * self.depth))
-        return (up + down) * self._scale, (up - down) * self._scale
+        return (up + down) * self.depth_scale, (up - down) * self.depth_scale
 
     def elevation(self, xy, t=0.0):
         """Free-surface elevation (m) at horizontal positions xy (..., 2 or 3) and times t."""
