@@ -34,6 +34,7 @@ nodal reactions, one contact decision per node and a node-diagonal normal tangen
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -451,26 +452,28 @@ class SeabedKernel(Term):
         self._no_velocity = np.zeros(lines.ndofs)
         self.stride = 6 if lines.hermite else 3
 
-    why_python = "a bathymetry grid"
-
     def lowered(self):
-        return "form" if self.bathymetry is None else None
+        return "form"
 
     @property
     def step_kernel(self):
-        """On a plane bed, (C function, ints, floats): :func:`_seabed` as the compiled time
-        step calls a user's LineForm (by address,
-        :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`; compiled when first asked for),
-        its arrays packed: ints [nel, stride, friction, each end's DOFs (2, nel, 3)], floats
-        [X (2, nel, 3), h, normals (2, nel, 3), offsets (2, nel), k, c, onset, mu_axial,
-        mu_lateral, v0]."""
-        if self.bathymetry is not None:
-            return None
-        ints = np.concatenate([[len(self.h), self.stride, int(self.friction)],
+        """(C function, ints, floats): :func:`_seabed` as the compiled time step calls a
+        user's LineForm (by address, :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`;
+        compiled when first asked for), its arrays packed: ints [nel, stride, friction,
+        the bathymetry's nx and ny (0 on a plane), each end's DOFs (2, nel, 3)], floats
+        [X (2, nel, 3), h, normals (2, nel, 3), offsets (2, nel) (on a bathymetry: room
+        for the planes under the displaced ends), k, c, onset, mu_axial, mu_lateral, v0,
+        the bathymetry's x (nx), y (ny) and heights (nx, ny)]."""
+        grid = self.bathymetry
+        nx, ny = (0, 0) if grid is None else (grid.x.size, grid.y.size)
+        n = np.zeros(self.X.shape) if grid is not None else self.n
+        offset = np.zeros(self.X.shape[:2]) if grid is not None else self.offset
+        ints = np.concatenate([[len(self.h), self.stride, int(self.friction), nx, ny],
                                self.ends.ravel()]).astype(np.int64)
-        floats = np.concatenate([np.ravel(a) for a in (self.X, self.h, self.n, self.offset,
-                                                       self.k, self.c)]
-                                + [[self.onset, self.mu_a, self.mu_l, self.v0]]).astype(float)
+        floats = np.concatenate(
+            [np.ravel(a) for a in (self.X, self.h, n, offset, self.k, self.c)]
+            + [[self.onset, self.mu_a, self.mu_l, self.v0]]
+            + ([] if grid is None else [grid.x, grid.y, grid.heights.ravel()])).astype(float)
         return _seabed_step(), ints, floats
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
@@ -514,17 +517,6 @@ class SeabedKernel(Term):
         length that the bed, not the anchor, carries."""
         return self.resting_plan(weight, nodes)(u)
 
-    def _resting_on_bathymetry(self, u, weight, nodes) -> np.ndarray:
-        """:meth:`resting_support` on a bathymetry: the bed's plane under each node."""
-        dofs = self.lines.nodal_dofs[nodes]  # (n, 3)
-        x = self.lines.points[nodes] + np.asarray(u)[..., dofs]  # (..., n, 3)
-        normal, offset = self.bathymetry.plane(x.reshape(-1, 3))
-        normal, offset = normal.reshape(x.shape), np.reshape(offset, x.shape[:-1])
-        share, k = self._share_and_spring(nodes)
-        g = offset - np.sum(normal * x, axis=-1)
-        pressing = -np.sum(weight[dofs] * normal, axis=-1)  # N, into the bed
-        return _bed_carries(g, pressing, k * share)[..., None] * normal
-
     def _share_and_spring(self, nodes):
         """(half element lengths at each node (m), its stiffest bed spring (N/m2)), kept."""
         key = nodes.tobytes()
@@ -539,17 +531,22 @@ class SeabedKernel(Term):
         return self._resting[key]
 
     def resting_plan(self, weight, nodes):
-        """:meth:`resting_support` of fixed ``nodes`` as a function of u alone, its
-        constant parts computed once: a :class:`RestingSupport` on a flat bed (arrays the
-        compiled step takes too), the general method on a bathymetry."""
+        """:meth:`resting_support` of held ``nodes`` as a function of u alone, its
+        constant parts computed once: a :class:`RestingSupport` (arrays the compiled step
+        takes too)."""
         nodes = np.asarray(nodes, int)
-        if self.bathymetry is not None:
-            return lambda u: self._resting_on_bathymetry(u, weight, nodes)
         share, k = self._share_and_spring(nodes)
-        normal = np.asarray(self._seabed.normal, float)
         dofs = self.lines.nodal_dofs[nodes]
-        height = float(self._seabed.offset) - self.lines.points[nodes] @ normal  # g at u = 0
-        return RestingSupport(dofs, height, -(weight[dofs] @ normal), k * share, normal)
+        if self.bathymetry is None:
+            normal = np.broadcast_to(np.asarray(self._seabed.normal, float), (len(nodes), 3))
+            offset = np.full(len(nodes), float(self._seabed.offset))
+            grid = (np.zeros(0), np.zeros(0), np.zeros((0, 0)))
+        else:  # (the planes under the displaced nodes, made at each call)
+            normal, offset = np.zeros((len(nodes), 3)), np.zeros(len(nodes))
+            b = self.bathymetry
+            grid = (b.x, b.y, b.heights)
+        return RestingSupport(dofs, self.lines.points[nodes], weight[dofs], k * share,
+                              np.ascontiguousarray(normal), offset, grid)
 
     def laid_displacement(self) -> np.ndarray:
         """(ndofs,) displacement (m) of the state the static friction counts the slip
@@ -671,10 +668,42 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
                                                     + mu_l * (Q / rho - vl[p] * vl[q] / rho**3))
 
 
+@njit(cache=True)
+def _cell(axis, x):
+    """``water_grids.interpolation`` of one value: (i0, i1, f), held at the axis' ends."""
+    if axis.size == 1:
+        return 0, 0, 0.0
+    i1 = min(max(np.searchsorted(axis, x), 1), axis.size - 1)
+    f = min(max((x - axis[i1 - 1]) / (axis[i1] - axis[i1 - 1]), 0.0), 1.0)
+    return i1 - 1, i1, f
+
+
+@njit(cache=True)
+def bed_plane(x, y, gx, gy, heights, normal):
+    """``Bathymetry.plane`` at the point (x, y) (m) of the grid gx (nx,), gy (ny,),
+    heights (nx, ny): the bed's upward unit normal into normal (3,), and n.P returned."""
+    i0, i1, fx = _cell(gx, x)
+    j0, j1, fy = _cell(gy, y)
+    z = heights
+    sx = sy = 0.0
+    if gx.size > 1 and gx[0] < x < gx[-1]:
+        sx = ((1 - fy) * (z[i1, j0] - z[i0, j0]) + fy * (z[i1, j1] - z[i0, j1])) / (
+            gx[i1] - gx[i0])
+    if gy.size > 1 and gy[0] < y < gy[-1]:
+        sy = ((1 - fx) * (z[i0, j1] - z[i0, j0]) + fx * (z[i1, j1] - z[i1, j0])) / (
+            gy[j1] - gy[j0])
+    size = math.sqrt(sx * sx + sy * sy + 1.0)
+    normal[0], normal[1], normal[2] = -sx / size, -sy / size, 1.0 / size
+    height = ((1 - fx) * ((1 - fy) * z[i0, j0] + fy * z[i0, j1])
+              + fx * ((1 - fy) * z[i1, j0] + fy * z[i1, j1]))
+    return normal[0] * x + normal[1] * y + normal[2] * height
+
+
 def _seabed_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
-    """:func:`_seabed` on the buffers of ``SeabedKernel.step_kernel``."""
-    nel, stride, friction = ints[0], ints[1], ints[2] > 0
-    ends = carray(advanced(ints, 3), (2, nel, 3))
+    """:func:`_seabed` on the buffers of ``SeabedKernel.step_kernel`` (on a bathymetry,
+    the planes under the displaced ends first, as ``SeabedKernel._run``)."""
+    nel, stride, friction, nx, ny = ints[0], ints[1], ints[2] > 0, ints[3], ints[4]
+    ends = carray(advanced(ints, 5), (2, nel, 3))
     X = carray(floats, (2, nel, 3))
     h = carray(advanced(floats, 6 * nel), (nel,))
     normals = carray(advanced(floats, 7 * nel), (2, nel, 3))
@@ -682,9 +711,18 @@ def _seabed_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     k, c = carray(advanced(floats, 15 * nel), (nel,)), carray(advanced(floats, 16 * nel), (nel,))
     at = 17 * nel
     onset, mu_a, mu_l, v0 = floats[at], floats[at + 1], floats[at + 2], floats[at + 3]
+    u = carray(u_p, (ndofs,))
+    if nx > 0:
+        gx, gy = carray(advanced(floats, at + 4), (nx,)), carray(advanced(floats, at + 4 + nx), (ny,))
+        heights = carray(advanced(floats, at + 4 + nx + ny), (nx, ny))
+        for end in range(2):
+            for e in range(nel):
+                offsets[end, e] = bed_plane(X[end, e, 0] + u[ends[end, e, 0]],
+                                            X[end, e, 1] + u[ends[end, e, 1]], gx, gy,
+                                            heights, normals[end, e])
     nloc, blocks = 2 * stride, nel if tangent else 0
     _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
-            carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), carray(R_p, (ndofs,)),
+            u, carray(ud_p, (ndofs,)), carray(R_p, (ndofs,)),
             carray(K_p, (blocks, nloc, nloc)), carray(C_p, (blocks, nloc, nloc)), stride)
 
 
@@ -692,25 +730,48 @@ _seabed_step = compiled_when_asked(_seabed_packed)  # (its C function, when firs
 
 
 class RestingSupport:
-    """The flat bed's support (N) of held line-end nodes resting on it
+    """The bed's support (N) of held line-end nodes resting on it
     (:meth:`SeabedKernel.resting_support`; the compiled step's report holds the same
-    arithmetic), from their DOFs ``dofs`` (n, 3), gaps
-    at u = 0 ``height`` (m), weights pressing into the bed ``pressing`` (N), spring
-    stiffness times half element lengths ``stiffness`` (N/m) and the bed's ``normal``."""
+    arithmetic, :func:`resting_support`), from their DOFs ``dofs`` (n, 3), reference
+    positions ``points`` (n, 3; m), weights ``weights`` (n, 3; N), spring stiffness times
+    half element lengths ``stiffness`` (N/m) and the bed: a plane's normal (n, 3) and
+    offset n.P (n,) under each, or a bathymetry ``grid`` (x, y, heights) whose planes
+    under the displaced nodes are taken at each call (into normal and offset)."""
 
-    def __init__(self, dofs, height, pressing, stiffness, normal):
-        self.dofs, self.height, self.pressing = dofs, height, pressing
-        self.stiffness, self.normal = stiffness, normal
+    def __init__(self, dofs, points, weights, stiffness, normal, offset, grid):
+        self.dofs, self.points, self.weights, self.stiffness = dofs, points, weights, stiffness
+        self.normal, self.offset, self.grid = normal, offset, grid
+
+    def arrays(self):
+        """(dofs, points, weights, stiffness, normal, offset, grid x, y, heights)."""
+        return (self.dofs, self.points, self.weights, self.stiffness, self.normal,
+                self.offset, *self.grid)
 
     def __call__(self, u):
         """(n, 3) support at u (ndofs,), or (m, n, 3) at m states u (m, ndofs)."""
-        g = self.height - np.asarray(u)[..., self.dofs] @ self.normal
-        return _bed_carries(g, self.pressing, self.stiffness)[..., None] * self.normal
+        u = np.asarray(u)
+        states = u.reshape(-1, u.shape[-1])
+        out = np.zeros((len(states), len(self.dofs), 3))
+        arrays = tuple(np.array(a) for a in self.arrays())  # (normal, offset: scratch)
+        for state, support in zip(states, out):
+            resting_support(state, *arrays, support)
+        return out.reshape(u.shape[:-1] + (len(self.dofs), 3))
 
 
-def _bed_carries(g, pressing, stiffness):
-    """The weight (N) pressing into the bed at gaps g (m) that springs of ``stiffness``
-    (N/m) do not carry: none where the node is above the bed by more than 1e-6 m."""
-    carried = np.clip(pressing - stiffness * np.maximum(g, 0.0), 0.0, None)
-    carried[g < -1e-6] = 0.0
-    return carried
+@njit(cache=True)
+def resting_support(u, dofs, points, weights, stiffness, normal, offset, x, y, heights, out):
+    """out[i] += the support (N) of held node i at u (:class:`RestingSupport`): the weight
+    pressing into the bed that its spring does not carry, along the bed's normal; none
+    where the node is above the bed by more than 1e-6 m or pulled upwards."""
+    for i in range(dofs.shape[0]):
+        if x.size:  # the bathymetry's plane under the displaced node
+            offset[i] = bed_plane(points[i, 0] + u[dofs[i, 0]], points[i, 1] + u[dofs[i, 1]],
+                                  x, y, heights, normal[i])
+        g, pressing = offset[i], 0.0
+        for c in range(3):
+            g -= normal[i, c] * (points[i, c] + u[dofs[i, c]])
+            pressing -= weights[i, c] * normal[i, c]
+        if g >= -1e-6:
+            carried = max(pressing - stiffness[i] * max(g, 0.0), 0.0)
+            for c in range(3):
+                out[i, c] += carried * normal[i, c]

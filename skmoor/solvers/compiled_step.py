@@ -9,12 +9,13 @@ is one numba function, so that a step costs what its arithmetic costs.
 
 It covers P1 and bending (Hermite: 12 x 12 element blocks) lines with any built-in strain
 law or a user's (:mod:`skmoor.lines.user_law`), MoorDyn-style or skmoor's Morison terms
-in still water, a current and Airy waves (at the displaced nodes), a plane sea bed (these
-three called by address as a user's LineForm is, their ``step_kernel``, each compiled
-only when a run has it), the dry part of the lines under a flat surface or Airy waves
-(``SurfaceTerm``: zero while every node stays half a diameter under it; a step that brings
-one up is handed to the Python step), fixed, prescribed and free points (buoyancy, drag in still water, a current
-and Airy waves), small-rotation rigid bodies with quadratic drag (in the same water) whose
+in still water, a current and Airy waves (at the displaced nodes), a sea bed, plane or a
+bathymetry grid (its plane under each displaced node; these three called by address as a
+user's LineForm is, their ``step_kernel``, each compiled only when a run has it), the dry
+part of the lines under a flat surface or Airy waves (``SurfaceTerm``: zero while every
+node stays half a diameter under it; a step that brings one up is handed to the Python
+step), fixed, prescribed and free points (buoyancy, drag in still water, a current and
+Airy waves), small-rotation rigid bodies with quadratic drag (in the same water) whose
 applied load depends on time only
 (``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
 loads in one call), and the users' LineForms, point and body loads whose code is
@@ -22,7 +23,7 @@ generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
 that lowers to none (a form on another path or with fields given as a function, water
-fields, a bathymetry, a load in NumPy, radiation memory, exact
+fields, a load in NumPy, radiation memory, exact
 rotations) makes it return None, its name and reason in :data:`last_refusal`, and the
 step then runs in Python. When modified Newton does not converge the step retries with
 the line search here, as the Python step does; a step that fails that too goes to the
@@ -52,6 +53,7 @@ from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
 from ..sea.hydro import current_speed, wave_elevation, wave_kinematics
+from ..sea.seabed import resting_support
 from . import newton
 
 # numba freezes these into the cached step, whose cache follows this file's source only
@@ -726,23 +728,23 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
 
 
 def _resting(system):
-    """The arrays of ``system.resting_plans`` (flat bed) for :func:`_report`: the end rows
-    (side x lines + line) and each held node's DOFs, gap at u = 0, pressing weight,
-    stiffness and the bed's normal; empty arrays without a bed or held ends."""
+    """The held ends' bed support (``system.resting_plans``) for :func:`_report`: the end
+    rows (side x lines + line), :meth:`~skmoor.sea.seabed.RestingSupport.arrays` of all
+    held nodes and room for their supports; no rows without a bed or held ends."""
     nlines = len(system.fairlead_dofs)
     rows, parts = [], []
     for side, held, plan in system.resting_plans:
         rows += [side * nlines + k for k in held]
-        parts.append(plan)
+        parts.append(plan.arrays())
     if not parts:
-        return (np.zeros(0, np.int64), np.zeros((0, 3), np.int64), np.zeros(0), np.zeros(0),
-                np.zeros(0), np.zeros(3))
-    return (np.asarray(rows, np.int64),
-            np.ascontiguousarray(np.concatenate([p.dofs for p in parts]), np.int64),
-            np.concatenate([p.height for p in parts]).astype(float),
-            np.concatenate([p.pressing for p in parts]).astype(float),
-            np.concatenate([p.stiffness for p in parts]).astype(float),
-            np.asarray(parts[0].normal, float))
+        return (np.zeros(0, np.int64), np.zeros((0, 3), np.int64), np.zeros((0, 3)),
+                np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3)), np.zeros(0), np.zeros(0),
+                np.zeros(0), np.zeros((0, 0)), np.zeros((0, 3)))
+    joined = [np.ascontiguousarray(np.concatenate([p[k] for p in parts]),
+                                   np.int64 if k == 0 else float) for k in range(6)]
+    return (np.asarray(rows, np.int64), *joined,
+            *(np.ascontiguousarray(a, float) for a in parts[0][6:]),
+            np.zeros((len(rows), 3)))  # (room for the supports)
 
 
 def _held_inertia(system):
@@ -777,21 +779,20 @@ def _less_held_inertia(held, a, driven, ends):
 @njit(cache=True, no_cpython_wrapper=True)
 def _report(work, report_dofs, resting, u, ud, ends):
     """The full line state (u, ud) and the end forces -R_full[report_dofs] (N) from the
-    residual :func:`_residual` left in ``work``, plus the flat bed's support of held ends
+    residual :func:`_residual` left in ``work``, plus the bed's support of held ends
     resting on it (``resting``, from :func:`_resting`)."""
     _copy(u, work[0])
     _copy(ud, work[1])
     for k in range(report_dofs.size):
         ends[k] = -work[2][report_dofs[k]]
-    rows, dofs, height, pressing, stiffness, normal = resting
-    for i in range(rows.size):  # as seabed.RestingSupport
-        g = height[i]
-        for c in range(3):
-            g -= u[dofs[i, c]] * normal[c]
-        if g >= -1e-6:
-            carried = max(pressing[i] - stiffness[i] * max(g, 0.0), 0.0)
+    rows, dofs, points, weights, stiffness, normal, offset, x, y, heights, out = resting
+    if rows.size:  # the bed's support of the held ends (seabed.RestingSupport's)
+        out[:] = 0.0
+        resting_support(u, dofs, points, weights, stiffness, normal, offset, x, y, heights,
+                        out)
+        for i in range(rows.size):
             for c in range(3):
-                ends[3 * rows[i] + c] += carried * normal[c]
+                ends[3 * rows[i] + c] += out[i, c]
 
 
 @njit(cache=True, no_cpython_wrapper=True)

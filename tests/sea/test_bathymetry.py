@@ -79,3 +79,48 @@ def test_line_across_a_bathymetry_slope_is_an_in_plane_catenary():
     assert bed.penetration(position[1:-1]) == pytest.approx(rest, rel=1e-6)
     assert -fairlead[0][0] == pytest.approx(planar.H, rel=2e-3)
     assert anchor[0][0] == pytest.approx(planar.H, rel=2e-3)
+
+
+def test_the_compiled_kernel_takes_the_planes_under_the_displaced_nodes():
+    """The bed kernel as the compiled time step calls it (its C function on the packed
+    buffers, SeabedKernel.step_kernel) gives the Python kernel's residual and element
+    blocks on a ridged bathymetry with friction, at a state whose nodes have moved 3 m
+    along x across the ridge: the bed's plane under each displaced node (planes under the
+    reference nodes would differ by the ridge's slope change, checked below)."""
+    from numba import njit
+
+    from skmoor.fem.native_calls import call_form
+
+    @njit
+    def compiled(address, u, ud, t, ints, floats, R, K, C, tangent):
+        call_form(address, u.ctypes.data, ud.ctypes.data, u.size, t, ints.ctypes.data,
+                  floats.ctypes.data, R.ctypes.data, K.ctypes.data, C.ctypes.data, tangent)
+
+    x, y = np.array([-200.0, -20.0, 0.0, 300.0]), np.array([-100.0, 100.0])
+    X, _ = np.meshgrid(x, y, indexing="ij")
+    ridge = Bathymetry(x, y, -DEPTH + 3.0 * (X == 0.0) + 0.0 * X)
+    points = np.linspace([-150.0, -5.0, -DEPTH - 0.5], [150.0, 5.0, -DEPTH + 1.0], 31)
+    lines = LineSet([Line.from_polyline(points, CHAIN)], law="engineering")
+    term = seabed_term(lines, Seabed(DEPTH, bathymetry=ridge, mu_axial=0.3, mu_lateral=0.6))
+    term.bind(type("S", (), {"lines": lines})())
+    rng = np.random.default_rng(4)
+    u = rng.normal(scale=0.05, size=lines.ndofs)
+    u[0::3] += 3.0
+    v = rng.normal(scale=0.1, size=lines.ndofs)
+    nel = lines.mesh.t.shape[1]
+    expected = [np.zeros(lines.ndofs), np.zeros((nel, 6, 6)), np.zeros((nel, 6, 6))]
+    term.add_to(u, v, 0.0, *expected)
+    function, ints, floats = term.step_kernel
+    got = [np.zeros(lines.ndofs), np.zeros((nel, 6, 6)), np.zeros((nel, 6, 6))]
+    compiled(function.address, u, v, 0.0, ints, floats, *got, 1)
+    for a, b in zip(got, expected):
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-9 * np.abs(b).max())
+    from skmoor.fem.patterns import NO_BLOCKS
+    from skmoor.sea.seabed import _seabed
+
+    normals, offsets = ridge.plane(term.X)  # the planes under the reference nodes
+    at_reference = np.zeros(lines.ndofs)
+    _seabed(term.X, term.ends, term.h, normals, offsets, term.k, term.c, term.onset,
+            term.mu_a, term.mu_l, term.v0, term.friction, u, v, at_reference, NO_BLOCKS,
+            NO_BLOCKS, term.stride)
+    assert np.abs(at_reference - expected[0]).max() > 0.01 * np.abs(expected[0]).max()

@@ -129,6 +129,29 @@ def test_bodies_with_drag_step_as_the_python_newton(water):
         assert "different seas" in compiled_step.last_refusal
 
 
+@pytest.mark.parametrize("EI", [0.0, 1e5])
+def test_a_chain_on_a_bathymetry_steps_as_the_python_newton(EI):
+    """The chain heaved and surged on a bumpy bed (a Bathymetry: bilinear heights, the
+    contact along each cell's normal under the displaced node), on P1 and on bending
+    elements: the compiled step takes it (the bed's plane under each node at each
+    residual) and steps as the Python Newton, its reports' anchor support on the
+    bathymetry's plane too (test_reported_end_forces_and_line_state_are_the_systems). The
+    bed's shape moves the chain by decimetres from its run on the flat bed (the planes
+    under displaced nodes: tests/sea/test_bathymetry.py)."""
+    motion = lambda t: np.array([[8.0 * np.sin(0.6 * t), 0.0, 2.0 * np.sin(0.6 * t)]])  # noqa: E731
+    runs = {}
+    for name, bed in (("bathymetry", bumpy_bed()), ("flat", None)):
+        system, x0 = _chain_on_the_bed(motion, EI=EI, bathymetry=bed)
+        assert compiled_step.build(system, None, Scheme.generalized_alpha(0.5), TOL, 20) \
+            is not None, compiled_step.last_refusal
+        if name == "bathymetry":
+            assert_same_runs(system, x0, np.zeros(system.n), 0.05, 40,
+                             scheme=Scheme.generalized_alpha(0.5))
+        runs[name], _ = run(system, x0, np.zeros(system.n), 0.05, 40,
+                            scheme=Scheme.generalized_alpha(0.5))
+    assert np.abs(runs["bathymetry"] - runs["flat"]).max() > 0.1
+
+
 @pytest.mark.parametrize("friction, surface", [(0.0, False), (0.6, False), (0.0, True)])
 def test_chain_on_the_bed_with_drag_steps_as_the_python_newton(friction, surface):
     """A chain from the bed to a fairlead 1 m under the surface, heaved 2 m (prescribed),
@@ -287,10 +310,21 @@ def test_what_the_compiled_step_leaves_to_python_is_named():
     assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is not None
 
 
-def _chain_on_the_bed(motion, EI=0.0, friction=0.0, hydro=True):
+def bumpy_bed():
+    """A Bathymetry under the chain of :func:`_chain_on_the_bed`: z = -30 m at its anchor,
+    rising 3 % along x and 1 % along y, a 0.8 m ridge across x = -63 m."""
+    from skmoor.sea.seabed import Bathymetry
+
+    x, y = np.array([-120.0, -63.0, -20.0, 20.0]), np.array([-30.0, 0.0, 30.0])
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    return Bathymetry(x, y, -30.0 + 0.03 * (X + 80.0) + 0.01 * Y + 0.8 * (X == -63.0))
+
+
+def _chain_on_the_bed(motion, EI=0.0, friction=0.0, hydro=True, bathymetry=None):
     """A 12-element chain on a sea bed (friction: its axial coefficient, 1.5 times that
-    laterally) with drag and added mass (``hydro``), its fairlead moved by ``motion``, and
-    its static state; EI > 0 (N m2): on bending (Hermite) elements."""
+    laterally; a ``bathymetry``, or flat at 30 m) with drag and added mass (``hydro``),
+    its fairlead moved by ``motion``, and its static state; EI > 0 (N m2): on bending
+    (Hermite) elements."""
     from skmoor.lines.catenary import solve_catenary
     from skmoor.sea.hydro import line_hydrodynamics
     from skmoor.sea.seabed import Seabed, seabed_term
@@ -301,13 +335,13 @@ def _chain_on_the_bed(motion, EI=0.0, friction=0.0, hydro=True):
                          length=100.0, seabed_z=-30.0)
     lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 12)], law="engineering")
     bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter,
-                 mu_axial=friction, mu_lateral=1.5 * friction)
+                 mu_axial=friction, mu_lateral=1.5 * friction, bathymetry=bathymetry)
     terms = [seabed_term(lines, bed)] + ([line_hydrodynamics(lines)] if hydro else [])
     system = skmoor.System(lines, fairleads="prescribed", motion=motion, terms=terms)
     return system, skmoor.solve_static(system).x
 
 
-@pytest.mark.parametrize("which", ["bodies", "chain", "bending chain"])
+@pytest.mark.parametrize("which", ["bodies", "chain", "bending chain", "chain on a bathymetry"])
 @pytest.mark.parametrize("compiled", [True, False])
 def test_reported_end_forces_and_line_state_are_the_systems(which, compiled):
     """States integrate reports (report_every) carry the lines' full state and end forces
@@ -322,7 +356,9 @@ def test_reported_end_forces_and_line_state_are_the_systems(which, compiled):
     else:
         system, x0 = _chain_on_the_bed(lambda t: np.array([[0.0, 0.0, 2.0 * np.sin(0.6 * t)]]),
                                        EI=1e5 if which == "bending chain" else 0.0,
-                                       hydro=which == "chain")
+                                       hydro=which != "bending chain",
+                                       bathymetry=bumpy_bed() if "bathymetry" in which
+                                       else None)
     v0 = np.zeros(system.n)
     v0[system.nf:] = 0.1  # the bodies start moving
     reported = 0
