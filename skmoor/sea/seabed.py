@@ -758,7 +758,7 @@ class RestingSupport:
         return out.reshape(u.shape[:-1] + (len(self.dofs), 3))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (in the compiled report: no call)
 def resting_support(u, dofs, points, weights, stiffness, normal, offset, x, y, heights, out):
     """out[i] += the support (N) of held node i at u (:class:`RestingSupport`): the weight
     pressing into the bed that its spring does not carry, along the bed's normal; none
