@@ -49,6 +49,20 @@ def assert_same_runs(system, x0, v0, dt, steps, C=None, scheme=None, rel=1e-9,
         assert np.array_equal(it_fast, it_slow)
 
 
+def runs_of_variants(variants, dt=0.05, steps=40):
+    """{name: (system, x0)}: each taken by the compiled step, the first stepping as the
+    Python Newton (generalized-alpha, rho_inf 0.5, from rest); each one's states (steps,
+    n) by name."""
+    scheme, runs = Scheme.generalized_alpha(0.5), {}
+    for k, (name, (system, x0)) in enumerate(variants.items()):
+        assert compiled_step.build(system, None, scheme, TOL, 20) is not None, \
+            compiled_step.last_refusal
+        if k == 0:
+            assert_same_runs(system, x0, np.zeros(system.n), dt, steps, scheme=scheme)
+        runs[name], _ = run(system, x0, np.zeros(system.n), dt, steps, scheme=scheme)
+    return runs
+
+
 def test_paper_case_steps_as_the_python_newton():
     """The paper's box on its four lines with its Rayleigh damping and sine load."""
     model = skmoor.build(skmoor.paper_case())
@@ -139,16 +153,9 @@ def test_a_chain_on_a_bathymetry_steps_as_the_python_newton(EI):
     bed's shape moves the chain by decimetres from its run on the flat bed (the planes
     under displaced nodes: tests/sea/test_bathymetry.py)."""
     motion = lambda t: np.array([[8.0 * np.sin(0.6 * t), 0.0, 2.0 * np.sin(0.6 * t)]])  # noqa: E731
-    runs = {}
-    for name, bed in (("bathymetry", bumpy_bed()), ("flat", None)):
-        system, x0 = _chain_on_the_bed(motion, EI=EI, bathymetry=bed)
-        assert compiled_step.build(system, None, Scheme.generalized_alpha(0.5), TOL, 20) \
-            is not None, compiled_step.last_refusal
-        if name == "bathymetry":
-            assert_same_runs(system, x0, np.zeros(system.n), 0.05, 40,
-                             scheme=Scheme.generalized_alpha(0.5))
-        runs[name], _ = run(system, x0, np.zeros(system.n), 0.05, 40,
-                            scheme=Scheme.generalized_alpha(0.5))
+    runs = runs_of_variants({
+        "bathymetry": _chain_on_the_bed(motion, EI=EI, bathymetry=bumpy_bed()),
+        "flat": _chain_on_the_bed(motion, EI=EI)})
     assert np.abs(runs["bathymetry"] - runs["flat"]).max() > 0.1
 
 
@@ -474,17 +481,12 @@ def test_a_chain_in_waves_and_a_current_steps_as_the_python_newton(EI):
     motion = lambda t: np.array([[0.0, 0.0, 1.0 * np.sin(0.6 * t)]])  # noqa: E731
     current = Current(profile=SHEAR, heading_deg=30.0)
     waves = JonswapWave(3.0, 9.0, depth=30.0, heading_deg=60.0, n_components=30, seed=3)
-    runs = {}
+    variants = {}
     for name, sea in (("waves", Sea(30.0, current=current, waves=[waves])),
                       ("current", Sea(30.0, current=current))):
         base, x0 = _chain_on_the_bed(motion, EI=EI, hydro=False)
-        system = skmoor.System(base.lines, fairleads="prescribed", motion=motion,
-                               terms=[*base.terms, line_hydrodynamics(base.lines, sea)])
-        assert compiled_step.build(system, None, Scheme.generalized_alpha(0.5), TOL, 20) \
-            is not None, compiled_step.last_refusal
-        if name == "waves":
-            assert_same_runs(system, x0, np.zeros(system.n), 0.05, 40,
-                             scheme=Scheme.generalized_alpha(0.5))
-        runs[name], _ = run(system, x0, np.zeros(system.n), 0.05, 40,
-                            scheme=Scheme.generalized_alpha(0.5))
+        variants[name] = (skmoor.System(base.lines, fairleads="prescribed", motion=motion,
+                                        terms=[*base.terms, line_hydrodynamics(base.lines, sea)]),
+                          x0)
+    runs = runs_of_variants(variants)
     assert np.abs(runs["waves"] - runs["current"]).max() > 0.1
