@@ -577,6 +577,19 @@ def wave_elevation(x, y, t, components):
 
 
 @njit(cache=True)
+def unpacked_water(floats, at, nprofile, ncomponents):
+    """The water of :func:`water_arrays` packed in ``floats`` from ``at`` (the heading, the
+    profile's heights and speeds, the components, in that order) as C arrays: (heading,
+    heights, speeds, components, where the floats after them start)."""
+    heading = carray(advanced(floats, at), (2,))
+    heights = carray(advanced(floats, at + 2), (nprofile,))
+    speeds = carray(advanced(floats, at + 2 + nprofile), (nprofile,))
+    at += 2 + 2 * nprofile
+    components = carray(advanced(floats, at), (ncomponents, WAVE_COLUMNS))
+    return heading, heights, speeds, components, at + WAVE_COLUMNS * ncomponents
+
+
+@njit(cache=True)
 def _water(u, t, ints, at_ints, floats, at):
     """(velocity, acceleration, whether waves move it) of the water at the displaced
     nodes (nodes, 3 each; m/s, m/s2): the current (``Current.velocity``) and the Airy
@@ -590,13 +603,8 @@ def _water(u, t, ints, at_ints, floats, at):
     axes = 3 if ncomponents else 1
     dofs = carray(advanced(ints, at_ints), (axes, nnodes))
     X = carray(advanced(floats, at), (axes, nnodes))
-    at += axes * nnodes
-    heading = carray(advanced(floats, at), (2,))
-    heights = carray(advanced(floats, at + 2), (nprofile,))
-    speeds = carray(advanced(floats, at + 2 + nprofile), (nprofile,))
-    at += 2 + 2 * nprofile
-    components = carray(advanced(floats, at), (ncomponents, WAVE_COLUMNS))
-    at += WAVE_COLUMNS * ncomponents
+    heading, heights, speeds, components, at = unpacked_water(floats, at + axes * nnodes,
+                                                              nprofile, ncomponents)
     water = carray(advanced(floats, at), (nnodes, 3))
     acceleration = carray(advanced(floats, at + 3 * nnodes),
                           (nnodes if ncomponents else 0, 3))

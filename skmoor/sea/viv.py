@@ -33,9 +33,9 @@ from ..fem.form_compiler import compiled_when_asked
 from ..fem.native_calls import advanced
 from ..fem.terms import Term, state_part
 from .hydro import (
-    WAVE_COLUMNS,
     current_speed,
-    wave_components,
+    unpacked_water,
+    water_arrays,
     wave_elevation,
     wave_kinematics,
 )
@@ -139,11 +139,7 @@ class VortexLift(Term):
         (heights m, speeds m/s), the Airy components (:func:`~skmoor.sea.hydro.wave_components`),
         rms_time (s), the state (:attr:`step_state`), scratch (10 n)]."""
         lines, n = self.lines, self.nodes.size
-        moving = self.sea is not None and not self.sea.still
-        current = self.sea.current if moving else None
-        heading, heights, speeds = ([0.0, 0.0], [], []) if current is None else (
-            current.direction[:2], current.z, current.speeds)
-        waves = wave_components(self.sea.waves if moving else [])
+        heading, heights, speeds, waves = water_arrays(self.sea)
         nodal = lines.nodal_dofs
         ints = np.concatenate([[n, len(heights), len(waves)],
                                *(nodal[self.nodes + k].ravel() for k in (0, -1, 1))])
@@ -228,13 +224,8 @@ def _unpacked(ints, floats):
     at = 9 * n
     coefficients = carray(advanced(floats, at), (6, n))
     first = carray(advanced(floats, at + 6 * n), (n,))
-    at += 7 * n
-    heading = carray(advanced(floats, at), (2,))
-    heights = carray(advanced(floats, at + 2), (nprofile,))
-    speeds = carray(advanced(floats, at + 2 + nprofile), (nprofile,))
-    at += 2 + 2 * nprofile
-    waves = carray(advanced(floats, at), (ncomponents, WAVE_COLUMNS))
-    at += ncomponents * WAVE_COLUMNS
+    heading, heights, speeds, waves, at = unpacked_water(floats, at + 7 * n, nprofile,
+                                                         ncomponents)
     rms_time = carray(advanced(floats, at), (1,))
     state = carray(advanced(floats, at + 1), (1 + 7 * n,))
     scratch = carray(advanced(floats, at + 2 + 7 * n), (10, n))
