@@ -564,6 +564,21 @@ def wave_kinematics(x, y, z, t, components, out):
         out[5] -= sh * cos * aw2
 
 
+@njit(cache=True, inline="always")
+def water_kinematics(x, y, z, t, heading, heights, speeds, components, out):
+    """out[0:6] <- the water's velocity (m/s) and local acceleration (m/s2) at (x, y, z)
+    (m) and time t (s), as ``Sea.kinematics``: the current of the heading (unit,
+    horizontal) and profile (heights m, speeds m/s; none: no current) and the Airy
+    components (:func:`wave_kinematics`)."""
+    speed = current_speed(z, heights, speeds) if heights.size else 0.0
+    for c in range(6):
+        out[c] = 0.0
+    if components.shape[0]:
+        wave_kinematics(x, y, z, t, components, out)
+    out[0] += speed * heading[0]
+    out[1] += speed * heading[1]
+
+
 @njit(cache=True)
 def wave_elevation(x, y, t, components):
     """The free surface's elevation (m) of the Airy components (:func:`wave_components`)
@@ -611,21 +626,15 @@ def _water(u, t, ints, at_ints, floats, at):
     if not (nprofile or ncomponents):  # still water
         return water, water, False
     kinematics = np.empty(6)
-    for p in range(nnodes):
-        z = X[0, p] + u[dofs[0, p]]
-        speed = current_speed(z, heights, speeds) if nprofile else 0.0
-        if not ncomponents:
-            water[p, 0] = speed * heading[0]
-            water[p, 1] = speed * heading[1]
-            continue
-        kinematics[:] = 0.0
-        wave_kinematics(X[1, p] + u[dofs[1, p]], X[2, p] + u[dofs[2, p]], z, t, components,
-                        kinematics)
-        water[p, 0] = speed * heading[0] + kinematics[0]
-        water[p, 1] = speed * heading[1] + kinematics[1]
-        water[p, 2] = kinematics[2]
+    for p in range(nnodes):  # (x and y only where waves need them)
+        x = X[1, p] + u[dofs[1, p]] if ncomponents else 0.0
+        y = X[2, p] + u[dofs[2, p]] if ncomponents else 0.0
+        water_kinematics(x, y, X[0, p] + u[dofs[0, p]], t, heading, heights, speeds,
+                         components, kinematics)
         for c in range(3):
-            acceleration[p, c] = kinematics[3 + c]
+            water[p, c] = kinematics[c]
+            if ncomponents:
+                acceleration[p, c] = kinematics[3 + c]
     return water, (acceleration if ncomponents else water), ncomponents > 0
 
 

@@ -751,7 +751,7 @@ class RestingSupport:
         """(n, 3) support at u (ndofs,), or (m, n, 3) at m states u (m, ndofs)."""
         u = np.asarray(u)
         states = u.reshape(-1, u.shape[-1])
-        out = np.zeros((len(states), len(self.dofs), 3))
+        out = np.empty((len(states), len(self.dofs), 3))
         arrays = tuple(np.array(a) for a in self.arrays())  # (normal, offset: scratch)
         for state, support in zip(states, out):
             resting_support(state, *arrays, support)
@@ -760,7 +760,7 @@ class RestingSupport:
 
 @njit(cache=True, inline="always")  # (in the compiled report: no call)
 def resting_support(u, dofs, points, weights, stiffness, normal, offset, x, y, heights, out):
-    """out[i] += the support (N) of held node i at u (:class:`RestingSupport`): the weight
+    """out[i] <- the support (N) of held node i at u (:class:`RestingSupport`): the weight
     pressing into the bed that its spring does not carry, along the bed's normal; none
     where the node is above the bed by more than 1e-6 m or pulled upwards."""
     for i in range(dofs.shape[0]):
@@ -771,7 +771,6 @@ def resting_support(u, dofs, points, weights, stiffness, normal, offset, x, y, h
         for c in range(3):
             g -= normal[i, c] * (points[i, c] + u[dofs[i, c]])
             pressing -= weights[i, c] * normal[i, c]
-        if g >= -1e-6:
-            carried = max(pressing - stiffness[i] * max(g, 0.0), 0.0)
-            for c in range(3):
-                out[i, c] += carried * normal[i, c]
+        carried = max(pressing - stiffness[i] * max(g, 0.0), 0.0) if g >= -1e-6 else 0.0
+        for c in range(3):
+            out[i, c] = carried * normal[i, c]

@@ -32,13 +32,7 @@ from numba import carray, njit
 from ..fem.form_compiler import compiled_when_asked
 from ..fem.native_calls import advanced
 from ..fem.terms import Term, state_part
-from .hydro import (
-    current_speed,
-    unpacked_water,
-    water_arrays,
-    wave_elevation,
-    wave_kinematics,
-)
+from .hydro import unpacked_water, water_arrays, water_kinematics, wave_elevation
 
 RMS_STEPS = 500  # MoorDyn's n_m: steps dtM in the running mean square
 
@@ -238,7 +232,7 @@ def _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch):
     """``VortexLift._flow`` into the scratch rows: q (0-2), v_p (3-5), the node velocity
     (6-8) and the wet fraction (9), per node at time t (s) (the current and the Airy
     waves at the displaced node; z = 0 the still surface)."""
-    kinematics = np.zeros(6)  # the waves' velocity and acceleration at a node
+    kinematics = np.zeros(6)  # the water's velocity and acceleration at a node
     for k in range(X.shape[1]):
         length = 0.0
         for c in range(3):
@@ -248,17 +242,13 @@ def _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch):
         length = math.sqrt(length)
         x, y = X[0, k, 0] + u[dofs[0, k, 0]], X[0, k, 1] + u[dofs[0, k, 1]]
         z = X[0, k, 2] + u[dofs[0, k, 2]]
-        current = current_speed(z, heights, speeds) if heights.size else 0.0
-        kinematics[:] = 0.0
-        eta = 0.0
-        if waves.shape[0]:
-            wave_kinematics(x, y, z, t, waves, kinematics)
-            eta = wave_elevation(x, y, t, waves)
+        water_kinematics(x, y, z, t, heading, heights, speeds, waves, kinematics)
+        eta = wave_elevation(x, y, t, waves) if waves.shape[0] else 0.0
         along = 0.0
         for c in range(3):
             scratch[c, k] /= length
             scratch[6 + c, k] = v[dofs[0, k, c]]
-            flow = -scratch[6 + c, k] + (current * heading[c] if c < 2 else 0.0) + kinematics[c]
+            flow = kinematics[c] - scratch[6 + c, k]
             scratch[3 + c, k] = flow
             along += flow * scratch[c, k]
         for c in range(3):

@@ -52,7 +52,7 @@ from ..fem.patterns import ElementPattern
 from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
-from ..sea.hydro import current_speed, wave_elevation, wave_kinematics
+from ..sea.hydro import water_kinematics, wave_elevation
 from ..sea.seabed import resting_support
 from . import newton
 
@@ -787,7 +787,6 @@ def _report(work, report_dofs, resting, u, ud, ends):
         ends[k] = -work[2][report_dofs[k]]
     rows, dofs, points, weights, stiffness, normal, offset, x, y, heights, out = resting
     if rows.size:  # the bed's support of the held ends (seabed.RestingSupport's)
-        out[:] = 0.0
         resting_support(u, dofs, points, weights, stiffness, normal, offset, x, y, heights,
                         out)
         for i in range(rows.size):
@@ -953,13 +952,8 @@ def _water_at(dx, dy, dz, t, at_points, row):
     reference, water, heading, profile, waves = at_points
     if profile.shape[1] == 0 and waves.shape[0] == 0:
         return False
-    z = reference[row, 2] + dz
-    speed = current_speed(z, profile[0], profile[1]) if profile.shape[1] else 0.0
-    for c in range(6):
-        water[row, c] = 0.0
-    wave_kinematics(reference[row, 0] + dx, reference[row, 1] + dy, z, t, waves, water[row])
-    water[row, 0] += speed * heading[0]
-    water[row, 1] += speed * heading[1]
+    water_kinematics(reference[row, 0] + dx, reference[row, 1] + dy, reference[row, 2] + dz,
+                     t, heading, profile[0], profile[1], waves, water[row])
     return True
 
 
