@@ -37,6 +37,7 @@ from ..lines.cable import CableTerm
 from ..lines.user_law import law_terms
 from ..numerics.banded import LAYOUTS, as_layout
 from ..sea.hydro import PointDrag
+from ..sea.seabed import land_on_bed
 from .dofs import DofMap
 from .frames import BodyFrames
 from .inertia import ExactBodyInertia
@@ -432,24 +433,48 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         return bool(self._terms["lines"]) or self.damped
 
     # --- the nonlinear system
-    def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, layout="sparse"):
+    def line_residual(self, u, ud, t=0.0, load_factor=1.0, tangent=True, layout="sparse",
+                      newton=False):
         """Full cable residual internal - external (N) and its u- and v-derivatives in
-        ``layout`` ('sparse', 'dense' or 'band')."""
-        R, Ke, Ce = self._line_blocks(u, ud, t, load_factor, tangent)
+        ``layout`` ('sparse', 'dense' or 'band'; ``newton``: as :meth:`residual`)."""
+        R, Ke, Ce = self._line_blocks(u, ud, t, load_factor, tangent, newton)
         if not tangent:
             return R, None, None
         return R, *self._sum(self.kernel.pattern, Ke, Ce, layout)
 
-    def _line_blocks(self, u, ud, t, load_factor, tangent):
+    def _line_blocks(self, u, ud, t, load_factor, tangent, newton=False):
         """The cable residual (N) with the element blocks (nel, 6, 6) of its derivatives
-        d/du and d/dv (None without ``tangent``): the cable kernel and every line term."""
+        d/du and d/dv (None without ``tangent``): the cable kernel and every line term
+        (with ``newton``, the Newton matrix's blocks of the terms that have one)."""
         R = -load_factor * self.weight
         Ke = Ce = None
         if tangent:
             Ke, Ce = np.zeros(self._block_shape), np.zeros(self._block_shape)
         for term in self._terms["lines"]:
-            term.add_to(u, ud, t, R, Ke, Ce)
+            if newton and tangent and term.newton_matrix:
+                term.add_to(u, ud, t, R, Ke, Ce, newton=True)
+            else:
+                term.add_to(u, ud, t, R, Ke, Ce)
         return R, Ke, Ce
+
+    @property
+    def bed_landing(self):
+        """The sea bed's :meth:`~skmoor.sea.seabed.SeabedKernel.landing` arrays on this
+        system's columns, or None (no bed); made once per bed term."""
+        bed = next((term for term in self._terms["lines"] if hasattr(term, "landing")), None)
+        if bed is None:
+            return None
+        kept = getattr(self, "_landing", (None, None))
+        if kept[0] is not bed:
+            kept = self._landing = (bed, bed.landing(self.dofs.position))
+        return kept[1]
+
+    def limit_correction(self, x, dx) -> bool:
+        """Stops the line nodes that the time step's Newton correction dx (reduced, m;
+        changed in place) carries across the bed's surface from x at the bed's Newton
+        depth (:func:`~skmoor.sea.seabed.land_on_bed`); whether it stopped any."""
+        landing = self.bed_landing
+        return landing is not None and land_on_bed(x, dx, *landing)
 
     def _sum(self, pattern, Ke, Ce, layout):
         """K, Kv in ``layout``: the element blocks assembled on ``pattern``."""
@@ -507,11 +532,14 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
                     return f"{whose} {kind} term {name!r} ({type(term).__name__})"
         return None
 
-    def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, layout="sparse"):
+    def residual(self, x, v=None, t=0.0, load_factor=1.0, tangent=True, layout="sparse",
+                 newton=False):
         """Reduced residual R(x, v, t) (no inertia, no Rayleigh damping) and its
         derivatives K = dR/dx and Kv = dR/dv (None when zero) in ``layout``: 'sparse'
         (CSR), 'dense' (arrays, faster below a few hundred unknowns) or, without bodies,
-        'band' (:class:`~skmoor.numerics.banded.Band`, half-bandwidth :attr:`bandwidth`)."""
+        'band' (:class:`~skmoor.numerics.banded.Band`, half-bandwidth :attr:`bandwidth`).
+        newton: K is the time step's Newton matrix's (the sea bed's slope stabilized,
+        :func:`~skmoor.sea.seabed.newton_slope`; the same as dR/dx at rest)."""
         if layout not in LAYOUTS:
             raise ValueError(f"System.residual layout: {layout!r} is not one of {LAYOUTS}")
         if layout == "band" and self.nb:
@@ -524,9 +552,10 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         u = self._displacement(x, ends, t)
         ud = self._velocity(x, v, t, J) if self.needs_velocity else None
         if self.nb or not tangent:
-            R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, layout)
+            R_full, K_full, Kv_full = self.line_residual(u, ud, t, load_factor, tangent, layout,
+                                                         newton)
         else:  # no body: the element blocks go straight into the reduced matrices
-            R_full, Ke, Ce = self._line_blocks(u, ud, t, load_factor, True)
+            R_full, Ke, Ce = self._line_blocks(u, ud, t, load_factor, True, newton)
         R = self.dofs.reduce(R_full, J)
         if self.point_masses or self.nb:
             R -= load_factor * self.dead_load

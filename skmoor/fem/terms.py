@@ -23,7 +23,9 @@ mass on the same DOFs (kg; sparse (ndofs, ndofs) on lines), or None. A term with
 memory of the past (:class:`~skmoor.bodies.radiation.PotentialFlow`) also has
 ``term.commit(t, u, v)``, which the time integration calls with the initial state and
 after every accepted step, on the term's DOFs; within a step, ``add_to`` sees a time
-later than the last committed one. ``model.add(term)``
+later than the last committed one. A line term with ``newton_matrix = True`` also takes
+``add_to(..., newton=True)`` from the time step, K then its Newton matrix's rather than
+the exact derivative (the sea bed's, :func:`~skmoor.sea.seabed.newton_slope`). ``model.add(term)``
 puts a term into statics, modes and dynamics alike (its mass included).
 
 :class:`LineForm` turns a residual integrand written as a scikit-fem ``LinearForm``
@@ -54,6 +56,7 @@ class Term:
     # a body term that reads its body's attitude only through :meth:`body_motion` (never off
     # q[3:]) lets an 'exact' body re-base its angles (System.rebase)
     frame_aware = False
+    newton_matrix = False  # add_to takes newton=True (see the module docstring)
     _system = None
     why_python = "no compiled kernel (a user term)"  # why lowered() says None
 

@@ -257,6 +257,17 @@ class Seabed:
         largest static penetration w / k of its lines."""
         if self.damping_onset is not None:
             return float(self.damping_onset)
+        return self._tenth_of_penetration(lines)
+
+    def newton_depth(self, lines) -> float:
+        """The depth (m) the time step's Newton lands a node arriving on the bed at
+        (:func:`land_on_bed`) and the floor of its matrix's damping secant
+        (:func:`newton_slope`): the damping onset, or without one a tenth of the largest
+        static penetration w / k (the default onset)."""
+        onset = self.onset(lines)
+        return onset if onset > 0 else self._tenth_of_penetration(lines)
+
+    def _tenth_of_penetration(self, lines) -> float:
         k, _ = self.cell_coefficients(lines)
         w = np.array([abs(line.line_type.weight) for line in lines.lines])[lines.line_of_cell]
         return float(0.1 * np.max(w / k))
@@ -427,10 +438,13 @@ class SeabedKernel(Term):
     DOFs of the 12 x 12 element blocks (``stride``: where node j's position DOFs start in
     an element block, 3 on P1, 6 on Hermite)."""
 
+    newton_matrix = True
+
     def __init__(self, lines, seabed):
         self.lines = lines
         self.k, self.c = seabed.cell_coefficients(lines)
         self.onset = seabed.onset(lines)
+        self.newton_depth = seabed.newton_depth(lines)
         self.mu_a, self.mu_l = float(seabed.mu_axial), float(seabed.mu_lateral)
         self.v0 = float(seabed.friction_velocity)
         t = lines.mesh.t  # (2, nel)
@@ -463,7 +477,8 @@ class SeabedKernel(Term):
         the bathymetry's nx and ny (0 on a plane), each end's DOFs (2, nel, 3)], floats
         [X (2, nel, 3), h, normals (2, nel, 3), offsets (2, nel) (on a bathymetry: room
         for the planes under the displaced ends), k, c, onset, mu_axial, mu_lateral, v0,
-        the bathymetry's x (nx), y (ny) and heights (nx, ny)]."""
+        the Newton depth (its tangent is the Newton matrix's: the compiled step asks
+        for no other), the bathymetry's x (nx), y (ny) and heights (nx, ny)]."""
         grid = self.bathymetry
         nx, ny = (0, 0) if grid is None else (grid.x.size, grid.y.size)
         n = np.zeros(self.X.shape) if grid is not None else self.n
@@ -472,13 +487,14 @@ class SeabedKernel(Term):
                                self.ends.ravel()]).astype(np.int64)
         floats = np.concatenate(
             [np.ravel(a) for a in (self.X, self.h, n, offset, self.k, self.c)]
-            + [[self.onset, self.mu_a, self.mu_l, self.v0]]
+            + [[self.onset, self.mu_a, self.mu_l, self.v0, self.newton_depth]]
             + ([] if grid is None else [grid.x, grid.y, grid.heights.ravel()])).astype(float)
         return _seabed_step(), ints, floats
 
-    def add_to(self, u, ud, t, R, Ke=None, Ce=None):
+    def add_to(self, u, ud, t, R, Ke=None, Ce=None, newton=False):
         """Adds the residual into R and, with Ke, Ce, its derivatives into the element
-        blocks (the term protocol, :mod:`skmoor.fem.terms`); in a static solve with
+        blocks (the term protocol, :mod:`skmoor.fem.terms`; with ``newton``, Ke is the
+        time step's Newton matrix's: :func:`newton_slope`); in a static solve with
         ``Seabed.static_friction``, the friction of the slip from the as-laid (or the
         reference) state."""
         if self.static_friction is not None and self.lines.static_mode:
@@ -486,16 +502,17 @@ class SeabedKernel(Term):
             return
         if Ke is not None and Ce is None:
             Ce = np.zeros_like(Ke)
-        self._run(u, ud, R, NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce)
+        self._run(u, ud, R, NO_BLOCKS if Ke is None else Ke, NO_BLOCKS if Ce is None else Ce,
+                  newton=newton)
 
-    def _run(self, u, ud, R, Ke, Ce, c=None, v0=None):
+    def _run(self, u, ud, R, Ke, Ce, c=None, v0=None, newton=False):
         n, offset = self.n, self.offset
         if self.bathymetry is not None:  # the bed's normal and height under each node
             n, offset = self.bathymetry.plane(self.X + u[self.ends])
         _seabed(self.X, self.ends, self.h, n, offset, self.k, self.c if c is None else c,
                 self.onset, self.mu_a, self.mu_l, self.v0 if v0 is None else v0,
                 self.friction, u, self._no_velocity if ud is None else ud, R, Ke, Ce,
-                self.stride)
+                self.stride, self.newton_depth if newton else 0.0)
 
     def _add_static(self, u, R, Ke):
         """The bed in a static solve: its spring, and the friction of the slip s = u -
@@ -504,6 +521,26 @@ class SeabedKernel(Term):
         zero = np.zeros_like(self.c)  # no damping: the slip is no velocity
         blocks = NO_BLOCKS if Ke is None else Ke
         self._run(u, slip, R, blocks, blocks, zero, self.static_slip)  # d/ds is d/du
+
+    def landing(self, position):
+        """:func:`land_on_bed`'s arrays after y and dx for the line nodes whose three
+        DOFs are free (``position``: each full DOF's reduced column, -1 held): their
+        columns (m, 3), reference positions (m, 3; m), the bed's normal (m, 3) and offset
+        n.P (m,) under each (a bathymetry's taken at each call), the Newton depth (m) and
+        the bathymetry's x, y and heights (empty on a plane)."""
+        columns = np.asarray(position)[self.lines.nodal_dofs]
+        free = np.all(columns >= 0, axis=1)
+        points = self.lines.points[free]
+        if self.bathymetry is None:
+            normal = np.broadcast_to(np.asarray(self._seabed.normal, float), points.shape)
+            offset = np.full(len(points), float(self._seabed.offset))
+            grid = (np.zeros(0), np.zeros(0), np.zeros((0, 0)))
+        else:
+            normal, offset = np.zeros(points.shape), np.zeros(len(points))
+            grid = (self.bathymetry.x, self.bathymetry.y, self.bathymetry.heights)
+        return (np.ascontiguousarray(columns[free], np.int64), np.ascontiguousarray(points),
+                np.array(normal, float, order="C"), offset, self.newton_depth,
+                *(np.ascontiguousarray(a, float) for a in grid))
 
     def resting_support(self, u, weight, nodes) -> np.ndarray:
         """(len(nodes), 3) support (N) the bed gives the held line-end ``nodes`` resting
@@ -590,11 +627,13 @@ class SeabedKernel(Term):
 
 @njit(cache=True)
 def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction, u, ud, R, Ke,
-            Ce, stride):
+            Ce, stride, newton_depth):
     """Adds seabed_residual into R and seabed_stiffness / seabed_damping into Ke, Ce at
     the two ends of each element (weights h / 2), the bed's upward unit normal and n.P
     (P a point of the bed) at each end in normals (2, nel, 3) and offsets (2, nel); node j's
-    position DOFs start at ``stride`` in the element blocks."""
+    position DOFs start at ``stride`` in the element blocks. newton_depth (m) > 0: Ke is
+    the time step's Newton matrix's, the normal slope the damping's secant
+    (:func:`newton_slope`); 0: the exact derivative."""
     tangent = Ke.shape[0] > 0
     scratch = np.zeros(15)  # one allocation for the five 3-vectors
     vel, rp, a, vl, F = scratch[:3], scratch[3:6], scratch[6:9], scratch[9:12], scratch[12:]
@@ -646,12 +685,14 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
             if not tangent:
                 continue
             o = stride * end
+            # d/dg of the push: the spring and the damping's fade-in
+            slope = (k[e] - c[e] * vn * dHc if newton_depth == 0.0
+                     else newton_slope(k[e], c[e], vn, g, newton_depth))
             for p in range(3):
                 for q in range(3):
                     # through the penetration: the spring, the damping's fade-in, the
                     # friction's normal force; the damping's rate
-                    Ke[e, o + p, o + q] += W * ((k[e] - c[e] * vn * dHc) * n[p] * n[q]
-                                                - k[e] * F[p] * n[q])
+                    Ke[e, o + p, o + q] += W * (slope * n[p] * n[q] - k[e] * F[p] * n[q])
                     Ce[e, o + p, o + q] += W * c[e] * Hc * n[p] * n[q]
             if not friction:
                 continue
@@ -666,6 +707,56 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
                     Ke[e, o + p, stride + q] += scale * G
                     Ce[e, o + p, o + q] += W * N * (mu_a * v0**2 / ra**3 * a[p] * a[q]
                                                     + mu_l * (Q / rho - vl[p] * vl[q] / rho**3))
+
+
+@njit(cache=True)
+def land_on_bed(y, dx, columns, points, normal, offset, depth, x_grid, y_grid, heights):
+    """Stops the nodes that the time step's Newton correction dx (reduced, m; changed in
+    place) carries across the bed's surface from y, one arriving from above at ``depth``
+    (m) below the surface, one leaving it at ``depth`` above (not on the surface, where
+    round-off would decide the contact), each moved back along the bed's normal; whether
+    any was (arrays: :meth:`SeabedKernel.landing`). A Newton matrix made
+    with the node off the bed has no bed in it: it sends an arriving node as deep as the
+    line lets it (centimetres into a spring meant for millimetres) and a node on the bed
+    whose contact force it does not expect as high; the matrix made there sends it back,
+    and Newton cycles across the kink. Stopped there, the next matrix is the right side's
+    (:func:`newton_slope` on the bed). The root is not changed, only the path to it."""
+    if depth <= 0.0:
+        return False
+    landed = False
+    for i in range(columns.shape[0]):
+        px = points[i, 0] + y[columns[i, 0]]
+        py = points[i, 1] + y[columns[i, 1]]
+        pz = points[i, 2] + y[columns[i, 2]]
+        if x_grid.size:  # the bathymetry's plane under the node
+            offset[i] = bed_plane(px, py, x_grid, y_grid, heights, normal[i])
+        n = normal[i]
+        g = offset[i] - (n[0] * px + n[1] * py + n[2] * pz)  # penetration, m
+        g1 = g - (n[0] * dx[columns[i, 0]] + n[1] * dx[columns[i, 1]]
+                  + n[2] * dx[columns[i, 2]])
+        if g <= 0.0 and g1 > depth:  # arriving: at the depth
+            excess = g1 - depth
+        elif g > 0.0 and g1 < -depth:  # leaving: as high above it
+            excess = g1 + depth
+        else:
+            continue
+        for c in range(3):
+            dx[columns[i, c]] += excess * n[c]
+        landed = True
+    return landed
+
+
+@njit(cache=True, inline="always")
+def newton_slope(k, c, vn, g, depth):
+    """The bed's normal slope (N/m2) in the time step's Newton matrix at penetration g > 0
+    (m) and normal velocity vn (m/s): k + c max(-vn, 0) / max(g, depth), the damping's
+    secant from g = 0, never below its exact slope k - c vn dHc/dg (equal inside the
+    fade-in while the node sinks; depth: the onset). From the contact side Newton then
+    cannot step a sinking node off the bed past its root (the exact slope, 0 past the
+    fade-in, sends it up and the next matrix down again: a two-cycle across the kink);
+    for a rising node the fade-in's negative slope is left out. Zero difference at rest:
+    statics and modes see the exact derivative."""
+    return k + c * max(-vn, 0.0) / max(g, depth)
 
 
 @njit(cache=True)
@@ -711,10 +802,12 @@ def _seabed_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     k, c = carray(advanced(floats, 15 * nel), (nel,)), carray(advanced(floats, 16 * nel), (nel,))
     at = 17 * nel
     onset, mu_a, mu_l, v0 = floats[at], floats[at + 1], floats[at + 2], floats[at + 3]
+    newton_depth = floats[at + 4]
+    at += 5
     u = carray(u_p, (ndofs,))
     if nx > 0:
-        gx, gy = carray(advanced(floats, at + 4), (nx,)), carray(advanced(floats, at + 4 + nx), (ny,))
-        heights = carray(advanced(floats, at + 4 + nx + ny), (nx, ny))
+        gx, gy = carray(advanced(floats, at), (nx,)), carray(advanced(floats, at + nx), (ny,))
+        heights = carray(advanced(floats, at + nx + ny), (nx, ny))
         for end in range(2):
             for e in range(nel):
                 offsets[end, e] = bed_plane(X[end, e, 0] + u[ends[end, e, 0]],
@@ -723,7 +816,8 @@ def _seabed_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     nloc, blocks = 2 * stride, nel if tangent else 0
     _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
             u, carray(ud_p, (ndofs,)), carray(R_p, (ndofs,)),
-            carray(K_p, (blocks, nloc, nloc)), carray(C_p, (blocks, nloc, nloc)), stride)
+            carray(K_p, (blocks, nloc, nloc)), carray(C_p, (blocks, nloc, nloc)), stride,
+            newton_depth)
 
 
 _seabed_step = compiled_when_asked(_seabed_packed)  # (its C function, when first asked for)

@@ -53,7 +53,7 @@ from ..lines.bending import HermiteKernel
 from ..lines.cable_kernel import _cable
 from ..numerics import bordered
 from ..sea.hydro import water_kinematics, wave_elevation
-from ..sea.seabed import resting_support
+from ..sea.seabed import land_on_bed, resting_support
 from . import newton
 
 # numba freezes these into the cached step, whose cache follows this file's source only
@@ -343,6 +343,7 @@ class CompiledStep:
                                            np.ravel(system.anchor_dofs)]).astype(np.int64)
         self.held = _held_inertia(system)
         self.resting = _resting(system)
+        self.landing = _landing(system)
         lift = np.array([(p.rho * p.volume - p.mass) * p.g for p in system.point_masses])
         npoints, nbodies = len(system.point_masses), len(system.bodies)
         drag = np.zeros(npoints)
@@ -524,7 +525,7 @@ class CompiledStep:
                      out, iterations, report, self.report_dofs, self.resting, self.held,
                      lines_out, ends_out.reshape(count, -1),
                      np.zeros(len(x)) if trend is None else np.array(trend[0], float),
-                     0.0 if trend is None else float(trend[1]), self.broyden)
+                     0.0 if trend is None else float(trend[1]), self.broyden, self.landing)
         return arguments, (out, iterations, report, lines_out, ends_out)
 
     def steps(self, x, v, a, force_old, times, h, report=None, trend=None):
@@ -561,7 +562,7 @@ class CompiledStep:
 @njit(cache=True)
 def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pres_v,
          driven, pres_a, state, out, iterations, report, report_dofs, resting,
-         held, lines_out, ends_out, a_prev, h_prev, broyden):
+         held, lines_out, ends_out, a_prev, h_prev, broyden, landing):
     """Steps of h from (x, v, a, force = C v + R) of the model ``data`` (a
     :class:`_StepData`), step i to times[i] (s) with the inputs loads[i], pres_u[i],
     pres_v[i], driven[i] (the prescribed ends' inertia on the free DOFs, N; empty rows:
@@ -572,7 +573,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
     accelerations pres_a[i]) into ends_out[i] (report[i] set to 0 when a line is at the
     surface: the caller computes them). a_prev: the acceleration one step (h_prev s) before
     (x, v, a), for the first guess (h_prev 0: none; overwritten); broyden: the scratch of
-    :func:`_broyden`. Returns (the steps done,
+    :func:`_broyden`; landing: the sea bed's (:func:`_landing`). Returns (the steps done,
     the failed step's code: 0 Newton did not converge, -1 a correction not finite, -2 a line
     at the surface, 1 none failed).
 
@@ -636,11 +637,13 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
             if not math.isfinite(size):
                 used = k
                 break
+            landed = land_on_bed(y, B, *landing)  # (System.limit_correction)
             for j in range(n):
                 y[j] += B[j]
             if k == 1:  # the step's change, to scale the tolerance
                 scale = _distance(y, x)
-            if size <= tol * scale + 1e-12 or _error_below(size, previous, tol * scale):
+            if not landed and (size <= tol * scale + 1e-12
+                               or _error_below(size, previous, tol * scale)):
                 _copy(x1, y)
                 it = k
                 break
@@ -654,7 +657,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
             _copy(history[stored], B)
             squares[stored] = _dot(B, B)
             stored += 1
-            tangent = size > BROYDEN_CONTRACTION * previous or stored == BROYDEN_HISTORY
+            tangent = (size > BROYDEN_CONTRACTION * previous or stored == BROYDEN_HISTORY
+                       or landed)
             previous = size
         if it == 0:  # Newton with the line search (dynamics._newton with full=True)
             for j in range(n):
@@ -745,6 +749,16 @@ def _resting(system):
     return (np.asarray(rows, np.int64), *joined,
             *(np.ascontiguousarray(a, float) for a in parts[0][6:]),
             np.zeros((len(rows), 3)))  # (room for the supports)
+
+
+def _landing(system):
+    """The sea bed's :func:`~skmoor.sea.seabed.land_on_bed` arrays
+    (``System.bed_landing``); no nodes and depth 0 without a bed."""
+    landing = system.bed_landing
+    if landing is not None:
+        return landing
+    return (np.zeros((0, 3), np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), 0.0,
+            np.zeros(0), np.zeros(0), np.zeros((0, 0)))
 
 
 def _held_inertia(system):

@@ -437,6 +437,9 @@ class _Stepper:
         inertia_old = am * (M @ a if G_old is None else M @ a + G_old) + af * force_old
         previous = (x, v, a, G_old, h, gamma)
         extra = self.driven(t1)
+        # the sea bed's Newton matrix and landing (a System's; a bare system has neither)
+        limit = getattr(system, "limit_correction", None)
+        newton = {"newton": True} if limit is not None else {}
 
         def inertia(y, v1, a1, tangent=False):
             """M a1 plus the system's state-dependent inertia G1 (momentum-consistent over
@@ -451,7 +454,8 @@ class _Stepper:
             """alpha-level balance at x1 = y, and (when asked) its tangent."""
             a1 = (y - x_pred) / (beta * h**2)
             v1 = v_pred + gamma * h * a1
-            R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, layout=layout)
+            R1, K1, Kv1 = system.residual(y, v1, t1, tangent=tangent, layout=layout,
+                                          **newton)
             if extra is not None:
                 R1 = R1 + extra
             inertia1, slopes, _ = inertia(y, v1, a1, tangent)
@@ -470,9 +474,11 @@ class _Stepper:
         # stall from it, the step again from constant velocity (robust on stiff axial
         # modes) with a line search
         guess = self.first_guess(x, v, a, h)
-        x1, it = _newton(balance, guess, x, matrix, self.tol, self.maxiter, full=False)
+        x1, it = _newton(balance, guess, x, matrix, self.tol, self.maxiter, full=False,
+                         limit=limit)
         if x1 is None or x1 is False:
-            x1, more = _newton(balance, x + h * v, x, matrix, self.tol, self.maxiter, full=True)
+            x1, more = _newton(balance, x + h * v, x, matrix, self.tol, self.maxiter, full=True,
+                               limit=limit)
             it += more
         if x1 is None:
             return None, f"Newton did not converge in {self.maxiter} iterations"

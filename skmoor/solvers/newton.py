@@ -82,7 +82,7 @@ class _IterationMatrix:
 LINE_SEARCH = 6  # halvings of a full-Newton correction that does not lower the residual
 
 
-def _newton(balance, x1, x0, matrix, tol, maxiter, full):
+def _newton(balance, x1, x0, matrix, tol, maxiter, full, limit=None):
     """Solve balance(x1) = 0 from x1 with the factorized ``matrix`` (refreshed when
     convergence slows: a correction shrinking by less than ``CONTRACTION``, and with
     ``full`` where the line search ran out of halvings too). Returns (x1, iterations),
@@ -96,7 +96,10 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
     it stops when the error a correction leaves is below the tolerance too
     (:func:`error_below`). With ``full`` it backtracks, the matrix made new at the start: a correction that does
     not lower the residual's norm is halved (up to ``LINE_SEARCH`` times) until it does
-    (Armijo, 1e-4), which breaks the two-cycles Newton falls into across such a kink."""
+    (Armijo, 1e-4), which breaks the two-cycles Newton falls into across such a kink.
+    limit(x1, dx): changes a correction in place before it is taken, True when it did (the
+    sea bed's landing, ``System.limit_correction``); such a correction does not end the
+    iteration, and modified Newton makes its matrix new after it."""
     B, A = balance(x1, tangent=full or matrix.factor is None)
     previous = scale = np.inf
     norm = np.linalg.norm(B) if full else 0.0
@@ -115,12 +118,13 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
         size = np.max(np.abs(dx), initial=0.0)
         if not math.isfinite(size):
             return False, it
+        landed = not full and limit is not None and limit(x1, dx)
         x_new = x1 + dx
         if it == 1:  # the step's change, to scale the tolerance
             scale = np.max(np.abs(x_new - x0), initial=0.0)
-        if size <= tol * scale + 1e-12:
+        if not landed and size <= tol * scale + 1e-12:
             return x_new, it
-        if not full and error_below(size, previous, tol * scale):
+        if not full and not landed and error_below(size, previous, tol * scale):
             return x_new, it
         if not full:
             stalls = stalls + 1 if A is not None and it > 1 and size > STALL * previous else 0
@@ -128,7 +132,8 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full):
                 return None, it  # cycling across a kink (a node at the bed): the line search
             steps.append(dx)
             x1 = x_new
-            slow = size > BROYDEN_CONTRACTION * previous or len(steps) == BROYDEN_HISTORY
+            slow = (size > BROYDEN_CONTRACTION * previous or len(steps) == BROYDEN_HISTORY
+                    or landed)
             previous = size
             B, A = balance(x1, tangent=slow)
             continue

@@ -109,7 +109,7 @@ def test_the_compiled_kernel_takes_the_planes_under_the_displaced_nodes():
     v = rng.normal(scale=0.1, size=lines.ndofs)
     nel = lines.mesh.t.shape[1]
     expected = [np.zeros(lines.ndofs), np.zeros((nel, 6, 6)), np.zeros((nel, 6, 6))]
-    term.add_to(u, v, 0.0, *expected)
+    term.add_to(u, v, 0.0, *expected, newton=True)  # (the compiled step's blocks)
     function, ints, floats = term.step_kernel
     got = [np.zeros(lines.ndofs), np.zeros((nel, 6, 6)), np.zeros((nel, 6, 6))]
     compiled(function.address, u, v, 0.0, ints, floats, *got, 1)
@@ -122,5 +122,5 @@ def test_the_compiled_kernel_takes_the_planes_under_the_displaced_nodes():
     at_reference = np.zeros(lines.ndofs)
     _seabed(term.X, term.ends, term.h, normals, offsets, term.k, term.c, term.onset,
             term.mu_a, term.mu_l, term.v0, term.friction, u, v, at_reference, NO_BLOCKS,
-            NO_BLOCKS, term.stride)
+            NO_BLOCKS, term.stride, 0.0)
     assert np.abs(at_reference - expected[0]).max() > 0.01 * np.abs(expected[0]).max()
