@@ -709,7 +709,7 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
                                                     + mu_l * (Q / rho - vl[p] * vl[q] / rho**3))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def land_on_bed(y, dx, columns, points, normal, offset, depth, x_grid, y_grid, heights):
     """Stops the nodes that the time step's Newton correction dx (reduced, m; changed in
     place) carries across the bed's surface from y, one arriving from above at ``depth``

@@ -590,6 +590,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
     B, trial, dx = work[8], work[13], work[14]
     x_pred, v_pred, inertia_old, y = work[15], work[16], work[17], work[18]
     history, squares = broyden
+    bed_columns, bed_points, bed_normal, bed_offset, bed_depth, bed_x, bed_y, bed_z = landing
     yes, no = n >= 0, n < 0  # plain bools: literal ones would compile _balance again
     balance_at, residual_at, solve_at = data.callees[0], data.callees[1], data.callees[5]
     memories, commit_at = data.forms[10], data.callees[6]  # kernels with a compiled commit
@@ -637,7 +638,8 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
             if not math.isfinite(size):
                 used = k
                 break
-            landed = land_on_bed(y, B, *landing)  # (System.limit_correction)
+            landed = land_on_bed(y, B, bed_columns, bed_points, bed_normal, bed_offset,
+                                 bed_depth, bed_x, bed_y, bed_z)  # (System.limit_correction)
             for j in range(n):
                 y[j] += B[j]
             if k == 1:  # the step's change, to scale the tolerance
