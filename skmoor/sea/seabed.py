@@ -528,19 +528,21 @@ class SeabedKernel(Term):
         columns (m, 3), reference positions (m, 3; m), the bed's normal (m, 3) and offset
         n.P (m,) under each (a bathymetry's taken at each call), the Newton depth (m) and
         the bathymetry's x, y and heights (empty on a plane)."""
-        columns = np.asarray(position)[self.lines.nodal_dofs]
-        free = np.all(columns >= 0, axis=1)
+        columns = np.asarray(position, np.int64)[self.lines.nodal_dofs]
+        free = columns.min(axis=1) >= 0
         points = self.lines.points[free]
+        m = len(points)
         if self.bathymetry is None:
-            normal = np.broadcast_to(np.asarray(self._seabed.normal, float), points.shape)
-            offset = np.full(len(points), float(self._seabed.offset))
+            normal = np.empty((m, 3))
+            normal[:] = self._seabed.normal
+            offset = np.full(m, float(self._seabed.offset))
             grid = (np.zeros(0), np.zeros(0), np.zeros((0, 0)))
         else:
-            normal, offset = np.zeros(points.shape), np.zeros(len(points))
-            grid = (self.bathymetry.x, self.bathymetry.y, self.bathymetry.heights)
-        return (np.ascontiguousarray(columns[free], np.int64), np.ascontiguousarray(points),
-                np.array(normal, float, order="C"), offset, self.newton_depth,
-                *(np.ascontiguousarray(a, float) for a in grid))
+            normal, offset = np.zeros((m, 3)), np.zeros(m)
+            grid = tuple(np.ascontiguousarray(a, float) for a in
+                         (self.bathymetry.x, self.bathymetry.y, self.bathymetry.heights))
+        return (columns[free], np.ascontiguousarray(points, float), normal, offset,
+                self.newton_depth, *grid)
 
     def resting_support(self, u, weight, nodes) -> np.ndarray:
         """(len(nodes), 3) support (N) the bed gives the held line-end ``nodes`` resting
