@@ -554,9 +554,12 @@ class CompiledStep:
         failure = (None if code == 1 else TO_PYTHON if code == -2 else
                    f"Newton did not converge in {self.maxiter} iterations" if code == 0
                    else "the Newton step is not finite")
-        return [((out[0, i], out[1, i], out[2, i], out[3, i], None), int(iterations[i]),
-                 ((lines_out[0, i], lines_out[1, i]), (ends_out[i, 0], ends_out[i, 1]))
-                 if report[i] > 0 else None) for i in range(done)], failure
+        xs, vs, accelerations, forces = out
+        us, uds = lines_out
+        used, reported = iterations.tolist(), report.tolist()
+        return [((xs[i], vs[i], accelerations[i], forces[i], None), used[i],
+                 ((us[i], uds[i]), tuple(ends_out[i])) if reported[i] > 0 else None)
+                for i in range(done)], failure
 
 
 @njit(cache=True)
