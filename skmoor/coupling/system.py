@@ -474,7 +474,8 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         changed in place) carries across the bed's surface from x at the bed's Newton
         depth (:func:`~skmoor.sea.seabed.land_on_bed`); whether it stopped any."""
         landing = self.bed_landing
-        return landing is not None and land_on_bed(x, dx, *landing)
+        return landing is not None and land_on_bed(x, dx, np.max(np.abs(dx), initial=0.0),
+                                                   *landing)
 
     def _sum(self, pattern, Ke, Ce, layout):
         """K, Kv in ``layout``: the element blocks assembled on ``pattern``."""

@@ -712,9 +712,10 @@ def _seabed(X, ends, h, normals, offsets, k, c, onset, mu_a, mu_l, v0, friction,
 
 
 @njit(cache=True, inline="always")
-def land_on_bed(y, dx, columns, points, normal, offset, depth, x_grid, y_grid, heights):
+def land_on_bed(y, dx, size, columns, points, normal, offset, depth, x_grid, y_grid, heights):
     """Stops the nodes that the time step's Newton correction dx (reduced, m; changed in
-    place) carries across the bed's surface from y, one arriving from above at ``depth``
+    place; ``size``: its largest component, m) carries across the bed's surface from y
+    (none when no node moves as far as ``depth``: sqrt(3) size <= depth), one arriving from above at ``depth``
     (m) below the surface, one leaving it at ``depth`` above (not on the surface, where
     round-off would decide the contact), each moved back along the bed's normal; whether
     any was (arrays: :meth:`SeabedKernel.landing`). A Newton matrix made
@@ -723,7 +724,7 @@ def land_on_bed(y, dx, columns, points, normal, offset, depth, x_grid, y_grid, h
     whose contact force it does not expect as high; the matrix made there sends it back,
     and Newton cycles across the kink. Stopped there, the next matrix is the right side's
     (:func:`newton_slope` on the bed). The root is not changed, only the path to it."""
-    if depth <= 0.0:
+    if depth <= 0.0 or math.sqrt(3.0) * size <= depth:
         return False
     landed = False
     for i in range(columns.shape[0]):

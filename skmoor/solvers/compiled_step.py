@@ -641,7 +641,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
             if not math.isfinite(size):
                 used = k
                 break
-            landed = land_on_bed(y, B, bed_columns, bed_points, bed_normal, bed_offset,
+            landed = land_on_bed(y, B, size, bed_columns, bed_points, bed_normal, bed_offset,
                                  bed_depth, bed_x, bed_y, bed_z)  # (System.limit_correction)
             for j in range(n):
                 y[j] += B[j]

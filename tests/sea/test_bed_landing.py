@@ -99,6 +99,10 @@ def plane_landing(normal, offset, depth):
     return columns, points, normal, np.full(3, offset), depth, empty, empty, np.zeros((0, 0))
 
 
+def largest(dx):
+    return float(np.max(np.abs(dx)))
+
+
 def penetration(y, dx, landing, i):
     columns, points, normal, offset = landing[:4]
     return offset[i] - normal[i] @ (points[i] + y[columns[i]] + dx[columns[i]])
@@ -117,12 +121,30 @@ def test_landing_on_a_plane_by_hand():
     dx[columns[0, 2]], dx[columns[1, 2]], dx[columns[2, 2]] = -0.5, 0.35, -0.3
     dx[columns[0, 0]] = 0.2  # along the bed: kept
     original = dx.copy()
-    assert land_on_bed(y, dx, *landing[:4], 0.0, *landing[5:]) is False
+    assert land_on_bed(y, dx, largest(dx), *landing[:4], 0.0, *landing[5:]) is False
     assert np.array_equal(dx, original)
-    assert land_on_bed(y, dx, *landing)
+    assert land_on_bed(y, dx, largest(dx), *landing)
     assert penetration(y, dx, landing, 0) == pytest.approx(depth, abs=1e-12)
     assert penetration(y, dx, landing, 1) == pytest.approx(-depth, abs=1e-12)
     assert dx[columns[2, 2]] == -0.3 and dx[columns[0, 0]] == 0.2
+
+
+def test_landing_skips_only_corrections_that_cannot_reach_the_depth():
+    """On a bed whose normal is (1, 1, 1) / sqrt(3), a node at its surface moved by -s (1, 1,
+    1) goes sqrt(3) s into it: with s = 0.9 depth (no component as large as the depth) it
+    is landed, at the depth; with s just under depth / sqrt(3) it is not (the skip's bound
+    is the node's whole move, not one component)."""
+    depth = 1e-3
+    normal = np.ones(3) / np.sqrt(3.0)
+    landing = plane_landing(normal, normal @ [0.0, 0.0, -99.9], depth)
+    columns = landing[0]
+    y = np.zeros(12)
+    for s, lands in ((0.9 * depth, True), (0.999 * depth / np.sqrt(3.0), False)):
+        dx = np.zeros(12)
+        dx[columns[0]] = -s
+        assert land_on_bed(y, dx, largest(dx), *landing) is lands
+        expected = depth if lands else np.sqrt(3.0) * s
+        assert penetration(y, dx, landing, 0) == pytest.approx(expected, rel=1e-9)
 
 
 def test_landing_on_a_bathymetry_by_hand():
@@ -136,7 +158,7 @@ def test_landing_on_a_bathymetry_by_hand():
     depth = 2e-3
     landing = (columns, points, np.zeros((1, 3)), np.zeros(1), depth, gx, gy, heights)
     y, dx = np.array([0.5, -0.2, 0.1]), np.array([0.3, 0.1, -2.0])
-    assert land_on_bed(y, dx, *landing)
+    assert land_on_bed(y, dx, largest(dx), *landing)
     x, yy, z = points[0] + y + dx
     distance = (-100.0 + 0.1 * x - 0.05 * yy - z) / np.sqrt(1 + 0.1**2 + 0.05**2)
     assert distance == pytest.approx(depth, abs=1e-12)
