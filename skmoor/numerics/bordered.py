@@ -214,9 +214,13 @@ def matvec(ab, w, E, F, D, x, out):
         out[nf + i] = s
 
 
-def split(A, nf, w):
+def split(A, nf, w, n=None):
     """(ab, E, F, D) of a dense or sparse (n, n) matrix with nf banded rows (nothing of size
-    n^2 is formed); raises when the line part has entries outside the band of half-width w."""
+    n^2 is formed; A None: zero, of size ``n``); raises when the line part has entries
+    outside the band of half-width w."""
+    if A is None:
+        return (band_storage(w, nf), np.zeros((nf, n - nf)), np.zeros((n - nf, nf)),
+                np.zeros((n - nf, n - nf)))
     A = sp.coo_matrix(A)
     n = A.shape[0]
     rows, cols, data = A.row, A.col, A.data

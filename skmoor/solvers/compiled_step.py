@@ -267,17 +267,18 @@ def build(system, C, scheme, tol, maxiter):
     if why is not None:
         return _refuse(why)
     surface = kinds.get("surface")
-    width = ElementPattern(lines, position=system.dofs.position).bandwidth if system.nf else 0
+    width = 0
+    if system.nf:  # (without bodies, the system's own pattern's)
+        width = (system.bandwidth if not system.nb
+                 else ElementPattern(lines, position=system.dofs.position).bandwidth)
     width = max(width, 1)
     try:
         M = bordered.split(system.M, system.nf, width)
-        Cs = bordered.split(C if C is not None else sp.csr_matrix(system.M.shape),
-                            system.nf, width)
+        Cs = bordered.split(C, system.nf, width, system.n)
     except ValueError:
         return _refuse("mass or damping coupling line DOFs beyond the lines' band")
     damped = C is not None and C.count_nonzero() > 0
-    C_matrix = C if C is not None else sp.csr_matrix(system.M.shape)
-    return CompiledStep(system, surface, kinds, M, Cs, C_matrix, damped, width,
+    return CompiledStep(system, surface, kinds, M, Cs, C, damped, width,
                         scheme, tol, maxiter)
 
 
@@ -288,8 +289,10 @@ def _contiguous(arrays):
                  if isinstance(a, np.ndarray) else a for a in arrays)
 
 
-def _csr(A):
-    """(data, indices, indptr) of a sparse matrix, int64 indices."""
+def _csr(A, shape=None):
+    """(data, indices, indptr) of a sparse matrix, int64 indices (A None: zero, ``shape``)."""
+    if A is None:
+        return np.zeros(0), np.zeros(0, np.int64), np.zeros(shape[0] + 1, np.int64)
     A = sp.csr_matrix(A)
     A.eliminate_zeros()
     return (np.ascontiguousarray(A.data, float), A.indices.astype(np.int64),
@@ -316,7 +319,7 @@ class CompiledStep:
                          if getattr(term, "step_commit", None) is not None]
         self._kept = kinds["form"] + kinds["load"]  # their C functions stay while called
         self.M, self.C, self.damped, self.width = M, C, damped, width
-        self.products = (_csr(system.M), _csr(C_matrix))
+        self.products = (_csr(system.M), _csr(C_matrix, system.M.shape))
         self.scheme = (scheme.alpha_m, scheme.alpha_f, scheme.beta, scheme.gamma)
         self.tol, self.maxiter = float(tol), int(maxiter)
         lines, n = system.lines, system.n
@@ -772,12 +775,12 @@ def _held_inertia(system):
     (the flat slots of the (2, nlines, 3) end forces it lands in, M[e] P0 and M[e, p] in
     CSR); no slots when the system has none."""
     if system.end_mass is None:
-        return np.zeros(0, np.int64), _csr(sp.csr_matrix((0, 0))), _csr(sp.csr_matrix((0, 0)))
+        return np.zeros(0, np.int64), _csr(None, (0, 0)), _csr(None, (0, 0))
     rows, on_free, on_driven = system.end_mass
     slots = ((rows[:, 0] * len(system.fairlead_dofs) + rows[:, 1])[:, None] * 3
              + np.arange(3)).ravel().astype(np.int64)
     shapes = ((len(slots), system.n), (len(slots), len(system.dofs.prescribed_flat)))
-    return (slots, *(_csr(sp.csr_matrix(shape) if A is None else A)
+    return (slots, *(_csr(A, shape)
                      for A, shape in zip((on_free, on_driven), shapes)))
 
 

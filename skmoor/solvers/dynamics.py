@@ -196,7 +196,8 @@ def _steppers(system, C, scheme, tol, maxiter, subdivide, compiled):
     M = as_layout(system.M, layout, bandwidth)
     C = sp.csr_matrix(M.shape) if C is None else sp.csr_matrix(C)
     damped = C.count_nonzero() > 0  # skip C v in the loop when there is no C
-    fast = _compiled_step(system, C, scheme, tol, maxiter) if compiled else None
+    fast = (_compiled_step(system, C if damped else None, scheme, tol, maxiter) if compiled
+            else None)
     stepper = _Stepper(system, M, as_layout(C, layout, bandwidth), damped, layout, scheme,
                        tol, maxiter, subdivide)
     return layout, fast, stepper
