@@ -221,9 +221,10 @@ def split(A, nf, w, n=None):
     if A is None:
         return (band_storage(w, nf), np.zeros((nf, n - nf)), np.zeros((n - nf, nf)),
                 np.zeros((n - nf, n - nf)))
-    A = sp.coo_matrix(A)
+    A = sp.csr_matrix(A)  # (no copy of a CSR matrix)
     n = A.shape[0]
-    rows, cols, data = A.row, A.col, A.data
+    rows = np.repeat(np.arange(n), np.diff(A.indptr))
+    cols, data = A.indices, A.data
     line_rows, line_cols = rows < nf, cols < nf
     band = line_rows & line_cols & (data != 0)
     if np.any(np.abs(rows[band] - cols[band]) > w):

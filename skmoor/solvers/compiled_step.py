@@ -293,6 +293,10 @@ def _csr(A, shape=None):
     """(data, indices, indptr) of a sparse matrix, int64 indices (A None: zero, ``shape``)."""
     if A is None:
         return np.zeros(0), np.zeros(0, np.int64), np.zeros(shape[0] + 1, np.int64)
+    if isinstance(A, np.ndarray):  # (row-major nonzeros: the rows come sorted)
+        rows, columns = np.nonzero(A)
+        return (np.ascontiguousarray(A[rows, columns], float), columns.astype(np.int64),
+                np.searchsorted(rows, np.arange(A.shape[0] + 1)).astype(np.int64))
     A = sp.csr_matrix(A)
     A.eliminate_zeros()
     return (np.ascontiguousarray(A.data, float), A.indices.astype(np.int64),
