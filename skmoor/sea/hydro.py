@@ -45,6 +45,12 @@ from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS, NO_BLOCKS_12
 from ..fem.terms import LineForm, Term
 from ..numerics.validation import check_finite, check_positive
+from .water_grids import (
+    field_elevation,
+    field_kinematics,
+    fields_accelerate,
+    packed_fields,
+)
 from .waves import Sea
 
 # --- the forms. Fields (nel, nqp), per unit reference length: drag_n = 1/2 rho Cd_n d,
@@ -211,7 +217,7 @@ class LineHydroKernel(Term):
     points, element by element, on P1 lines (:func:`_morison`) or on bending lines' cubics
     (:func:`_morison_shapes`; in the compiled time step by address, :attr:`step_kernel`)."""
 
-    why_python = "moving water given as tabulated fields (MoorDyn's wave and current files)"
+    why_python = "a water field of a kind the compiled kernels lack (water_lowers)"
 
     def __init__(self, lines, sea=None, lumped_mass=True):
         basis = lines.basis
@@ -246,9 +252,9 @@ class LineHydroKernel(Term):
 
     @property
     def compiled_water(self) -> bool:
-        """True when the water is still or moves with a :class:`Current` and Airy waves
-        only (no tabulated fields): the compiled kernels evaluate it at the nodes."""
-        return not self.moving_water or not self.sea.fields
+        """True when the compiled kernels evaluate the water at the nodes
+        (:func:`water_lowers`)."""
+        return water_lowers(self.sea)
 
     def lowered(self):
         return "form" if self.compiled_water else None
@@ -268,20 +274,21 @@ class LineHydroKernel(Term):
         if not self.compiled_water:
             return None
         nel, nqp = self.kn.shape
-        heading, heights, speeds, waves = water_arrays(self.sea)
+        heading, heights, speeds, waves, fields = water_arrays(self.sea)
         hermite = self.lines.hermite
         if hermite and not self.moving_water:
             nodes, dofs, X = np.full(4 * nel, -1), np.zeros((0, 3), int), np.zeros((0, 3))
         else:
             nodes = self.nodes.ravel() if hermite else self.enodes.ravel()
             dofs, X = self.nodal_dofs, self.points
-        axes = [2, 0, 1] if len(waves) else [2]  # z, then with waves x and y
+        xy = len(waves) > 0 or fields[0] > 0
+        axes = [2, 0, 1] if xy else [2]  # z, then with waves or fields x and y
         shape = (self.shapes,) if hermite else (self.h, self.phi, self.wphi)
-        ints = np.concatenate([[nel, nqp, len(dofs), len(heights), len(waves)], nodes,
+        ints = np.concatenate([[nel, nqp, len(dofs), len(heights), len(waves), xy], nodes,
                                self.edofs.ravel(), *dofs[:, axes].T]).astype(np.int64)
         floats = np.concatenate([np.ravel(a) for a in (
             self.Xp, *shape, self.kn, self.kt, self.mn, self.dm, *X[:, axes].T, heading,
-            heights, speeds, waves, np.zeros(3 * len(X)), np.zeros(3 * len(X) * (len(waves) > 0)))])
+            heights, speeds, waves, fields, np.zeros(3 * len(X)), np.zeros(3 * len(X) * xy))])
         return (_morison_step if hermite else _morison_p1_step)(), ints, floats
 
     def add_to(self, u, ud, t, R, Ke=None, Ce=None):
@@ -468,13 +475,13 @@ def _morison_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     displaced nodes, :func:`_water`) on the buffers of ``LineHydroKernel.step_kernel``."""
     nel, nqp = ints[0], ints[1]
     points = nel * nqp
-    nodes = carray(advanced(ints, 5), (nel, 4))
-    edofs = carray(advanced(ints, 5 + 4 * nel), (nel, 12))
+    nodes = carray(advanced(ints, 6), (nel, 4))
+    edofs = carray(advanced(ints, 6 + 4 * nel), (nel, 12))
     Xp = carray(floats, (nel, nqp, 3))
     shapes = carray(advanced(floats, 3 * points), (nel, nqp, 9))
     kn, kt, mn, dm = _coefficients(floats, 12 * points, nel, nqp)
     u = carray(u_p, (ndofs,))
-    water, acceleration, waves = _water(u, t, ints, 5 + 16 * nel, floats, 16 * points)
+    water, acceleration, waves = _water(u, t, ints, 6 + 16 * nel, floats, 16 * points)
     blocks = nel if tangent else 0
     _morison_shapes(Xp, shapes, kn, kt, mn, dm, edofs, nodes, u, carray(ud_p, (ndofs,)),
                     water, acceleration, waves, carray(R_p, (ndofs,)),
@@ -487,8 +494,8 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
     (P1 lines)."""
     nel, nqp = ints[0], ints[1]
     points = nel * nqp
-    enodes = carray(advanced(ints, 5), (nel, 2))
-    edofs = carray(advanced(ints, 5 + 2 * nel), (nel, 6))
+    enodes = carray(advanced(ints, 6), (nel, 2))
+    edofs = carray(advanced(ints, 6 + 2 * nel), (nel, 6))
     Xp = carray(floats, (nel, nqp, 3))
     at = 3 * points
     h = carray(advanced(floats, at), (nel,))
@@ -498,7 +505,7 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
     at += 2 * points
     kn, kt, mn, dm = _coefficients(floats, at, nel, nqp)
     u = carray(u_p, (ndofs,))
-    water, acceleration, waves = _water(u, t, ints, 5 + 8 * nel, floats, at + 4 * points)
+    water, acceleration, waves = _water(u, t, ints, 6 + 8 * nel, floats, at + 4 * points)
     blocks = nel if tangent else 0
     _morison(Xp, h, phi, wphi, kn, kt, mn, dm, edofs, enodes, u, carray(ud_p, (ndofs,)),
              water, acceleration, waves, carray(R_p, (ndofs,)), carray(K_p, (blocks, 6, 6)),
@@ -518,15 +525,27 @@ WAVE_COLUMNS = 8  # a component's packed numbers: see wave_components
 
 def water_arrays(sea):
     """(the current's heading (2,; unit, horizontal), its profile's heights (m) and speeds
-    (m/s), the Airy components (:func:`wave_components`)) of ``sea`` as the compiled
-    kernels read them: empty in still water, the heading zero without a current."""
+    (m/s), the Airy components (:func:`wave_components`), the tabulated fields packed
+    (:func:`~skmoor.sea.water_grids.packed_fields`)) of ``sea`` as the compiled kernels
+    read them: empty in still water ([0] the fields), the heading zero without a current."""
     moving = sea is not None and not sea.still
     current = sea.current if moving else None
     heading, heights, speeds = ((np.zeros(2), np.zeros(0), np.zeros(0)) if current is None
                                 else (np.asarray(current.direction[:2], float),
                                       np.asarray(current.z, float),
                                       np.asarray(current.speeds, float)))
-    return heading, heights, speeds, wave_components(sea.waves if moving else [])
+    fields = packed_fields(sea.fields) if moving else np.zeros(1)
+    if fields is None:
+        raise ValueError("water_arrays: a water field the compiled kernels lack "
+                         f"({[type(f).__name__ for f in sea.fields]}); see water_lowers")
+    return heading, heights, speeds, wave_components(sea.waves if moving else []), fields
+
+
+def water_lowers(sea) -> bool:
+    """True when the compiled kernels evaluate ``sea``'s water (:func:`water_arrays`): still
+    water, a current, Airy waves and fields of MoorDyn's kinds
+    (:func:`~skmoor.sea.water_grids.packed_fields`)."""
+    return sea is None or sea.still or not sea.fields or packed_fields(sea.fields) is not None
 
 
 def wave_components(waves) -> np.ndarray:
@@ -565,43 +584,52 @@ def wave_kinematics(x, y, z, t, components, out):
 
 
 @njit(cache=True, inline="always")
-def water_kinematics(x, y, z, t, heading, heights, speeds, components, out):
+def water_kinematics(x, y, z, t, heading, heights, speeds, components, fields, out):
     """out[0:6] <- the water's velocity (m/s) and local acceleration (m/s2) at (x, y, z)
     (m) and time t (s), as ``Sea.kinematics``: the current of the heading (unit,
-    horizontal) and profile (heights m, speeds m/s; none: no current) and the Airy
-    components (:func:`wave_kinematics`)."""
+    horizontal) and profile (heights m, speeds m/s; none: no current), the Airy
+    components (:func:`wave_kinematics`) and the packed fields
+    (:func:`~skmoor.sea.water_grids.field_kinematics`)."""
     speed = current_speed(z, heights, speeds) if heights.size else 0.0
     for c in range(6):
         out[c] = 0.0
     if components.shape[0]:
         wave_kinematics(x, y, z, t, components, out)
+    if fields[0] > 0.0:
+        field_kinematics(x, y, z, t, fields, out)
     out[0] += speed * heading[0]
     out[1] += speed * heading[1]
 
 
 @njit(cache=True)
-def wave_elevation(x, y, t, components):
+def wave_elevation(x, y, t, components, fields):
     """The free surface's elevation (m) of the Airy components (:func:`wave_components`)
-    at (x, y) (m) and time t (s): ``skmoor.sea.waves._Components.elevation``."""
+    and the packed fields at (x, y) (m) and time t (s): ``Sea.elevation``."""
     eta = 0.0
     for c in range(components.shape[0]):
         theta = ((x * components[c, 5] + y * components[c, 6]) * components[c, 2]
                  - t * components[c, 1] + components[c, 3])
         eta += components[c, 0] * math.cos(theta)
+    if fields[0] > 0.0:
+        eta += field_elevation(x, y, t, fields)
     return eta
 
 
 @njit(cache=True)
 def unpacked_water(floats, at, nprofile, ncomponents):
     """The water of :func:`water_arrays` packed in ``floats`` from ``at`` (the heading, the
-    profile's heights and speeds, the components, in that order) as C arrays: (heading,
-    heights, speeds, components, where the floats after them start)."""
+    profile's heights and speeds, the components, the fields, in that order) as C arrays:
+    (heading, heights, speeds, components, fields, where the floats after them start)."""
     heading = carray(advanced(floats, at), (2,))
     heights = carray(advanced(floats, at + 2), (nprofile,))
     speeds = carray(advanced(floats, at + 2 + nprofile), (nprofile,))
     at += 2 + 2 * nprofile
     components = carray(advanced(floats, at), (ncomponents, WAVE_COLUMNS))
-    return heading, heights, speeds, components, at + WAVE_COLUMNS * ncomponents
+    at += WAVE_COLUMNS * ncomponents
+    end = at + 1
+    for _ in range(int(floats[at])):  # each field's kind, length and numbers
+        end += 2 + int(floats[end + 1])
+    return heading, heights, speeds, components, carray(advanced(floats, at), (end - at,)), end
 
 
 @njit(cache=True)
@@ -615,27 +643,28 @@ def _water(u, t, ints, at_ints, floats, at):
     the wave components (components, 8), room for the velocity (nodes, 3) and with waves
     for the acceleration), written there (left zero in still water)."""
     nnodes, nprofile, ncomponents = ints[2], ints[3], ints[4]
-    axes = 3 if ncomponents else 1
+    axes = 3 if ints[5] else 1  # (waves or fields: x and y too)
     dofs = carray(advanced(ints, at_ints), (axes, nnodes))
     X = carray(advanced(floats, at), (axes, nnodes))
-    heading, heights, speeds, components, at = unpacked_water(floats, at + axes * nnodes,
-                                                              nprofile, ncomponents)
+    heading, heights, speeds, components, fields, at = unpacked_water(
+        floats, at + axes * nnodes, nprofile, ncomponents)
+    xy = axes == 3  # waves or fields: the water varies in x and y, and accelerates
     water = carray(advanced(floats, at), (nnodes, 3))
-    acceleration = carray(advanced(floats, at + 3 * nnodes),
-                          (nnodes if ncomponents else 0, 3))
-    if not (nprofile or ncomponents):  # still water
+    acceleration = carray(advanced(floats, at + 3 * nnodes), (nnodes if xy else 0, 3))
+    if not (nprofile or xy):  # still water
         return water, water, False
     kinematics = np.empty(6)
-    for p in range(nnodes):  # (x and y only where waves need them)
-        x = X[1, p] + u[dofs[1, p]] if ncomponents else 0.0
-        y = X[2, p] + u[dofs[2, p]] if ncomponents else 0.0
+    for p in range(nnodes):  # (x and y only where waves or fields need them)
+        x = X[1, p] + u[dofs[1, p]] if xy else 0.0
+        y = X[2, p] + u[dofs[2, p]] if xy else 0.0
         water_kinematics(x, y, X[0, p] + u[dofs[0, p]], t, heading, heights, speeds,
-                         components, kinematics)
+                         components, fields, kinematics)
         for c in range(3):
             water[p, c] = kinematics[c]
-            if ncomponents:
+            if xy:
                 acceleration[p, c] = kinematics[3 + c]
-    return water, (acceleration if ncomponents else water), ncomponents > 0
+    accelerates = ncomponents > 0 or fields_accelerate(fields)
+    return water, (acceleration if accelerates else water), accelerates
 
 
 _morison_p1_step = compiled_when_asked(_morison_p1_packed)  # (its C function, when first asked for)
@@ -785,7 +814,7 @@ class BodyDrag(BodyLoad):
     differences in the angles on an exact one)."""
 
     frame_aware = True
-    why_python = "moving water given as tabulated fields (MoorDyn's wave and current files)"
+    why_python = "a water field of a kind the compiled kernels lack (water_lowers)"
 
     def __init__(self, cda, sea, reference_point, rho, added_mass=None, body=0, axes=None):
         self.cda, self.sea, self.point, self.rho = cda, sea, reference_point, rho
@@ -794,9 +823,10 @@ class BodyDrag(BodyLoad):
         super().__init__(self.forces, body=body, added_mass=added_mass, tangent=self.tangents)
 
     def lowered(self):
-        """'body drag' in still water, a current and Airy waves (the compiled step's, on a
-        small-rotation body: an exact one is refused for its rotations)."""
-        return None if self._moving_water and self.sea.fields else "body drag"
+        """'body drag' in water the compiled kernels evaluate (:func:`water_lowers`; the
+        compiled step's, on a small-rotation body: an exact one is refused for its
+        rotations)."""
+        return "body drag" if water_lowers(self.sea) else None
 
     def step_drag(self):
         """The drag matrices 1/2 rho D(CdA) of the force and the moment at q = 0 (2, 3, 3)
@@ -860,7 +890,7 @@ class PointDrag(Term):
     reference position plus its displacement, without its gradient)."""
 
     acts_on = "points"
-    why_python = "moving water given as tabulated fields (MoorDyn's wave and current files)"
+    why_python = "a water field of a kind the compiled kernels lack (water_lowers)"
 
     def __init__(self, point, CdA, rho=1025.0, sea=None):
         self.point, self.CdA, self.rho, self.sea = int(point), float(CdA), float(rho), sea
@@ -873,7 +903,7 @@ class PointDrag(Term):
         self.position = system.point_reference[self.point]
 
     def lowered(self):
-        return None if self.moving_water and self.sea.fields else "point drag"
+        return "point drag" if water_lowers(self.sea) else None
 
     def step_water(self):
         """The water the compiled step evaluates at the point: :func:`water_arrays`."""

@@ -48,6 +48,7 @@ from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS
 from ..fem.terms import LineForm, Term
 from ..numerics.validation import check_finite, check_positive
+from .water_grids import cell, interpolation
 
 DEFAULT_PENETRATION = 1e-3  # m: the default stiffness lets the heaviest line sink this far
 STATIC_FRICTION = (None, "as-laid", "reference")  # Seabed.static_friction
@@ -80,8 +81,6 @@ class Bathymetry:
         self.mean_height = float(self.heights.mean())
 
     def _cells(self, xy):
-        from .water_grids import interpolation
-
         xy = np.asarray(xy, float)
         return interpolation(self.x, xy[..., 0]), interpolation(self.y, xy[..., 1]), xy
 
@@ -763,21 +762,11 @@ def newton_slope(k, c, vn, g, depth):
 
 
 @njit(cache=True)
-def _cell(axis, x):
-    """``water_grids.interpolation`` of one value: (i0, i1, f), held at the axis' ends."""
-    if axis.size == 1:
-        return 0, 0, 0.0
-    i1 = min(max(np.searchsorted(axis, x), 1), axis.size - 1)
-    f = min(max((x - axis[i1 - 1]) / (axis[i1] - axis[i1 - 1]), 0.0), 1.0)
-    return i1 - 1, i1, f
-
-
-@njit(cache=True)
 def bed_plane(x, y, gx, gy, heights, normal):
     """``Bathymetry.plane`` at the point (x, y) (m) of the grid gx (nx,), gy (ny,),
     heights (nx, ny): the bed's upward unit normal into normal (3,), and n.P returned."""
-    i0, i1, fx = _cell(gx, x)
-    j0, j1, fy = _cell(gy, y)
+    i0, i1, fx = cell(gx, x)
+    j0, j1, fy = cell(gy, y)
     z = heights
     sx = sy = 0.0
     if gx.size > 1 and gx[0] < x < gx[-1]:

@@ -31,6 +31,7 @@ from .hydro import (
     morison_drag_stiffness,
     nodal_water,
     water_arrays,
+    water_lowers,
 )
 
 _drag = _raw(morison_drag)
@@ -132,16 +133,17 @@ class SurfaceTerm(LineForm):
         self._test_z = np.stack([np.asarray(f[0])[2] for f in lines.basis.basis])  # (nloc, nel, nqp)
         self._order = _local_order(lines, lines.basis)
 
-    why_python = "a free surface moved by water fields (MoorDyn's wave files)"
+    why_python = "a free surface moved by a water field of a kind the compiled kernels lack"
 
     def lowered(self):
-        """'surface' on a flat surface or Airy waves: the compiled step hands a step to
-        the Python step when a node comes within half a diameter of it."""
-        return "surface" if self.sea is None or not self.sea.fields else None
+        """'surface' on a flat surface, Airy waves and fields the compiled kernels evaluate
+        (:func:`~skmoor.sea.hydro.water_lowers`): the compiled step hands a step to the
+        Python step when a node comes within half a diameter of it."""
+        return "surface" if water_lowers(self.sea) else None
 
     def step_water(self):
-        """The water the compiled step evaluates at the nodes (its Airy waves' elevation):
-        :func:`~skmoor.sea.hydro.water_arrays`."""
+        """The water the compiled step evaluates at the nodes (its waves' and fields'
+        elevation): :func:`~skmoor.sea.hydro.water_arrays`."""
         return water_arrays(self.sea)
 
     def _eta(self, u, t):

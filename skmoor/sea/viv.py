@@ -32,7 +32,13 @@ from numba import carray, njit
 from ..fem.form_compiler import compiled_when_asked
 from ..fem.native_calls import advanced
 from ..fem.terms import Term, state_part
-from .hydro import unpacked_water, water_arrays, water_kinematics, wave_elevation
+from .hydro import (
+    unpacked_water,
+    water_arrays,
+    water_kinematics,
+    water_lowers,
+    wave_elevation,
+)
 
 RMS_STEPS = 500  # MoorDyn's n_m: steps dtM in the running mean square
 
@@ -66,7 +72,7 @@ class VortexLift(Term):
     current and Airy waves; the Python step with :meth:`commit`)."""
 
     acts_on = "lines"
-    why_python = "VIV lift in water fields (MoorDyn's wave and current files)"
+    why_python = "VIV lift in a water field of a kind the compiled kernels lack"
 
     def __init__(self, lines, sea=None, rms_time=RMS_STEPS * 1e-4):
         if not rms_time > 0:
@@ -116,9 +122,9 @@ class VortexLift(Term):
 
     @property
     def compiled_water(self) -> bool:
-        """Still water, a current and Airy waves (no tabulated fields): what the compiled
-        kernels evaluate."""
-        return self.sea is None or self.sea.still or not self.sea.fields
+        """Whether the compiled kernels evaluate the water
+        (:func:`~skmoor.sea.hydro.water_lowers`)."""
+        return water_lowers(self.sea)
 
     def lowered(self):
         return "form" if self.compiled_water else None
@@ -131,16 +137,16 @@ class VortexLift(Term):
         positions of the nodes and their neighbours (3 x (n, 3), m), rho, d, Cl, cF, dF,
         length (6 x n), the first phases (n, rad), the current's heading (2) and profile
         (heights m, speeds m/s), the Airy components (:func:`~skmoor.sea.hydro.wave_components`),
-        rms_time (s), the state (:attr:`step_state`), scratch (10 n)]."""
+        the packed fields, rms_time (s), the state (:attr:`step_state`), scratch (10 n)]."""
         lines, n = self.lines, self.nodes.size
-        heading, heights, speeds, waves = water_arrays(self.sea)
+        heading, heights, speeds, waves, fields = water_arrays(self.sea)
         nodal = lines.nodal_dofs
         ints = np.concatenate([[n, len(heights), len(waves)],
                                *(nodal[self.nodes + k].ravel() for k in (0, -1, 1))])
         floats = np.concatenate([
             *(lines.points[self.nodes + k].ravel() for k in (0, -1, 1)),
             self.rho, self.d, self.Cl, self.cF, self.dF, self.length, self.first_phase,
-            heading, heights, speeds, waves.ravel(), [self.rms_time], self._state,
+            heading, heights, speeds, waves.ravel(), fields, [self.rms_time], self._state,
             np.zeros(10 * n)])
         return _lift_step(), ints.astype(np.int64), floats.astype(float)
 
@@ -210,25 +216,25 @@ class VortexLift(Term):
 def _unpacked(ints, floats):
     """The buffers of ``VortexLift.step_kernel`` as arrays: (node DOFs (3, n, 3): the
     node's and its neighbours', reference positions (3, n, 3), coefficients (6, n),
-    first phases, heading, heights, speeds, wave components, rms_time (1,), state,
-    scratch (10, n))."""
+    first phases, heading, heights, speeds, (wave components, packed fields), rms_time
+    (1,), state, scratch (10, n))."""
     n, nprofile, ncomponents = ints[0], ints[1], ints[2]
     dofs = carray(advanced(ints, 3), (3, n, 3))
     X = carray(floats, (3, n, 3))
     at = 9 * n
     coefficients = carray(advanced(floats, at), (6, n))
     first = carray(advanced(floats, at + 6 * n), (n,))
-    heading, heights, speeds, waves, at = unpacked_water(floats, at + 7 * n, nprofile,
-                                                         ncomponents)
+    heading, heights, speeds, waves, fields, at = unpacked_water(floats, at + 7 * n, nprofile,
+                                                                 ncomponents)
     rms_time = carray(advanced(floats, at), (1,))
     state = carray(advanced(floats, at + 1), (1 + 7 * n,))
     scratch = carray(advanced(floats, at + 2 + 7 * n), (10, n))
-    return (dofs, X, coefficients, first, heading, heights, speeds, waves, rms_time, state,
-            scratch)
+    return (dofs, X, coefficients, first, heading, heights, speeds, (waves, fields), rms_time,
+            state, scratch)
 
 
 @njit(cache=True)
-def _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch):
+def _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, water, scratch):
     """``VortexLift._flow`` into the scratch rows: q (0-2), v_p (3-5), the node velocity
     (6-8) and the wet fraction (9), per node at time t (s) (the current and the Airy
     waves at the displaced node; z = 0 the still surface)."""
@@ -242,8 +248,9 @@ def _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch):
         length = math.sqrt(length)
         x, y = X[0, k, 0] + u[dofs[0, k, 0]], X[0, k, 1] + u[dofs[0, k, 1]]
         z = X[0, k, 2] + u[dofs[0, k, 2]]
-        water_kinematics(x, y, z, t, heading, heights, speeds, waves, kinematics)
-        eta = wave_elevation(x, y, t, waves) if waves.shape[0] else 0.0
+        waves, fields = water
+        water_kinematics(x, y, z, t, heading, heights, speeds, waves, fields, kinematics)
+        eta = wave_elevation(x, y, t, waves, fields)
         along = 0.0
         for c in range(3):
             scratch[c, k] /= length
@@ -258,14 +265,14 @@ def _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch):
 
 def _lift_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """``VortexLift.add_to`` on the buffers of its ``step_kernel`` (no tangents)."""
-    dofs, X, coefficients, first, heading, heights, speeds, waves, rms_time, state, scratch = (
+    dofs, X, coefficients, first, heading, heights, speeds, water, rms_time, state, scratch = (
         _unpacked(ints, floats))
     if math.isnan(state[0]):
         return
     n = X.shape[1]
     u, v, R = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,)), carray(R_p, (ndofs,))
     rho, d, Cl = coefficients[0], coefficients[1], coefficients[2]
-    _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch)
+    _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, water, scratch)
     for k in range(n):
         phase = state[1 + k] + state[1 + n + k] * (t - state[0])
         speed = math.sqrt(scratch[3, k] ** 2 + scratch[4, k] ** 2 + scratch[5, k] ** 2)
@@ -280,12 +287,12 @@ def _lift_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
 
 def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """``VortexLift.commit`` on the buffers of its ``step_kernel`` (R, K, C unused)."""
-    dofs, X, coefficients, first, heading, heights, speeds, waves, rms_time, state, scratch = (
+    dofs, X, coefficients, first, heading, heights, speeds, water, rms_time, state, scratch = (
         _unpacked(ints, floats))
     n = X.shape[1]
     u, v = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,))
     d, cF, dF = coefficients[1], coefficients[3], coefficients[4]
-    _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, waves, scratch)
+    _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, water, scratch)
     restart = math.isnan(state[0]) or t <= state[0]
     h = 0.0 if restart else t - state[0]
     weight = 1.0 / RMS_STEPS if restart else min(1.0, h / rms_time[0])

@@ -15,10 +15,17 @@ being floor(t / dt) + 1 wrapped into [0, nt) and interpolated from the sample be
 (Wheeler): a point at height z sees the grid at z_s = h_m (z - z_b) / (zeta - z_b) - h_m,
 with z_b the bed's height there, h_m the mean depth and zeta the grid's elevation there,
 clipped to z_s <= 0. Currents are not stretched.
+
+The compiled kernels read the fields packed into one float buffer (:func:`packed_fields`)
+and evaluate them at a point (:func:`field_kinematics`, :func:`field_elevation`) with the
+same numbers as the classes' ``kinematics`` and ``elevation``.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 
 from ..numerics.validation import check_finite, check_positive
 
@@ -339,3 +346,270 @@ def resampled_current(px, py, pz, times, velocity):
     i0, i1, f = interpolation(times, samples)
     f = f[:, None]
     return CurrentGrid(px, py, pz, dt, (1 - f) * velocity[..., i0, :] + f * velocity[..., i1, :])
+
+
+# --- the fields as the compiled kernels read them
+CURRENT_GRID, SPECTRUM_WAVES, WAVE_GRID = 1.0, 2.0, 3.0  # a packed field's kind
+
+
+def packed_fields(fields):
+    """The fields as one float buffer for :func:`field_kinematics` and
+    :func:`field_elevation`, or None when one is not a :class:`CurrentGrid`,
+    :class:`SpectrumWaves` or :class:`WaveGrid` (with CurrentGrid currents): [count, then
+    each field's kind and length and its numbers (see :func:`_packed_field`)]; [0] for none."""
+    records = []
+    for field in fields:
+        record = _packed_field(field)
+        if record is None:
+            return None
+        records.append(record)
+    return np.concatenate([[float(len(records))], *records]).astype(float)
+
+
+def _packed_field(field):
+    """[kind, length of what follows, the field's numbers] or None (a kind not packed)."""
+    if type(field) is CurrentGrid:
+        body = [[field.px.size, field.py.size, field.pz.size, field.nt, field.dt],
+                field.px, field.py, field.pz, field.velocity.ravel()]
+    elif type(field) is SpectrumWaves:
+        body = [[field.omega.size], _packed_stretching(field.stretching), field.omega,
+                field.k, field.a, field.phi, np.cos(field.beta), np.sin(field.beta)]
+    elif type(field) is WaveGrid:
+        currents = [_packed_field(current) if type(current) is CurrentGrid else None
+                    for current in field.currents]
+        if any(current is None for current in currents):
+            return None
+        body = [[field.omega.size, field.px.size, field.py.size, field.pz.size, field.nt,
+                 field.dt, field.depth], _packed_stretching(field.stretching), field.px,
+                field.py, field.pz, field.omega, field.k, field.c.real, field.c.imag,
+                np.cos(field.beta), np.sin(field.beta), [len(currents)], *currents]
+    else:
+        return None
+    body = np.concatenate([np.ravel(np.asarray(part, float)) for part in body])
+    kind = {CurrentGrid: CURRENT_GRID, SpectrumWaves: SPECTRUM_WAVES, WaveGrid: WAVE_GRID}
+    return np.concatenate([[kind[type(field)], body.size], body])
+
+
+def _packed_stretching(stretching):
+    """[mean depth h_m, nx, ny, the bed's x (nx), y (ny), heights (nx ny)] (nx = ny = 0:
+    a flat bed at -h_m)."""
+    grid = stretching.bathymetry
+    if grid is None:
+        return [stretching.depth, 0, 0]
+    return np.concatenate([[stretching.depth, grid.x.size, grid.y.size], grid.x, grid.y,
+                           np.ravel(grid.heights)])
+
+
+@njit(cache=True)
+def cell(axis, x):
+    """:func:`interpolation` of one value: (i0, i1, f), held at the axis' ends."""
+    if axis.size == 1:
+        return 0, 0, 0.0
+    i1 = min(max(np.searchsorted(axis, x), 1), axis.size - 1)
+    f = min(max((x - axis[i1 - 1]) / (axis[i1] - axis[i1 - 1]), 0.0), 1.0)
+    return i1 - 1, i1, f
+
+
+@njit(cache=True)
+def _time_cell(nt, dt, t):
+    """:func:`time_interpolation` (i0, i1, f)."""
+    if nt == 1:
+        return 0, 0, 0.0
+    q = t / dt
+    step = math.floor(q)
+    i1 = int((step + 1) % nt)
+    return (i1 - 1 if i1 > 0 else 0), i1, q - step
+
+
+@njit(cache=True)
+def _factors(k, z, depth):
+    """:func:`linear_factors` (ch, sh) of one component."""
+    if k <= 0.0:
+        return 0.0, 1.0
+    scale = 1.0 / (1.0 - math.exp(-2.0 * k * depth))
+    up, down = math.exp(k * z), math.exp(-k * (z + 2.0 * depth))
+    return (up + down) * scale, (up - down) * scale
+
+
+@njit(cache=True)
+def _stretched(F, at, x, y, z, zeta):
+    """:class:`Stretching`'s z_s (m) of (x, y, z) under the elevation zeta, its numbers in
+    F from ``at``; and where they end."""
+    depth, nx, ny = F[at], int(F[at + 1]), int(F[at + 2])
+    end = at + 3 + nx + ny + nx * ny
+    bed = -depth
+    if nx > 0:
+        gx, gy = F[at + 3:at + 3 + nx], F[at + 3 + nx:at + 3 + nx + ny]
+        heights = F[at + 3 + nx + ny:end].reshape(nx, ny)
+        i0, i1, fx = cell(gx, x)
+        j0, j1, fy = cell(gy, y)
+        bed = ((1 - fx) * ((1 - fy) * heights[i0, j0] + fy * heights[i0, j1])
+               + fx * ((1 - fy) * heights[i1, j0] + fy * heights[i1, j1]))
+    return min(depth * (z - bed) / (zeta - bed) - depth, 0.0), end
+
+
+@njit(cache=True)
+def _current_grid(F, at, x, y, z, t, weight, out):
+    """out[0:3] += weight times :class:`CurrentGrid`'s velocity at (x, y, z), time t."""
+    nx, ny, nz, nt, dt = int(F[at]), int(F[at + 1]), int(F[at + 2]), int(F[at + 3]), F[at + 4]
+    at += 5
+    px, py, pz = F[at:at + nx], F[at + nx:at + nx + ny], F[at + nx + ny:at + nx + ny + nz]
+    velocity = F[at + nx + ny + nz:at + nx + ny + nz + nx * ny * nz * nt * 3].reshape(
+        nx, ny, nz, nt, 3)
+    t0, t1, ft = _time_cell(nt, dt, t)
+    i0, i1, fx = cell(px, x)
+    j0, j1, fy = cell(py, y)
+    k0, k1, fz = cell(pz, z)
+    for a in range(2):
+        wa, i = _side(a, fx, i0, i1)
+        for b in range(2):
+            wb, j = _side(b, fy, j0, j1)
+            for c in range(2):
+                wc, k = _side(c, fz, k0, k1)
+                w = weight * wa * wb * wc
+                for d in range(3):
+                    out[d] += w * ((1 - ft) * velocity[i, j, k, t0, d]
+                                   + ft * velocity[i, j, k, t1, d])
+
+
+@njit(cache=True)
+def _spectrum(F, at, x, y, z, t, out, elevation_only):
+    """:class:`SpectrumWaves` at (x, y, z), time t: its elevation returned and, unless
+    ``elevation_only``, its velocity and acceleration added into out[0:6]."""
+    n = int(F[at])
+    stretch = at + 1
+    at = stretch + 3 + int(F[stretch + 1]) + int(F[stretch + 2]) \
+        + int(F[stretch + 1]) * int(F[stretch + 2])
+    omega, k, a, phi = F[at:at + n], F[at + n:at + 2 * n], F[at + 2 * n:at + 3 * n], \
+        F[at + 3 * n:at + 4 * n]
+    cb, sb = F[at + 4 * n:at + 5 * n], F[at + 5 * n:at + 6 * n]
+    zeta = 0.0
+    for i in range(n):
+        zeta += a[i] * math.sin(omega[i] * t - k[i] * (x * cb[i] + y * sb[i]) + phi[i])
+    if elevation_only:
+        return zeta
+    z_s, _ = _stretched(F, stretch, x, y, z, zeta)
+    depth = F[stretch]
+    for i in range(n):
+        theta = omega[i] * t - k[i] * (x * cb[i] + y * sb[i]) + phi[i]
+        ch, sh = _factors(k[i], z_s, depth)
+        sin, cos = math.sin(theta), math.cos(theta)
+        aw, aw2 = a[i] * omega[i], a[i] * omega[i] ** 2
+        out[0] += ch * sin * aw * cb[i]
+        out[1] += ch * sin * aw * sb[i]
+        out[2] += sh * cos * aw
+        out[3] += ch * cos * aw2 * cb[i]
+        out[4] += ch * cos * aw2 * sb[i]
+        out[5] -= sh * sin * aw2
+    return zeta
+
+
+@njit(cache=True)
+def _wave_grid(F, at, x, y, z, t, out, elevation_only):
+    """:class:`WaveGrid` at (x, y, z), time t: its elevation returned and, unless
+    ``elevation_only``, its velocity and acceleration (its currents' included) added into
+    out[0:6]."""
+    n, nx, ny, nz, nt = int(F[at]), int(F[at + 1]), int(F[at + 2]), int(F[at + 3]), \
+        int(F[at + 4])
+    dt, depth = F[at + 5], F[at + 6]
+    stretch = at + 7
+    at = stretch + 3 + int(F[stretch + 1]) + int(F[stretch + 2]) \
+        + int(F[stretch + 1]) * int(F[stretch + 2])
+    px, py, pz = F[at:at + nx], F[at + nx:at + nx + ny], F[at + nx + ny:at + nx + ny + nz]
+    at += nx + ny + nz
+    omega, k = F[at:at + n], F[at + n:at + 2 * n]
+    cr, ci = F[at + 2 * n:at + 3 * n], F[at + 3 * n:at + 4 * n]
+    cb, sb = F[at + 4 * n:at + 5 * n], F[at + 5 * n:at + 6 * n]
+    currents = at + 6 * n
+    i0, i1, fx = cell(px, x)
+    j0, j1, fy = cell(py, y)
+    t0, t1, ft = _time_cell(nt, dt, t)
+    # c e^{i theta} (real, imaginary) at the grid's nodes and samples around the point,
+    # corner = 4 (x side) + 2 (y side) + (t side), and the corners' weights
+    modes, weights, zeta = np.empty((8, n, 2)), np.empty(8), 0.0
+    for corner in range(8):
+        wa, xa = _side(corner >> 2, fx, px[i0], px[i1])
+        wb, yb = _side((corner >> 1) & 1, fy, py[j0], py[j1])
+        wt, td = _side(corner & 1, ft, t0 * dt, t1 * dt)
+        weights[corner] = wa * wb * wt
+        for i in range(n):
+            theta = omega[i] * td - k[i] * (xa * cb[i] + yb * sb[i])
+            modes[corner, i, 0] = cr[i] * math.cos(theta) - ci[i] * math.sin(theta)
+            modes[corner, i, 1] = cr[i] * math.sin(theta) + ci[i] * math.cos(theta)
+            zeta += weights[corner] * modes[corner, i, 0]
+    if elevation_only:
+        return zeta
+    z_s, _ = _stretched(F, stretch, x, y, z, zeta)
+    k0, k1, fz = cell(pz, z_s)
+    for c in range(2):
+        wc, zc = _side(c, fz, pz[k0], pz[k1])
+        for corner in range(8):
+            w = weights[corner] * wc
+            for i in range(n):
+                # u_h = Re(w m ch) e, u_z = Re(i w m sh), their rates Re(i w .)
+                mr, mi = modes[corner, i, 0], modes[corner, i, 1]
+                ch, sh = _factors(k[i], zc, depth)
+                wo, wo2 = w * omega[i], w * omega[i] ** 2
+                out[0] += wo * ch * mr * cb[i]
+                out[1] += wo * ch * mr * sb[i]
+                out[2] -= wo * sh * mi
+                out[3] -= wo2 * ch * mi * cb[i]
+                out[4] -= wo2 * ch * mi * sb[i]
+                out[5] -= wo2 * sh * mr
+            record = currents + 1
+            for _ in range(int(F[currents])):  # each current at the node and sample
+                _current_grid(F, record + 2, _side(corner >> 2, fx, px[i0], px[i1])[1],
+                              _side((corner >> 1) & 1, fy, py[j0], py[j1])[1], zc,
+                              _side(corner & 1, ft, t0 * dt, t1 * dt)[1], w, out)
+                record += 2 + int(F[record + 1])
+    return zeta
+
+
+@njit(cache=True, inline="always")
+def _side(side, f, lower, upper):
+    """(weight, coordinate) of a cell's ``side`` (0: lower, 1: upper) at fraction f."""
+    return (1.0 - f, lower) if side == 0 else (f, upper)
+
+
+@njit(cache=True)
+def fields_accelerate(F):
+    """Whether any of the packed fields F has an acceleration (waves: all but current
+    grids), the fields' ``has_acceleration``."""
+    at = 1
+    for _ in range(int(F[0])):
+        if F[at] != CURRENT_GRID:
+            return True
+        at += 2 + int(F[at + 1])
+    return False
+
+
+@njit(cache=True)
+def _fields(x, y, z, t, F, out, elevation_only):
+    """The packed fields' elevation at (x, y), time t, returned and, unless
+    ``elevation_only``, their velocity and acceleration at (x, y, z) added into out[0:6]."""
+    at, zeta = 1, 0.0
+    for _ in range(int(F[0])):
+        kind, length = F[at], int(F[at + 1])
+        if kind == CURRENT_GRID:
+            if not elevation_only:
+                _current_grid(F, at + 2, x, y, z, t, 1.0, out)
+        elif kind == SPECTRUM_WAVES:
+            zeta += _spectrum(F, at + 2, x, y, z, t, out, elevation_only)
+        else:
+            zeta += _wave_grid(F, at + 2, x, y, z, t, out, elevation_only)
+        at += 2 + length
+    return zeta
+
+
+@njit(cache=True)
+def field_kinematics(x, y, z, t, F, out):
+    """Adds the velocity (out[0:3], m/s) and acceleration (out[3:6], m/s2) of the packed
+    fields F (:func:`packed_fields`) at (x, y, z) (m) and time t (s) into out: the
+    fields' ``kinematics``."""
+    _fields(x, y, z, t, F, out, False)
+
+
+@njit(cache=True)
+def field_elevation(x, y, t, F):
+    """The free surface's elevation (m) of the packed fields F at (x, y) (m), time t (s)."""
+    return _fields(x, y, 0.0, t, F, F[:0], True)

@@ -355,7 +355,7 @@ class CompiledStep:
         npoints, nbodies = len(system.point_masses), len(system.bodies)
         drag = np.zeros(npoints)
         body_drag = np.zeros((nbodies, 2, 3, 3))
-        water = (np.zeros(2), np.zeros(0), np.zeros(0), np.zeros((0, 8)))  # still water
+        water = (np.zeros(2), np.zeros(0), np.zeros(0), np.zeros((0, 8)), np.zeros(1))  # still
         references = np.zeros((npoints + nbodies, 3))
         references[:npoints] = np.asarray(system.point_reference, float).reshape(-1, 3)
         for term in system.built_in_terms:
@@ -368,18 +368,19 @@ class CompiledStep:
             water = term.step_water()
         if surface is not None:  # (its waves' elevation)
             water = surface.step_water()
-        heading, heights, speeds, waves = water
+        heading, heights, speeds, waves, fields = water
         self.points = (np.asarray(system.point_columns, np.int64).reshape(-1, 3),
                        lift.reshape(-1), drag.reshape(-1))
         # the water at the free points and the bodies with drag (a field of its own: read
         # only where a point or body has drag), a row each (the bodies' after the
         # points'): the reference positions (m), room for the water's velocity there, the
-        # current's heading, profile (heights, speeds) and the waves' components
-        # (skmoor.sea.hydro.water_arrays)
+        # current's heading, profile (heights, speeds), the waves' components and the
+        # packed fields (skmoor.sea.hydro.water_arrays)
         self.water = (references, np.zeros((npoints + nbodies, 6)),
                       np.ascontiguousarray(heading, float),
                       np.ascontiguousarray(np.stack([heights, speeds]), float),
-                      np.ascontiguousarray(waves, float).reshape(-1, 8))
+                      np.ascontiguousarray(waves, float).reshape(-1, 8),
+                      np.ascontiguousarray(fields, float))
         # the bodies' hydrostatics, static load, linear damping and drag matrices
         # 1/2 rho D(CdA) of force and moment (BodyDrag)
         self.bodies = (np.array(system.K_bodies).reshape(nbodies, 6, 6),
@@ -971,15 +972,15 @@ def _commit_forms(x, v, data, inputs):
 
 @njit(cache=True, inline="always")
 def _water_at(dx, dy, dz, t, at_points, row):
-    """Whether the water moves; if so its velocity (current and waves, as
+    """Whether the water moves; if so its velocity (current, waves and fields, as
     ``Sea.velocity``) at time t (s) at the reference position of ``row`` of the step
     data's ``water`` (``at_points``: a free point's, or a body's after them) displaced by
     (dx, dy, dz) (m), into at_points[1][row, :3]."""
-    reference, water, heading, profile, waves = at_points
-    if profile.shape[1] == 0 and waves.shape[0] == 0:
+    reference, water, heading, profile, waves, fields = at_points
+    if profile.shape[1] == 0 and waves.shape[0] == 0 and fields[0] == 0.0:
         return False
     water_kinematics(reference[row, 0] + dx, reference[row, 1] + dy, reference[row, 2] + dz,
-                     t, heading, profile[0], profile[1], waves, water[row])
+                     t, heading, profile[0], profile[1], waves, fields, water[row])
     return True
 
 
@@ -1022,12 +1023,13 @@ def _residual(x, v, data, inputs, tangent, R):
     nends = r_local.shape[0]
     surface_dofs, surface_nodes, surface_reach = topology[7], topology[8], topology[9]
     if surface_dofs.shape[0]:  # SurfaceTerm is zero while the lines stay this deep under
-        waves = data.water[4]  # the surface (its waves' elevation at the displaced nodes)
-        for i in range(surface_dofs.shape[0]):
+        waves, fields = data.water[4], data.water[5]  # the surface (its waves' and fields'
+        for i in range(surface_dofs.shape[0]):  # elevation at the displaced nodes)
             height = surface_nodes[i, 2] + u[surface_dofs[i, 2]]
-            if waves.shape[0]:
+            if waves.shape[0] or fields[0] > 0.0:
                 height -= wave_elevation(surface_nodes[i, 0] + u[surface_dofs[i, 0]],
-                                         surface_nodes[i, 1] + u[surface_dofs[i, 1]], t, waves)
+                                         surface_nodes[i, 1] + u[surface_dofs[i, 1]], t, waves,
+                                         fields)
             if height > surface_reach:
                 return False
     Xp, T, law, knots, coef, BA, h, weight, dofs_i, dofs_j, damped, constant, gravity = cable

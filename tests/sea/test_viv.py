@@ -151,9 +151,9 @@ def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
     assert results.t[-1] == pytest.approx(0.2) and np.isfinite(results.displacement).all()
 
 
-def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=()):
+def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=(), fields=()):
     """A weightless taut string of two elements (8 m, vertical, from z = ``bottom``) in a
-    current U along x (and ``waves``): its middle node a cross-flow oscillator tuned to
+    current U along x (and ``waves``, ``fields``): its middle node a cross-flow oscillator tuned to
     f_n = (cF + dF / 2) U / d with damping ratio ``zeta`` from the current's drag,
     ½ rho d Cd U per length across the flow (skmoor integrates the drag at Gauss points:
     the middle node takes 2/3 of the lumped share, int N^2 = 2 h / 3), lift lumped at the
@@ -170,7 +170,8 @@ def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=()):
     EA = 1e3 * T
     line_type = LineType(EA=EA, mass=m, diameter=D, Cd_n=Cd, rho_water=RHO, g=0.0,
                          Cl=0.05, viv_dF=dF, viv_cF=cF)
-    sea = Sea(depth=50.0, rho=RHO, current=Current(speed=U), waves=list(waves))
+    sea = Sea(depth=50.0, rho=RHO, current=Current(speed=U), waves=list(waves),
+              fields=list(fields))
     network = Network([Point("A", "fixed", [0.0, 0.0, bottom]),
                        Point("B", "fixed", [0.0, 0.0, bottom + L])],
                       [MooringLine("string", line_type, "A", "B", L / (1 + T / EA), 2)],
@@ -297,8 +298,24 @@ def test_the_compiled_kernels_evaluate_the_waves_as_the_sea():
         scale = np.abs(velocity).max() + np.abs(acceleration).max()
         np.testing.assert_allclose(out, np.concatenate([velocity, acceleration]), rtol=0,
                                    atol=1e-12 * scale)
-        assert wave_elevation(point[0], point[1], t, components) == pytest.approx(
+        assert wave_elevation(point[0], point[1], t, components, np.zeros(1)) == pytest.approx(
             float(sea.elevation(point, t)), rel=1e-12, abs=1e-12)
+
+
+def raised_lock_in_run(compiled, waves=(), fields=()):
+    """The lock-in string raised to 1 m under the still surface (in ``waves`` and
+    ``fields``), 300 steps from its equilibrium, compiled or not: (states, the lift's
+    state at the end, the lift)."""
+    model, f_n, _, _ = lock_in_case(0.15, bottom=-5.0, waves=waves, fields=fields)
+    system = model.system
+    lift = next(t for t in system.line_terms if isinstance(t, VortexLift))
+    lift.rms_time = 2 / f_n
+    eq = skmoor.equilibrium(model)
+    assert compiled_step.lowered_terms(system)[0] is None
+    dt = 1 / (50 * f_n)
+    states = [s.x.copy() for s in dynamics.integrate(
+        system, eq.x, np.zeros(system.n), dt, 300 * dt, C=eq.C, compiled=compiled, tol=1e-10)]
+    return np.array(states), lift._state.copy(), lift
 
 
 def test_the_compiled_step_advances_the_lift_in_waves_as_the_python_step():
@@ -310,28 +327,15 @@ def test_the_compiled_step_advances_the_lift_in_waves_as_the_python_step():
     wet fraction on z + eta, or the waves' velocity left out, would part the runs)."""
     from skmoor.sea.waves import AiryWave
 
-    def run(compiled, waves):
-        model, f_n, _, _ = lock_in_case(0.15, bottom=-5.0, waves=waves)
-        system = model.system
-        lift = next(t for t in system.line_terms if isinstance(t, VortexLift))
-        lift.rms_time = 2 / f_n
-        eq = skmoor.equilibrium(model)
-        assert compiled_step.lowered_terms(system)[0] is None
-        dt = 1 / (50 * f_n)
-        states = [s.x.copy() for s in dynamics.integrate(
-            system, eq.x, np.zeros(system.n), dt, 300 * dt, C=eq.C, compiled=compiled,
-            tol=1e-10)]
-        return np.array(states), lift._state.copy(), lift
-
     waves = [AiryWave(3.0, 8.0, depth=50.0, heading_deg=60.0, phase=-1.0)]
-    fast, state_fast, lift = run(True, waves)
-    slow, state_slow, _ = run(False, waves)
+    fast, state_fast, lift = raised_lock_in_run(True, waves=waves)
+    slow, state_slow, _ = raised_lock_in_run(False, waves=waves)
     motion = np.abs(slow - slow[0]).max()
     assert np.abs(fast - slow).max() < 1e-9 * motion
     assert state_fast == pytest.approx(state_slow, rel=1e-9, abs=1e-12)
     times = np.linspace(0.0, 300 / (50 * (0.18 + 0.04) * U / D), 200)
     assert lift.sea.elevation(np.zeros((200, 2)), times).min() < -1.0 - D  # dry there
-    calm, _, _ = run(True, ())
+    calm, _, _ = raised_lock_in_run(True)
     assert np.abs(calm - slow).max() > 0.1 * motion
 
 

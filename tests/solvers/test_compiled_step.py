@@ -234,6 +234,38 @@ def test_a_bending_line_on_the_bed_steps_as_the_python_newton(friction):
                      scheme=Scheme.generalized_alpha(0.5))
 
 
+def chain_to_the_surface(sea, fairlead_z):
+    """A chain from the bed (30 m) to a fixed fairlead at height ``fairlead_z`` (m) with
+    drag, added mass and the dry part of the line (SurfaceTerm) in ``sea``: (system, its
+    static state, the chain's diameter m)."""
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea.hydro import line_hydrodynamics
+    from skmoor.sea.seabed import Seabed, seabed_term
+    from skmoor.sea.surface import SurfaceTerm
+
+    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, BA=7.5e4, Cd_n=2.4,
+                            Ca_n=1.0)
+    cat = solve_catenary([-80.0, 0.0, -30.0], [0.0, 0.0, fairlead_z], chain.weight, chain.EA,
+                         length=100.0, seabed_z=-30.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 12)], law="engineering")
+    bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter)
+    system = skmoor.System(lines, fairleads="prescribed", motion=lambda t: np.zeros((1, 3)),
+                           terms=[seabed_term(lines, bed), line_hydrodynamics(lines, sea),
+                                  SurfaceTerm(lines, sea)])
+    return system, skmoor.solve_static(system).x, chain.diameter
+
+
+def steps_before_handing_back(system, x0, times, dt):
+    """How many of the steps to ``times`` the compiled step takes from rest at x0 before
+    it hands one to the Python step (None: it hands none back)."""
+    fast = compiled_step.build(system, None, Scheme.generalized_alpha(0.5), TOL, 20)
+    assert fast is not None, compiled_step.last_refusal
+    v = np.zeros(system.n)
+    R, _, _ = system.residual(x0, v, 0.0, tangent=False)
+    done, why = fast.steps(x0, v, v, R, times, dt)
+    return len(done) if why == compiled_step.TO_PYTHON else None
+
+
 def test_a_line_under_a_wavy_surface_is_handed_back_where_the_waves_reach_it():
     """A chain from the bed to a fixed fairlead 1 m under the still surface, with the
     dry part of the line (SurfaceTerm) under a regular wave (1.2 m amplitude, 4 s): the
@@ -242,43 +274,23 @@ def test_a_line_under_a_wavy_surface_is_handed_back_where_the_waves_reach_it():
     time t with -1 - eta(0, 0, t) > -d / 2 by Sea.elevation. Still water (or the
     elevation's sign flipped, or taken at the step's start) would hand back no step there.
     The run through the handed-back steps is the Python step's."""
-    from skmoor.lines.catenary import solve_catenary
-    from skmoor.sea.hydro import line_hydrodynamics
-    from skmoor.sea.seabed import Seabed, seabed_term
-    from skmoor.sea.surface import SurfaceTerm
     from skmoor.sea.waves import AiryWave, Sea
 
-    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, BA=7.5e4, Cd_n=2.4,
-                            Ca_n=1.0)
-    cat = solve_catenary([-80.0, 0.0, -30.0], [0.0, 0.0, -1.0], chain.weight, chain.EA,
-                         length=100.0, seabed_z=-30.0)
     dt, steps = 0.05, 50
     times = dt * np.arange(1, steps + 1)
     handed_back = {}
     for name, sea in (("waves", Sea(30.0, waves=[AiryWave(2.4, 4.0, depth=30.0)])),
                       ("still", Sea(30.0))):
-        lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 12)], law="engineering")
-        bed = Seabed(30.0, stiffness=3e6 * chain.diameter, damping=3e5 * chain.diameter)
-        system = skmoor.System(lines, fairleads="prescribed",
-                               motion=lambda t: np.zeros((1, 3)),
-                               terms=[seabed_term(lines, bed), line_hydrodynamics(lines, sea),
-                                      SurfaceTerm(lines, sea)])
-        x0 = skmoor.solve_static(system).x
-        fast = compiled_step.build(system, None, Scheme.generalized_alpha(0.5), TOL, 20)
-        assert fast is not None, compiled_step.last_refusal
-        v = np.zeros(system.n)
-        R, _, _ = system.residual(x0, v, 0.0, tangent=False)
-        done, why = fast.steps(x0, v, v, R, times, dt)
-        handed_back[name] = len(done) if why == compiled_step.TO_PYTHON else None
+        system, x0, diameter = chain_to_the_surface(sea, -1.0)
+        handed_back[name] = steps_before_handing_back(system, x0, times, dt)
         if name == "waves":
             assert_same_runs(system, x0, np.zeros(system.n), dt, steps,
                              scheme=Scheme.generalized_alpha(0.5), same_iterations=False,
                              rel=1e-8)
             eta = sea.elevation(np.zeros((steps, 2)), times)
-            expected = int(np.argmax(-1.0 - eta > -0.5 * chain.diameter))
+            expected = int(np.argmax(-1.0 - eta > -0.5 * diameter))
     assert handed_back["still"] is None
     assert 10 < expected == handed_back["waves"]
-
 
 
 @pytest.mark.parametrize("maxiter", [4, 3])
