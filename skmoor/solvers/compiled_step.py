@@ -625,7 +625,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
             if h_prev > 0.0:  # the acceleration's trend over the last step (first_guess)
                 y[j] += h**3 / (6.0 * h_prev) * (a[j] - a_prev[j])
         tangent = state[0] == 0.0
-        previous = scale = np.inf
+        previous = before = scale = np.inf
         used = maxiter  # iterations of the modified attempt (dynamics: maxiter on a failure)
         it = stalls = stored = 0  # it: the step's iterations once solved
         for k in range(1, maxiter + 1):
@@ -656,7 +656,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
             if k == 1:  # the step's change, to scale the tolerance
                 scale = _distance(y, x)
             if not landed and (size <= tol * scale + 1e-12
-                               or _error_below(size, previous, tol * scale)):
+                               or _error_below(size, previous, before, tol * scale)):
                 _copy(x1, y)
                 it = k
                 break
@@ -672,7 +672,7 @@ def _run(x, v, a, force, h, times, scheme, tol, maxiter, data, loads, pres_u, pr
             stored += 1
             tangent = (size > BROYDEN_CONTRACTION * previous or stored == BROYDEN_HISTORY
                        or landed)
-            previous = size
+            before, previous = previous, size
         if it == 0:  # Newton with the line search (dynamics._newton with full=True)
             for j in range(n):
                 y[j] = x[j] + h * v[j]

@@ -101,7 +101,7 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full, limit=None):
     sea bed's landing, ``System.limit_correction``); such a correction does not end the
     iteration, and modified Newton makes its matrix new after it."""
     B, A = balance(x1, tangent=full or matrix.factor is None)
-    previous = scale = np.inf
+    previous = before = scale = np.inf
     norm = np.linalg.norm(B) if full else 0.0
     stalls = 0
     steps = []  # the corrections made on the current matrix (Broyden's history)
@@ -124,7 +124,7 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full, limit=None):
             scale = np.max(np.abs(x_new - x0), initial=0.0)
         if not landed and size <= tol * scale + 1e-12:
             return x_new, it
-        if not full and not landed and error_below(size, previous, tol * scale):
+        if not full and not landed and error_below(size, previous, before, tol * scale):
             return x_new, it
         if not full:
             stalls = stalls + 1 if A is not None and it > 1 and size > STALL * previous else 0
@@ -134,7 +134,7 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full, limit=None):
             x1 = x_new
             slow = (size > BROYDEN_CONTRACTION * previous or len(steps) == BROYDEN_HISTORY
                     or landed)
-            previous = size
+            before, previous = previous, size
             B, A = balance(x1, tangent=slow)
             continue
         length = 1.0  # of the correction
@@ -155,13 +155,15 @@ def _newton(balance, x1, x0, matrix, tol, maxiter, full, limit=None):
     return None, maxiter
 
 
-def error_below(size, previous, bound):
+def error_below(size, previous, before, bound):
     """Whether the error a modified-Newton correction of ``size`` leaves is below ``bound``:
-    estimated from the rate theta = size / previous at which the corrections shrink as
-    theta / (1 - theta) size (a geometric tail; Hairer & Wanner, Solving ODEs II, IV.8).
-    No rate before the second correction (previous inf) or while they do not shrink."""
-    theta = size / previous
-    return 0.0 < theta < 1.0 and size * theta <= (1.0 - theta) * bound
+    estimated from the rate theta at which the corrections shrink as theta / (1 - theta)
+    size (a geometric tail; Hairer & Wanner, Solving ODEs II, IV.8), theta the larger of
+    the last two rates, size / previous and previous / ``before`` (one rate alone can be
+    a chance: a correction that happens to be small). No estimate before the third
+    correction (``before`` inf) or while they do not shrink."""
+    theta = max(size / previous, previous / before)
+    return math.isfinite(before) and 0.0 < theta < 1.0 and size * theta <= (1.0 - theta) * bound
 
 
 def broyden(dx, steps):

@@ -165,18 +165,23 @@ def test_modified_newton_stops_on_the_error_it_leaves():
     """Corrections shrinking at a rate theta (s_k = theta^k) leave the tail
     s_k theta / (1 - theta) after s_k: error_below says a correction's tail is below a
     bound exactly when it is (a factor theta, or a tail summed from 1, would be off), and
-    never before a second correction (no rate) or while the corrections grow. On a smooth
-    equation, modified Newton then ends within its tolerance of the root itself."""
+    never before a third correction (two rates), while the corrections grow, or on one
+    small correction after a slow rate (the larger of the last two rates counts: one
+    chance-small correction would end the iteration early). On a smooth equation,
+    modified Newton then ends within its tolerance of the root itself."""
     from skmoor.solvers.newton import _IterationMatrix, _newton, error_below
 
     for theta in (0.05, 0.3, 0.8):
         for k in range(2, 30):
-            size, previous = theta**k, theta ** (k - 1)
+            size, previous, before = theta**k, theta ** (k - 1), theta ** (k - 2)
             tail = size * theta / (1 - theta)
-            assert error_below(size, previous, tail * (1 + 1e-9))
-            assert not error_below(size, previous, tail * (1 - 1e-9))
-    assert not error_below(1e-3, np.inf, 1.0)  # the first correction: no rate yet
-    assert not error_below(2.0, 1.0, 1e9)  # growing corrections
+            assert error_below(size, previous, before, tail * (1 + 1e-9))
+            assert not error_below(size, previous, before, tail * (1 - 1e-9))
+    assert not error_below(1e-3, np.inf, np.inf, 1.0)  # the first correction: no rate yet
+    assert not error_below(1e-6, 1e-3, np.inf, 1.0)  # the second: one rate only
+    assert not error_below(2.0, 1.0, 0.5, 1e9)  # growing corrections
+    # rates 0.9 then 0.01: the tail at the slower rate, 9 times the correction
+    assert not error_below(0.009, 0.9, 1.0, 0.05) and error_below(0.009, 0.9, 1.0, 0.09)
 
     def balance(x, tangent):  # x + x^3 / 3 = 2, its matrix made once at the start
         return x + x**3 / 3 - 2.0, (np.array([[1.0 + x[0] ** 2]]) if tangent else None)
