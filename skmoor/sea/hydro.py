@@ -261,14 +261,15 @@ class LineHydroKernel(Term):
 
     @property
     def step_kernel(self):
-        """In still water, a current and Airy waves, (C function, ints, floats):
-        :func:`_morison` (P1) or :func:`_morison_shapes` (bending lines) as the compiled
-        time step calls a user's LineForm (by address,
+        """In water the compiled kernels evaluate (:func:`water_lowers`), (C function, ints,
+        floats): :func:`_morison` (P1) or :func:`_morison_shapes` (bending lines) as the
+        compiled time step calls a user's LineForm (by address,
         :data:`~skmoor.fem.form_compiler.STEP_SIGNATURE`; compiled when first asked for), the
         water at the displaced nodes (:func:`_water`), the arrays packed: ints [nel, nqp,
-        nodes, profile points, wave components, each element's nodes (P1: 2; bending: 4,
-        one per shape, -1 on a slope and all -1 in still water), element DOFs, the nodes'
-        z DOFs (then with waves their x and y DOFs)], floats [X', (P1: h, phi, w phi;
+        nodes, profile points, wave components, 1 with waves or fields (x and y matter) else
+        0, each element's nodes (P1: 2; bending: 4, one per shape, -1 on a slope and all -1
+        in still water), element DOFs, the nodes' z DOFs (then, with waves or fields, their
+        x and y DOFs)], floats [X', (P1: h, phi, w phi;
         bending: shapes), drag_n, drag_t, inertia_n, inertia_t - inertia_n, then the
         water's (:func:`_water`)]; in still water no nodes on bending lines."""
         if not self.compiled_water:
@@ -634,14 +635,15 @@ def unpacked_water(floats, at, nprofile, ncomponents):
 
 @njit(cache=True)
 def _water(u, t, ints, at_ints, floats, at):
-    """(velocity, acceleration, whether waves move it) of the water at the displaced
-    nodes (nodes, 3 each; m/s, m/s2): the current (``Current.velocity``) and the Airy
-    waves (:func:`wave_kinematics`), from the packed buffers of
+    """(velocity, acceleration, whether it accelerates) of the water at the displaced
+    nodes (nodes, 3 each; m/s, m/s2): the current (``Current.velocity``), the Airy waves
+    and the fields (:func:`water_kinematics`), from the packed buffers of
     ``LineHydroKernel.step_kernel`` (ints from ``at_ints``: the nodes' z DOFs, then with
-    waves their x and y DOFs; floats from ``at``: the nodes' reference z (then x and y),
-    the current's heading (unit, horizontal), its profile's heights (m) and speeds (m/s),
-    the wave components (components, 8), room for the velocity (nodes, 3) and with waves
-    for the acceleration), written there (left zero in still water)."""
+    waves or fields their x and y DOFs; floats from ``at``: the nodes' reference z (then
+    x and y), the current's heading (unit, horizontal), its profile's heights (m) and
+    speeds (m/s), the wave components (components, 8), the packed fields, room for the
+    velocity (nodes, 3) and with waves or fields for the acceleration), written there
+    (left zero in still water)."""
     nnodes, nprofile, ncomponents = ints[2], ints[3], ints[4]
     axes = 3 if ints[5] else 1  # (waves or fields: x and y too)
     dofs = carray(advanced(ints, at_ints), (axes, nnodes))
