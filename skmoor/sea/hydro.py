@@ -49,6 +49,7 @@ from .water_grids import (
     field_elevation,
     field_kinematics,
     fields_accelerate,
+    fields_lower,
     packed_fields,
 )
 from .waves import Sea
@@ -546,7 +547,7 @@ def water_lowers(sea) -> bool:
     """True when the compiled kernels evaluate ``sea``'s water (:func:`water_arrays`): still
     water, a current, Airy waves and fields of MoorDyn's kinds
     (:func:`~skmoor.sea.water_grids.packed_fields`)."""
-    return sea is None or sea.still or not sea.fields or packed_fields(sea.fields) is not None
+    return sea is None or sea.still or fields_lower(sea.fields)
 
 
 def wave_components(waves) -> np.ndarray:

@@ -352,6 +352,16 @@ def resampled_current(px, py, pz, times, velocity):
 CURRENT_GRID, SPECTRUM_WAVES, WAVE_GRID = 1.0, 2.0, 3.0  # a packed field's kind
 
 
+def fields_lower(fields) -> bool:
+    """Whether :func:`packed_fields` packs ``fields`` (every one a :class:`CurrentGrid`, a
+    :class:`SpectrumWaves` or a :class:`WaveGrid` whose currents are current grids),
+    without packing them."""
+    return all(type(field) in (CurrentGrid, SpectrumWaves)
+               or (type(field) is WaveGrid
+                   and all(type(current) is CurrentGrid for current in field.currents))
+               for field in fields)
+
+
 def packed_fields(fields):
     """The fields as one float buffer for :func:`field_kinematics` and
     :func:`field_elevation`, or None when one is not a :class:`CurrentGrid`,

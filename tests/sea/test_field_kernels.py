@@ -16,6 +16,7 @@ from skmoor.sea.water_grids import (
     WaveGrid,
     field_elevation,
     field_kinematics,
+    fields_lower,
     packed_fields,
 )
 
@@ -101,6 +102,8 @@ def test_fields_the_kernels_lack_are_not_packed():
         def kinematics(self, points, t=0.0):
             return np.ones(np.shape(points)), np.zeros(np.shape(points))
 
-    assert packed_fields([]).tolist() == [0.0]
-    assert packed_fields([current_grid(rng), Uniform()]) is None
-    assert packed_fields([wave_grid(rng, None, [spectrum(rng, None)])]) is None
+    assert packed_fields([]).tolist() == [0.0] and fields_lower([])
+    for fields in ([current_grid(rng), Uniform()], [wave_grid(rng, None, [spectrum(rng, None)])]):
+        assert packed_fields(fields) is None and not fields_lower(fields)
+    fields = [spectrum(rng, None), wave_grid(rng, None, [current_grid(rng)])]
+    assert packed_fields(fields) is not None and fields_lower(fields)
