@@ -367,34 +367,26 @@ def packed_fields(fields):
     :func:`field_elevation`, or None when one is not a :class:`CurrentGrid`,
     :class:`SpectrumWaves` or :class:`WaveGrid` (with CurrentGrid currents): [count, then
     each field's kind and length and its numbers (see :func:`_packed_field`)]; [0] for none."""
-    records = []
-    for field in fields:
-        record = _packed_field(field)
-        if record is None:
-            return None
-        records.append(record)
-    return np.concatenate([[float(len(records))], *records]).astype(float)
+    if not fields_lower(fields):
+        return None
+    return np.concatenate([[float(len(fields))], *map(_packed_field, fields)]).astype(float)
 
 
 def _packed_field(field):
-    """[kind, length of what follows, the field's numbers] or None (a kind not packed)."""
+    """[kind, length of what follows, the field's numbers] of a field :func:`fields_lower`
+    takes."""
     if type(field) is CurrentGrid:
         body = [[field.px.size, field.py.size, field.pz.size, field.nt, field.dt],
                 field.px, field.py, field.pz, field.velocity.ravel()]
     elif type(field) is SpectrumWaves:
         body = [[field.omega.size], _packed_stretching(field.stretching), field.omega,
                 field.k, field.a, field.phi, np.cos(field.beta), np.sin(field.beta)]
-    elif type(field) is WaveGrid:
-        currents = [_packed_field(current) if type(current) is CurrentGrid else None
-                    for current in field.currents]
-        if any(current is None for current in currents):
-            return None
+    else:  # a WaveGrid, its currents current grids
+        currents = [_packed_field(current) for current in field.currents]
         body = [[field.omega.size, field.px.size, field.py.size, field.pz.size, field.nt,
                  field.dt, field.depth], _packed_stretching(field.stretching), field.px,
                 field.py, field.pz, field.omega, field.k, field.c.real, field.c.imag,
                 np.cos(field.beta), np.sin(field.beta), [len(currents)], *currents]
-    else:
-        return None
     body = np.concatenate([np.ravel(np.asarray(part, float)) for part in body])
     kind = {CurrentGrid: CURRENT_GRID, SpectrumWaves: SPECTRUM_WAVES, WaveGrid: WAVE_GRID}
     return np.concatenate([[kind[type(field)], body.size], body])
@@ -441,12 +433,19 @@ def _factors(k, z, depth):
     return (up + down) * scale, (up - down) * scale
 
 
+@njit(cache=True, inline="always")
+def _stretching_end(F, at):
+    """Where the packed :class:`Stretching` in F from ``at`` ends."""
+    nx, ny = int(F[at + 1]), int(F[at + 2])
+    return at + 3 + nx + ny + nx * ny
+
+
 @njit(cache=True)
 def _stretched(F, at, x, y, z, zeta):
     """:class:`Stretching`'s z_s (m) of (x, y, z) under the elevation zeta, its numbers in
-    F from ``at``; and where they end."""
+    F from ``at``."""
     depth, nx, ny = F[at], int(F[at + 1]), int(F[at + 2])
-    end = at + 3 + nx + ny + nx * ny
+    end = _stretching_end(F, at)
     bed = -depth
     if nx > 0:
         gx, gy = F[at + 3:at + 3 + nx], F[at + 3 + nx:at + 3 + nx + ny]
@@ -455,7 +454,7 @@ def _stretched(F, at, x, y, z, zeta):
         j0, j1, fy = cell(gy, y)
         bed = ((1 - fx) * ((1 - fy) * heights[i0, j0] + fy * heights[i0, j1])
                + fx * ((1 - fy) * heights[i1, j0] + fy * heights[i1, j1]))
-    return min(depth * (z - bed) / (zeta - bed) - depth, 0.0), end
+    return min(depth * (z - bed) / (zeta - bed) - depth, 0.0)
 
 
 @njit(cache=True)
@@ -488,8 +487,7 @@ def _spectrum(F, at, x, y, z, t, out, elevation_only):
     ``elevation_only``, its velocity and acceleration added into out[0:6]."""
     n = int(F[at])
     stretch = at + 1
-    at = stretch + 3 + int(F[stretch + 1]) + int(F[stretch + 2]) \
-        + int(F[stretch + 1]) * int(F[stretch + 2])
+    at = _stretching_end(F, stretch)
     omega, k, a, phi = F[at:at + n], F[at + n:at + 2 * n], F[at + 2 * n:at + 3 * n], \
         F[at + 3 * n:at + 4 * n]
     cb, sb = F[at + 4 * n:at + 5 * n], F[at + 5 * n:at + 6 * n]
@@ -498,7 +496,7 @@ def _spectrum(F, at, x, y, z, t, out, elevation_only):
         zeta += a[i] * math.sin(omega[i] * t - k[i] * (x * cb[i] + y * sb[i]) + phi[i])
     if elevation_only:
         return zeta
-    z_s, _ = _stretched(F, stretch, x, y, z, zeta)
+    z_s = _stretched(F, stretch, x, y, z, zeta)
     depth = F[stretch]
     for i in range(n):
         theta = omega[i] * t - k[i] * (x * cb[i] + y * sb[i]) + phi[i]
@@ -523,8 +521,7 @@ def _wave_grid(F, at, x, y, z, t, out, elevation_only):
         int(F[at + 4])
     dt, depth = F[at + 5], F[at + 6]
     stretch = at + 7
-    at = stretch + 3 + int(F[stretch + 1]) + int(F[stretch + 2]) \
-        + int(F[stretch + 1]) * int(F[stretch + 2])
+    at = _stretching_end(F, stretch)
     px, py, pz = F[at:at + nx], F[at + nx:at + nx + ny], F[at + nx + ny:at + nx + ny + nz]
     at += nx + ny + nz
     omega, k = F[at:at + n], F[at + n:at + 2 * n]
@@ -549,7 +546,7 @@ def _wave_grid(F, at, x, y, z, t, out, elevation_only):
             zeta += weights[corner] * modes[corner, i, 0]
     if elevation_only:
         return zeta
-    z_s, _ = _stretched(F, stretch, x, y, z, zeta)
+    z_s = _stretched(F, stretch, x, y, z, zeta)
     k0, k1, fz = cell(pz, z_s)
     for c in range(2):
         wc, zc = _side(c, fz, pz[k0], pz[k1])

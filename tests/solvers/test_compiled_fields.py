@@ -14,6 +14,7 @@ from test_compiled_step import (
     _chain_on_the_bed,
     assert_same_runs,
     chain_to_the_surface,
+    chains_in_seas,
     run,
     runs_of_variants,
     steps_before_handing_back,
@@ -52,19 +53,11 @@ def field_sea(depth, bathymetry=None, seed=2):
 @pytest.mark.parametrize("EI", [0.0, 1e5])
 @pytest.mark.parametrize("on_bathymetry", [False, True])
 def test_a_chain_in_water_fields_steps_as_the_python_newton(EI, on_bathymetry):
-    from skmoor.sea.hydro import line_hydrodynamics
-
     bathymetry = (Bathymetry([-200.0, 100.0], [-50.0, 50.0], [[-31.0, -30.5], [-29.0, -30.0]])
                   if on_bathymetry else None)
-    motion = lambda t: np.array([[0.0, 0.0, 1.0 * np.sin(0.6 * t)]])  # noqa: E731
-    variants = {}
-    for name, sea in (("fields", field_sea(30.0, bathymetry)),
-                      ("current", Sea(30.0, current=field_sea(30.0).current))):
-        base, x0 = _chain_on_the_bed(motion, EI=EI, hydro=False)
-        variants[name] = (skmoor.System(base.lines, fairleads="prescribed", motion=motion,
-                                        terms=[*base.terms, line_hydrodynamics(base.lines, sea)]),
-                          x0)
-    runs = runs_of_variants(variants)
+    runs = runs_of_variants(chains_in_seas({
+        "fields": field_sea(30.0, bathymetry),
+        "current": Sea(30.0, current=field_sea(30.0).current)}, EI))
     assert np.abs(runs["fields"] - runs["current"]).max() > 0.05
 
 

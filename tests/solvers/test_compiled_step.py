@@ -487,18 +487,25 @@ def test_a_chain_in_waves_and_a_current_steps_as_the_python_newton(EI):
     Newton. Without the waves' acceleration (the fluid inertia), with the kinematics at
     the reference nodes or at the step's start time, the runs would part: the waves move
     the chain by decimetres from its run in the current alone."""
-    from skmoor.sea.hydro import line_hydrodynamics
     from skmoor.sea.waves import Current, JonswapWave, Sea
 
-    motion = lambda t: np.array([[0.0, 0.0, 1.0 * np.sin(0.6 * t)]])  # noqa: E731
     current = Current(profile=SHEAR, heading_deg=30.0)
     waves = JonswapWave(3.0, 9.0, depth=30.0, heading_deg=60.0, n_components=30, seed=3)
+    runs = runs_of_variants(chains_in_seas({"waves": Sea(30.0, current=current, waves=[waves]),
+                                            "current": Sea(30.0, current=current)}, EI))
+    assert np.abs(runs["waves"] - runs["current"]).max() > 0.1
+
+
+def chains_in_seas(seas, EI):
+    """{name: (system, x0)}: the chain on the bed heaved 1 m at 0.6 rad/s with drag and
+    fluid inertia in each of the ``seas`` ({name: Sea}), on bending elements with EI > 0."""
+    from skmoor.sea.hydro import line_hydrodynamics
+
+    motion = lambda t: np.array([[0.0, 0.0, 1.0 * np.sin(0.6 * t)]])  # noqa: E731
     variants = {}
-    for name, sea in (("waves", Sea(30.0, current=current, waves=[waves])),
-                      ("current", Sea(30.0, current=current))):
+    for name, sea in seas.items():
         base, x0 = _chain_on_the_bed(motion, EI=EI, hydro=False)
         variants[name] = (skmoor.System(base.lines, fairleads="prescribed", motion=motion,
                                         terms=[*base.terms, line_hydrodynamics(base.lines, sea)]),
                           x0)
-    runs = runs_of_variants(variants)
-    assert np.abs(runs["waves"] - runs["current"]).max() > 0.1
+    return variants
