@@ -151,5 +151,6 @@ def test_the_compiled_step_runs_the_creep_as_the_python_step(tmp_path, EA):
     assert np.abs(x - x_py).max() < 1e-9 * np.abs(x_py - x_py[0]).max()
     assert np.array_equal(iterations, iterations_py)
     assert np.abs(force - force_py).max() < 1e-9 * np.abs(force_py).max()
-    assert state == pytest.approx(state_py, rel=1e-9, abs=1e-15, nan_ok=True)
+    # the stiffnesses in the state come from differences of strains: 1e-8 of round-off
+    assert state == pytest.approx(state_py, rel=1e-8, abs=1e-15, nan_ok=True)
     assert np.ptp(state[1:5]) > 0  # the creep strains moved

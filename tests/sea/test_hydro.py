@@ -94,7 +94,7 @@ def test_kernel_equals_forms_on_bending_lines(sea):
     R2, K2, V2 = total(form_terms(lines, sea, lumped_mass=False), lines, u, ud, 4.0, "dense")
     for a, b in ((R1, R2), (K1, K2), (V1, V2)):
         assert np.abs(b).max() > 0
-        assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max()
+        assert np.abs(a - b).max() <= 1e-11 * np.abs(b).max()  # the sums' round-off
     M1 = fast.mass_matrix()
     M2 = form_terms(lines, sea, lumped_mass=False)[0].mass_matrix()
     assert abs(M1 - M2).max() <= 1e-13 * abs(M2).max()

@@ -332,7 +332,9 @@ def test_the_compiled_step_advances_the_lift_in_waves_as_the_python_step():
     slow, state_slow, _ = raised_lock_in_run(False, waves=waves)
     motion = np.abs(slow - slow[0]).max()
     assert np.abs(fast - slow).max() < 1e-9 * motion
-    assert state_fast == pytest.approx(state_slow, rel=1e-9, abs=1e-12)
+    # the state's small entries carry the round-off of its large ones
+    assert state_fast == pytest.approx(state_slow, rel=1e-9,
+                                       abs=1e-9 * np.abs(state_slow).max())
     times = np.linspace(0.0, 300 / (50 * (0.18 + 0.04) * U / D), 200)
     assert lift.sea.elevation(np.zeros((200, 2)), times).min() < -1.0 - D  # dry there
     calm, _, _ = raised_lock_in_run(True)
