@@ -6,7 +6,7 @@ half-width w in the line DOFs) and every body DOF to its line ends (a border):
     A = [[B, E],      B (nf, nf) banded, E (nf, nb), F (nb, nf), D (nb, nb) dense
          [F, D]]
 
-LU by the Schur complement, O(nf w^2 + nf w nb + nb^3): B = L U with partial pivoting
+LU by the Schur complement, O(nf w^2 + nf w nb + nb^3): B = L U with threshold pivoting
 (LAPACK's gbtf2 in numba loops), Y = B^-1 E, S = D - F Y factorized densely, so that
 a factorization costs little more than the band's. Everything here is numba-compiled and
 takes the parts as plain arrays: ``ab`` (3 w + 1, nf) in LAPACK's band storage
@@ -18,31 +18,39 @@ import scipy.sparse as sp
 from numba import njit
 
 
+PIVOT_THRESHOLD = 0.01  # a diagonal entry this share of its column's largest is a pivot
+
+
 def band_storage(bandwidth, nf):
     """Zeroed band storage for an (nf, nf) band of half-width ``bandwidth``, column-major
     as LAPACK's (a column of the band contiguous: the LU's inner loops run along it)."""
     return np.zeros((3 * bandwidth + 1, nf), order="F")
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")  # (no zero check per division)
 def band_factor(ab, w, piv):
-    """LU with partial pivoting of the band in ``ab`` (kl = ku = w, in place; LAPACK gbtf2)
-    and its row swaps in piv (n + 1,), piv[n] the superdiagonals U has (w without a swap,
-    up to 2 w with fill-in): False when a pivot is zero (singular)."""
+    """LU of the band in ``ab`` (kl = ku = w, in place; LAPACK gbtf2's loops) with threshold
+    partial pivoting: a row swapped in only where the diagonal is below ``PIVOT_THRESHOLD``
+    times the column's largest entry (HSL MA48's default; swaps widen U to up to 2 w
+    superdiagonals, and a Newton matrix, nearly symmetric and positive definite, needs
+    few), its swaps in piv (n + 1,), piv[n] the superdiagonals U has: False when a pivot
+    is zero (singular)."""
     n = ab.shape[1]
     kv = 2 * w  # row of the diagonal
-    for i in range(w):  # the fill-in rows start at zero
-        for j in range(n):
+    for j in range(n):  # the fill-in rows start at zero
+        for i in range(w):
             ab[i, j] = 0.0
     last = 0  # the last column the pivots so far reach
     upper = min(w, n - 1)
-    multipliers = np.empty(max(w, 1))
     for j in range(n):
         below = min(w, n - 1 - j)
-        p, big = 0, abs(ab[kv, j])
+        column = ab[:, j]  # (views: the loops below then run on contiguous memory)
+        p, big = 0, abs(column[kv])
         for i in range(1, below + 1):
-            if abs(ab[kv + i, j]) > big:
-                p, big = i, abs(ab[kv + i, j])
+            if abs(column[kv + i]) > big:
+                p, big = i, abs(column[kv + i])
+        if abs(column[kv]) >= PIVOT_THRESHOLD * big:
+            p = 0  # the diagonal is large enough: no swap, no fill-in
         piv[j] = j + p
         if big == 0.0:
             return False
@@ -52,21 +60,21 @@ def band_factor(ab, w, piv):
             for c in range(j, last + 1):
                 top, low = kv + j - c, kv + j + p - c
                 ab[top, c], ab[low, c] = ab[low, c], ab[top, c]
-        pivot = ab[kv, j]
-        for i in range(1, below + 1):
-            ab[kv + i, j] /= pivot
-            multipliers[i - 1] = ab[kv + i, j]  # (a copy: the update below then vectorizes)
+        multipliers = column[kv + 1:kv + 1 + below]
+        for i in range(below):
+            multipliers[i] /= column[kv]
         for c in range(j + 1, last + 1):
-            a = ab[kv + j - c, c]
+            top = kv + j - c
+            target = ab[top + 1:top + 1 + below, c]
+            a = ab[top, c]
             if a != 0.0:
-                top = kv + j + 1 - c
                 for i in range(below):
-                    ab[top + i, c] -= multipliers[i] * a
+                    target[i] -= multipliers[i] * a
     piv[n] = upper
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")  # (no zero check per division)
 def band_solve(ab, w, piv, b):
     """b <- A^-1 b (b (n,)) with the factors of :func:`band_factor` (U's back substitution
     over the superdiagonals it has: half the fill-in rows' work where nothing was swapped)."""
@@ -76,12 +84,16 @@ def band_solve(ab, w, piv, b):
         p = piv[j]
         if p != j:
             b[j], b[p] = b[p], b[j]
-        for i in range(1, min(w, n - 1 - j) + 1):
-            b[j + i] -= ab[kv + i, j] * b[j]
+        below = min(w, n - 1 - j)
+        multipliers, rest, bj = ab[kv + 1:kv + 1 + below, j], b[j + 1:j + 1 + below], b[j]
+        for i in range(below):
+            rest[i] -= multipliers[i] * bj
     for j in range(n - 1, -1, -1):
         b[j] /= ab[kv, j]
-        for i in range(1, min(upper, j) + 1):
-            b[j - i] -= ab[kv - i, j] * b[j]
+        above = min(upper, j)
+        column, rest, bj = ab[kv - above:kv, j], b[j - above:j], b[j]
+        for i in range(above):
+            rest[i] -= column[i] * bj
 
 
 @njit(cache=True)

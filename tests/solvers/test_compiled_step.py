@@ -395,19 +395,26 @@ def test_reported_end_forces_and_line_state_are_the_systems(which, compiled):
     assert reported == 11  # steps 0, 3, ..., 30
 
 
-@pytest.mark.parametrize("dominant", [False, True])
-def test_bordered_band_solves_as_lapack(dominant):
-    """The bordered band LU (partial pivoting in the band, Schur complement on the border)
-    solves a random bordered system as numpy's LAPACK solve does: with rows swapped (U
-    then has fill-in above its w superdiagonals, which the back substitution must reach)
-    and without (a diagonally dominant band: U has w superdiagonals)."""
+@pytest.mark.parametrize("diagonal", ["small", "moderate", "dominant"])
+def test_bordered_band_solves_as_lapack(diagonal):
+    """The bordered band LU (threshold pivoting in the band, Schur complement on the
+    border) solves a random bordered system as numpy's LAPACK solve does: with rows
+    swapped where a diagonal entry is below PIVOT_THRESHOLD of its column's largest (U
+    then has fill-in above its w superdiagonals, which the back substitution must reach),
+    and without where it is not, even when smaller than other entries of its column
+    (partial pivoting would swap there)."""
     rng = np.random.default_rng(3)
     nf, nb, w = 40, 6, 4
     A = np.zeros((nf + nb, nf + nb))
     for i in range(nf):
         for j in range(max(0, i - w), min(nf, i + w + 1)):
-            A[i, j] = rng.standard_normal()  # pivoting needed: no diagonal dominance
-        A[i, i] += 4.0 * (2 * w + 1) if dominant else 0.0
+            A[i, j] = rng.standard_normal()
+        A[i, i] = {"small": 1e-4 * A[i, i],  # below the threshold: swapped
+                   "moderate": 0.3 * np.sign(A[i, i]) + 0.05 * A[i, i],
+                   "dominant": A[i, i] + 4.0 * (2 * w + 1)}[diagonal]
+    dominant = diagonal != "small"
+    if diagonal == "moderate":  # the columns' largest entries are off the diagonal
+        assert np.mean(np.abs(np.diag(A)[:nf]) < np.abs(A[:nf, :nf]).max(axis=0)) > 0.5
     A[:nf, nf:] = rng.standard_normal((nf, nb)) * (rng.random((nf, nb)) < 0.3)
     A[nf:, :nf] = rng.standard_normal((nb, nf)) * (rng.random((nb, nf)) < 0.3)
     A[nf:, nf:] = rng.standard_normal((nb, nb))
