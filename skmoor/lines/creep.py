@@ -142,11 +142,11 @@ class CreepTerm(Term):
 
     # --- the compiled step's kernels (Viscoelastic and SyropeCreep laws on P1 lines)
     def lowered(self):
-        compiled = not self.lines.hermite and all(type(law) in (Viscoelastic, SyropeCreep)
-                                                  for law, _, _ in self.groups)
+        # (P1 lines only: a LineSet refuses static-dynamic laws, creep's too, on bending lines)
+        compiled = all(type(law) in (Viscoelastic, SyropeCreep) for law, _, _ in self.groups)
         return "form" if compiled else None
 
-    why_python = "a creep law on bending lines, or of a kind the compiled kernels lack"
+    why_python = "a creep law of a kind the compiled kernels lack"
 
     @property
     def step_kernel(self):

@@ -316,8 +316,11 @@ class LineSet:
         self.line_of_cell = np.repeat(np.arange(len(lines)), [n - 1 for n in sizes])
         self._offsets = np.array(offsets)
         if self.hermite and self.has_static_laws:
-            raise ValueError("LineSet: StaticDynamic laws are not available on bending "
-                             "(EI > 0) line sets")
+            named = ", ".join(repr(line.name) for line, law in zip(lines, self.laws)
+                              if isinstance(law, laws.StaticDynamic))
+            raise ValueError(f"LineSet: line {named}: its EA gives a static-dynamic law "
+                             "(creep ones too), not available on bending (EI > 0) line "
+                             "sets; give the line EI 0 or a single EA")
         self.reference_dofs = self._reference_dofs()
         self.fields = self._fields(self.basis)
         self.cable_fields = (self.fields if self.cable_basis is self.basis

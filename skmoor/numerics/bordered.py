@@ -17,7 +17,6 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-
 PIVOT_THRESHOLD = 0.01  # a diagonal entry this share of its column's largest is a pivot
 
 

@@ -20,6 +20,7 @@ the dynamic one (EA_d, BA_D), EA_1 = EA_d EA_s / (EA_d - EA_s). Written out here
    the Taylor test within a step.
 4. The compiled step runs the term and advances its state as the Python step does: the
    same motion, end forces, Newton iterations and creep states, step by step.
+5. A creep law on a bending line stops the build, naming the line.
 """
 import numpy as np
 import pytest
@@ -154,3 +155,14 @@ def test_the_compiled_step_runs_the_creep_as_the_python_step(tmp_path, EA):
     # the stiffnesses in the state come from differences of strains: 1e-8 of round-off
     assert state == pytest.approx(state_py, rel=1e-8, abs=1e-15, nan_ok=True)
     assert np.ptp(state[1:5]) > 0  # the creep strains moved
+
+
+
+def test_a_creep_law_on_a_bending_line_is_refused_by_name(tmp_path):
+    """Static-dynamic laws (the creep laws among them) have no bending (Hermite) element:
+    the build stops naming the line and what to change, rather than running without
+    the creep."""
+    path = deck(tmp_path / "bent.dat", segments=2, options="")
+    path.write_text(path.read_text().replace(f"{BA!r}|{BA_D!r} 0 ", f"{BA!r}|{BA_D!r} 1000.0 "))
+    with pytest.raises(ValueError, match=r"line 'line1'.*static-dynamic.*EI > 0.*EI 0"):
+        skmoor.build(path)
