@@ -68,33 +68,9 @@ class _PointwiseLoad(BodyTerm):
             return f"{type(self).__name__} has no compiled kernel"
         if self.tangent_by == "hand":
             return "a hand-written tangent (Python)"
-        if not HAS_JAX:
-            return "JAX is not installed (pip install 'skmoor[autodiff]')"
-        import jax
-        import jax.numpy as jnp
-        import skfem.autodiff  # noqa: F401 - turns on float64 in JAX
-
-        from ..fem.form_compiler import Unsupported, build_pointwise
-
-        n = self.size
-
-        def outputs(z):
-            q, qdot, t = z[:n], z[n:2 * n], z[2 * n]
-            F = jnp.asarray(self.load(q, qdot, t), float).reshape(n)
-            dq, dv = jax.jacfwd(lambda a, b: jnp.asarray(self.load(a, b, t), float)
-                                .reshape(n), (0, 1))(q, qdot)
-            return jnp.concatenate([F, dq.ravel(), dv.ravel()])
-
-        try:
-            traced = jax.make_jaxpr(outputs)(jnp.zeros(2 * n + 1))
-        except Exception as error:  # NumPy-only code does not trace
-            return f"the load does not trace with JAX ({type(error).__name__})"
-        try:
-            self.step_load = build_pointwise(traced.jaxpr, traced.consts, 2 * n + 1,
-                                             f"{type(self).__name__} {self.load!r}")
-        except Unsupported as why:
-            return f"the code generator lacks {why}"
-        return ""
+        self.step_load, why = generated_load(lambda q, qdot, t: self.load(q, qdot, t),
+                                             self.size, f"{type(self).__name__} {named(self.load)}")
+        return why
 
     @property
     def why_python(self):
@@ -134,6 +110,47 @@ class _PointwiseLoad(BodyTerm):
         if self.added_mass is None:
             return None
         return self.added_mass * np.eye(self.size) if self.added_mass.ndim == 0 else self.added_mass
+
+
+def named(function):
+    """A function's module and qualified name: a label that stays the same from run to
+    run (its repr's address would make the generated source, and its compile, new in
+    every process)."""
+    return (f"{getattr(function, '__module__', None) or ''}."
+            f"{getattr(function, '__qualname__', type(function).__name__)}")
+
+
+def generated_load(load, n, label, slopes=True):
+    """(the compiled kernel the time step calls, '') of load(q, qdot, t) -> F (n,) on n
+    DOFs written with :mod:`skmoor.fem.ops` / ``jax.numpy``: F and, with ``slopes``, its
+    Jacobians from one JAX trace (zero without: an explicit load); (None, why not) where
+    it does not trace or JAX is missing."""
+    if not HAS_JAX:
+        return None, "JAX is not installed (pip install 'skmoor[autodiff]')"
+    import jax
+    import jax.numpy as jnp
+    import skfem.autodiff  # noqa: F401 - turns on float64 in JAX
+
+    from ..fem.form_compiler import Unsupported, build_pointwise
+
+    def value(q, qdot, t):
+        return jnp.asarray(load(q, qdot, t), float).reshape(n)
+
+    def outputs(z):
+        q, qdot, t = z[:n], z[n:2 * n], z[2 * n]
+        if not slopes:
+            return jnp.concatenate([value(q, qdot, t), jnp.zeros(2 * n * n)])
+        dq, dv = jax.jacfwd(lambda a, b: value(a, b, t), (0, 1))(q, qdot)
+        return jnp.concatenate([value(q, qdot, t), dq.ravel(), dv.ravel()])
+
+    try:
+        traced = jax.make_jaxpr(outputs)(jnp.zeros(2 * n + 1))
+    except Exception as error:  # NumPy-only code does not trace
+        return None, f"the load does not trace with JAX ({type(error).__name__})"
+    try:
+        return build_pointwise(traced.jaxpr, traced.consts, 2 * n + 1, label), ""
+    except Unsupported as why:
+        return None, f"the code generator lacks {why}"
 
 
 def _central(load, u, v, t):

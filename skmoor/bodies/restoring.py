@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .large_rotations import generalized_load
-from .loads import BodyTerm
+from .loads import BodyTerm, generated_load, named
 
 
 class BodyRestoring(BodyTerm):
@@ -66,11 +66,30 @@ class AppliedLoad(BodyTerm):
     def load(self):
         return None if self._system is None else self._system.body_loads[self.body]
 
-    def lowered(self):
-        load = self.load
-        return "time load" if load is None or getattr(load, "time_only", False) else None
+    step_load = None  # the generated C function the compiled time step calls
+    _lowering = None  # (the load it was generated for, why it has none)
 
-    why_python = "a body load that depends on the body's state"
+    def lowered(self):
+        """'time load' for a load of time alone (the step takes its values per step),
+        'body load' for one of the body's state that traces with JAX (written with
+        :mod:`skmoor.fem.ops` / ``jax.numpy`` on a body with small rotations: the
+        compiled step calls it at each iterate, as explicit as here)."""
+        load = self.load
+        if load is None or getattr(load, "time_only", False):
+            return "time load"
+        if self._lowering is None or self._lowering[0] is not load:
+            why = "a body load of its state on a body with rotations='exact'"
+            if not self.exact:  # (an exact body's step is Python: no kernel to make)
+                self.step_load, why = generated_load(
+                    lambda q, qdot, t: load(t, q, qdot), 6, f"AppliedLoad {named(load)}",
+                    slopes=False)
+            self._lowering = (load, why)
+        return None if self.step_load is None else "body load"
+
+    @property
+    def why_python(self):
+        why = "" if self._lowering is None else self._lowering[1]
+        return f"a body load that depends on the body's state: {why}"
 
     def add_to(self, q, qdot, t, R, K=None, C=None):
         load = self.load

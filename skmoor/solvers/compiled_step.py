@@ -15,11 +15,11 @@ user's LineForm is, their ``step_kernel``, each compiled only when a run has it)
 part of the lines under a flat surface or Airy waves (``SurfaceTerm``: zero while every
 node stays half a diameter under it; a step that brings one up is handed to the Python
 step), fixed, prescribed and free points (buoyancy, drag in still water, a current and
-Airy waves), small-rotation rigid bodies with quadratic drag (in the same water) whose
-applied load depends on time only
-(``load.time_only``; ``load.at_times(times)`` -> (m, 6), if it has one, gives a batch's
-loads in one call), and the users' LineForms, point and body loads whose code is
-generated (:mod:`skmoor.fem.form_compiler`), called by address
+Airy waves), small-rotation rigid bodies with quadratic drag (in the same water) and
+an applied load of time alone (``load.time_only``; ``load.at_times(times)`` -> (m, 6),
+if it has one, gives a batch's loads in one call) or of their state written with
+``jax.numpy`` (called at each iterate), and the users' LineForms, point and body loads
+whose code is generated (:mod:`skmoor.fem.form_compiler`), called by address
 (:mod:`skmoor.fem.native_calls`) with the step's time. :func:`build` asks every term of
 the System which kernel it lowers to (:meth:`~skmoor.fem.terms.Term.lowered`); the first
 that lowers to none (a form on another path or with fields given as a function, water
@@ -514,8 +514,8 @@ class CompiledStep:
             if system.driven_mass is not None:
                 driven = np.ascontiguousarray((system.driven_mass @ pres_a.T).T, float)
         for k, load in enumerate(system.body_loads):
-            if load is None:
-                continue
+            if load is None or not getattr(load, "time_only", False):
+                continue  # (a load of the state: a body load's kernel, called at each iterate)
             at_times = getattr(load, "at_times", None)  # all the times in one call
             if at_times is not None:
                 loads[:, k] = at_times(times)

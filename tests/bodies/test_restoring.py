@@ -186,7 +186,7 @@ def test_applied_load_on_a_small_body_is_taken_off_the_residual_as_given():
 
     system = lone_body_system(floating_box(), load)
     term = next(t for t in system.built_in_terms if isinstance(t, AppliedLoad))
-    assert term.lowered() is None  # depends on the state: Python
+    assert term.lowered() is None  # of the state, in NumPy (JAX cannot trace it): Python
     q = np.array([0.1, 0.2, 0.3, 4.0, -0.5, 0.6])
     qdot = np.array([1.0, -2.0, 0.5, 0.1, 0.2, 0.3])
     R, K, C = evaluate(term, q, qdot, t=2.5)

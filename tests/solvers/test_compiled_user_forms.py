@@ -141,6 +141,37 @@ def test_a_user_body_load_is_the_built_in_linear_damping():
     assert np.abs(plain - reference).max() > 1e-3 * motion  # the damper matters
 
 
+def test_a_body_load_of_its_state_runs_compiled_explicit_as_in_python():
+    """The body's own applied load f(t, q, qdot) (``Body.load``: explicit, no tangent), a
+    damper of its velocity written with jax.numpy: the compiled step calls its kernel at
+    each iterate as the Python step does (the same iterations: no tangent in either
+    matrix; the same motion to round-off: a load taken once per step, at the step's start
+    state, or twice, would part them), and it is the built-in linear damping's root to the
+    Newton tolerance. In NumPy it does not trace: the refusal names it."""
+    def applied(t, q, qdot):
+        return damper(q, qdot, t)
+
+    def free_decay(load=None):  # the paper case from a push, its wave load taken off
+        model = skmoor.build(skmoor.paper_case())
+        model.system.body_loads[0] = load
+        return model
+
+    model = free_decay(applied)
+    assert compiled_step.lowered_terms(model.system)[0] is None
+    builtin = free_decay()
+    builtin.system.bodies[0].linear_damping[:] = DAMPING
+    fast, slow = _runs(model, steps=40)
+    reference, _ = _runs(builtin, steps=40)
+    plain, _ = _runs(free_decay(), steps=40)
+    motion = np.abs(slow - slow[0]).max()
+    assert np.abs(fast - slow).max() < 1e-9 * motion
+    assert np.abs(fast - reference).max() < 1e-5 * motion  # measured 8e-8
+    assert np.abs(plain - reference).max() > 1e-3 * motion  # the damper matters
+    model.system.body_loads[0] = lambda t, q, qdot: -(DAMPING @ np.asarray(qdot))
+    why, _ = compiled_step.lowered_terms(model.system)
+    assert why.startswith("AppliedLoad on the bodies") and "does not trace with JAX" in why
+
+
 def test_a_user_point_load_runs_in_the_compiled_step_as_in_python():
     """A free clump pushed sideways in time and held by a spring on its own position: the
     load's value, its derivative in the Newton matrix and the time it is called at."""
