@@ -59,14 +59,20 @@ class UserLaw(Law):
     samples: int = 301
     initial_state: tuple = ()
     update: object = None
+    reference: bool = False
+    static: Law | None = None
     name = "user"
 
     def __init__(self, tension, *, name=None, tension_only=True, max_strain=0.3,
-                 samples=301, state=None, update=None):
+                 samples=301, state=None, update=None, reference=False, static=None):
         label = name or getattr(tension, "__name__", "user law")
         if not callable(tension):
             raise ValueError(f"UserLaw {label} tension: need a function tension(strain, "
                              "rate) -> N (with a state: tension(strain, rate, state))")
+        if reference and not (isinstance(static, Law) and not isinstance(static, UserLaw)):
+            raise ValueError(f"UserLaw {label} static: a law of the reference state needs "
+                             "the built-in law that makes that state (such as "
+                             f"skmoor.Engineering()), got {static!r}")
         if not (np.isfinite(max_strain) and max_strain > 0):
             raise ValueError(f"UserLaw {label} max_strain: must be a strain > 0, got "
                              f"{max_strain!r}")
@@ -75,10 +81,13 @@ class UserLaw(Law):
         initial = _initial_state(label, state, update)
         for key, value in dict(function=tension, label=label, tension_only=bool(tension_only),
                                max_strain=float(max_strain), samples=int(samples),
-                               initial_state=initial, update=update).items():
+                               initial_state=initial, update=update,
+                               reference=bool(reference),
+                               static=static if reference else None).items():
             object.__setattr__(self, key, value)
         e = np.linspace(0.0, self.max_strain, self.samples)
-        signature = "tension(strain, rate, state)" if initial else "tension(strain, rate)"
+        signature = "tension(strain, rate" + (", state" if initial else "") + (
+            ", reference" if reference else "") + ")"
         try:
             with np.errstate(all="ignore"):  # a NaN or inf is named below
                 T = np.asarray(self._evaluate(e, np.zeros_like(e)), float) * np.ones_like(e)
@@ -90,6 +99,14 @@ class UserLaw(Law):
         if not np.all(np.isfinite(T)):
             raise ValueError(f"UserLaw {label}: tension(strain, 0) is not finite at strain "
                              f"{e[~np.isfinite(T)][0]:g}")
+        if self.reference:  # at its own reference, the law gives the reference's tension
+            made = np.asarray(static.static_tension(e, 1.0), float)
+            off = np.abs(T - made) > 1e-9 * max(np.max(np.abs(made)), 1.0)
+            if off.any():
+                raise ValueError(f"UserLaw {label}: {signature} at the reference (strain e, "
+                                 f"tension the static law's at e) must be that tension; it "
+                                 f"is {T[off][0]:g} N, not {made[off][0]:g} N, at strain "
+                                 f"{e[off][0]:g} (EA 1 N)")
         if abs(T[0]) > 1e-9 * max(np.max(np.abs(T)), 1.0):
             raise ValueError(f"UserLaw {label}: the tension at zero strain must be 0 N, got "
                              f"{T[0]:g}")
@@ -103,27 +120,39 @@ class UserLaw(Law):
     def __repr__(self):
         return f"UserLaw({self.label})"
 
-    def _evaluate(self, e, rate, state=None):
-        """The user's tension (N) at strains e, rates de/dt and the state (its initial
-        values where None)."""
-        if not self.initial_state:
-            return self.function(e, rate)
-        if state is None:
-            state = tuple(value + 0.0 * e for value in self.initial_state)
-        return self.function(e, rate, tuple(state))
+    def _evaluate(self, e, rate, state=None, reference=None):
+        """The user's tension (N) at strains e, rates de/dt, the state (its initial values
+        where None) and, for a law of the reference state, that state's (strain,
+        tension) (None: e itself and the static law's tension there at EA 1 N)."""
+        arguments = [e, rate]
+        if self.initial_state:
+            if state is None:
+                state = tuple(value + 0.0 * e for value in self.initial_state)
+            arguments.append(tuple(state))
+        if self.reference:
+            if reference is None:
+                reference = (e, self.static.static_tension(e, 1.0))
+            arguments.append(tuple(reference))
+        return self.function(*arguments)
 
-    # --- statics
+    # --- statics (a law of the reference state: its static law's)
     def static_pieces(self, EA=None):
+        if self.reference:
+            return self.static.static_pieces(EA)
         e, T = self._table
         s = np.diff(T) / np.diff(e)
         return T[:-1], e[:-1] - T[:-1] / s, 1.0 / s
 
     def nominal_EA(self, EA=None):
-        """The secant at max_strain, N."""
+        """The secant at max_strain, N (a law of the reference state: its static law's)."""
+        if self.reference:
+            return self.static.nominal_EA(EA)
         e, T = self._table
         return float(T[-1] / e[-1])
 
     def static_tension(self, e, EA=None):
+        if self.reference:
+            return self.static.static_tension(e, EA)
         e = np.asarray(e, float)
         T = np.asarray(self._evaluate(e, np.zeros_like(e)), float) * np.ones_like(e)
         return np.maximum(T, 0.0) if self.tension_only else T
@@ -132,7 +161,9 @@ class UserLaw(Law):
         """The strain e >= 0 with N(e, 0) = T: the sampled table's strain refined by
         safeguarded Newton steps on the law itself."""
         T = np.asarray(T, float)
-        e = super().static_strain(T)
+        e = super().static_strain(T, EA)
+        if self.reference:
+            return e
         low, high = np.zeros_like(e), np.maximum(2.0 * e, self.max_strain)
         for _ in range(60):
             f = self.static_tension(e) - T
@@ -147,12 +178,12 @@ class UserLaw(Law):
         return e
 
     def tension(self, e, EA=None):
-        return self.static_tension(e)
+        return self.static_tension(e, EA)
 
     def slope(self, e, EA=None):
         e = np.asarray(e, float)
         step = 1e-7 * np.maximum(np.abs(e), 1e-3)
-        return (self.tension(e + step) - self.tension(e - step)) / (2 * step)
+        return (self.tension(e + step, EA) - self.tension(e - step, EA)) / (2 * step)
 
     # --- dynamics: the cable kernel skips this law's elements (law_terms carries their
     # axial force); its parameters keep the reference tension T along the line for the
@@ -162,16 +193,16 @@ class UserLaw(Law):
         p.update(T0=np.asarray(T, float) * 1.0, e0=e_ref * np.ones_like(T), k=0.0 * p["k"])
         return p, None
 
-    def axial(self, e, rate, state=None):
-        """The tension N(e, de/dt[, state]) (N) as the cable sees it (cut at 0 when
-        tension-only; the initial state where None)."""
-        N = self._evaluate(e, rate, state)
+    def axial(self, e, rate, state=None, reference=None):
+        """The tension N(e, de/dt[, state][, reference]) (N) as the cable sees it (cut at
+        0 when tension-only; the initial state where None)."""
+        N = self._evaluate(e, rate, state, reference)
         return ops.maximum(N, 0.0) if self.tension_only else N
 
     def compiled(self):
-        """The generated C function z = [e, de/dt, the state] -> [N] of :meth:`axial`
-        (its ``address`` for compiled callers), or None where JAX or the generator
-        cannot take the law (then NumPy evaluates it)."""
+        """The generated C function z = [e, de/dt, the state, the reference's strain and
+        tension] -> [N] of :meth:`axial` (its ``address`` for compiled callers), or None
+        where JAX or the generator cannot take the law (then NumPy evaluates it)."""
         if "_compiled" not in self.__dict__:
             object.__setattr__(self, "_compiled", None)
             if HAS_JAX:
@@ -181,9 +212,11 @@ class UserLaw(Law):
 
                 from ..fem.form_compiler import build_pointwise
                 try:
-                    n = 2 + len(self.initial_state)
+                    m = 2 + len(self.initial_state)  # where the reference starts
+                    n = m + 2 * self.reference
                     traced = jax.make_jaxpr(lambda z: jnp.reshape(self.axial(
-                        z[0], z[1], tuple(z[2:]) if n > 2 else None), (1,)))(jnp.zeros(n))
+                        z[0], z[1], tuple(z[2:m]) if m > 2 else None,
+                        (z[m], z[m + 1]) if self.reference else None), (1,)))(jnp.zeros(n))
                     object.__setattr__(self, "_compiled", build_pointwise(
                         traced.jaxpr, traced.consts, n, f"UserLaw {self.label}"))
                 except Exception:  # JAX cannot trace it, or Unsupported: NumPy evaluates it
@@ -244,7 +277,8 @@ def law_residual(v, w):
     # kernel has it: int [N(e, de/dt) / |r'| + BA r' . udot'] r' . dv' ds on its lines
     strain, rate, stretch, green_rate = _strain_and_rate(w)
     state = tuple(w[name] for name in _state_names(w.law)) or None
-    axial = w.law.axial(strain, rate, state) / stretch + w.BA * green_rate
+    reference = (w.e_ref, w.T) if w.law.reference else None
+    axial = w.law.axial(strain, rate, state, reference) / stretch + w.BA * green_rate
     return w.on * axial * dot(w.Xp + d_ds(w.u), d_ds(v))
 
 
@@ -300,6 +334,8 @@ def law_tension(lines, u, ud=None) -> np.ndarray:
     out = np.zeros(len(lines.line_of_cell))
     for law, cells, weights, dofs, Xp, grow, T in plan:
         states = _element_states(lines, law, cells)  # (ncells, nstate)
+        if law.reference:  # the reference's strain and tension after the state
+            states = np.column_stack([states, grow - 1.0, T])
         compiled = law.compiled()
         if compiled is not None:
             _tensions(compiled.address, u, u if ud is None else ud, ud is not None, cells,
@@ -310,7 +346,9 @@ def law_tension(lines, u, ud=None) -> np.ndarray:
         stretch = np.sqrt(1.0 + 2.0 * np.einsum("ij,ij->i", Xp + 0.5 * up, up))
         rate = (np.zeros_like(stretch) if ud is None else grow * np.einsum(
             "ij,ij->i", rp, np.einsum("eb,ebc->ec", weights, ud[dofs])) / stretch)
-        out[cells] = law.axial(grow * stretch - 1.0, rate, tuple(states.T) or None) - T
+        count = len(law.initial_state)
+        out[cells] = law.axial(grow * stretch - 1.0, rate, tuple(states[:, :count].T) or None,
+                               tuple(states[:, count:].T) or None) - T
     return out
 
 

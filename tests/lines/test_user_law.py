@@ -208,3 +208,59 @@ def test_a_law_with_a_memory_on_a_bending_chain_runs_compiled_as_in_python():
 def test_a_bad_memory_of_a_law_is_refused_with_its_reason(kwargs, message):
     with pytest.raises(ValueError, match=message):
         skmoor.UserLaw(zener, **kwargs)
+
+
+# --- a law of the reference state: the paper's own law (Eq. 6) written as a user's
+
+
+def green(strain, rate, reference):
+    # Eq. 6: the reference tension plus EA eps, eps of Eq. 3 from the reference state,
+    # times the stretch lambda from it (the force along r' per unit reference length)
+    e_ref, T_ref = reference
+    stretch = (1.0 + strain) / (1.0 + e_ref)
+    return (T_ref + EA * 0.5 * (stretch * stretch - 1.0)) * stretch
+
+
+def test_the_papers_law_written_as_a_user_law_moves_the_chain_as_the_built_in_one():
+    """``UserLaw(green, reference=True, static=Engineering())`` reads each point's
+    reference strain and tension: the same static state, motion and tensions as the
+    built-in Paper law (the hand kernel's Green strain), compiled and in Python; the
+    engineering law from the same state moves the chain measurably otherwise, so a
+    reference taken as zero (or the strain from the unstretched line read as the Green
+    strain) would fail it."""
+    law = skmoor.UserLaw(green, reference=True, static=skmoor.Engineering())
+    system_user, x_user = _chain(law)
+    system_paper, x_paper = _chain(skmoor.Paper())
+    assert np.abs(x_user - x_paper).max() < 1e-9
+    why, kinds = compiled_step.lowered_terms(system_user)
+    assert why is None and [t.name for t in kinds["form"]] == ["green"]
+    got, tension = _history(system_user, x_user)
+    expected, tension_paper = _history(system_paper, x_paper)
+    motion = np.abs(expected - expected[0]).max()
+    assert np.abs(got - expected).max() < 1e-9 * motion  # measured 6e-15
+    assert np.abs(tension - tension_paper).max() < 1e-9 * tension_paper.max()
+    slow, _ = _history(system_user, x_user, compiled=False)
+    assert np.abs(slow - got).max() < 1e-9 * motion
+    engineering, _ = _history(*_chain(skmoor.Engineering()))
+    assert np.abs(engineering - expected).max() > 1e-4 * motion  # measured 5e-4
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(reference=True), "needs the built-in law that makes that state"),
+    (dict(reference=True, static=skmoor.UserLaw(hooke)), "needs the built-in law"),
+])
+def test_a_law_of_the_reference_state_needs_its_static_law(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        skmoor.UserLaw(green, **kwargs)
+
+
+def test_a_law_of_the_reference_state_must_give_its_tension_there():
+    """At its own reference the law must give the reference's tension: Eq. 6 without the
+    reference tension (EA eps alone) is refused, naming the strain."""
+    def green_without_T(strain, rate, reference):
+        e_ref, _ = reference
+        stretch = (1.0 + strain) / (1.0 + e_ref)
+        return EA * 0.5 * (stretch * stretch - 1.0) * stretch
+
+    with pytest.raises(ValueError, match=r"must be that tension; it is 0 N, not .* at strain"):
+        skmoor.UserLaw(green_without_T, reference=True, static=skmoor.Engineering())
