@@ -21,6 +21,10 @@ reference state; lambda = |X' + u'| where |X'| = 1), e = (1 + e_ref) lambda - 1,
 de/dt = (1 + e_ref) (r' . udot') / lambda. A line type's BA (internal damping) still
 adds BA de/dt in the cable kernel; a law with its own rate term can leave BA at 0.
 
+A law of the reference state (``reference=True``: the paper's Eq. 6, a tension added to
+the reference's) reads the strain and tension of the state the line was built in at each
+point; a built-in static law (``static``) makes that state.
+
 A law with a memory (a permanent stretch, the largest strain seen, a spring in series
 with a dashpot) is N(e, de/dt, state) with its update state_new = update(e, de/dt, state,
 dt): the state is kept at each quadrature point of the law's lines, starts at the given
@@ -51,7 +55,11 @@ class UserLaw(Law):
     de/dt 1/s, arrays), written with :mod:`skmoor.fem.ops`. The static law N(e, 0) must
     start at 0 N and increase over [0, max_strain]; the catenary uses it sampled at
     ``samples`` strains there (beyond: the last slope). tension_only: a slack cable
-    carries no compression (N < 0 is cut to 0)."""
+    carries no compression (N < 0 is cut to 0). state, update: a memory (see the module
+    docstring). reference: the function reads the reference state's strain and tension
+    at each point, ``tension(strain, rate[, state], (e_ref, T_ref))``, and ``static`` (a
+    built-in law) makes that state, the catenary and statics with it; at its reference
+    the law must give the reference's tension."""
 
     function: object = None
     label: str = "user law"
