@@ -202,8 +202,9 @@ class UserLaw(Law):
         return p, None
 
     def axial(self, e, rate, state=None, reference=None):
-        """The tension N(e, de/dt[, state][, reference]) (N) as the cable sees it (cut at
-        0 when tension-only; the initial state where None)."""
+        """The tension N(e, de/dt, state, reference) (N; the last two where the law has
+        them) as the cable sees it (cut at 0 when tension-only; the initial state where
+        None)."""
         N = self._evaluate(e, rate, state, reference)
         return ops.maximum(N, 0.0) if self.tension_only else N
 
