@@ -318,13 +318,18 @@ def test_steps_modified_newton_gives_up_on_go_as_in_python(maxiter):
 
 
 def test_what_the_compiled_step_leaves_to_python_is_named():
-    """Physics it does not cover makes build() return None with the reason."""
+    """Physics it does not cover makes build() return None with the reason: a body load
+    of the state in NumPy (JAX cannot trace it); the same load in plain arithmetic
+    traces, and builds."""
     model = skmoor.build(skmoor.paper_case())
     system = model.system
     given = system.body_loads[0]
-    system.body_loads[0] = lambda t, q, qdot: -1e3 * qdot  # depends on the state
+    system.body_loads[0] = lambda t, q, qdot: -1e3 * np.asarray(qdot)  # NumPy, of the state
     assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is None
     assert "state" in compiled_step.last_refusal
+    assert "does not trace with JAX" in compiled_step.last_refusal
+    system.body_loads[0] = lambda t, q, qdot: -1e3 * qdot
+    assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is not None
     system.body_loads[0] = given
     assert compiled_step.build(system, None, Scheme.newmark(), 1e-5, 20) is not None
 
