@@ -194,3 +194,22 @@ def test_a_user_point_load_runs_in_the_compiled_step_as_in_python():
     motion = np.abs(slow - slow[0]).max()
     assert motion > 1e-2
     assert np.abs(fast - slow).max() < 1e-9 * motion
+
+
+def test_a_generated_load_is_made_once_for_its_code_not_per_function_object():
+    """Two function objects of the same code (a factory's) give one generated module: its
+    label names the function, not its address, so a new process finds the same source
+    and numba's cache (an address in the label made every run compile again)."""
+    def make():
+        def spring(q, qdot, t):
+            return -(ops.xp(q).asarray(DAMPING) @ q)
+        return spring
+
+    first, second = make(), make()
+    assert first is not second and repr(first) != repr(second)
+    loads = [skmoor.BodyLoad(f, body=0) for f in (first, second)]
+    model = skmoor.build(skmoor.paper_case())
+    for load in loads:
+        model.add(load)
+        assert load.lowered() == "body load", load.why_python
+    assert loads[0].step_load is loads[1].step_load
