@@ -52,11 +52,16 @@ class CableKernel:
         # the elements of lines with a user's law carry no force here: its term
         # (skmoor.lines.user_law) carries all of their axial force (the constant above
         # counts them, as the term's force at u = 0 is their reference force)
-        self.weight = np.where(lineset.user_law_cells, 0.0, self.weight)
+        self._weights = self.weight
+        self.weight = np.where(lineset.user_law_cells, 0.0, self._weights)
 
     def refresh_laws(self):
-        """Read the strain laws' parameters from the LineSet's fields (:func:`law_table`)."""
+        """Read the strain laws' parameters from the LineSet's fields (:func:`law_table`),
+        and which elements a user's law carries (in statics, a law about the static state
+        leaves its elements here, with its static law)."""
         self.law, self.knots, self.coef = law_table(self.lineset.cable_fields)
+        if hasattr(self, "_weights"):
+            self.weight = np.where(self.lineset.user_law_cells, 0.0, self._weights)
 
     def element_tension_and_strain(self, u, ud=None):
         """(nel,) tension (N; with ud, plus BA x strain rate) and strain of Eq. 3 (-) at

@@ -317,10 +317,11 @@ class LineSet:
         self._offsets = np.array(offsets)
         if self.hermite and self.has_static_laws:
             named = ", ".join(repr(line.name) for line, law in zip(lines, self.laws)
-                              if isinstance(law, laws.StaticDynamic))
-            raise ValueError(f"LineSet: line {named}: its EA gives a static-dynamic law "
-                             "(creep ones too), not available on bending (EI > 0) line "
-                             "sets; give the line EI 0 or a single EA")
+                              if _static_dynamic(law))
+            raise ValueError(f"LineSet: line {named}: a static-dynamic law (two EA values, "
+                             "a creep law, a UserLaw about the static state) is not "
+                             "available on bending (EI > 0) line sets; give the line EI 0 "
+                             "or a single EA")
         self.reference_dofs = self._reference_dofs()
         self.fields = self._fields(self.basis)
         self.cable_fields = (self.fields if self.cable_basis is self.basis
@@ -456,9 +457,12 @@ class LineSet:
 
     @property
     def user_law_cells(self) -> np.ndarray:
-        """(nel,) True on the elements of lines with a :class:`UserLaw`."""
-        return np.isin(self.line_of_cell, [k for k, law in enumerate(self.laws)
-                                           if isinstance(law, UserLaw)])
+        """(nel,) True on the elements whose axial force a :class:`UserLaw`'s term carries
+        (not those of a law about the static state while the static laws are in force:
+        the kernel carries them with their static law)."""
+        return np.isin(self.line_of_cell, [
+            k for k, law in enumerate(self.laws) if isinstance(law, UserLaw)
+            and not (self._static and law.reference == "static")])
 
     @property
     def tension_only(self) -> bool:
@@ -479,8 +483,9 @@ class LineSet:
     # --- the static and dynamic laws (StaticDynamic lines)
     @property
     def has_static_laws(self) -> bool:
-        """True when a line's law differs between statics and dynamics (StaticDynamic)."""
-        return any(isinstance(law, laws.StaticDynamic) for law in self.laws)
+        """True when a line's law differs between statics and dynamics (StaticDynamic, a
+        UserLaw about the static state)."""
+        return any(_static_dynamic(law) for law in self.laws)
 
     def use_static_laws(self, static: bool):
         """Switch the lines' laws to their static (True) or dynamic (False) form; the
@@ -712,3 +717,9 @@ def write_line_mesh(line: Line, path) -> Path:
     else:
         meshio.write(path, meshio.Mesh(line.X, cells, point_data={"s": line.s}))
     return path
+
+
+def _static_dynamic(law) -> bool:
+    """Whether a law acts about the static state in time (its static law in statics)."""
+    return (isinstance(law, laws.StaticDynamic)
+            or (isinstance(law, UserLaw) and law.reference == "static"))

@@ -23,7 +23,9 @@ adds BA de/dt in the cable kernel; a law with its own rate term can leave BA at 
 
 A law of the reference state (``reference=True``: the paper's Eq. 6, a tension added to
 the reference's) reads the strain and tension of the state the line was built in at each
-point; a built-in static law (``static``) makes that state.
+point; a built-in static law (``static``) makes that state. With ``reference='static'``
+it reads each element's static state instead (polyester's dynamic stiffness about its
+mean tension): the statics run the static law, and the law acts about their solution.
 
 A law with a memory (a permanent stretch, the largest strain seen, a spring in series
 with a dashpot) is N(e, de/dt, state) with its update state_new = update(e, de/dt, state,
@@ -56,10 +58,12 @@ class UserLaw(Law):
     start at 0 N and increase over [0, max_strain]; the catenary uses it sampled at
     ``samples`` strains there (beyond: the last slope). tension_only: a slack cable
     carries no compression (N < 0 is cut to 0). state, update: a memory (see the module
-    docstring). reference: the function reads the reference state's strain and tension
-    at each point, ``tension(strain, rate[, state], (e_ref, T_ref))``, and ``static`` (a
-    built-in law) makes that state, the catenary and statics with it; at its reference
-    the law must give the reference's tension."""
+    docstring). reference: the function reads a reference state's strain and tension at
+    each point, ``tension(strain, rate[, state], (e_ref, T_ref))``: True or 'line', the
+    state the line is built in; 'static', each element's static state (as
+    :class:`~skmoor.lines.laws.StaticDynamic`: cable lines). ``static`` (a built-in law)
+    makes that state, the catenary and the statics with it; at its reference the law
+    must give the reference's tension."""
 
     function: object = None
     label: str = "user law"
@@ -67,7 +71,7 @@ class UserLaw(Law):
     samples: int = 301
     initial_state: tuple = ()
     update: object = None
-    reference: bool = False
+    reference: str = ""
     static: Law | None = None
     name = "user"
 
@@ -77,10 +81,18 @@ class UserLaw(Law):
         if not callable(tension):
             raise ValueError(f"UserLaw {label} tension: need a function tension(strain, "
                              "rate) -> N (with a state: tension(strain, rate, state))")
+        reference = {False: "", None: "", True: "line"}.get(reference, reference)
+        if reference not in ("", "line", "static"):
+            raise ValueError(f"UserLaw {label} reference: True or 'line' (the state the "
+                             "line is built in) or 'static' (its static state), got "
+                             f"{reference!r}")
         if reference and not (isinstance(static, Law) and not isinstance(static, UserLaw)):
             raise ValueError(f"UserLaw {label} static: a law of the reference state needs "
                              "the built-in law that makes that state (such as "
                              f"skmoor.Engineering()), got {static!r}")
+        if reference == "static" and (state is not None or update is not None):
+            raise ValueError(f"UserLaw {label} state: a law about the static state has no "
+                             "memory of its own here")
         if not (np.isfinite(max_strain) and max_strain > 0):
             raise ValueError(f"UserLaw {label} max_strain: must be a strain > 0, got "
                              f"{max_strain!r}")
@@ -90,7 +102,7 @@ class UserLaw(Law):
         for key, value in dict(function=tension, label=label, tension_only=bool(tension_only),
                                max_strain=float(max_strain), samples=int(samples),
                                initial_state=initial, update=update,
-                               reference=bool(reference),
+                               reference=reference,
                                static=static if reference else None).items():
             object.__setattr__(self, key, value)
         e = np.linspace(0.0, self.max_strain, self.samples)
@@ -197,6 +209,10 @@ class UserLaw(Law):
     # axial force); its parameters keep the reference tension T along the line for the
     # kernel's reference part and its reported tension (law_tension adds N - T)
     def parameters(self, EA, T, e_ref, static=False):
+        if static and self.reference == "static":  # statics: the kernel, its static law
+            p, hinges = self.static.parameters(EA, T, e_ref)
+            p["tension_only"] = float(self.tension_only) * np.ones_like(T)
+            return p, hinges
         p, _ = super().parameters(EA, T, e_ref)
         p.update(T0=np.asarray(T, float) * 1.0, e0=e_ref * np.ones_like(T), k=0.0 * p["k"])
         return p, None
@@ -222,7 +238,7 @@ class UserLaw(Law):
                 from ..fem.form_compiler import build_pointwise
                 try:
                     m = 2 + len(self.initial_state)  # where the reference starts
-                    n = m + 2 * self.reference
+                    n = m + 2 * bool(self.reference)
                     traced = jax.make_jaxpr(lambda z: jnp.reshape(self.axial(
                         z[0], z[1], tuple(z[2:m]) if m > 2 else None,
                         (z[m], z[m + 1]) if self.reference else None), (1,)))(jnp.zeros(n))
@@ -286,7 +302,9 @@ def law_residual(v, w):
     # kernel has it: int [N(e, de/dt) / |r'| + BA r' . udot'] r' . dv' ds on its lines
     strain, rate, stretch, green_rate = _strain_and_rate(w)
     state = tuple(w[name] for name in _state_names(w.law)) or None
-    reference = (w.e_ref, w.T) if w.law.reference else None
+    kind = w.law.reference
+    reference = ((w.e_static, w.T_static) if kind == "static" else (w.e_ref, w.T)
+                 if kind == "line" else None)
     axial = w.law.axial(strain, rate, state, reference) / stretch + w.BA * green_rate
     return w.on * axial * dot(w.Xp + d_ds(w.u), d_ds(v))
 
@@ -297,6 +315,40 @@ def law_update(w):
     names = _state_names(w.law)
     new = w.law.update(strain, rate, tuple(w[name] for name in names), w.dt)
     return dict(zip(names, new))
+
+
+class _LawForm(LineForm):
+    """The line form of a user's law (:func:`law_residual`); for a law about the static
+    state, silent while the static laws are in force (the cable kernel then carries its
+    elements with the static law) and reading each element's static strain and tension
+    (``LineSet._mean``) once they are set: its kernel made again when they change."""
+
+    _static_state = None  # the LineSet's static state the fields were set from
+
+    def _follow_the_static_state(self):
+        """False in statics; the fields set from a new static state (kernel made anew)."""
+        lines = self.lines
+        if self.fields["law"].reference != "static":
+            return True
+        if lines._static:
+            return False
+        if lines._mean is not None and lines._mean is not self._static_state:
+            self._static_state = lines._mean
+            T_mean, e_mean = lines._mean
+            on = self.fields["on"]
+            self.fields["T_static"][...] = T_mean[:, None] * on
+            self.fields["e_static"][...] = e_mean[:, None] * on
+            self._engine, self.step_kernel = None, None
+        return True
+
+    def add_to(self, u, v, t, R, K=None, C=None):
+        if self._follow_the_static_state():
+            super().add_to(u, v, t, R, K, C)
+
+    def lowered(self):
+        if self.lines is not None and not self._follow_the_static_state():
+            return None
+        return super().lowered()
 
 
 def law_terms(lines) -> list:
@@ -313,7 +365,11 @@ def law_terms(lines) -> list:
                            lines.cable_fields["T"].shape[1], axis=1)
             memory = (dict(state=dict(zip(_state_names(law), law.initial_state)),
                            update=law_update) if law.initial_state else {})
-            term = LineForm(law_residual, fields={"on": on, "law": law},
+            fields = {"on": on, "law": law}
+            if law.reference == "static":  # until the statics: the state it is built in
+                fields.update(e_static=lines.cable_fields["e_ref"] * on,
+                              T_static=lines.cable_fields["T"] * on)
+            term = _LawForm(law_residual, fields=fields,
                             quadrature="gauss" if lines.hermite else "midpoint",
                             lines=lines, name=law.label, **memory)
             if memory:
@@ -342,9 +398,13 @@ def law_tension(lines, u, ud=None) -> np.ndarray:
                 for law in laws)]
     out = np.zeros(len(lines.line_of_cell))
     for law, cells, weights, dofs, Xp, grow, T in plan:
+        if law.reference == "static" and lines._static:
+            continue  # statics: the kernel reports these elements, with their static law
         states = _element_states(lines, law, cells)  # (ncells, nstate)
         if law.reference:  # the reference's strain and tension after the state
-            states = np.column_stack([states, grow - 1.0, T])
+            T_ref, e_ref = ((T, grow - 1.0) if law.reference == "line" or lines._mean is None
+                            else (lines._mean[0][cells], lines._mean[1][cells]))
+            states = np.column_stack([states, e_ref, T_ref])
         compiled = law.compiled()
         if compiled is not None:
             _tensions(compiled.address, u, u if ud is None else ud, ud is not None, cells,

@@ -264,3 +264,76 @@ def test_a_law_of_the_reference_state_must_give_its_tension_there():
 
     with pytest.raises(ValueError, match=r"must be that tension; it is 0 N, not .* at strain"):
         skmoor.UserLaw(green_without_T, reference=True, static=skmoor.Engineering())
+
+
+# --- a law about the static state: polyester's dynamic stiffness written as a user's
+
+EA_DYNAMIC = 2.0 * EA  # N
+ALPHA, BETA = 1.2 * EA, 20.0  # N, -: MoorDyn's EA_d = alphaMBL + beta T_mean
+
+
+def about_the_mean(strain, rate, reference):
+    # StaticDynamic: the static state's tension plus EA_d times the strain from it
+    e_mean, T_mean = reference
+    return T_mean + EA_DYNAMIC * (strain - e_mean)
+
+
+def about_the_mean_loaded(strain, rate, reference):
+    # the same with MoorDyn's load-dependent EA_d = alphaMBL + beta T_mean
+    e_mean, T_mean = reference
+    return T_mean + (ALPHA + BETA * T_mean) * (strain - e_mean)
+
+
+def _offset_chain(law, offset=0.5, amplitude=0.3):
+    """The chain of :func:`_chain` whose fairlead stands ``offset`` m out at t = 0 (its
+    static state then lies away from the catenary it is built on), moved by
+    ``amplitude``; (system, x0)."""
+    chain = skmoor.LineType(EA=EA, mass=140.0, diameter=0.09, law=law)
+    cat = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, chain.EA,
+                         length=LENGTH)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 20)])
+    system = skmoor.System(lines, fairleads="prescribed", motion=lambda t: np.array(
+        [[offset + amplitude * np.sin(0.8 * t), 0.0, amplitude * np.sin(0.8 * t)]]))
+    return system, skmoor.solve_static(system).x
+
+
+@pytest.mark.parametrize("user, builtin", [
+    (about_the_mean, skmoor.laws.StaticDynamic(EA_dynamic=EA_DYNAMIC)),
+    (about_the_mean_loaded, skmoor.laws.StaticDynamic(alpha_MBL=ALPHA, beta=BETA)),
+])
+def test_polyesters_law_written_about_the_static_state_moves_as_the_built_in_one(user,
+                                                                                 builtin):
+    """``UserLaw(f, reference='static', static=Engineering())`` reads each element's
+    static strain and tension: the statics run the static law (the same static state as
+    StaticDynamic's), and the motion and tensions about it are the built-in law's,
+    compiled and in Python. The fairlead's offset puts the static state away from the
+    catenary the line is built on, so the same law about that catenary
+    (reference='line') moves otherwise: a law that read the wrong state would fail."""
+    law = skmoor.UserLaw(user, reference="static", static=skmoor.Engineering())
+    system_user, x_user = _offset_chain(law)
+    system_builtin, x_builtin = _offset_chain(builtin)
+    assert np.abs(x_user - x_builtin).max() < 1e-9 * np.abs(x_builtin).max()
+    assert compiled_step.lowered_terms(system_user)[0] is None
+    got, tension = _history(system_user, x_user)
+    expected, tension_builtin = _history(system_builtin, x_builtin)
+    motion = np.abs(expected - expected[0]).max()
+    assert np.abs(got - expected).max() < 1e-9 * motion  # measured 5e-14
+    assert np.abs(tension - tension_builtin).max() < 1e-9 * tension_builtin.max()
+    slow, _ = _history(system_user, x_user, compiled=False)
+    assert np.abs(slow - got).max() < 1e-9 * motion
+    about_the_catenary = skmoor.UserLaw(user, reference="line", static=skmoor.Engineering())
+    other, _ = _history(*_offset_chain(about_the_catenary))
+    assert np.abs(other - expected).max() > 1e-3 * motion  # measured 3e-2
+
+
+def test_a_law_about_the_static_state_is_refused_where_it_cannot_act():
+    """On a bending line (as StaticDynamic), with a memory of its own, with an unknown
+    reference: each refused naming the field."""
+    with pytest.raises(ValueError, match="reference: True or 'line'"):
+        skmoor.UserLaw(about_the_mean, reference="mean", static=skmoor.Engineering())
+    with pytest.raises(ValueError, match="no memory of its own"):
+        skmoor.UserLaw(about_the_mean, reference="static", static=skmoor.Engineering(),
+                       state=[0.0], update=zener_update)
+    law = skmoor.UserLaw(about_the_mean, reference="static", static=skmoor.Engineering())
+    with pytest.raises(ValueError, match="static-dynamic law.*EI > 0"):
+        _chain(law, EI=2e5)
