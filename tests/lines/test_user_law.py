@@ -25,17 +25,17 @@ LENGTH = 336.0  # m: a taut chain (its motion is not chaotic: round-off stays ro
 AMPLITUDE = 1.0  # m, the fairlead's surge and heave
 
 
-def _chain(law, BA=0.0, EI=0.0):
-    """A 20-element chain from an anchor to a fairlead moved AMPLITUDE (prescribed), with
-    internal damping BA (N s) and bending stiffness EI (N m2; > 0: Hermite elements),
-    and its static state: (system, x0)."""
+def _chain(law, BA=0.0, EI=0.0, offset=0.0, amplitude=AMPLITUDE):
+    """A 20-element chain from an anchor to a fairlead moved ``amplitude`` m (prescribed)
+    about ``offset`` m out in x (the static state then away from the catenary the line
+    is built on), with internal damping BA (N s) and bending stiffness EI (N m2; > 0:
+    Hermite elements), and its static state: (system, x0)."""
     chain = skmoor.LineType(EA=EA, mass=140.0, diameter=0.09, BA=BA, EI=EI, law=law)
     cat = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, chain.EA,
                          length=LENGTH)
     lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 20)])
-    system = skmoor.System(lines, fairleads="prescribed",
-                           motion=lambda t: np.array([[AMPLITUDE * np.sin(0.8 * t), 0.0,
-                                                       AMPLITUDE * np.sin(0.8 * t)]]))
+    system = skmoor.System(lines, fairleads="prescribed", motion=lambda t: np.array(
+        [[offset + amplitude * np.sin(0.8 * t), 0.0, amplitude * np.sin(0.8 * t)]]))
     return system, skmoor.solve_static(system).x
 
 
@@ -214,6 +214,25 @@ def test_a_bad_memory_of_a_law_is_refused_with_its_reason(kwargs, message):
 # --- a law of the reference state: the paper's own law (Eq. 6) written as a user's
 
 
+def _runs_as(user, builtin, **chain):
+    """The chain of :func:`_chain` (``chain``: its options) under a user's law and under
+    the built-in law it is written after: the same static state, motion and tensions to
+    1e-9 (compiled; the user's in Python too). Returns the built-in run's states and the
+    size of its motion (m)."""
+    system_user, x_user = _chain(user, **chain)
+    system_builtin, x_builtin = _chain(builtin, **chain)
+    assert np.abs(x_user - x_builtin).max() < 1e-9 * max(np.abs(x_builtin).max(), 1.0)
+    assert compiled_step.lowered_terms(system_user)[0] is None
+    got, tension = _history(system_user, x_user)
+    expected, tension_builtin = _history(system_builtin, x_builtin)
+    motion = np.abs(expected - expected[0]).max()
+    assert np.abs(got - expected).max() < 1e-9 * motion
+    assert np.abs(tension - tension_builtin).max() < 1e-9 * tension_builtin.max()
+    slow, _ = _history(system_user, x_user, compiled=False)
+    assert np.abs(slow - got).max() < 1e-9 * motion
+    return expected, motion
+
+
 def green(strain, rate, reference):
     # Eq. 6: the reference tension plus EA eps, eps of Eq. 3 from the reference state,
     # times the stretch lambda from it (the force along r' per unit reference length)
@@ -230,18 +249,7 @@ def test_the_papers_law_written_as_a_user_law_moves_the_chain_as_the_built_in_on
     reference taken as zero (or the strain from the unstretched line read as the Green
     strain) would fail it."""
     law = skmoor.UserLaw(green, reference=True, static=skmoor.Engineering())
-    system_user, x_user = _chain(law)
-    system_paper, x_paper = _chain(skmoor.Paper())
-    assert np.abs(x_user - x_paper).max() < 1e-9
-    why, kinds = compiled_step.lowered_terms(system_user)
-    assert why is None and [t.name for t in kinds["form"]] == ["green"]
-    got, tension = _history(system_user, x_user)
-    expected, tension_paper = _history(system_paper, x_paper)
-    motion = np.abs(expected - expected[0]).max()
-    assert np.abs(got - expected).max() < 1e-9 * motion  # measured 6e-15
-    assert np.abs(tension - tension_paper).max() < 1e-9 * tension_paper.max()
-    slow, _ = _history(system_user, x_user, compiled=False)
-    assert np.abs(slow - got).max() < 1e-9 * motion
+    expected, motion = _runs_as(law, skmoor.Paper())  # (measured 6e-15 apart)
     engineering, _ = _history(*_chain(skmoor.Engineering()))
     assert np.abs(engineering - expected).max() > 1e-4 * motion  # measured 5e-4
 
@@ -285,19 +293,6 @@ def about_the_mean_loaded(strain, rate, reference):
     return T_mean + (ALPHA + BETA * T_mean) * (strain - e_mean)
 
 
-def _offset_chain(law, offset=0.5, amplitude=0.3):
-    """The chain of :func:`_chain` whose fairlead stands ``offset`` m out at t = 0 (its
-    static state then lies away from the catenary it is built on), moved by
-    ``amplitude``; (system, x0)."""
-    chain = skmoor.LineType(EA=EA, mass=140.0, diameter=0.09, law=law)
-    cat = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, chain.EA,
-                         length=LENGTH)
-    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 20)])
-    system = skmoor.System(lines, fairleads="prescribed", motion=lambda t: np.array(
-        [[offset + amplitude * np.sin(0.8 * t), 0.0, amplitude * np.sin(0.8 * t)]]))
-    return system, skmoor.solve_static(system).x
-
-
 # Syrope's fast limit (its working curve the static law; MoorDyn's deck values)
 SYROPE_OWC = (np.array([0.002, 0.01, 0.02, 0.04, 0.06]),
               np.array([1.7e5, 7.4e5, 1.3e6, 2.45e6, 4.39e6]))  # strain, N
@@ -328,19 +323,9 @@ def test_polyesters_law_written_about_the_static_state_moves_as_the_built_in_one
     that catenary (reference='line') moves otherwise: a law that read the wrong state
     would fail."""
     law = skmoor.UserLaw(user, reference="static", static=builtin.static)
-    system_user, x_user = _offset_chain(law)
-    system_builtin, x_builtin = _offset_chain(builtin)
-    assert np.abs(x_user - x_builtin).max() < 1e-9 * np.abs(x_builtin).max()
-    assert compiled_step.lowered_terms(system_user)[0] is None
-    got, tension = _history(system_user, x_user)
-    expected, tension_builtin = _history(system_builtin, x_builtin)
-    motion = np.abs(expected - expected[0]).max()
-    assert np.abs(got - expected).max() < 1e-9 * motion  # measured 5e-14
-    assert np.abs(tension - tension_builtin).max() < 1e-9 * tension_builtin.max()
-    slow, _ = _history(system_user, x_user, compiled=False)
-    assert np.abs(slow - got).max() < 1e-9 * motion
+    expected, motion = _runs_as(law, builtin, offset=0.5, amplitude=0.3)  # (5e-14 apart)
     about_the_catenary = skmoor.UserLaw(user, reference="line", static=builtin.static)
-    other, _ = _history(*_offset_chain(about_the_catenary))
+    other, _ = _history(*_chain(about_the_catenary, offset=0.5, amplitude=0.3))
     assert np.abs(other - expected).max() > 1e-3 * motion  # measured 1e-2 to 3e-2
 
 
