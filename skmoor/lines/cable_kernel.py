@@ -25,6 +25,8 @@ class CableKernel:
     ``axial_damping`` with its derivatives, on the mid-point quadrature, each element
     with its line's strain law (:mod:`skmoor.lines.laws`)."""
 
+    _weights = None  # every element's quadrature weight, user-law elements included
+
     def __init__(self, lineset):
         f = lineset.cable_fields
         if f["T"].shape[1] != 1:
@@ -60,7 +62,7 @@ class CableKernel:
         and which elements a user's law carries (in statics, a law about the static state
         leaves its elements here, with its static law)."""
         self.law, self.knots, self.coef = law_table(self.lineset.cable_fields)
-        if hasattr(self, "_weights"):
+        if self._weights is not None:  # (None while __init__ reads the laws first)
             self.weight = np.where(self.lineset.user_law_cells, 0.0, self._weights)
 
     def element_tension_and_strain(self, u, ud=None):

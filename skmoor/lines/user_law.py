@@ -180,10 +180,10 @@ class UserLaw(Law):
     def static_strain(self, T, EA=None):
         """The strain e >= 0 with N(e, 0) = T: the sampled table's strain refined by
         safeguarded Newton steps on the law itself."""
-        T = np.asarray(T, float)
-        e = super().static_strain(T, EA)
         if self.reference:
-            return e
+            return self.static.static_strain(T, EA)
+        T = np.asarray(T, float)
+        e = super().static_strain(T)
         low, high = np.zeros_like(e), np.maximum(2.0 * e, self.max_strain)
         for _ in range(60):
             f = self.static_tension(e) - T
