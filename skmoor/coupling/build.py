@@ -10,7 +10,6 @@ import numpy as np
 
 from ..bodies.motion import Motion
 from ..lines.catenary import solve_catenary
-from ..lines.creep import CreepTerm, has_creep
 from ..lines.line import Line, LineSet, LineType
 from ..sea.hydro import line_terms
 from ..sea.seabed import seabed_term
@@ -293,8 +292,6 @@ def build_system(network: Network, positions: dict | None = None):
     if network.surface and lines:
         terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,
                                  path=network.form_path))
-    if lines and any(has_creep(law) for law in lineset.laws):  # viscoelastic, Syrope ropes
-        terms.append(CreepTerm(lineset))
     for k, body in enumerate(dynamic):
         for term in body.terms:
             term = copy.copy(term)

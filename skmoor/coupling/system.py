@@ -34,6 +34,7 @@ from ..bodies.restoring import AppliedLoad, BodyRestoring
 from ..fem.patterns import ElementPattern
 from ..fem.terms import Term
 from ..lines.cable import CableTerm
+from ..lines.creep import CreepTerm, has_creep
 from ..lines.user_law import law_terms
 from ..numerics.banded import LAYOUTS, as_layout
 from ..sea.hydro import PointDrag
@@ -259,10 +260,12 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
         self._assemble_mass()
 
     def _built_in_terms(self):
-        """The physics every System has, as terms: the cable (and the users' laws), the
-        free points' drag, the bodies' restoring and applied loads (their dead loads:
-        :attr:`dead_load`)."""
+        """The physics every System has, as terms: the cable (with the creep laws' and
+        the users' laws' terms), the free points' drag, the bodies' restoring and applied
+        loads (their dead loads: :attr:`dead_load`)."""
         terms = [self.cable] if self.cable is not None else []
+        if self.lines.lines and any(has_creep(law) for law in self.lines.laws):
+            terms.append(CreepTerm(self.lines))  # viscoelastic, Syrope ropes
         terms += law_terms(self.lines) if self.lines.lines else []  # the users' laws
         terms += [PointDrag(p, point.CdA, point.rho, self.sea)
                   for p, point in enumerate(self.point_masses) if point.CdA]

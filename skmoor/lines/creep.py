@@ -107,6 +107,7 @@ class CreepTerm(Term):
         self._curve_width = max([wc.points + len(wc.owc[0]) for wc in syropes] + [1])
         self._owc_points = sum(len(wc.owc[0]) for wc in syropes)
         self._state = np.full(1 + 9 * self.cells.size, np.nan)  # no accepted state yet
+        lineset.creep = self  # (its reported tension: tension_less_mean)
 
     @property
     def memory(self):
@@ -297,6 +298,16 @@ class CreepTerm(Term):
 
     def _refresh(self):
         self._values = self._law_values(self.z)
+
+    def tension_less_mean(self, u, v=None) -> np.ndarray:
+        """(nel,) the creep elements' tension at the accepted state less the mean tension
+        the cable kernel reports there (N; 0 elsewhere, in statics and before a run)."""
+        out = np.zeros(len(self.lines.line_of_cell))
+        if self.t_n is not None and not self.lines._static:
+            e, edot, *_ = self._strains(u, v)
+            out[self.cells] = (self._step(e, edot, 0.0)[0]
+                               - self.lines.cable_fields["T0"][self.cells, 0])
+        return out
 
     # --- the residual
     def add_to(self, u, v, t, R, K=None, C=None):

@@ -291,6 +291,7 @@ class LineSet:
         self.static_mode = False  # a static solve is on (its terms may act differently)
         self._pushing = 0.0  # compression let through (a static solve's continuation)
         self._mean = None  # per-element (T_mean, e_mean) of StaticDynamic lines
+        self.creep = None  # the creep laws' term (skmoor.lines.creep.CreepTerm), if any
         offsets, coords, cells, node0 = [], [], [], 0
         start = 0.0
         for line in lines:
@@ -322,6 +323,10 @@ class LineSet:
                              "a creep law, a UserLaw about the static state) is not "
                              "available on bending (EI > 0) line sets; give the line EI 0 "
                              "or a single EA")
+        for line, law in zip(lines, self.laws):  # a state of the reference's: at its EA
+            if isinstance(law, UserLaw) and law.reference and law.start is not None:
+                law.check_reference(line.line_type.EA,
+                                    f" on line {line.name!r}")
         self.reference_dofs = self._reference_dofs()
         self.fields = self._fields(self.basis)
         self.cable_fields = (self.fields if self.cable_basis is self.basis
@@ -594,6 +599,8 @@ class LineSet:
             tension, strain = forms.tension(Xp, up, point, rate), forms.strain(Xp, up)
         if self.has_user_law:  # their N - T
             tension = tension + law_tension(self, u, ud)
+        if self.creep is not None:  # the creep laws' N - T_mean
+            tension = tension + self.creep.tension_less_mean(u, ud)
         return tension, strain
 
     def curvature(self, u):

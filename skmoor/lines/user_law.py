@@ -28,11 +28,20 @@ it reads each element's static state instead (polyester's dynamic stiffness abou
 mean tension): the statics run the static law, and the law acts about their solution.
 
 A law with a memory (a permanent stretch, the largest strain seen, a spring in series
-with a dashpot) is N(e, de/dt, state) with its update state_new = update(e, de/dt, state,
-dt): the state is kept at each quadrature point of the law's lines, starts at the given
-values, and advances after each accepted time step (generated and compiled like the
-tension); within a step the tension sees the last accepted state. Statics use the initial
-state.
+with a dashpot) is N(e, de/dt, state) with either its update state_new = update(e, de/dt,
+state, dt), explicit: within a step the tension sees the last accepted state; or its rate
+d(state)/dt = state_rate(e, de/dt, state), which skmoor integrates within the step by the
+trapezoidal rule linearized at the last accepted state (n, its slopes J = d rate/d state
+and N_z = dN/d state frozen there, h = t - t_n):
+
+    (I - h/2 J) sdot = rate(e, de/dt, s_n) + h/2 J sdot_n,   ds = h/2 (sdot_n + sdot)
+    N = N(e, de/dt, s_n) + N_z . ds
+
+(:class:`~skmoor.lines.creep.CreepTerm`'s scheme for MoorDyn's creep laws, so that they can
+be written this way). The state is kept at each quadrature point of the law's lines,
+starts at the given values (for a law of a reference state, a function of that state's
+strain and tension) and advances after each accepted time step (generated and compiled
+like the tension). Statics use the initial state.
 """
 from __future__ import annotations
 
@@ -57,8 +66,9 @@ class UserLaw(Law):
     de/dt 1/s, arrays), written with :mod:`skmoor.fem.ops`. The static law N(e, 0) must
     start at 0 N and increase over [0, max_strain]; the catenary uses it sampled at
     ``samples`` strains there (beyond: the last slope). tension_only: a slack cable
-    carries no compression (N < 0 is cut to 0). state, update: a memory (see the module
-    docstring). reference: the function reads a reference state's strain and tension at
+    carries no compression (N < 0 is cut to 0). state and update or state_rate: a memory
+    (see the module docstring; the initial state a function ``state(e_ref, T_ref)`` of the
+    reference's strain and tension for a law of a reference state). reference: the function reads a reference state's strain and tension at
     each point, ``tension(strain, rate[, state], (e_ref, T_ref))``: True or 'line', the
     state the line is built in; 'static', each element's static state (as
     :class:`~skmoor.lines.laws.StaticDynamic`: cable lines). ``static`` (a built-in law)
@@ -71,12 +81,15 @@ class UserLaw(Law):
     samples: int = 301
     initial_state: tuple = ()
     update: object = None
+    state_rate: object = None
+    start: object = None
     reference: str = ""
     static: Law | None = None
     name = "user"
 
     def __init__(self, tension, *, name=None, tension_only=True, max_strain=0.3,
-                 samples=301, state=None, update=None, reference=False, static=None):
+                 samples=301, state=None, update=None, state_rate=None, reference=False,
+                 static=None):
         label = name or getattr(tension, "__name__", "user law")
         if not callable(tension):
             raise ValueError(f"UserLaw {label} tension: need a function tension(strain, "
@@ -90,19 +103,22 @@ class UserLaw(Law):
             raise ValueError(f"UserLaw {label} static: a law of the reference state needs "
                              "the built-in law that makes that state (such as "
                              f"skmoor.Engineering()), got {static!r}")
-        if reference == "static" and (state is not None or update is not None):
-            raise ValueError(f"UserLaw {label} state: a law about the static state has no "
-                             "memory of its own here")
+        if callable(state) and not reference:
+            raise ValueError(f"UserLaw {label} state: initial values as a function of the "
+                             "reference's (strain, tension) need a law of a reference state "
+                             "(reference=True or 'static'); give numbers")
         if not (np.isfinite(max_strain) and max_strain > 0):
             raise ValueError(f"UserLaw {label} max_strain: must be a strain > 0, got "
                              f"{max_strain!r}")
         if int(samples) < 2:
             raise ValueError(f"UserLaw {label} samples: need at least 2, got {samples!r}")
-        initial = _initial_state(label, state, update)
+        if reference and not isinstance(static, Law):
+            static = None  # (refused above)
+        initial, start = _initial_state(label, state, update, state_rate, static)
         for key, value in dict(function=tension, label=label, tension_only=bool(tension_only),
                                max_strain=float(max_strain), samples=int(samples),
-                               initial_state=initial, update=update,
-                               reference=reference,
+                               initial_state=initial, update=update, state_rate=state_rate,
+                               start=start, reference=reference,
                                static=static if reference else None).items():
             object.__setattr__(self, key, value)
         e = np.linspace(0.0, self.max_strain, self.samples)
@@ -115,18 +131,12 @@ class UserLaw(Law):
             raise ValueError(f"UserLaw {label}: {signature} failed on arrays of "
                              f"strains: {error}") from error
         if initial:
-            _check_update(self, e)
+            _check_memory(self, e)
         if not np.all(np.isfinite(T)):
             raise ValueError(f"UserLaw {label}: tension(strain, 0) is not finite at strain "
                              f"{e[~np.isfinite(T)][0]:g}")
-        if self.reference:  # at its own reference, the law gives the reference's tension
-            made = np.asarray(static.static_tension(e, 1.0), float)
-            off = np.abs(T - made) > 1e-9 * max(np.max(np.abs(made)), 1.0)
-            if off.any():
-                raise ValueError(f"UserLaw {label}: {signature} at the reference (strain e, "
-                                 f"tension the static law's at e) must be that tension; it "
-                                 f"is {T[off][0]:g} N, not {made[off][0]:g} N, at strain "
-                                 f"{e[off][0]:g} (EA 1 N)")
+        if self.reference and self.start is None:  # (a state of the reference's: on its
+            self.check_reference()                  # lines, where their EA is known)
         if abs(T[0]) > 1e-9 * max(np.max(np.abs(T)), 1.0):
             raise ValueError(f"UserLaw {label}: the tension at zero strain must be 0 N, got "
                              f"{T[0]:g}")
@@ -140,20 +150,50 @@ class UserLaw(Law):
     def __repr__(self):
         return f"UserLaw({self.label})"
 
-    def _evaluate(self, e, rate, state=None, reference=None):
-        """The user's tension (N) at strains e, rates de/dt, the state (its initial values
-        where None) and, for a law of the reference state, that state's (strain,
-        tension) (None: e itself and the static law's tension there at EA 1 N)."""
+    def check_reference(self, EA=1.0, where=""):
+        """Raise ValueError unless the law at its own reference (strain e, the static
+        law's tension there at the line type's EA, N) gives that tension."""
+        e = np.linspace(0.0, self.max_strain, self.samples)
+        reference = (e, np.asarray(self.static.static_tension(e, EA), float))
+        with np.errstate(all="ignore"):
+            T = np.asarray(self._evaluate(e, np.zeros_like(e), reference=reference),
+                           float) * np.ones_like(e)
+        made = reference[1]
+        off = ~(np.abs(T - made) <= 1e-9 * max(np.max(np.abs(made)), 1.0))
+        if off.any():
+            raise ValueError(
+                f"UserLaw {self.label}{where}: tension(strain, rate"
+                + (", state" if self.initial_state else "") + ", reference) at the reference "
+                "(strain e, tension the static law's at e"
+                + (", the initial state there" if self.initial_state else "") + ") must be "
+                f"that tension; it is {T[off][0]:g} N, not {made[off][0]:g} N, at strain "
+                f"{e[off][0]:g} (EA {EA:g} N)")
+
+    def _evaluate(self, e, rate, state=None, reference=None, function=None):
+        """The user's tension (N; or ``function``'s values, such as the state's rate) at
+        strains e, rates de/dt, the state (its initial values where None) and, for a law
+        of the reference state, that state's (strain, tension) (None: e itself and the
+        static law's tension there at EA 1 N)."""
+        if self.reference and reference is None:
+            reference = (e, self.static.static_tension(e, 1.0))
         arguments = [e, rate]
         if self.initial_state:
             if state is None:
-                state = tuple(value + 0.0 * e for value in self.initial_state)
+                state = self.start_state(e, reference)
             arguments.append(tuple(state))
         if self.reference:
-            if reference is None:
-                reference = (e, self.static.static_tension(e, 1.0))
             arguments.append(tuple(reference))
-        return self.function(*arguments)
+        return (function or self.function)(*arguments)
+
+    def start_state(self, e, reference=None):
+        """The initial state (a tuple of arrays shaped as the strains e): the given
+        values, or for a law of a reference state its function of that state's (strain,
+        tension) (None: e itself, the static law's tension there at EA 1 N)."""
+        if self.start is None:
+            return tuple(value + 0.0 * e for value in self.initial_state)
+        if reference is None:
+            reference = (e, self.static.static_tension(e, 1.0))
+        return tuple(value + 0.0 * e for value in self.start(*reference))
 
     # --- statics (a law of the reference state: its static law's)
     def static_pieces(self, EA=None):
@@ -249,41 +289,88 @@ class UserLaw(Law):
         return self._compiled
 
 
-def _initial_state(label, state, update):
-    """The law's initial state as a tuple of floats (() without a memory)."""
-    if state is None and update is None:
-        return ()
-    if state is None or not callable(update):
-        raise ValueError(f"UserLaw {label} state, update: a law with a memory needs both, "
-                         "the initial values and update(strain, rate, state, dt) -> new "
-                         "values")
+def _initial_state(label, state, update, state_rate, static):
+    """(the law's initial state as a tuple of floats (() without a memory; NaNs, one per
+    value, where it is a function), that function or None)."""
+    if state is None and update is None and state_rate is None:
+        return (), None
+    if state is None or (update is None) == (state_rate is None) or not callable(
+            update or state_rate):
+        raise ValueError(f"UserLaw {label} state, update / state_rate: a law with a memory "
+                         "needs both, the initial values and either update(strain, rate, "
+                         "state, dt) -> new values or state_rate(strain, rate, state) -> "
+                         "d(state)/dt")
+    if callable(state):
+        e = np.linspace(0.0, 0.01, 3)
+        try:
+            with np.errstate(all="ignore"):
+                values = state(e, static.static_tension(e, 1.0))
+            count = len(tuple(values))
+        except Exception as error:
+            raise ValueError(f"UserLaw {label} state: state(e_ref, T_ref) failed on arrays "
+                             f"of strains and tensions: {error}") from error
+        if not count:
+            raise ValueError(f"UserLaw {label} state: state(e_ref, T_ref) returned no values")
+        return (math.nan,) * count, state
     values = tuple(np.atleast_1d(np.asarray(state, float)).ravel())
     if not values or not all(np.isfinite(values)):
         raise ValueError(f"UserLaw {label} state: need one or more finite initial values, "
                          f"got {state!r}")
-    return values
+    return values, None
 
 
-def _check_update(law, e):
-    """The update evaluated once on arrays: as many finite values as the state."""
-    state = tuple(value + 0.0 * e for value in law.initial_state)
+def _check_memory(law, e):
+    """The initial state, the update or the state's rate evaluated once on arrays: as
+    many finite values as the state."""
+    name, signature = (("update", "update(strain, rate, state, dt)") if law.update else
+                       ("state_rate", "state_rate(strain, rate, state"
+                        + (", reference)" if law.reference else ")")))
     try:
         with np.errstate(all="ignore"):
-            new = law.update(e, np.zeros_like(e), state, 0.1)
-        new = [np.asarray(value, float) * np.ones_like(e) for value in new]
+            state = law.start_state(e)
+            new = (law.update(e, np.zeros_like(e), state, 0.1) if law.update else
+                   law._evaluate(e, np.zeros_like(e), state, function=law.state_rate))
+            new = [np.asarray(value, float) * np.ones_like(e) for value in new]
+            state = [np.asarray(value, float) for value in state]
     except Exception as error:
-        raise ValueError(f"UserLaw {law.label}: update(strain, rate, state, dt) failed on "
-                         f"arrays of strains: {error}") from error
+        raise ValueError(f"UserLaw {law.label}: {signature} failed on arrays of strains: "
+                         f"{error}") from error
+    if not all(np.all(np.isfinite(value)) for value in state):
+        raise ValueError(f"UserLaw {law.label} state: the initial state is not finite at "
+                         f"reference strains in [0, {law.max_strain:g}]")
     if len(new) != len(state):
-        raise ValueError(f"UserLaw {law.label} update: returned {len(new)} values for a "
+        raise ValueError(f"UserLaw {law.label} {name}: returned {len(new)} values for a "
                          f"state of {len(state)}")
     if not all(np.all(np.isfinite(value)) for value in new):
-        raise ValueError(f"UserLaw {law.label} update: not finite at strains in [0, "
+        raise ValueError(f"UserLaw {law.label} {name}: not finite at strains in [0, "
                          f"{law.max_strain:g}] (dt 0.1 s, the initial state)")
 
 
 def _state_names(law):
     return [f"law_state_{k}" for k in range(len(law.initial_state))]
+
+
+def _initial_memory(law, on, e_ref, T_ref) -> dict:
+    """The law's form's state, name -> initial values (a number or (nel, nqp)): the law's
+    state (its function of the reference's strain e_ref and tension T_ref on the law's
+    points, ``on``; 0 elsewhere) and, for a law with a state's rate, the last accepted
+    rate, its slopes and time (0 until the first commit)."""
+    names = _state_names(law)
+    if law.start is None:
+        memory = dict(zip(names, law.initial_state))
+    else:
+        memory, mask = {}, on > 0
+        for name, value in zip(names, law.start_state(e_ref[mask], (e_ref[mask],
+                                                                      T_ref[mask]))):
+            memory[name] = np.zeros(on.shape)
+            memory[name][mask] = value
+    if law.state_rate is not None:
+        n = len(names)
+        memory.update({f"law_rate_{k}": 0.0 for k in range(n)})
+        memory.update({f"law_rate_slope_{k}_{j}": 0.0 for k in range(n) for j in range(n)})
+        memory.update({f"law_tension_slope_{k}": 0.0 for k in range(n)})
+        memory["law_time"] = 0.0
+    return memory
 
 
 def _strain_and_rate(w):
@@ -297,24 +384,97 @@ def _strain_and_rate(w):
     return grow * stretch - 1.0, grow * green_rate / stretch, stretch, green_rate
 
 
+def _reference(w):
+    """The reference state's (strain, tension) the law reads at the points of w."""
+    kind = w.law.reference
+    return ((w.e_static, w.T_static) if kind == "static" else (w.e_ref, w.T)
+            if kind == "line" else None)
+
+
+def _solved(A, b):
+    """x with A x = b for a small system (lists of arrays; Gaussian elimination written
+    out, no pivoting: A is near the identity)."""
+    n = len(b)
+    A, b = [list(row) for row in A], list(b)
+    for k in range(n):
+        for i in range(k + 1, n):
+            factor = A[i][k] / A[k][k]
+            A[i] = [A[i][j] - factor * A[k][j] for j in range(n)]
+            b[i] = b[i] - factor * b[k]
+    x = [None] * n
+    for k in reversed(range(n)):
+        x[k] = (b[k] - sum(A[k][j] * x[j] for j in range(k + 1, n))) / A[k][k]
+    return x
+
+
+def _within_step(w, strain, rate, reference, h):
+    """(the state after a step of h (s) from the last accepted one, the tension N
+    before its tension-only cut) by the linearized trapezoidal rule (module docstring)."""
+    law, names = w.law, _state_names(w.law)
+    n, half = len(names), 0.5 * h
+    state = tuple(w[name] for name in names)
+    rate_n = [w[f"law_rate_{k}"] for k in range(n)]
+    J = [[w[f"law_rate_slope_{k}_{j}"] for j in range(n)] for k in range(n)]
+    f = law._evaluate(strain, rate, state, reference, function=law.state_rate)
+    new_rate = _solved([[float(k == j) - half * J[k][j] for j in range(n)] for k in range(n)],
+                       [f[k] + half * sum(J[k][j] * rate_n[j] for j in range(n))
+                        for k in range(n)])
+    change = [half * (rate_n[k] + new_rate[k]) for k in range(n)]
+    N = law._evaluate(strain, rate, state, reference) + sum(
+        w[f"law_tension_slope_{k}"] * change[k] for k in range(n))
+    return [state[k] + change[k] for k in range(n)], N
+
+
+def _slope(function, state, j):
+    """d function(state) / d state[j] (function: a tuple of arrays): forward-mode automatic
+    differentiation on JAX arrays, else central differences (as CreepTerm's)."""
+    def moved(value):
+        return tuple(function(tuple(value if k == j else s for k, s in enumerate(state))))
+
+    if ops.xp(*state) is not np:
+        import jax
+        return jax.jvp(moved, (state[j],), (ops.xp(state[j]).ones_like(state[j]),))[1]
+    step = 1e-7 * np.maximum(np.abs(state[j]), 1e-3)
+    up, down = moved(state[j] + step), moved(state[j] - step)
+    return tuple((a - b) / (2.0 * step) for a, b in zip(up, down))
+
+
 def law_residual(v, w):
     # Eq. 11 with the user's tension, and the line type's axial damping BA as the cable
     # kernel has it: int [N(e, de/dt) / |r'| + BA r' . udot'] r' . dv' ds on its lines
     strain, rate, stretch, green_rate = _strain_and_rate(w)
-    state = tuple(w[name] for name in _state_names(w.law)) or None
-    kind = w.law.reference
-    reference = ((w.e_static, w.T_static) if kind == "static" else (w.e_ref, w.T)
-                 if kind == "line" else None)
-    axial = w.law.axial(strain, rate, state, reference) / stretch + w.BA * green_rate
+    law, reference = w.law, _reference(w)
+    if law.state_rate is None:
+        state = tuple(w[name] for name in _state_names(law)) or None
+        N = law.axial(strain, rate, state, reference)
+    else:  # the state integrated within the step
+        N = _within_step(w, strain, rate, reference, ops.maximum(w.t - w.law_time, 0.0))[1]
+        N = ops.maximum(N, 0.0) if law.tension_only else N
+    axial = N / stretch + w.BA * green_rate
     return w.on * axial * dot(w.Xp + d_ds(w.u), d_ds(v))
 
 
 def law_update(w):
-    """The law's state after the step w.dt (s), at the points of w."""
+    """The law's state after the step w.dt (s), at the points of w (with a state's rate:
+    also the rate, its slopes and the time there)."""
     strain, rate, _, _ = _strain_and_rate(w)
-    names = _state_names(w.law)
-    new = w.law.update(strain, rate, tuple(w[name] for name in names), w.dt)
-    return dict(zip(names, new))
+    law, names = w.law, _state_names(w.law)
+    if law.state_rate is None:
+        new = law.update(strain, rate, tuple(w[name] for name in names), w.dt)
+        return dict(zip(names, new))
+    reference = _reference(w)
+    state, _ = _within_step(w, strain, rate, reference, w.dt)
+    state = tuple(state)
+    new = dict(zip(names, state), law_time=w.t + 0.0 * strain)
+    new.update({f"law_rate_{k}": value for k, value in enumerate(law._evaluate(
+        strain, rate, state, reference, function=law.state_rate))})
+    for j in range(len(names)):
+        slopes = _slope(lambda s: law._evaluate(strain, rate, s, reference,
+                                                function=law.state_rate), state, j)
+        new.update({f"law_rate_slope_{k}_{j}": value for k, value in enumerate(slopes)})
+        new[f"law_tension_slope_{j}"] = _slope(
+            lambda s: (law._evaluate(strain, rate, s, reference),), state, j)[0]
+    return new
 
 
 class _LawForm(LineForm):
@@ -339,6 +499,12 @@ class _LawForm(LineForm):
             self.fields["T_static"][...] = T_mean[:, None] * on
             self.fields["e_static"][...] = e_mean[:, None] * on
             self._engine, self.step_kernel = None, None
+            if self.state and self.fields["law"].start is not None:  # starts from them
+                self.state.update(_initial_memory(self.fields["law"], on,
+                                                  self.fields["e_static"],
+                                                  self.fields["T_static"]))
+                self._memory = self._state_layout = self._commit_kernel = None
+                self.step_commit = None
         return True
 
     def add_to(self, u, v, t, R, K=None, C=None):
@@ -363,8 +529,10 @@ def law_terms(lines) -> list:
                             [k for k, other in enumerate(lines.laws) if other is law])
             on = np.repeat(cells.astype(float)[:, None],
                            lines.cable_fields["T"].shape[1], axis=1)
-            memory = (dict(state=dict(zip(_state_names(law), law.initial_state)),
-                           update=law_update) if law.initial_state else {})
+            memory = (dict(state=_initial_memory(law, on, lines.cable_fields["e_ref"] * on,
+                                                 lines.cable_fields["T"] * on),
+                           update=law_update)
+                      if law.initial_state else {})
             fields = {"on": on, "law": law}
             if law.reference == "static":  # until the statics: the state it is built in
                 fields.update(e_static=lines.cable_fields["e_ref"] * on,
@@ -400,10 +568,10 @@ def law_tension(lines, u, ud=None) -> np.ndarray:
     for law, cells, weights, dofs, Xp, grow, T in plan:
         if law.reference == "static" and lines._static:
             continue  # statics: the kernel reports these elements, with their static law
-        states = _element_states(lines, law, cells)  # (ncells, nstate)
+        T_ref, e_ref = ((T, grow - 1.0) if law.reference == "line" or lines._mean is None
+                        else (lines._mean[0][cells], lines._mean[1][cells]))
+        states = _element_states(lines, law, cells, (e_ref, T_ref))  # (ncells, nstate)
         if law.reference:  # the reference's strain and tension after the state
-            T_ref, e_ref = ((T, grow - 1.0) if law.reference == "line" or lines._mean is None
-                            else (lines._mean[0][cells], lines._mean[1][cells]))
             states = np.column_stack([states, e_ref, T_ref])
         compiled = law.compiled()
         if compiled is not None:
@@ -421,12 +589,14 @@ def law_tension(lines, u, ud=None) -> np.ndarray:
     return out
 
 
-def _element_states(lines, law, cells) -> np.ndarray:
+def _element_states(lines, law, cells, reference) -> np.ndarray:
     """(ncells, nstate) the law's last accepted state on the elements (the mean over
-    their quadrature points; the initial state before its form is in a model)."""
+    their quadrature points; before its form is in a model, the initial state at the
+    elements' reference (strain, tension))."""
     term = lines.__dict__.get("_law_memories", {}).get(id(law))
     if term is None:
-        return np.tile(np.asarray(law.initial_state, float), (cells.size, 1))
+        return np.stack(law.start_state(reference[0], reference), axis=1) if (
+            law.initial_state) else np.zeros((cells.size, 0))
     values = term.state_values()
     return np.stack([values[name][cells].mean(axis=1) for name in _state_names(law)],
                     axis=1) if values else np.zeros((cells.size, 0))
