@@ -89,8 +89,9 @@ def load_example(workdir):
     return module
 
 
-def skmoor_model(example):
-    """The cable at SITE, its hang-off a coupled point moved by :func:`heave`."""
+def skmoor_model(example, form_path="auto"):
+    """The cable at SITE, its hang-off a coupled point moved by :func:`heave` (form_path:
+    the bed's and Morison's, ``Network.form_path``)."""
     import skmoor
 
     def along_z(k):
@@ -105,7 +106,7 @@ def skmoor_model(example):
     for line in network.lines:
         for name, value in DRAG.items():
             setattr(line.line_type, name, value)
-    network.hydro = True
+    network.hydro, network.form_path = True, form_path
     network.points[0] = skmoor.Point("hang_off", "coupled", example.SITES[SITE].hang_off)
     network.motion = skmoor.Motion(along_z(0), along_z(1), along_z(2), vectorized=True)
     model = skmoor.from_network(network)
@@ -113,13 +114,13 @@ def skmoor_model(example):
     return model
 
 
-def run_skmoor(example, dt):
+def run_skmoor(example, dt, form_path="auto"):
     """(time loop s, hang-off tension at the output times N): ``integrate`` from the static
     state, the end forces computed by the step at the outputs."""
     import skmoor
     from skmoor.solvers.dynamics import Scheme, integrate
 
-    model = skmoor_model(example)
+    model = skmoor_model(example, form_path)
     system, x0 = model.system, skmoor.equilibrium(model).x
     stride = output_stride(dt)
     tension = []

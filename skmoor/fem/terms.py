@@ -251,6 +251,11 @@ class LineForm(Term):
         """The extra fields at time t and displacement u (override for u-dependent data)."""
         return self.fields(t) if callable(self.fields) else self.fields
 
+    def fields_vary(self) -> bool:
+        """Whether :meth:`fields_at` changes with t or u (then the kernel reads them at
+        each call, in Python): fields given as a function, or fields_at overridden."""
+        return callable(self.fields) or type(self).fields_at is not LineForm.fields_at
+
     def _w(self, u, v, t):
         basis, base = self.basis_and_fields()
         return basis, dict(base, **self.fields_at(t, u), **self.state_values(), t=t, u=u,
@@ -345,8 +350,8 @@ class LineForm(Term):
         'compiled' on the numba backend, fields that do not change in time."""
         if self.path != "compiled" or self.lines is None:
             return None
-        if self._engine is None:
-            self.add_to(*(np.zeros(self.lines.ndofs),) * 2, 0.0, np.zeros(self.lines.ndofs))
+        if self._engine is None:  # (made here: a subclass's add_to may skip a state)
+            self._engine = _ENGINES[self.path](self)
         return "form" if self.step_kernel is not None else None
 
     @property
@@ -690,7 +695,7 @@ def _numba_engine(term):
     _, w0 = term._w(np.zeros(local.ndofs), np.zeros(local.ndofs), 0.0)
     w0 = {k: x for k, x in w0.items() if k not in ("u", "du", "t")}
     shapes, dof_names, P0, D0, const = _point_layout(local, w0)
-    varying = callable(term.fields) or type(term).fields_at is not LineForm.fields_at
+    varying = term.fields_vary()
     n_inputs = 14 + P0.shape[2] + 6 * D0.shape[0]
     unit = np.eye(3).reshape(3, 3, 1, 1)
     zero_value, zero_grad = np.zeros((3, 1, 1)), np.zeros((3, 1, 1, 1))
@@ -800,8 +805,7 @@ def _jax_engine(term):
     JaxDiscreteField = _jax_field()
     local = _Local(term)
     _, w0 = term._w(np.zeros(local.ndofs), np.zeros(local.ndofs), 0.0)
-    varying = (callable(term.fields) or type(term).fields_at is not LineForm.fields_at
-               or bool(term.state))
+    varying = term.fields_vary() or bool(term.state)
     static = {k: x for k, x in w0.items() if k not in ("u", "du", "t")}
     if varying:  # time- or u-dependent fields are arguments; the LineSet's are constants
         _, base = term.basis_and_fields()

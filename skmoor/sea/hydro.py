@@ -208,6 +208,9 @@ class SeaTerm(LineForm):
         name = "uw" if self.water == "velocity" else "aw"
         return dict(self.fields, **{name: nodal_water(self.lines, self.sea, u, t, self.water)})
 
+    def fields_vary(self) -> bool:
+        return not (self.sea is None or self.sea.still)  # still water: uw = 0 throughout
+
     def mass_matrix(self):
         return None if self.mass is None else added_mass_matrix(self.lines, self.lumped)
 

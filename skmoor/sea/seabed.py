@@ -415,13 +415,41 @@ def form_term(lines, seabed, *, path="auto"):
                       quadrature="nodal", path=path, lines=lines, name="seabed")
 
 
+def landing(lines, seabed, position, newton_depth):
+    """:func:`land_on_bed`'s arrays after y and dx for the line nodes whose three DOFs are
+    free (``position``: each full DOF's reduced column, -1 held): their columns (m, 3),
+    reference positions (m, 3; m), the bed's normal (m, 3) and offset n.P (m,) under each
+    (a bathymetry's taken at each call), the Newton depth (m) and the bathymetry's x, y
+    and heights (empty on a plane)."""
+    columns = np.asarray(position, np.int64)[lines.nodal_dofs]
+    free = columns.min(axis=1) >= 0
+    points = lines.points[free]
+    m = len(points)
+    if seabed.bathymetry is None:
+        normal = np.empty((m, 3))
+        normal[:] = seabed.normal
+        offset = np.full(m, float(seabed.offset))
+        grid = (np.zeros(0), np.zeros(0), np.zeros((0, 0)))
+    else:
+        normal, offset = np.zeros((m, 3)), np.zeros(m)
+        grid = tuple(np.ascontiguousarray(a, float) for a in
+                     (seabed.bathymetry.x, seabed.bathymetry.y, seabed.bathymetry.heights))
+    return (columns[free], np.ascontiguousarray(points, float), normal, offset,
+            newton_depth, *grid)
+
+
 class SeabedForm(LineForm):
     """The seabed's LineForm, skipped while no node touches the bed (every term of the
-    forms carries the contact H(g) or the normal force, so all are zero there)."""
+    forms carries the contact H(g) or the normal force, so all are zero there); the
+    Newton iteration lands on the bed as with the kernel (:meth:`landing`)."""
 
     def __init__(self, seabed, residual, **kw):
         super().__init__(residual, **kw)
         self.seabed = seabed
+
+    def landing(self, position):
+        """:func:`land_on_bed`'s arrays (:func:`landing`)."""
+        return landing(self.lines, self.seabed, position, self.seabed.newton_depth(self.lines))
 
     def add_to(self, u, v, t, R, K=None, C=None):
         if np.any(self.seabed.penetration(self.lines.points + u[self.lines.nodal_dofs]) > 0):
@@ -522,26 +550,8 @@ class SeabedKernel(Term):
         self._run(u, slip, R, blocks, blocks, zero, self.static_slip)  # d/ds is d/du
 
     def landing(self, position):
-        """:func:`land_on_bed`'s arrays after y and dx for the line nodes whose three
-        DOFs are free (``position``: each full DOF's reduced column, -1 held): their
-        columns (m, 3), reference positions (m, 3; m), the bed's normal (m, 3) and offset
-        n.P (m,) under each (a bathymetry's taken at each call), the Newton depth (m) and
-        the bathymetry's x, y and heights (empty on a plane)."""
-        columns = np.asarray(position, np.int64)[self.lines.nodal_dofs]
-        free = columns.min(axis=1) >= 0
-        points = self.lines.points[free]
-        m = len(points)
-        if self.bathymetry is None:
-            normal = np.empty((m, 3))
-            normal[:] = self._seabed.normal
-            offset = np.full(m, float(self._seabed.offset))
-            grid = (np.zeros(0), np.zeros(0), np.zeros((0, 0)))
-        else:
-            normal, offset = np.zeros((m, 3)), np.zeros(m)
-            grid = tuple(np.ascontiguousarray(a, float) for a in
-                         (self.bathymetry.x, self.bathymetry.y, self.bathymetry.heights))
-        return (columns[free], np.ascontiguousarray(points, float), normal, offset,
-                self.newton_depth, *grid)
+        """:func:`land_on_bed`'s arrays (:func:`landing`)."""
+        return landing(self.lines, self._seabed, position, self.newton_depth)
 
     def resting_support(self, u, weight, nodes) -> np.ndarray:
         """(len(nodes), 3) support (N) the bed gives the held line-end ``nodes`` resting

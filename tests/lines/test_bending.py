@@ -238,6 +238,14 @@ def test_seabed_kernel_on_bending_lines_equals_the_form():
     np.testing.assert_allclose(R, R_form, atol=1e-9 * np.abs(R_form).max())
     np.testing.assert_allclose(K.toarray(), K_form.toarray(), atol=1e-9 * np.abs(K_form).max())
     np.testing.assert_allclose(C.toarray(), C_form.toarray(), atol=1e-9 * np.abs(C_form).max())
+    # the Newton iteration lands the free nodes on the bed alike on either path
+    position = np.arange(lines.ndofs)
+    position[lines.nodal_dofs[0]] = -1  # the first node held
+    kernel, form = SeabedKernel(lines, bed).landing(position), form_term(lines, bed).landing(
+        position)
+    assert len(kernel[0]) == 10 and kernel[4] > 0
+    for a, b in zip(kernel, form):
+        np.testing.assert_array_equal(a, b)
 
 
 def _user_form_case():
