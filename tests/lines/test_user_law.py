@@ -434,6 +434,25 @@ def test_the_viscoelastic_law_written_with_a_state_rate_moves_as_the_built_in_on
         assert np.abs(other - expected).max() > 1e-3 * motion, name
 
 
+def test_without_jax_the_creep_law_runs_on_numpy_as_the_built_in_one(monkeypatch):
+    """Without JAX (skmoor's optional extra) a law's form runs on NumPy (path 'fd': the
+    state's slopes by central differences, its update in NumPy): the viscoelastic user
+    law still moves the chain and reports tensions as the built-in law (measured 6e-11)."""
+    from skmoor.fem import terms
+
+    builtin = skmoor.laws.Viscoelastic(EA_dynamic=EA_DYNAMIC, creep_damping=CREEP_DAMPING,
+                                       dynamic_damping=DYNAMIC_DAMPING)
+    expected, tension_builtin = _history(*_chain(builtin, offset=0.5, amplitude=0.3),
+                                         steps=20)
+    monkeypatch.setattr(terms, "HAS_JAX", False)
+    system, x0 = _chain(_creep_law(), offset=0.5, amplitude=0.3)
+    assert [t.path for t in system._terms["lines"] if hasattr(t, "path")] == ["fd"]
+    got, tension = _history(system, x0, compiled=False, steps=20)
+    motion = np.abs(expected - expected[0]).max()
+    assert np.abs(got - expected).max() < 1e-9 * motion
+    assert np.abs(tension - tension_builtin).max() < 1e-9 * tension_builtin.max()
+
+
 @pytest.mark.parametrize("kwargs, message", [
     (dict(state=lambda e, T: (e,)), r"the initial state there\) must be that tension"),
     (dict(state=lambda e, T: (e / 0.0,)), "initial state is not finite"),
