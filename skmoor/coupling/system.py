@@ -274,6 +274,14 @@ class System(BodyFrames, ExactBodyInertia, EndReactions, PrescribedEnds):
                       AppliedLoad(k, body)]
         return terms
 
+    @property
+    def memory_in_tension(self) -> bool:
+        """Whether the lines' reported tension reads a memory (a creep state, a user
+        law's state) that the time step advances."""
+        lines = self.lines
+        return lines.creep is not None or any(
+            getattr(law, "initial_state", ()) for law in lines.laws)
+
     def _dead_load(self):
         """(n,) the constant loads on the free points and bodies that the load factor
         scales (N, N m; the residual gets -load_factor times it): the points' net

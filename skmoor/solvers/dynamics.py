@@ -133,6 +133,10 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
     commit = stepper.commit
     commit(t, x, v)
     reports = report_every > 0 and hasattr(system, "end_forces")
+    # a reported tension that reads a memory (a creep state) needs the memory of its own
+    # step: the compiled step leaves the memories as at its batch's last step, so its
+    # batches end at a report
+    memory_reported = getattr(system, "memory_in_tension", False)
 
     def report(x, v, a, t):
         """(full state, end forces) of the lines at (x, v, a, t), computed here."""
@@ -148,6 +152,9 @@ def integrate(system, x0, v0, dt, t_end, *, C=None, t0=0.0, scheme=None, tol=1e-
         t1 = t0 + step * dt
         if fast is not None and not ahead and failed is None:  # the next steps compiled
             numbers = np.arange(step, min(step + COMPILED_BATCH, n_steps + 1))
+            if reports and memory_reported:  # the batch ends at a report (see above)
+                first = np.flatnonzero(numbers % report_every == 0)
+                numbers = numbers[:first[0] + 1] if first.size else numbers
             ahead, failed = fast.steps(x, v, a, force_old, t0 + dt * numbers, dt,
                                        report=numbers % report_every == 0 if reports else None,
                                        trend=stepper.trend)

@@ -81,6 +81,8 @@ def test_held_rope_relaxes_as_the_standard_linear_solid(tmp_path):
     step = relaxation(0.0, e) - EA_S * e
     assert abs(step) > 0.5 * EA_S * e  # the creep moves the tension
     assert np.abs(T - relaxation(results.t, e)).max() < 1e-4 * abs(step)
+    # the recorded element tension is the creep element's, not the static mean's
+    assert np.abs(results.tension[:, 0] - relaxation(results.t, e)).max() < 1e-4 * abs(step)
     # MoorDyn's IC stage holding the line for dtIC = tau before t = 0
     model = skmoor.build(deck(tmp_path / "relaxed.dat", options=f"{TAU!r} dtIC\n10 TmaxIC\n"))
     assert model.lines.laws[0].relax == pytest.approx(TAU)
