@@ -31,8 +31,8 @@ A law with a memory (a permanent stretch, the largest strain seen, a spring in s
 with a dashpot) is N(e, de/dt, state) with either its update state_new = update(e, de/dt,
 state, dt), explicit: within a step the tension sees the last accepted state; or its rate
 d(state)/dt = state_rate(e, de/dt, state), which skmoor integrates within the step by the
-trapezoidal rule linearized at the last accepted state (n, its slopes J = d rate/d state
-and N_z = dN/d state frozen there, h = t - t_n):
+trapezoidal rule linearized at the last accepted state s_n (its rate sdot_n and the slopes
+J = d rate/d state and N_z = dN/d state frozen there; h = t - t_n):
 
     (I - h/2 J) sdot = rate(e, de/dt, s_n) + h/2 J sdot_n,   ds = h/2 (sdot_n + sdot)
     N = N(e, de/dt, s_n) + N_z . ds
@@ -67,10 +67,11 @@ class UserLaw(Law):
     start at 0 N and increase over [0, max_strain]; the catenary uses it sampled at
     ``samples`` strains there (beyond: the last slope). tension_only: a slack cable
     carries no compression (N < 0 is cut to 0). state and update or state_rate: a memory
-    (see the module docstring; the initial state a function ``state(e_ref, T_ref)`` of the
-    reference's strain and tension for a law of a reference state). reference: the function reads a reference state's strain and tension at
-    each point, ``tension(strain, rate[, state], (e_ref, T_ref))``: True or 'line', the
-    state the line is built in; 'static', each element's static state (as
+    (see the module docstring; for a law of a reference state the initial state may be a
+    function ``state(e_ref, T_ref)`` of the reference's strain and tension). reference:
+    the function reads a reference state's strain and tension at each point,
+    ``tension(strain, rate[, state], (e_ref, T_ref))``: True or 'line', the state the line
+    is built in; 'static', each element's static state (as
     :class:`~skmoor.lines.laws.StaticDynamic`: cable lines). ``static`` (a built-in law)
     makes that state, the catenary and the statics with it; at its reference the law
     must give the reference's tension."""
@@ -112,8 +113,6 @@ class UserLaw(Law):
                              f"{max_strain!r}")
         if int(samples) < 2:
             raise ValueError(f"UserLaw {label} samples: need at least 2, got {samples!r}")
-        if reference and not isinstance(static, Law):
-            static = None  # (refused above)
         initial, start = _initial_state(label, state, update, state_rate, static)
         for key, value in dict(function=tension, label=label, tension_only=bool(tension_only),
                                max_strain=float(max_strain), samples=int(samples),
