@@ -324,7 +324,8 @@ class LineSet:
                              "available on bending (EI > 0) line sets; give the line EI 0 "
                              "or a single EA")
         for line, law in zip(lines, self.laws):  # a state of the reference's: at its EA
-            if isinstance(law, UserLaw) and law.reference and law.start is not None:
+            if (isinstance(law, UserLaw) and law.reference and law.start is not None
+                    and law.balanced):
                 law.check_reference(line.line_type.EA,
                                     f" on line {line.name!r}")
         self.reference_dofs = self._reference_dofs()

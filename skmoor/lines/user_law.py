@@ -68,7 +68,9 @@ class UserLaw(Law):
     ``samples`` strains there (beyond: the last slope). tension_only: a slack cable
     carries no compression (N < 0 is cut to 0). state and update or state_rate: a memory
     (see the module docstring; for a law of a reference state the initial state may be a
-    function ``state(e_ref, T_ref)`` of the reference's strain and tension). reference:
+    function ``state(e_ref, T_ref)`` of the reference's strain and tension; with
+    ``balanced=False`` it need not balance the reference's tension, as MoorDyn's start of
+    a creep state, and the line then moves from its static state at t = 0). reference:
     the function reads a reference state's strain and tension at each point,
     ``tension(strain, rate[, state], (e_ref, T_ref))``: True or 'line', the state the line
     is built in; 'static', each element's static state (as
@@ -84,13 +86,14 @@ class UserLaw(Law):
     update: object = None
     state_rate: object = None
     start: object = None
+    balanced: bool = True
     reference: str = ""
     static: Law | None = None
     name = "user"
 
     def __init__(self, tension, *, name=None, tension_only=True, max_strain=0.3,
                  samples=301, state=None, update=None, state_rate=None, reference=False,
-                 static=None):
+                 static=None, balanced=True):
         label = name or getattr(tension, "__name__", "user law")
         if not callable(tension):
             raise ValueError(f"UserLaw {label} tension: need a function tension(strain, "
@@ -108,6 +111,9 @@ class UserLaw(Law):
             raise ValueError(f"UserLaw {label} state: initial values as a function of the "
                              "reference's (strain, tension) need a law of a reference state "
                              "(reference=True or 'static'); give numbers")
+        if not balanced and not callable(state):
+            raise ValueError(f"UserLaw {label} balanced: False is for an initial state given "
+                             "as a function state(e_ref, T_ref) of the reference")
         if not (np.isfinite(max_strain) and max_strain > 0):
             raise ValueError(f"UserLaw {label} max_strain: must be a strain > 0, got "
                              f"{max_strain!r}")
@@ -117,7 +123,7 @@ class UserLaw(Law):
         for key, value in dict(function=tension, label=label, tension_only=bool(tension_only),
                                max_strain=float(max_strain), samples=int(samples),
                                initial_state=initial, update=update, state_rate=state_rate,
-                               start=start, reference=reference,
+                               start=start, balanced=bool(balanced), reference=reference,
                                static=static if reference else None).items():
             object.__setattr__(self, key, value)
         e = np.linspace(0.0, self.max_strain, self.samples)

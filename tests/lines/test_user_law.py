@@ -12,7 +12,7 @@ from test_compiled_step import run
 
 import skmoor
 from skmoor.fem import ops
-from skmoor.lines import syrope
+from skmoor.lines import creep, syrope
 from skmoor.lines.catenary import solve_catenary
 from skmoor.solvers import compiled_step
 from skmoor.solvers.dynamics import Scheme
@@ -453,8 +453,40 @@ def test_without_jax_the_creep_law_runs_on_numpy_as_the_built_in_one(monkeypatch
     assert np.abs(tension - tension_builtin).max() < 1e-9 * tension_builtin.max()
 
 
+RELAX = 0.1  # s: MoorDyn's start relaxes z = e this long with the ends held
+
+
+def moordyn_start(e_static, T_static):
+    # z = e relaxed over RELAX in CreepTerm's 2000 trapezoidal steps: the rate is linear
+    # in z, c + J z, so that each step multiplies z - z_inf by (1 + h J / 2) / (1 - h J / 2)
+    h = RELAX / creep.RELAX_STEPS
+    J = -(EA_1 + EA_DYNAMIC) / (CREEP_DAMPING + DYNAMIC_DAMPING)
+    relaxed_z = relaxed(e_static, T_static)[0]
+    ratio = (1.0 + 0.5 * h * J) / (1.0 - 0.5 * h * J)
+    return (relaxed_z + (e_static - relaxed_z) * ratio**creep.RELAX_STEPS,)
+
+
+def test_moordyns_start_of_the_creep_state_written_as_a_user_law():
+    """MoorDyn's start (z = e relaxed for a while with the ends held: the built-in law's
+    ``relax``) as the user law's initial state, ``balanced=False`` (it does not balance
+    the static tension, so the line moves from its static state at t = 0): the same
+    motion and tensions as the built-in law (measured 2e-10 of the motion); without the
+    relaxation (z = e) it moves 0.1 of the motion otherwise, and a line refuses such a
+    state without ``balanced=False``."""
+    builtin = skmoor.laws.Viscoelastic(EA_dynamic=EA_DYNAMIC, creep_damping=CREEP_DAMPING,
+                                       dynamic_damping=DYNAMIC_DAMPING, relax=RELAX)
+    law = _creep_law(state=moordyn_start, balanced=False)
+    expected, motion = _runs_as(law, builtin, offset=0.5, amplitude=0.3)
+    unrelaxed, _ = _history(*_chain(_creep_law(state=lambda e, T: (e,), balanced=False),
+                                    offset=0.5, amplitude=0.3))
+    assert np.abs(unrelaxed - expected).max() > 1e-2 * motion
+    with pytest.raises(ValueError, match="must be that tension"):
+        _chain(_creep_law(state=moordyn_start))
+
+
 @pytest.mark.parametrize("kwargs, message", [
     (dict(state=lambda e, T: (e,)), r"the initial state there\) must be that tension"),
+    (dict(state=[0.0], balanced=False), "balanced: False is for an initial state given"),
     (dict(state=lambda e, T: (e / 0.0,)), "initial state is not finite"),
     (dict(state=lambda e, T: (), ), "returned no values"),
     (dict(state_rate=lambda e, r, s, ref: (s[0], s[0])), "state_rate: returned 2 values"),
