@@ -412,9 +412,9 @@ def _solved(A, b):
     return x
 
 
-def _within_step(w, strain, rate, reference, h):
-    """(the state after a step of h (s) from the last accepted one, the tension N
-    before its tension-only cut) by the linearized trapezoidal rule (module docstring)."""
+def _state_change(w, strain, rate, reference, h):
+    """(the last accepted state, its change over a step of h (s)) by the linearized
+    trapezoidal rule (module docstring)."""
     law, names = w.law, _state_names(w.law)
     n, half = len(names), 0.5 * h
     state = tuple(w[name] for name in names)
@@ -424,10 +424,7 @@ def _within_step(w, strain, rate, reference, h):
     new_rate = _solved([[float(k == j) - half * J[k][j] for j in range(n)] for k in range(n)],
                        [f[k] + half * sum(J[k][j] * rate_n[j] for j in range(n))
                         for k in range(n)])
-    change = [half * (rate_n[k] + new_rate[k]) for k in range(n)]
-    N = law._evaluate(strain, rate, state, reference) + sum(
-        w[f"law_tension_slope_{k}"] * change[k] for k in range(n))
-    return [state[k] + change[k] for k in range(n)], N
+    return state, [half * (rate_n[k] + new_rate[k]) for k in range(n)]
 
 
 def _slope(function, state, j):
@@ -452,8 +449,11 @@ def law_residual(v, w):
     if law.state_rate is None:
         state = tuple(w[name] for name in _state_names(law)) or None
         N = law.axial(strain, rate, state, reference)
-    else:  # the state integrated within the step
-        N = _within_step(w, strain, rate, reference, ops.maximum(w.t - w.law_time, 0.0))[1]
+    else:  # the state integrated within the step: N(s_n) + N_z . ds
+        state, change = _state_change(w, strain, rate, reference,
+                                      ops.maximum(w.t - w.law_time, 0.0))
+        N = law._evaluate(strain, rate, state, reference) + sum(
+            w[f"law_tension_slope_{k}"] * ds for k, ds in enumerate(change))
         N = ops.maximum(N, 0.0) if law.tension_only else N
     axial = N / stretch + w.BA * green_rate
     return w.on * axial * dot(w.Xp + d_ds(w.u), d_ds(v))
@@ -468,8 +468,8 @@ def law_update(w):
         new = law.update(strain, rate, tuple(w[name] for name in names), w.dt)
         return dict(zip(names, new))
     reference = _reference(w)
-    state, _ = _within_step(w, strain, rate, reference, w.dt)
-    state = tuple(state)
+    state, change = _state_change(w, strain, rate, reference, w.dt)
+    state = tuple(s + ds for s, ds in zip(state, change))
     new = dict(zip(names, state), law_time=w.t + 0.0 * strain)
     new.update({f"law_rate_{k}": value for k, value in enumerate(law._evaluate(
         strain, rate, state, reference, function=law.state_rate))})
