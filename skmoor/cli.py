@@ -50,7 +50,7 @@ def cmd_run(args) -> int:
     from .run.outputs import output_lock, prepare_output
 
     if precompile() and not args.quiet:  # a helper compiles while the model settles
-        print("first run after an install: numba compiles the time step once (about 20 s "
+        print("first run after an install: numba compiles the time step once (20 to 30 s "
               "more; later runs read it from its cache)", file=sys.stderr, flush=True)
     with output_lock(args.out):  # a second run into the same folder is refused
         out = prepare_output(args.out)  # before any solve
