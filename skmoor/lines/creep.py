@@ -304,9 +304,12 @@ class CreepTerm(Term):
         the cable kernel reports there (N; 0 elsewhere, in statics and before a run)."""
         out = np.zeros(len(self.lines.line_of_cell))
         if self.t_n is not None and not self.lines._static:
-            e, edot, *_ = self._strains(u, v)
-            out[self.cells] = (self._step(e, edot, 0.0)[0]
-                               - self.lines.cable_fields["T0"][self.cells, 0])
+            _tensions_less_mean(np.asarray(u, float), np.zeros_like(u) if v is None else
+                                np.asarray(v, float), np.stack([self.dofs_i, self.dofs_j]),
+                                self.Xp, self.grow, self.h,
+                                self.lines.cable_fields["T0"][self.cells, 0], *self._damping,
+                                self._state[1:].reshape(9, -1), self.cells,
+                                out)
         return out
 
     # --- the residual
@@ -480,6 +483,18 @@ def _stiffnesses(z, EA_s, EA_d, alpha, beta):
         a, b = alpha, beta * max(z, 0.0) * EA_s
         EA_d = 0.5 * (a + b + EA_s + math.sqrt(a * a + 2 * a * (b - EA_s) + (b + EA_s) ** 2))
     return EA_d * EA_s / (EA_d - EA_s), EA_d
+
+
+@njit(cache=True)
+def _tensions_less_mean(u, v, dofs, Xp, grow, h, T0, BA, BA_D, parts, cells, out):
+    """``CreepTerm.tension_less_mean`` into out: each element's N at the accepted state
+    (parts: the state after its time, (9, n): z, dz/dt, e, F_1, F_1', a, b, dG/dz, the
+    highest tension) less T0."""
+    unit, turn = np.empty(3), np.empty(3)
+    for k in range(cells.size):
+        e, edot, _ = _kinematics(u, v, dofs, Xp, grow, h, k, unit, turn)
+        out[cells[k]] = _step_at(e, edot, 0.0, parts[3, k], parts[4, k], parts[5, k],
+                                 parts[6, k], parts[7, k], BA[k], BA_D[k], parts[1, k])[0] - T0[k]
 
 
 def _creep_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
