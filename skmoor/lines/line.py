@@ -326,8 +326,7 @@ class LineSet:
         for line, law in zip(lines, self.laws):  # a state of the reference's: at its EA
             if (isinstance(law, UserLaw) and law.reference and law.start is not None
                     and law.balanced):
-                law.check_reference(line.line_type.EA,
-                                    f" on line {line.name!r}")
+                law.check_reference(line.line_type.EA, f" on line {line.name!r}")
         self.reference_dofs = self._reference_dofs()
         self.fields = self._fields(self.basis)
         self.cable_fields = (self.fields if self.cable_basis is self.basis
