@@ -30,6 +30,8 @@ class NoLines:
     tension_only = True
     has_static_laws = False
     has_user_law = False
+    creep = None  # (no creep laws' term)
+    laws = ()
     ndofs = 0
     slope_dofs = None
 
