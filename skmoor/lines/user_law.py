@@ -180,7 +180,7 @@ class UserLaw(Law):
         of the reference state, that state's (strain, tension) (None: e itself and the
         static law's tension there at EA 1 N)."""
         if self.reference and reference is None:
-            reference = (e, self.static.static_tension(e, 1.0))
+            reference = self._own_reference(e)
         arguments = [e, rate]
         if self.initial_state:
             if state is None:
@@ -190,15 +190,19 @@ class UserLaw(Law):
             arguments.append(tuple(reference))
         return (function or self.function)(*arguments)
 
+    def _own_reference(self, e):
+        """A reference state at the strains e: (e, the static law's tension there at EA
+        1 N)."""
+        return e, self.static.static_tension(e, 1.0)
+
     def start_state(self, e, reference=None):
         """The initial state (a tuple of arrays shaped as the strains e): the given
         values, or for a law of a reference state its function of that state's (strain,
-        tension) (None: e itself, the static law's tension there at EA 1 N)."""
+        tension) (None: :meth:`_own_reference`)."""
         if self.start is None:
             return tuple(value + 0.0 * e for value in self.initial_state)
-        if reference is None:
-            reference = (e, self.static.static_tension(e, 1.0))
-        return tuple(value + 0.0 * e for value in self.start(*reference))
+        return tuple(value + 0.0 * e for value in self.start(*(reference or
+                                                              self._own_reference(e))))
 
     # --- statics (a law of the reference state: its static law's)
     def static_pieces(self, EA=None):

@@ -405,6 +405,12 @@ def relaxed(e_static, T_static):
     return (e_static * EA_DYNAMIC / (EA_1 + EA_DYNAMIC),)
 
 
+def _viscoelastic(**kwargs):
+    """The built-in law the creep user laws here are written after."""
+    return skmoor.laws.Viscoelastic(EA_dynamic=EA_DYNAMIC, creep_damping=CREEP_DAMPING,
+                                    dynamic_damping=DYNAMIC_DAMPING, **kwargs)
+
+
 def _creep_law(**kwargs):
     kwargs = dict(dict(state=relaxed, state_rate=creep_rate, reference="static"), **kwargs)
     return skmoor.UserLaw(creep_tension, static=skmoor.Engineering(), tension_only=False,
@@ -420,8 +426,7 @@ def test_the_viscoelastic_law_written_with_a_state_rate_moves_as_the_built_in_on
     here: the fast limit StaticDynamic (no creep) moves 0.26 of the motion otherwise, a
     state started from the catenary 0.03, one advanced after the step only (explicit,
     first order) 0.01."""
-    builtin = skmoor.laws.Viscoelastic(EA_dynamic=EA_DYNAMIC, creep_damping=CREEP_DAMPING,
-                                       dynamic_damping=DYNAMIC_DAMPING)
+    builtin = _viscoelastic()
     expected, motion = _runs_as(_creep_law(), builtin, offset=0.5, amplitude=0.3)
     variants = {
         "fast limit": skmoor.laws.StaticDynamic(EA_dynamic=EA_DYNAMIC),
@@ -440,8 +445,7 @@ def test_without_jax_the_creep_law_runs_on_numpy_as_the_built_in_one(monkeypatch
     law still moves the chain and reports tensions as the built-in law (measured 6e-11)."""
     from skmoor.fem import terms
 
-    builtin = skmoor.laws.Viscoelastic(EA_dynamic=EA_DYNAMIC, creep_damping=CREEP_DAMPING,
-                                       dynamic_damping=DYNAMIC_DAMPING)
+    builtin = _viscoelastic()
     expected, tension_builtin = _history(*_chain(builtin, offset=0.5, amplitude=0.3),
                                          steps=20)
     monkeypatch.setattr(terms, "HAS_JAX", False)
@@ -473,8 +477,7 @@ def test_moordyns_start_of_the_creep_state_written_as_a_user_law():
     motion and tensions as the built-in law (measured 2e-10 of the motion); without the
     relaxation (z = e) it moves 0.1 of the motion otherwise, and a line refuses such a
     state without ``balanced=False``."""
-    builtin = skmoor.laws.Viscoelastic(EA_dynamic=EA_DYNAMIC, creep_damping=CREEP_DAMPING,
-                                       dynamic_damping=DYNAMIC_DAMPING, relax=RELAX)
+    builtin = _viscoelastic(relax=RELAX)
     law = _creep_law(state=moordyn_start, balanced=False)
     expected, motion = _runs_as(law, builtin, offset=0.5, amplitude=0.3)
     unrelaxed, _ = _history(*_chain(_creep_law(state=lambda e, T: (e,), balanced=False),
