@@ -13,7 +13,11 @@ effects that keep one, the same physics run both ways in this one process:
 - **creep**: a 20-element polyester chain whose fairlead is moved 1 m at 0.8 rad/s,
   under MoorDyn's viscoelastic law (``Viscoelastic``: the hand kernel of ``CreepTerm``)
   and the same law written as a ``UserLaw`` with a state rate (its generated kernel), for
-  CREEP_STEPS steps of 0.1 s.
+  CREEP_STEPS steps of 0.1 s;
+- **Syrope creep**: the same chain as MoorDyn's Syrope rope (``SyropeCreep``, the hand
+  kernel rebuilding its working-curve tables) and as its user law
+  (``SyropeCreep.user_law``: a rate and an update, the working curve traced as a function
+  of the highest tension), pulled past its Tmax0.
 
 The cable's and Morison's hand kernels on P1 lines are measured by
 ``benchmarks/user_forms.py`` (a user law and a user drag form against them).
@@ -54,6 +58,9 @@ CREEP_STEPS = 3000
 # the polyester chain: EA_s, EA_d (N), dampers BA (creep) and BA_D (dynamic), N s
 EA_S, EA_D, BA, BA_D = 7.5e8, 1.5e9, 5e8, 2e7
 EA_1 = EA_D * EA_S / (EA_D - EA_S)  # the creep spring, N
+# the Syrope rope: its original working curve (strain, N), EA_Dc (N), EA_D_Lm, SYROPE IC
+OWC = ([0.002, 0.01, 0.02, 0.04, 0.06], [1.7e5, 7.4e5, 1.3e6, 2.45e6, 4.39e6])
+ALPHA, BETA, T_MAX0, T_MEAN0 = 1.53e8, 23.12, 1.3886e6, 4.339e5
 
 
 def creep_rate(strain, rate, state, reference):
@@ -71,11 +78,25 @@ def creep_tension(strain, rate, state, reference):
             + BA * creep_rate(strain, rate, state, reference)[0])
 
 
-def creep_chain(generated):
-    """(system, static state) of the chain under the built-in Viscoelastic law, or with
-    ``generated`` the same law as a UserLaw."""
+def chain(law, offset):
+    """(system, static state) of the 20-element chain under ``law``, its fairlead moved
+    1 m about ``offset`` m out."""
     import skmoor
     from skmoor.lines.catenary import solve_catenary
+
+    rope = skmoor.LineType(EA=EA_S, mass=140.0, diameter=0.09, law=law)
+    catenary = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], rope.weight, EA_S,
+                              length=336.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(catenary, rope, 20)])
+    system = skmoor.System(lines, fairleads="prescribed", motion=lambda t: np.array(
+        [[offset + np.sin(0.8 * t), 0.0, np.sin(0.8 * t)]]))
+    return system, skmoor.solve_static(system).x
+
+
+def creep_chain(generated):
+    """The chain under the built-in Viscoelastic law, or with ``generated`` the same law
+    as a UserLaw."""
+    import skmoor
 
     if generated:
         law = skmoor.UserLaw(creep_tension, state=lambda e, T: (e * EA_D / (EA_1 + EA_D),),
@@ -84,13 +105,18 @@ def creep_chain(generated):
     else:
         law = skmoor.laws.Viscoelastic(EA_dynamic=EA_D, creep_damping=BA,
                                        dynamic_damping=BA_D)
-    rope = skmoor.LineType(EA=EA_S, mass=140.0, diameter=0.09, law=law)
-    catenary = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], rope.weight, EA_S,
-                              length=336.0)
-    lines = skmoor.LineSet([skmoor.Line.from_catenary(catenary, rope, 20)])
-    system = skmoor.System(lines, fairleads="prescribed", motion=lambda t: np.array(
-        [[0.5 + np.sin(0.8 * t), 0.0, np.sin(0.8 * t)]]))
-    return system, skmoor.solve_static(system).x
+    return chain(law, 0.5)
+
+
+def syrope_chain(generated):
+    """The chain as a Syrope rope (MoorDyn's deck values, QUADRATIC working curves of 30
+    samples) pulled past its Tmax0: the built-in SyropeCreep, or with ``generated`` its
+    user law (``SyropeCreep.user_law``)."""
+    from skmoor.lines import syrope
+
+    law = syrope.syrope_law(OWC, "quadratic", 0.4, 0.5, T_MAX0, ALPHA, BETA, T_mean=T_MEAN0,
+                            creep_damping=BA, dynamic_damping=BA_D)
+    return chain(law.user_law() if generated else law, 2.0)
 
 
 def timed_loop(system, x0, dt, duration, scheme, output):
@@ -148,6 +174,10 @@ def main(argv=None):
                  hang_off_tension), args.pairs)),
             ("creep (viscoelastic chain, node positions)",
              paired(creep_chain, lambda model: timed_loop(
+                 *model, 0.1, 0.1 * CREEP_STEPS, Scheme.newmark(), lambda state: state.x),
+                 args.pairs)),
+            ("Syrope creep (the chain past its highest tension, node positions)",
+             paired(syrope_chain, lambda model: timed_loop(
                  *model, 0.1, 0.1 * CREEP_STEPS, Scheme.newmark(), lambda state: state.x),
                  args.pairs))]
     table = [f"- commit {facts['commit']}; {facts['versions']}; {facts['machine']}", "",

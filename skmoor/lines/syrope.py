@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fem import ops
 from . import laws
 
 __all__ = ["FORMS", "working_curve_tension", "working_curve", "WorkingCurve", "Syrope",
@@ -242,6 +243,67 @@ class SyropeCreep(laws.Viscoelastic):
     def creep_update(self, z, EA, memory):
         return np.maximum(memory, self.creep_spring(z, EA, memory))
 
+    def user_law(self):
+        """This law written as a :class:`~skmoor.lines.user_law.UserLaw` with the state
+        (z, T_max): z by its rate, T_max by an update after each step (its working curve
+        traced as a function of T_max, :func:`skmoor.fem.ops.interp`). Needs T_mean (its
+        creep state's start) and no ``relax``."""
+        from .user_law import UserLaw
+
+        if self.T_mean is None or self.relax:
+            raise ValueError(f"{self.static.source}: as a user law the Syrope rope needs "
+                             "Tmean0 (T_mean) and no relax")
+        alpha, beta, wc = self.alpha_MBL, self.beta, self.static
+        BA, BA_D = self.creep_damping, self.dynamic_damping
+        owc_e, owc_T = (list(v) for v in wc.owc)
+        shapes = [float(_shape(wc.form, xi, wc.k2)) for xi in np.linspace(0, 1, wc.points)]
+
+        def curve(T_max):
+            # the working curve of T_max (strains, tensions, creep strains): from eps_min
+            # to eps_max on the OWC, then the OWC above T_max (its points below stand on
+            # the curve's last one)
+            eps_max = ops.interp(T_max, owc_T, owc_e)
+            eps_min = (eps_max - T_max / wc.k1 if wc.form == "linear" and wc.k1 >= 1.0 else
+                       owc_e[0] + wc.k1 * (eps_max - owc_e[0]))
+            e = [eps_min + (eps_max - eps_min) * xi for xi in np.linspace(0, 1, wc.points)]
+            T = [T_max * shape for shape in shapes]
+            for e_j, T_j in zip(owc_e, owc_T):
+                above = T_j > T_max * (1.0 + 1e-12)
+                e.append(ops.where(above, e_j, e[wc.points - 1]))
+                T.append(ops.where(above, T_j, T[wc.points - 1]))
+            return e, T, [e_k - (T_k / alpha if beta == 0 else
+                                 ops.log(1.0 + beta * T_k / alpha) / beta)
+                          for e_k, T_k in zip(e, T)]
+
+        def spring(z, T_max):  # (F_1(z), the dynamic stiffness a, the drive's b)
+            e, T, zs = curve(T_max)
+            F_1 = ops.interp(z, zs, T)
+            a = alpha + beta * F_1
+            return F_1, a, a * ops.interp(F_1, T, e)
+
+        def rate(strain, strain_rate, state, reference):
+            z, T_max = state
+            _, a, b = spring(z, T_max)
+            return (a * strain - b + BA_D * strain_rate) / (BA + BA_D), 0.0 * z
+
+        def tension(strain, strain_rate, state, reference):
+            z, T_max = state
+            return (ops.where(strain >= 0.0, spring(z, T_max)[0], 0.0)
+                    + BA * rate(strain, strain_rate, state, reference)[0])
+
+        def update(strain, strain_rate, state, dt):
+            z, T_max = state
+            return z, ops.maximum(T_max, spring(z, T_max)[0])
+
+        def start(e_static, T_static):  # z of Tmean0 on the curve of Tmax0
+            _, T, zs = curve(wc.T_max)
+            return (ops.interp(self.T_mean, T, zs) + 0.0 * e_static,
+                    wc.T_max + 0.0 * e_static)
+
+        return UserLaw(tension, name=f"{wc.source} as a user law", state=start,
+                       state_rate=rate, update=update, reference="static", static=wc,
+                       tension_only=False, balanced=False)
+
 
 def syrope_law(owc, form, k1, k2, T_max, alpha_MBL, beta, T_mean=None, points=30,
                source="Syrope", creep_damping=None, dynamic_damping=None, relax=None):
@@ -264,8 +326,9 @@ def syrope_law(owc, form, k1, k2, T_max, alpha_MBL, beta, T_mean=None, points=30
                                creep_damping=float(creep_damping),
                                dynamic_damping=float(dynamic_damping), relax=relax)
         return Syrope(alpha_MBL=alpha_MBL, beta=beta, static=static, T_mean=T_mean)
-    except ValueError as err:
-        raise ValueError(f"{source}: {err}") from None
+    except ValueError as err:  # (named once)
+        raise ValueError(str(err) if str(err).startswith(source) else f"{source}: {err}") \
+            from None
 
 
 def read_syrope_file(path, source=None):

@@ -38,7 +38,9 @@ J = d rate/d state and N_z = dN/d state frozen there; h = t - t_n):
     N = N(e, de/dt, s_n) + N_z . ds
 
 (:class:`~skmoor.lines.creep.CreepTerm`'s scheme for MoorDyn's creep laws, so that they can
-be written this way). The state is kept at each quadrature point of the law's lines,
+be written this way); or both: the rate integrated over the step, then the update applied
+to the result (a part of the state that only the update moves has a rate of 0, such as
+Syrope's highest mean tension, raised when the tension passes it). The state is kept at each quadrature point of the law's lines,
 starts at the given values (for a law of a reference state, a function of that state's
 strain and tension) and advances after each accepted time step (generated and compiled
 like the tension). Statics use the initial state.
@@ -66,8 +68,8 @@ class UserLaw(Law):
     de/dt 1/s, arrays), written with :mod:`skmoor.fem.ops`. The static law N(e, 0) must
     start at 0 N and increase over [0, max_strain]; the catenary uses it sampled at
     ``samples`` strains there (beyond: the last slope). tension_only: a slack cable
-    carries no compression (N < 0 is cut to 0). state and update or state_rate: a memory
-    (see the module docstring; for a law of a reference state the initial state may be a
+    carries no compression (N < 0 is cut to 0). state and update and/or state_rate: a
+    memory (see the module docstring; for a law of a reference state the initial state may be a
     function ``state(e_ref, T_ref)`` of the reference's strain and tension; with
     ``balanced=False`` it need not balance the reference's tension, as MoorDyn's start of
     a creep state, and the line then moves from its static state at t = 0). reference:
@@ -142,7 +144,7 @@ class UserLaw(Law):
                              f"{e[~np.isfinite(T)][0]:g}")
         if self.reference and self.start is None:  # (a state of the reference's: on its
             self.check_reference()                  # lines, where their EA is known)
-        if abs(T[0]) > 1e-9 * max(np.max(np.abs(T)), 1.0):
+        if not self.reference and abs(T[0]) > 1e-9 * max(np.max(np.abs(T)), 1.0):
             raise ValueError(f"UserLaw {label}: the tension at zero strain must be 0 N, got "
                              f"{T[0]:g}")
         bad = np.nonzero(np.diff(T) <= 0)[0]
@@ -303,12 +305,12 @@ def _initial_state(label, state, update, state_rate, static):
     value, where it is a function), that function or None)."""
     if state is None and update is None and state_rate is None:
         return (), None
-    if state is None or (update is None) == (state_rate is None) or not callable(
-            update or state_rate):
+    if state is None or (update is None and state_rate is None) or not all(
+            callable(f) for f in (update, state_rate) if f is not None):
         raise ValueError(f"UserLaw {label} state, update / state_rate: a law with a memory "
-                         "needs both, the initial values and either update(strain, rate, "
-                         "state, dt) -> new values or state_rate(strain, rate, state) -> "
-                         "d(state)/dt")
+                         "needs the initial values and update(strain, rate, state, dt) -> "
+                         "new values or state_rate(strain, rate, state) -> d(state)/dt (or "
+                         "both: the rate integrated, then the update)")
     if callable(state):
         e = np.linspace(0.0, 0.01, 3)
         try:
@@ -329,30 +331,38 @@ def _initial_state(label, state, update, state_rate, static):
 
 
 def _check_memory(law, e):
-    """The initial state, the update or the state's rate evaluated once on arrays: as
+    """The initial state, the update and the state's rate evaluated once on arrays: as
     many finite values as the state."""
-    name, signature = (("update", "update(strain, rate, state, dt)") if law.update else
-                       ("state_rate", "state_rate(strain, rate, state"
-                        + (", reference)" if law.reference else ")")))
-    try:
-        with np.errstate(all="ignore"):
-            state = law.start_state(e)
-            new = (law.update(e, np.zeros_like(e), state, 0.1) if law.update else
-                   law._evaluate(e, np.zeros_like(e), state, function=law.state_rate))
-            new = [np.asarray(value, float) * np.ones_like(e) for value in new]
-            state = [np.asarray(value, float) for value in state]
-    except Exception as error:
-        raise ValueError(f"UserLaw {law.label}: {signature} failed on arrays of strains: "
-                         f"{error}") from error
+    with np.errstate(all="ignore"):
+        try:
+            state = [np.asarray(value, float) for value in law.start_state(e)]
+        except Exception as error:
+            raise ValueError(f"UserLaw {law.label} state: failed on arrays of strains: "
+                             f"{error}") from error
     if not all(np.all(np.isfinite(value)) for value in state):
         raise ValueError(f"UserLaw {law.label} state: the initial state is not finite at "
                          f"reference strains in [0, {law.max_strain:g}]")
-    if len(new) != len(state):
-        raise ValueError(f"UserLaw {law.label} {name}: returned {len(new)} values for a "
-                         f"state of {len(state)}")
-    if not all(np.all(np.isfinite(value)) for value in new):
-        raise ValueError(f"UserLaw {law.label} {name}: not finite at strains in [0, "
-                         f"{law.max_strain:g}] (dt 0.1 s, the initial state)")
+    checks = [("update", "update(strain, rate, state, dt)",
+               lambda: law.update(e, np.zeros_like(e), tuple(state), 0.1)),
+              ("state_rate", "state_rate(strain, rate, state"
+               + (", reference)" if law.reference else ")"),
+               lambda: law._evaluate(e, np.zeros_like(e), tuple(state),
+                                     function=law.state_rate))]
+    for name, signature, evaluate in checks:
+        if getattr(law, name) is None:
+            continue
+        try:
+            with np.errstate(all="ignore"):
+                new = [np.asarray(value, float) * np.ones_like(e) for value in evaluate()]
+        except Exception as error:
+            raise ValueError(f"UserLaw {law.label}: {signature} failed on arrays of strains: "
+                             f"{error}") from error
+        if len(new) != len(state):
+            raise ValueError(f"UserLaw {law.label} {name}: returned {len(new)} values for a "
+                             f"state of {len(state)}")
+        if not all(np.all(np.isfinite(value)) for value in new):
+            raise ValueError(f"UserLaw {law.label} {name}: not finite at strains in [0, "
+                             f"{law.max_strain:g}] (dt 0.1 s, the initial state)")
 
 
 def _state_names(law):
@@ -474,6 +484,8 @@ def law_update(w):
     reference = _reference(w)
     state, change = _state_change(w, strain, rate, reference, w.dt)
     state = tuple(s + ds for s, ds in zip(state, change))
+    if law.update is not None:  # (a law with both: the update after the rate's step)
+        state = tuple(law.update(strain, rate, state, w.dt))
     new = dict(zip(names, state), law_time=w.t + 0.0 * strain)
     new.update({f"law_rate_{k}": value for k, value in enumerate(law._evaluate(
         strain, rate, state, reference, function=law.state_rate))})

@@ -120,12 +120,26 @@ def oscillating_spring(v, w):
     up = ops.d_ds(w.u)
     s = ops.dot(up, up)
     g = (ops.sin(3.0 * s) + ops.cos(s) * ops.exp(-s) + ops.tanh(s) + ops.log(1.0 + s)
-         + ops.sqrt(1.0 + s) + ops.abs(w.u[0]) + ops.minimum(s, 0.5)) * up
+         + ops.sqrt(1.0 + s) + ops.abs(w.u[0]) + ops.minimum(s, 0.5)
+         + ops.interp(s, [0.0, 1e-3 * (1.0 + s), 0.1], [0.0, 2.0, 1.0])) * up
     return 1e3 * ops.dot(g, ops.d_ds(v))
 
 
+def test_interp_is_numpys_on_tables_of_numbers_and_of_arrays():
+    """ops.interp, written as one ramp per piece: numpy.interp's values inside, at the
+    knots and beyond both ends; a piece of no width adds nothing; a table whose points
+    are arrays (a function of the state) interpolates point by point."""
+    xs, ys = [0.0, 0.5, 0.5, 2.0, 3.0], [1.0, -1.0, -1.0, 4.0, 4.5]
+    x = np.linspace(-1.0, 4.0, 101)
+    assert np.abs(ops.interp(x, xs, ys) - np.interp(x, xs, ys)).max() < 1e-14
+    shift = np.linspace(0.0, 1.0, x.size)  # each point its own table
+    moved = ops.interp(x, [k + shift for k in xs], ys)
+    assert np.abs(moved - np.interp(x - shift, xs, ys)).max() < 1e-14
+
+
 def test_every_elementwise_op_traces_and_compiles(lines):
-    """sin, cos, exp, tanh, log, sqrt, abs, minimum in one form: the compiled kernel, the
+    """sin, cos, exp, tanh, log, sqrt, abs, minimum, interp on a table of the state in
+    one form: the compiled kernel, the
     JAX tangent and central differences agree (a function missing from the compiler, or
     one with a wrong derivative rule, would not)."""
     u, v = state(lines, 5)

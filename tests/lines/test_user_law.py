@@ -241,7 +241,7 @@ def test_a_law_with_a_state_rate_integrates_it_by_the_trapezoidal_rule_within_th
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    (dict(state=[0.0]), "needs both"),
+    (dict(state=[0.0]), "needs the initial values and update"),
     (dict(state=[np.nan], update=zener_update), "finite initial values"),
     (dict(state=[0.0], update=lambda e, r, s, dt: (s[0], s[0])), "returned 2 values"),
     (dict(state=[0.0], update=lambda e, r, s, dt: (s[0] / 0.0,)), "not finite"),
@@ -493,13 +493,94 @@ def test_moordyns_start_of_the_creep_state_written_as_a_user_law():
     (dict(state=lambda e, T: (e / 0.0,)), "initial state is not finite"),
     (dict(state=lambda e, T: (), ), "returned no values"),
     (dict(state_rate=lambda e, r, s, ref: (s[0], s[0])), "state_rate: returned 2 values"),
-    (dict(update=zener_update), "either update.*or state_rate"),
+    (dict(update=lambda e, r, s, dt: (s[0], s[0])), "update: returned 2 values"),
+    (dict(update=1.0), "update.*or state_rate.*or both"),
     (dict(reference=False), "need a law of a reference state"),
 ])
 def test_a_bad_state_rate_law_is_refused_with_its_reason(kwargs, message):
     """A state that does not start in equilibrium with the static law (z = e, not
-    relaxed: found on the line, where its EA is known), not finite, empty; a rate of the
-    wrong length; an update and a rate together; a state function without a reference."""
+    relaxed: found on the line, where its EA is known), not finite, empty; a rate or an
+    update beside it of the wrong length; an update that is no function; a state
+    function without a reference."""
     with pytest.raises(ValueError, match=message):
         law = _creep_law(**kwargs)
         _chain(law)
+
+
+# --- a law with a rate and an update: MoorDyn's Syrope rope written as a user's
+
+SYROPE_T_MAX0, SYROPE_T_MEAN0 = 1.3886e6, 4.339e5  # N: MoorDyn's SYROPE IC Tmax0, Tmean0
+
+
+def _syrope_creep(form="quadratic", k1=0.25, k2=1.0, points=8):
+    """The built-in Syrope rope with its creep state (a small working-curve table)."""
+    return syrope.syrope_law(SYROPE_OWC, form, k1, k2, SYROPE_T_MAX0, SYROPE_ALPHA,
+                             SYROPE_BETA, T_mean=SYROPE_T_MEAN0, points=points,
+                             creep_damping=CREEP_DAMPING, dynamic_damping=DYNAMIC_DAMPING)
+
+
+@pytest.mark.parametrize("form, k1, k2", [("linear", 1.25e8, 0.0), ("linear", 0.3, 0.0),
+                                          ("quadratic", 0.4, 0.5), ("exp", 0.2, 1.5)])
+def test_syropes_user_law_has_the_working_curves_of_the_built_in_one(form, k1, k2):
+    """``SyropeCreep.user_law()``, its working curve traced as a function of T_max
+    (``ops.interp`` on a table of the state): the creep spring's tension and the rate
+    of z as the built-in law's tables (``working_curve``, ``np.interp``) give them, for
+    each WCType, on curves of T_max from Tmax0 to past the OWC's points (those below
+    T_max dropped) and at creep strains from slack to beyond the table."""
+    builtin = _syrope_creep(form, k1, k2, points=30)
+    law = builtin.user_law()
+    z = np.linspace(-0.005, 0.06, 400)
+    strain = z + 0.004
+    for T_max in (SYROPE_T_MAX0, 2.0e6, 2.45e6, 3.0e6):
+        memory = np.full(z.shape, T_max)
+        state = (z, memory)
+        a, b = builtin.creep_drive(z, None, memory)
+        F_1 = builtin.creep_spring(z, None, memory)
+        rate = law.state_rate(strain, 0.0 * z, state, None)
+        assert np.abs(rate[0] - (a * strain - b) / (CREEP_DAMPING + DYNAMIC_DAMPING)).max() \
+            < 1e-9 * np.abs(rate[0]).max()
+        assert np.all(rate[1] == 0.0)
+        tension = law.function(strain, 0.0 * z, state, None) - CREEP_DAMPING * rate[0]
+        assert np.abs(tension - F_1).max() < 1e-9 * T_max
+        assert np.abs(law.update(strain, 0.0, state, 0.1)[1] - np.maximum(T_max, F_1)).max() \
+            < 1e-9 * T_max
+
+
+def test_syropes_creep_written_with_a_rate_and_an_update_moves_as_the_built_in_one():
+    """MoorDyn's Syrope rope (SyropeCreep: CreepTerm's kernel, its working-curve tables
+    rebuilt in compiled code) as a user law (``SyropeCreep.user_law``) whose state is
+    (z, T_max): the creep strain by its rate, the highest mean tension by an update
+    after each step. The fairlead pulls the rope past Tmax0, so the working curve moves:
+    the same motion, tensions, creep strains and highest tensions as the built-in law
+    (measured 2e-10 of the motion), compiled and in Python. Without the update (Tmax0
+    kept) the motion is 2 % otherwise."""
+    builtin = _syrope_creep()
+    law = builtin.user_law()
+    systems = {}
+    for name, each in (("builtin", builtin), ("user", law)):
+        system, x0 = _chain(each, offset=2.0)
+        systems[name] = system, x0, _history(system, x0)
+    expected, tension_builtin = systems["builtin"][2]
+    got, tension = systems["user"][2]
+    motion = np.abs(expected - expected[0]).max()
+    assert compiled_step.lowered_terms(systems["user"][0])[0] is None
+    assert np.abs(got - expected).max() < 1e-9 * motion
+    assert np.abs(tension - tension_builtin).max() < 1e-9 * tension_builtin.max()
+    term = next(t for t in systems["builtin"][0]._terms["lines"]
+                if isinstance(t, creep.CreepTerm))
+    highest = term.memory[0]
+    assert highest.max() > SYROPE_T_MAX0 * 1.01  # measured 1.016: the curve moved
+    form = next(t for t in systems["user"][0]._terms["lines"]
+                if getattr(t, "name", None) == law.label)
+    states = form.state_values()
+    assert np.abs(states["law_state_1"][:, 0] - highest).max() < 1e-9 * SYROPE_T_MAX0
+    assert np.abs(states["law_state_0"][:, 0] - term.z).max() < 1e-9 * np.abs(term.z).max()
+    slow, _ = _history(*systems["user"][:2], compiled=False)
+    assert np.abs(slow - got).max() < 1e-9 * motion
+
+
+def test_syropes_user_law_needs_its_start():
+    with pytest.raises(ValueError, match="needs Tmean0"):
+        syrope.syrope_law(SYROPE_OWC, "linear", 0.3, 0.0, SYROPE_T_MAX0, SYROPE_ALPHA,
+                          SYROPE_BETA, creep_damping=CREEP_DAMPING,
+                          dynamic_damping=DYNAMIC_DAMPING).user_law()
