@@ -28,6 +28,7 @@ from .bodies.radiation import PotentialFlow
 from .coupling import rods
 from .coupling.network import Body, LineFailure, MooringLine, Network, Point
 from .coupling.system import Ends, PointMass, System
+from .fem import ops
 from .fem.terms import LineForm, TangentCheck, Term, check_tangent
 from .io.case import Case, paper_case
 from .io.deck import read_deck, write_deck
@@ -65,5 +66,5 @@ __all__ = [
     "line_hydrodynamics", "body_hydrodynamics", "Seabed", "seabed_term", "read_deck",
     "write_deck", "heave_motion", "read_motion", "openfast_motion", "Network", "Point", "MooringLine", "Body",
     "from_network", "mooring_stiffness", "Ends", "PointMass", "bem", "Hydrodynamics",
-    "PotentialFlow", "rods", "Motion", "Record", "fade_in",
+    "PotentialFlow", "rods", "Motion", "Record", "fade_in", "ops",
 ]

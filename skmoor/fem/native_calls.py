@@ -18,24 +18,26 @@ _DOUBLE = ir.DoubleType().as_pointer()
 _INT = ir.IntType(64)
 
 
-def _pointers(builder, values, kinds):
-    """The call's arguments: addresses cast to the C signature's pointers ('d': double*,
-    'i': int64*), other values as they are ('-')."""
+def _pointers(builder, values, kinds, argtypes=None):
+    """The call's arguments: addresses (or C pointers, of ``argtypes``) cast to the C
+    signature's pointers ('d': double*, 'i': int64*), other values as they are ('-')."""
     out = []
-    for value, kind in zip(values, kinds):
-        if kind == "d":
-            out.append(builder.inttoptr(value, _DOUBLE))
-        elif kind == "i":
-            out.append(builder.inttoptr(value, _INT.as_pointer()))
-        else:
+    for k, (value, kind) in enumerate(zip(values, kinds)):
+        pointer = {"d": _DOUBLE, "i": _INT.as_pointer()}.get(kind)
+        if pointer is None:
             out.append(value)
+        elif argtypes is not None and isinstance(argtypes[k], types.CPointer):
+            out.append(builder.bitcast(value, pointer))
+        else:
+            out.append(builder.inttoptr(value, pointer))
     return out
 
 
 @intrinsic
 def call_form(typingctx, address, u, ud, ndofs, t, ints, floats, R, K, C, tangent):
     """step_kernel(u, ud, ndofs, t, ints, floats, R, K, C, tangent) of the C function at
-    ``address`` (:data:`skmoor.fem.form_compiler.STEP_SIGNATURE`); arrays by address."""
+    ``address`` (:data:`skmoor.fem.form_compiler.STEP_SIGNATURE`); arrays by address (or
+    as C pointers)."""
     signature = types.void(address, u, ud, ndofs, t, ints, floats, R, K, C, tangent)
 
     def codegen(context, builder, sig, args):  # ndofs, tangent: int64; t: float64
@@ -43,7 +45,7 @@ def call_form(typingctx, address, u, ud, ndofs, t, ints, floats, R, K, C, tangen
                                                    _INT.as_pointer(), _DOUBLE, _DOUBLE,
                                                    _DOUBLE, _DOUBLE, _INT])
         target = builder.inttoptr(args[0], function.as_pointer())
-        builder.call(target, _pointers(builder, args[1:], "dd--idddd-"))
+        builder.call(target, _pointers(builder, args[1:], "dd--idddd-", sig.args[1:]))
         return context.get_dummy_value()
 
     return signature, codegen

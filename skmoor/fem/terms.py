@@ -225,6 +225,7 @@ class LineForm(Term):
         self.state, self.update = _checked_state(self, state, update)
         self._engine = None
         self.step_kernel = None  # (C function, ints, floats) the compiled time step calls
+        self.generated = None  # the generated kernel's (see _numba_engine)
         # the memory: [values, the time of the last commit (NaN: none)] (see _memory);
         # the numba engine keeps it as [P, D, that time], the state in P's columns
         self._memory, self._state_layout, self._commit_kernel = None, None, None
@@ -769,8 +770,11 @@ def _numba_engine(term):
         term._memory = np.concatenate([P0.ravel(), D0.ravel(), [last]])
         term._state_layout = (P0.shape, columns)
         term._commit_kernel = (module.commit, edofs, h, dx, phi, x, columns)
+    ints, floats = packed(edofs, h, dx, phi, x, P0, D0)
+    # (C function, ints, floats, the DOF fields' names and where D starts in floats): what
+    # a subclass whose fields vary can call from compiled code, its D filled there
+    term.generated = (module.step_kernel, ints, floats, dof_names, floats.size - D0.size)
     if not varying:  # the compiled time step calls it with these arrays
-        ints, floats = packed(edofs, h, dx, phi, x, P0, D0)
         if term.state:  # (its step_commit reads the state's columns and last time after them)
             ints, floats = np.concatenate([ints, columns]), np.append(floats, np.nan)
             term.step_commit = module.step_commit

@@ -1,7 +1,7 @@
 """The sea: waves and currents, water grids, the sea bed, Morison hydrodynamics, the free
 surface and vortex-induced vibration.
 """
-from .hydro import PointDrag, body_hydrodynamics, line_hydrodynamics
+from .hydro import PointDrag, SeaTerm, body_hydrodynamics, line_hydrodynamics
 from .seabed import Bathymetry, Seabed, seabed_term
 from .surface import SurfaceTerm
 from .viv import VortexLift
@@ -9,4 +9,4 @@ from .waves import AiryWave, Current, JonswapWave, Sea
 
 __all__ = ["Sea", "Current", "AiryWave", "JonswapWave", "Seabed", "Bathymetry",
            "seabed_term", "line_hydrodynamics", "body_hydrodynamics", "PointDrag",
-           "SurfaceTerm", "VortexLift"]
+           "SurfaceTerm", "VortexLift", "SeaTerm"]

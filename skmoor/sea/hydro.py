@@ -40,7 +40,7 @@ from ..bodies.loads import BodyLoad
 from ..fem import ops
 from ..fem.form_compiler import compiled_when_asked
 from ..fem.hermite import hermite_shapes
-from ..fem.native_calls import advanced
+from ..fem.native_calls import advanced, call_form
 from ..fem.ops import d_ds, dot
 from ..fem.patterns import NO_BLOCKS, NO_BLOCKS_12
 from ..fem.terms import LineForm, Term
@@ -210,6 +210,45 @@ class SeaTerm(LineForm):
 
     def fields_vary(self) -> bool:
         return not (self.sea is None or self.sea.still)  # still water: uw = 0 throughout
+
+    def lowered(self):
+        """'form' also in moving water of a kind the compiled kernels evaluate
+        (:func:`water_lowers`): the generated kernel called after the water at the
+        displaced nodes (:func:`_sea_form_packed`)."""
+        kind = super().lowered()
+        if (kind is None and self.fields_vary() and not self.state and self.path == "compiled"
+                and self.generated is not None and water_lowers(self.sea)):
+            self.step_kernel = self._water_step_kernel()
+            kind = "form"
+        return kind
+
+    @property
+    def why_python(self):
+        if self.path == "compiled" and self.fields_vary() and not water_lowers(self.sea):
+            return LineHydroKernel.why_python
+        return super().why_python
+
+    def _water_step_kernel(self):
+        """(C function, ints, floats) of :func:`_sea_form_packed`: ints [the generated
+        kernel's address, where the water's floats start, nodes, profile points, wave
+        components, 1 with waves or fields (x and y matter) else 0, where the water's
+        DOF field starts in floats, 1 for the acceleration; the nodes' z DOFs (then with
+        waves or fields their x and y DOFs), their x, y, z DOFs (nodes, 3), then the
+        kernel's ints], floats [the kernel's, then the water's (:func:`_water`)]."""
+        function, form_ints, form_floats, dof_names, D_start = self.generated
+        name = "uw" if self.water == "velocity" else "aw"
+        lines = self.lines
+        heading, heights, speeds, waves, fields = water_arrays(self.sea)
+        xy = len(waves) > 0 or fields[0] > 0
+        axes = [2, 0, 1] if xy else [2]  # z, then with waves or fields x and y
+        dofs, X = lines.nodal_dofs, lines.points
+        header = [function.address, form_floats.size, len(dofs), len(heights), len(waves), xy,
+                  D_start + dof_names.index(name) * lines.ndofs, self.water != "velocity"]
+        ints = np.concatenate([header, *dofs[:, axes].T, dofs.ravel(), form_ints])
+        floats = np.concatenate([np.ravel(a) for a in (
+            form_floats, *X[:, axes].T, heading, heights, speeds, waves, fields,
+            np.zeros(3 * len(X)), np.zeros(3 * len(X) * xy))])
+        return _sea_form_step(), ints.astype(np.int64), floats.astype(float)
 
     def mass_matrix(self):
         return None if self.mass is None else added_mass_matrix(self.lines, self.lumped)
@@ -517,6 +556,25 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
              carray(C_p, (blocks, 6, 6)))
 
 
+def _sea_form_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """A :class:`SeaTerm`'s generated kernel (the C function at ints[0]) in a current and
+    Airy waves: its water field (velocity or acceleration, a DOF field) first set at the
+    displaced nodes (:func:`_water`), on the buffers of ``SeaTerm._water_step_kernel``."""
+    nnodes, axes = ints[2], 3 if ints[5] else 1
+    u = carray(u_p, (ndofs,))
+    water, acceleration, accelerates = _water(u, t, ints, 8, floats, ints[1])
+    dofs = carray(advanced(ints, 8 + axes * nnodes), (nnodes, 3))
+    field = carray(advanced(floats, ints[6]), (ndofs,))
+    for p in range(nnodes):
+        for c in range(3):
+            if ints[7] == 0:
+                field[dofs[p, c]] = water[p, c]
+            else:
+                field[dofs[p, c]] = acceleration[p, c] if accelerates else 0.0
+    call_form(ints[0], u_p, ud_p, ndofs, t, advanced(ints, 8 + (axes + 3) * nnodes), floats,
+              R_p, K_p, C_p, tangent)
+
+
 @njit(cache=True)
 def _coefficients(floats, at, nel, nqp):
     """The packed Morison coefficients (drag_n, drag_t, inertia_n, inertia_t - inertia_n;
@@ -674,6 +732,9 @@ def _water(u, t, ints, at_ints, floats, at):
 
 
 _morison_p1_step = compiled_when_asked(_morison_p1_packed)  # (its C function, when first asked for)
+
+
+_sea_form_step = compiled_when_asked(_sea_form_packed)  # (its C function, when first asked for)
 
 
 @njit(cache=True)

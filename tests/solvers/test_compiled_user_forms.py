@@ -254,3 +254,53 @@ def test_the_bed_and_morison_forms_run_compiled_as_their_hand_kernels():
     motion = np.abs(expected - expected[0]).max()
     assert motion > 1.0
     assert np.abs(got - expected).max() < 1e-10 * motion
+
+
+def _chain_in_waves(generated, EI=0.0, sea="waves"):
+    """A 20-element chain (bending stiffness EI, N m2: > 0 on Hermite elements) in a
+    sheared current and an Airy wave across it, its fairlead moved 2 m out and up from
+    rest: the Morison terms as the hand kernel or as the kernels generated from their
+    forms (path 'compiled'). (system, static state)"""
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea import AiryWave, Current, Sea, hydro
+
+    sea = Sea(150.0, current=Current(profile=[(-150.0, 0.1), (0.0, 0.8)], heading_deg=30.0),
+              waves=[AiryWave(3.0, 9.0, 150.0, heading_deg=-20.0)] if sea == "waves" else [])
+    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09, Cd_n=1.2, Cd_t=0.1,
+                            Ca_n=1.0, EI=EI)
+    cat = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, chain.EA,
+                         length=336.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 20)])
+    lumped = not lines.hermite
+    terms = (hydro.form_terms(lines, sea, path="compiled", lumped_mass=lumped) if generated
+             else [hydro.line_hydrodynamics(lines, sea, lumped_mass=lumped)])
+    system = skmoor.System(lines, fairleads="prescribed", terms=terms, motion=lambda t: np.array(
+        [[1.0 - np.cos(0.6 * t), 0.0, 1.0 - np.cos(0.6 * t)]]))  # from rest
+    return system, skmoor.solve_static(system).x
+
+
+@pytest.mark.parametrize("EI", [0.0, 2e5])
+def test_forms_in_a_current_and_waves_run_compiled_as_the_hand_kernel(EI):
+    """Morison's forms (``SeaTerm``: drag on the water's velocity ``w.uw``, fluid inertia on
+    its acceleration ``w.aw``) in a sheared current and Airy waves run in the compiled
+    step, the water evaluated at the displaced nodes in compiled code before their
+    generated kernels: the motion of the hand kernel to round-off (measured 3e-15), on
+    P1 and bending lines, and the Python step's. Still water would move the chain 3 %
+    otherwise, the current alone 1 %: a water field left at its first values, or the
+    velocity read as the acceleration, would fail."""
+    forms, x_forms = _chain_in_waves(True, EI)
+    hand, x_hand = _chain_in_waves(False, EI)
+    assert np.abs(x_forms - x_hand).max() < 1e-9 * np.abs(x_hand).max()
+    why, kinds = compiled_step.lowered_terms(forms)
+    assert why is None
+    assert {getattr(t, "name", "") for t in kinds["form"]} >= {"morison_drag", "fluid_inertia"}
+    got, _ = run(forms, x_forms, np.zeros(forms.n), 0.1, 60, scheme=Scheme.newmark())
+    expected, _ = run(hand, x_hand, np.zeros(hand.n), 0.1, 60, scheme=Scheme.newmark())
+    motion = np.abs(expected - expected[0]).max()
+    assert np.abs(got - expected).max() < 1e-10 * motion
+    slow, _ = run(forms, x_forms, np.zeros(forms.n), 0.1, 60, scheme=Scheme.newmark(),
+                  compiled=False)
+    assert np.abs(slow - got).max() < 1e-10 * motion
+    current, x_current = _chain_in_waves(False, EI, sea="current")
+    other, _ = run(current, x_current, np.zeros(current.n), 0.1, 60, scheme=Scheme.newmark())
+    assert np.abs(other - expected).max() > 1e-3 * motion
