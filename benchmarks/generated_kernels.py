@@ -5,6 +5,11 @@ it. A hand-written numba kernel stays beside a form only where the generated one
 measurably slower in the time loop (more than 10 %). This script measures that for the
 effects that keep one, the same physics run both ways in this one process:
 
+- **Morison in a current and waves**: a 20-element chain (P1, and Hermite with EI > 0)
+  in a sheared current and an Airy wave, its fairlead moved 1 m at 0.8 rad/s, for
+  CREEP_STEPS steps of 0.1 s: ``LineHydroKernel`` against the kernels generated from
+  ``skmoor.sea.hydro.form_terms`` (the water at the nodes evaluated in compiled code
+  before them);
 - **sea bed and Morison on bending lines**: the 200 m lazy-wave cable of
   ``benchmarks/bending.py`` (64 Hermite elements, its hang-off heaved 3 m / 12 s for 60 s,
   drag and added mass, CableDyn's penalty bed) at STEP, with ``Network.form_path`` 'auto'
@@ -93,6 +98,31 @@ def chain(law, offset):
     return system, skmoor.solve_static(system).x
 
 
+def chain_in_waves(generated, EI):
+    """The chain (bending stiffness EI, N m2: > 0 on Hermite elements) in a sheared
+    current and a 3 m Airy wave across it, its fairlead moved 1 m at 0.8 rad/s: Morison's
+    hand kernel (``LineHydroKernel``), or with ``generated`` the kernels generated from
+    its forms (``hydro.form_terms`` on path 'compiled', the water evaluated at the nodes
+    in compiled code first)."""
+    import skmoor
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea import AiryWave, Current, Sea, hydro
+
+    sea = Sea(150.0, current=Current(profile=[(-150.0, 0.1), (0.0, 0.8)], heading_deg=30.0),
+              waves=[AiryWave(3.0, 9.0, 150.0, heading_deg=-20.0)])
+    chain = skmoor.LineType(EA=EA_S, mass=140.0, diameter=0.09, Cd_n=1.2, Cd_t=0.1, Ca_n=1.0,
+                            EI=EI)
+    catenary = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, EA_S,
+                              length=336.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(catenary, chain, 20)])
+    lumped = not lines.hermite
+    terms = (hydro.form_terms(lines, sea, path="compiled", lumped_mass=lumped) if generated
+             else [hydro.line_hydrodynamics(lines, sea, lumped_mass=lumped)])
+    system = skmoor.System(lines, fairleads="prescribed", terms=terms, motion=lambda t: np.array(
+        [[np.sin(0.8 * t), 0.0, np.sin(0.8 * t)]]))
+    return system, skmoor.solve_static(system).x
+
+
 def creep_chain(generated):
     """The chain under the built-in Viscoelastic law, or with ``generated`` the same law
     as a UserLaw."""
@@ -168,18 +198,24 @@ def main(argv=None):
     def hang_off_tension(state):
         return np.linalg.norm(state.reactions[1][0])  # end A: the hang-off
 
-    rows = [("sea bed and Morison, bending lines (lazy-wave cable, hang-off tension)",
+    def positions(state):
+        return state.x
+
+    def chain_loop(model):
+        return timed_loop(*model, 0.1, 0.1 * CREEP_STEPS, Scheme.newmark(), positions)
+
+    rows = [("Morison in a current and waves, P1 lines (chain, node positions)",
+             paired(lambda generated: chain_in_waves(generated, 0.0), chain_loop, args.pairs)),
+            ("Morison in a current and waves, bending lines (chain, node positions)",
+             paired(lambda generated: chain_in_waves(generated, 2e5), chain_loop, args.pairs)),
+            ("sea bed and Morison, bending lines (lazy-wave cable, hang-off tension)",
              paired(lazy_wave, lambda model: timed_loop(
                  *model, STEP, bending.DURATION, Scheme.generalized_alpha(bending.RHO_INF),
                  hang_off_tension), args.pairs)),
             ("creep (viscoelastic chain, node positions)",
-             paired(creep_chain, lambda model: timed_loop(
-                 *model, 0.1, 0.1 * CREEP_STEPS, Scheme.newmark(), lambda state: state.x),
-                 args.pairs)),
+             paired(creep_chain, chain_loop, args.pairs)),
             ("Syrope creep (the chain past its highest tension, node positions)",
-             paired(syrope_chain, lambda model: timed_loop(
-                 *model, 0.1, 0.1 * CREEP_STEPS, Scheme.newmark(), lambda state: state.x),
-                 args.pairs))]
+             paired(syrope_chain, chain_loop, args.pairs))]
     table = [f"- commit {facts['commit']}; {facts['versions']}; {facts['machine']}", "",
              f"| effect | time loop generated / hand, median of {args.pairs} pairs "
              "(quartiles) | histories apart |", "|---|---|---|"]
