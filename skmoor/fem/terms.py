@@ -317,6 +317,15 @@ class LineForm(Term):
                 value[...] = new[name]
         self._memory[-1] = t
 
+    def carry_memory(self, other):
+        """Take ``other``'s memory (the same form on the same lines of another model: a
+        line failure's rebuilt one) as this form's: its values by name and the time of
+        its last commit."""
+        mine = self.state_values()
+        for name, value in other.state_values().items():
+            mine[name][...] = value
+        self._memory[-1] = other._memory[-1]
+
     def _start_again_before(self, t):
         """A time before the last accepted one is a new run: the initial values again."""
         if self._memory is not None and t < self._memory[-1]:

@@ -107,7 +107,15 @@ class CreepTerm(Term):
         self._curve_width = max([wc.points + len(wc.owc[0]) for wc in syropes] + [1])
         self._owc_points = sum(len(wc.owc[0]) for wc in syropes)
         self._state = np.full(1 + 9 * self.cells.size, np.nan)  # no accepted state yet
+        self._damping = self._dampers()
         lineset.creep = self  # (its reported tension: tension_less_mean)
+
+    def carry_memory(self, other):
+        """Take ``other``'s state (the term of the same lines in another model: a line
+        failure's rebuilt one) as this term's."""
+        if other._state.shape != self._state.shape:
+            raise ValueError("CreepTerm.carry_memory: the other term has other elements")
+        self._state[:] = other._state
 
     @property
     def memory(self):
@@ -273,7 +281,6 @@ class CreepTerm(Term):
     def _start(self, e):
         """The creep state at t = 0 from the laws (``creep_start``; None: relaxed at e),
         then relaxed over the law's ``relax`` s with the ends held (MoorDyn's IC stage)."""
-        self._damping = self._dampers()
         z, relax = np.empty_like(e), np.zeros_like(e)
         T = self.lines.cable_fields["T"][self.cells, 0]
         memories = []

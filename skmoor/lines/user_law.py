@@ -532,6 +532,10 @@ class _LawForm(LineForm):
         if self._follow_the_static_state():
             super().add_to(u, v, t, R, K, C)
 
+    def carry_memory(self, other):
+        self._follow_the_static_state()  # (its start from the static state made first)
+        super().carry_memory(other)
+
     def lowered(self):
         if self.lines is not None and not self._follow_the_static_state():
             return None

@@ -162,8 +162,21 @@ def release(model: Model, point: str, lines, x, v, t, rayleigh, remaining=None,
     bodies' ``frames``), its Rayleigh damping from ``rayleigh`` = (a0, a1) or None).
     remaining: the failures still to come (default: the model's)."""
     after = released(model, point, lines, remaining)
+    carry_memories(model.system, after.system)
     x, v = carried_state(model, after, x, v, t, frames)
     return after, x, v, released_damping(after, rayleigh, x, t)
+
+
+def carry_memories(before, after):
+    """The memories of ``before``'s terms (creep states, user laws' states, VIV phases)
+    into their counterparts in ``after``, the same lines rebuilt (:func:`released`), in
+    the order of ``System.committing``."""
+    old, new = before.committing, after.committing
+    if [type(term) for term in old] != [type(term) for term in new]:
+        raise RuntimeError("release: the rebuilt model's terms with a memory are not the "
+                           "intact one's")
+    for was, term in zip(old, new):
+        term.carry_memory(was)
 
 
 def still_to_come(model: Model, failure: LineFailure) -> list:
@@ -177,7 +190,8 @@ def refused(model: Model, checkpointing: bool) -> str | None:
         return None
     if checkpointing:
         return "line failures and checkpoints or restarts do not go together yet"
-    memory = [type(term).__name__ for term in getattr(model.system, "committing", [])]
+    memory = [type(term).__name__ for term in getattr(model.system, "committing", [])
+              if not callable(getattr(term, "carry_memory", None))]
     if memory:
         return (f"a line failure in a model with terms that keep a history ({', '.join(memory)}) "
                 "is not supported yet")

@@ -185,11 +185,21 @@ class VortexLift(Term):
         force = lift_per_length(self.rho, self.d, self.Cl, v_normal, q, phase)
         np.subtract.at(R, self.dofs, force * (wet * self.length)[:, None])
 
+    def carry_memory(self, other):
+        """Take ``other``'s state (the lift of the same lines in another model: a line
+        failure's rebuilt one) as this term's."""
+        if other._state.shape != self._state.shape:
+            raise ValueError("VortexLift.carry_memory: the other term has other nodes")
+        self._state[:] = other._state
+
     def commit(self, t, u, v):
         """Advance the phases to the accepted step (t, s; u m, v m/s on the lines' DOFs);
-        a time at or before the last one starts anew (a new run)."""
+        a time before the last one starts anew (a new run), the last one's keeps it (a
+        run going on from it)."""
+        if self._t is not None and t == self._t:
+            return
         q, v_normal, velocity, _ = self._flow(u, v, t)
-        if self._t is None or t <= self._t:
+        if self._t is None or t < self._t:
             self._phase[:] = self.first_phase
             acceleration = np.zeros_like(velocity)
             self._yd_ms[:] = self._ydd_ms[:] = 0.0

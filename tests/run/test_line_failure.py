@@ -187,6 +187,92 @@ def test_what_a_failure_does_not_run_with_is_refused_up_front(tmp_path):
         skmoor.simulate(model, duration=2.0, dt=0.01, progress=False)
 
 
+# the chains as MoorDyn's viscoelastic rope: EA_s|EA_d (N), BA|BA_D (N s), a creep time
+# (BA + BA_D) / (EA_1 + EA_d) of 1 s
+VISCOELASTIC = "chain     0.1    40.65    5.0e8|1.5e9   2.25e9|6e5 "
+EA_S, EA_D, CREEP, DYNAMIC = 5.0e8, 1.5e9, 2.25e9, 6e5
+EA_1 = EA_D * EA_S / (EA_D - EA_S)
+
+
+def creep_rate(strain, rate, state, reference):
+    z, = state
+    return ((EA_D * strain - (EA_1 + EA_D) * z + DYNAMIC * rate) / (CREEP + DYNAMIC),)
+
+
+def creep_tension(strain, rate, state, reference):
+    z, = state
+    return EA_1 * z + CREEP * creep_rate(strain, rate, state, reference)[0]
+
+
+def _user_creep_law():
+    """The same rope as a user law with a state rate (its state in a LineForm)."""
+    pytest.importorskip("jax")
+    return skmoor.UserLaw(creep_tension, state=lambda e, T: (e * EA_D / (EA_1 + EA_D),),
+                          state_rate=creep_rate, reference="static",
+                          static=skmoor.Engineering(), tension_only=False)
+
+
+@pytest.mark.parametrize("law", ["deck", "user"])
+def test_a_release_keeps_the_creep_state_of_the_lines(tmp_path, law, monkeypatch):
+    """A line failure in a model whose lines keep a history: the hanging chains as
+    MoorDyn's viscoelastic rope (``EA_s|EA_d`` with ``BA|BA_D``, the deck's law; or the
+    same rope as a user law with a state rate), vessel 1 surged 2 m before the release,
+    so that the creep state lags the strain. The rebuilt model takes on each line's
+    creep state (``carry_memory``). The intact run is the reference: up to the release
+    the two runs are the same, and one step after it line 2's top element (60 m and a
+    clump away from the release) carries the intact run's tension within 1 N (measured
+    0.01 N; the step before changed it by 70 N). A creep state started afresh at the
+    release would jump it by 200 N."""
+    text = HANGING.read_text().replace("chain     0.1    40.65    5.0e8   -1.0 ", VISCOELASTIC)
+    intact_deck = tmp_path / "visco.dat"
+    intact_deck.write_text(text)
+    failing_deck = tmp_path / "visco_fail.dat"
+    failing_deck.write_text(text.replace("---------------------- OPTIONS",
+                                         FAILURE.format(rows=f"1  1  1  {RELEASE}  0"), 1))
+    omega = 2 * np.pi / 4.0
+    options = dict(motion=lambda t: np.array([[2.0 * (1.0 - np.cos(omega * t)), 0.0, 0.0],
+                                              [0.0, 0.0, 0.0]]))
+    if law == "user":
+        options["law"] = _user_creep_law()
+
+    def run(deck):
+        return skmoor.simulate(skmoor.build(deck, **options), duration=RELEASE + 0.02,
+                               dt=0.002, output_interval=0.002, progress=False)
+
+    intact, broken = run(intact_deck), run(failing_deck)
+    assert broken.meta["stopped"] is None and len(broken.meta["line_failures"]) == 1
+    k = int(np.searchsorted(intact.t, RELEASE - 1e-9))  # the release's step
+    top = np.flatnonzero(intact.line_of_cell == 1)[0]
+    T_intact, T_broken = np.abs(intact.tension[:, top]), np.abs(broken.tension[:, top])
+    assert np.array_equal(T_broken[:k + 1], T_intact[:k + 1])
+    assert np.abs(np.diff(T_intact[k - 5:k + 1])).max() > 20.0  # the creep state moves
+    assert abs(T_broken[k + 1] - T_intact[k + 1]) < 1.0
+
+
+def test_a_release_carries_the_lift_phases_of_viv():
+    """VIV's state (phases, their rates, running mean squares, velocities) carries over
+    to a rebuilt lift on the same lines, and a run going on from the last committed time
+    keeps it (a time before it starts anew)."""
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea import Current, Sea, VortexLift
+
+    rope = skmoor.LineType(EA=5e8, mass=40.0, diameter=0.1, Cl=0.8)
+    cat = solve_catenary([-40.0, 0.0, -5.0], [40.0, 0.0, -5.0], rope.weight, rope.EA,
+                         length=100.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, rope, 10)])
+    sea = Sea(100.0, current=Current(1.0, 90.0))
+    old, new = VortexLift(lines, sea), VortexLift(lines, sea)
+    rng = np.random.default_rng(3)
+    u, v = 0.01 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
+    for t in (0.0, 0.1, 0.2):
+        old.commit(t, u * (1 + t), v * (1 - t))
+    new.carry_memory(old)
+    new.commit(0.2, u, 0.0 * v)  # (a run going on from t = 0.2 s)
+    assert np.array_equal(new._state, old._state)
+    new.commit(0.1, u, v)  # a time before: a new run
+    assert np.array_equal(new._phase, new.first_phase)
+
+
 def host_run(module, path, duration, coupling=0.01, break_at=None, **create):
     """A host's loop on ``path`` (MoorDyn's Python interface, or skmoor's): line 2's
     force at vessel 2 (N) after each Step, line 1 broken off point 1 at ``break_at``."""
