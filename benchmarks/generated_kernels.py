@@ -10,6 +10,10 @@ effects that keep one, the same physics run both ways in this one process:
   CREEP_STEPS steps of 0.1 s: ``LineHydroKernel`` against the kernels generated from
   ``skmoor.sea.hydro.form_terms`` (the water at the nodes evaluated in compiled code
   before them);
+- **bending**: a 20-element flexible riser hung from a fairlead moved 0.1 m at 0.8 rad/s,
+  CREEP_STEPS steps of 0.05 s: its bending stiffness in the hand kernel of bending lines
+  (``HermiteKernel``), or all but a millionth of it in a form of u'' and v'' on path
+  'compiled' (the hand kernel then carries the axial force alone);
 - **sea bed and Morison on bending lines**: the 200 m lazy-wave cable of
   ``benchmarks/bending.py`` (64 Hermite elements, its hang-off heaved 3 m / 12 s for 60 s,
   drag and added mass, CableDyn's penalty bed) at STEP, with ``Network.form_path`` 'auto'
@@ -123,6 +127,39 @@ def chain_in_waves(generated, EI):
     return system, skmoor.solve_static(system).x
 
 
+def more_bending(v, w):
+    """The bending stiffness's own form, int k (X'' + u'') . v'' ds (a LinearForm)."""
+    from skmoor.fem.ops import dot
+
+    return w.k * dot(w.Xpp + w.u.hess[:, 0, 0], v.hess[:, 0, 0])
+
+
+AMPLITUDE = 0.1  # m: the fairlead's motion (from 0.3 m the riser's motion is so
+# sensitive that round-off parts two runs within 150 s)
+
+
+def bending_riser(generated):
+    """A 20-element flexible riser (EI 4e8 N m2) hung from a fairlead moved AMPLITUDE m at
+    0.8 rad/s: its bending in the hand kernel of bending lines (``HermiteKernel``), or with
+    ``generated`` all but a millionth of it in a form on path 'compiled'."""
+    from skfem import LinearForm
+
+    import skmoor
+    from skmoor.lines.catenary import solve_catenary
+
+    EI = 4e8
+    riser = skmoor.LineType(EA=2e8, mass=150.0, diameter=0.3,
+                            EI=1e-6 * EI if generated else EI)
+    catenary = solve_catenary([-150.0, 0.0, -150.0], [0.0, 0.0, -5.0], riser.weight,
+                              riser.EA, length=240.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(catenary, riser, 20)])
+    terms = [skmoor.LineForm(LinearForm(more_bending), fields={"k": (1 - 1e-6) * EI},
+                             path="compiled", lines=lines)] if generated else []
+    system = skmoor.System(lines, fairleads="prescribed", terms=terms, motion=lambda t: np.array(
+        [[AMPLITUDE * np.sin(0.8 * t), 0.0, AMPLITUDE * np.sin(0.8 * t)]]))
+    return system, skmoor.solve_static(system).x
+
+
 def creep_chain(generated):
     """The chain under the built-in Viscoelastic law, or with ``generated`` the same law
     as a UserLaw."""
@@ -208,6 +245,9 @@ def main(argv=None):
              paired(lambda generated: chain_in_waves(generated, 0.0), chain_loop, args.pairs)),
             ("Morison in a current and waves, bending lines (chain, node positions)",
              paired(lambda generated: chain_in_waves(generated, 2e5), chain_loop, args.pairs)),
+            ("bending, bending lines (flexible riser, node positions)",
+             paired(bending_riser, lambda model: timed_loop(
+                 *model, 0.05, 0.05 * CREEP_STEPS, Scheme.newmark(), positions), args.pairs)),
             ("sea bed and Morison, bending lines (lazy-wave cable, hang-off tension)",
              paired(lazy_wave, lambda model: timed_loop(
                  *model, STEP, bending.DURATION, Scheme.generalized_alpha(bending.RHO_INF),

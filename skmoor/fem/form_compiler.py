@@ -14,7 +14,10 @@ element of bending lines (12, 12), phi_i its cubics)
     R_i  += dx (a phi_i + b phi_i'),
     K_ij += dx (da/du phi_i phi_j + da/du' phi_i phi_j' + db/du phi_i' phi_j + db/du' phi_i' phi_j'),
 
-(C_ij the same with udot) exactly as the built-in kernels do. A jaxpr with a primitive not
+(C_ij the same with udot) exactly as the built-in kernels do. On bending lines a form may
+also read u'' and udot'' and act on v'' (f = a . v + b . v' + c . v''): its inputs then end
+with u'' and udot'', and the loop adds c phi_i'' and the slopes in all 18 state numbers
+(:func:`_hermite_scatter`). A jaxpr with a primitive not
 covered here (loops, sorts, ...) raises :class:`Unsupported`; the caller then keeps JAX's
 own compiler (``jax.jit``).
 """
@@ -445,37 +448,43 @@ def zero_outputs(jaxpr, consts, n_inputs):
     return {k for k, v in enumerate(flat) if _number(v) and float(v) == 0.0}
 
 
-def _inputs_code(used, hermite, NP):
+def _inputs_code(used, hermite, NP, second=None):
     """The loops' code that fills z at quadrature point q of element e, the inputs in
     ``used`` only: u, u', udot, udot' (z 0-11; P1: phi (2, nqp) and the slope over the
-    length he; Hermite: phi (2, nel, nqp, 4), see :data:`_HERMITE_SCATTER`), t (12), the
+    length he; Hermite: phi (2, nel, nqp, 4), see :func:`_hermite_scatter`), t (12), the
     arclength (13), the per-point fields P (14 ...) and the DOF fields D with their
-    slopes (after P, 6 each)."""
+    slopes (after P, 6 each); with ``second`` (Hermite) u'' and udot'' from z[second]
+    on (phi (3, nel, nqp, 4): the cubics' d2/ds2 too)."""
     used, lines = set(used), []
 
-    def interpolated(vector, value, slope, c):  # z[value], z[slope] of component c
-        if value not in used and slope not in used:
+    def interpolated(vector, value, slope, c, curvature=-1):
+        # z[value], z[slope] (and z[curvature]) of component c
+        if value not in used and slope not in used and curvature not in used:
             return
         if hermite:
             lines.extend([
-                "s0 = s1 = 0.0", "for b in range(4):",
+                "s0 = s1 = s2 = 0.0", "for b in range(4):",
                 f"    k = edofs[e, 3 * b + {c}]",
                 f"    s0 += phi[0, e, q, b] * {vector.format('k')}",
-                f"    s1 += phi[1, e, q, b] * {vector.format('k')}"])
+                f"    s1 += phi[1, e, q, b] * {vector.format('k')}"]
+                + [f"    s2 += phi[2, e, q, b] * {vector.format('k')}"] * (curvature in used))
             a, b = "s0", "s1"
         else:
             lines.append(f"a, b = {vector.format(f'edofs[e, {c}]')}, "
                          f"{vector.format(f'edofs[e, {3 + c}]')}")
             a, b = "phi[0, q] * a + phi[1, q] * b", "(b - a) / he"
         lines.extend([f"z[{value}] = {a}"] * (value in used)
-                     + [f"z[{slope}] = {b}"] * (slope in used))
+                     + [f"z[{slope}] = {b}"] * (slope in used)
+                     + [f"z[{curvature}] = s2"] * (curvature in used))
 
     for base, vector in ((0, "u[{}]"), (6, "ud[{}]")):
         for c in range(3):
-            interpolated(vector, base + c, base + 3 + c, c)
+            interpolated(vector, base + c, base + 3 + c, c,
+                         -1 if second is None else second + base // 2 + c)
     lines.extend(["z[12] = t"] * (12 in used) + ["z[13] = x[e, q]"] * (13 in used))
     lines.extend(f"z[{14 + k}] = P[e, q, {k}]" for k in range(NP) if 14 + k in used)
-    for m in sorted({(k - 14 - NP) // 6 for k in used if k >= 14 + NP}):
+    end = math.inf if second is None else second  # (u'' and udot'' after the D fields)
+    for m in sorted({(k - 14 - NP) // 6 for k in used if 14 + NP <= k < end}):
         for c in range(3):
             interpolated(f"D[{m}, {{}}]", 14 + NP + 6 * m + c, 17 + NP + 6 * m + c, c)
     return "".join(f"            {line}\n" for line in lines)
@@ -498,33 +507,43 @@ def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
                 point(z, out)
 {scatter}'''
 
-# the Hermite element's accumulation at one point: phi (2, nel, nqp, 4) holds each
-# element's cubics and their d/ds for the DOFs [u_i, u_i', u_j, u_j'], local DOF 3 b + c
-# of cubic b, component c
-_HERMITE_SCATTER = """            w = dx[e, q]
-            for i in range(4):
-                for c in range(3):
-                    R[edofs[e, 3 * i + c]] += w * (out[c] * phi[0, e, q, i]
-                                                   + out[3 + c] * phi[1, e, q, i])
-            if not tangent:
-                continue
-            for i in range(4):
-                for j in range(4):
-                    pp = phi[0, e, q, i] * phi[0, e, q, j]
-                    ps = phi[0, e, q, i] * phi[1, e, q, j]
-                    sp_ = phi[1, e, q, i] * phi[0, e, q, j]
-                    ss = phi[1, e, q, i] * phi[1, e, q, j]
-                    for c in range(3):
-                        ra = 6 + 12 * c
-                        rb = 6 + 12 * (3 + c)
-                        for d in range(3):
-                            Ke[e, 3 * i + c, 3 * j + d] += w * (
-                                out[ra + d] * pp + out[ra + 3 + d] * ps
-                                + out[rb + d] * sp_ + out[rb + 3 + d] * ss)
-                            Ce[e, 3 * i + c, 3 * j + d] += w * (
-                                out[ra + 6 + d] * pp + out[ra + 9 + d] * ps
-                                + out[rb + 6 + d] * sp_ + out[rb + 9 + d] * ss)
-"""
+def _hermite_scatter(zero, rows):
+    """The Hermite element's accumulation of R, Ke, Ce at one point, written out term by
+    term without the derivatives in ``zero``. phi (rows, nel, nqp, 4): each element's
+    cubics for the DOFs [u_i, u_i', u_j, u_j'] (local DOF 3 b + c of cubic b, component
+    c) and their d/ds (and with rows 3 their d2/ds2); the integrand a . v + b . v' (+ c .
+    v'') in out[0:3 rows], its slopes out[3 rows + S r + s] in the S state numbers s: u,
+    u', udot, udot' (0-11) and with rows 3 u'' (12-14), udot'' (15-17)."""
+    size = 3 * rows
+    S = STATE + 6 * (rows - 2)
+    stiffness = {0: 0, 1: 3, 2: STATE}  # where each derivative order's state starts
+    rate = {0: 6, 1: 9, 2: STATE + 3}
+
+    def total(*parts):
+        parts = [f"out[{k}] * {factor}" for k, factor in parts if k not in zero]
+        return " + ".join(parts)
+
+    lines = ["            w = dx[e, q]", "            for i in range(4):"]
+    for c in range(3):
+        value = total(*[(3 * p + c, f"phi[{p}, e, q, i]") for p in range(rows)])
+        if value:
+            lines.append(f"                R[edofs[e, 3 * i + {c}]] += w * ({value})")
+    if len(lines) == 2:
+        lines.append("                pass")
+    lines += ["            if not tangent:", "                continue",
+              "            for i in range(4):", "                for j in range(4):"]
+    lines += [f"                    f{p}{r} = phi[{p}, e, q, i] * phi[{r}, e, q, j]"
+              for p in range(rows) for r in range(rows)]
+    body = []
+    for c in range(3):
+        for d in range(3):
+            for block, start in (("Ke", stiffness), ("Ce", rate)):
+                value = total(*[(size + S * (3 * p + c) + start[r] + d, f"f{p}{r}")
+                                for p in range(rows) for r in range(rows)])
+                if value:
+                    body.append(f"                    {block}[e, 3 * i + {c}, 3 * j + {d}] "
+                                f"+= w * ({value})")
+    return "\n".join(lines + (body or ["                    pass"])) + "\n"
 
 
 # the generated kernel behind a C signature, for the compiled time step: the step passes
@@ -671,32 +690,37 @@ def _p1_scatter(zero):
 
 
 def build_kernel(residual_jaxpr, tangent_jaxpr, n_inputs, n_fields, hermite=False,
-                 update_jaxpr=None):
+                 update_jaxpr=None, second=None):
     """Writes (once) and imports the numba module of a form (``n_fields`` per-point
     fields P); returns the module: its ``kernel`` (element loop of the P1 line element,
     or with ``hermite`` of the Hermite one) and ``step_kernel`` (the same behind
     :data:`STEP_SIGNATURE`), and its path. With ``update_jaxpr`` (a memory's new values
     from z and the step dt, z[n_inputs]) also ``commit`` and ``step_commit`` (see
-    :data:`_COMMIT`)."""
+    :data:`_COMMIT`). ``second`` (Hermite): a form of the second derivatives too, u''
+    and udot'' at z[second:second + 6] (see :func:`_hermite_scatter`)."""
     point, n_point, used = scalar_function(*residual_jaxpr, n_inputs, "point")
     tangent, n_tangent, used_too = scalar_function(*tangent_jaxpr, n_inputs, "point_tangent")
-    if n_point != 6 or n_tangent != 6 + 6 * STATE:
+    sizes = (9, 9 + 9 * (STATE + 6)) if second is not None else (6, 6 + 6 * STATE)
+    if (n_point, n_tangent) != sizes:
         raise Unsupported(f"unexpected output sizes {n_point}, {n_tangent}")
-    phi = dict(phi_size="2 * nel * nqp * 4" if hermite else "2 * nqp",
-               phi_shape="(2, nel, nqp, 4)" if hermite else "(2, nqp)")
+    rows = 3 if second is not None else 2
+    phi = dict(phi_size=f"{rows} * nel * nqp * 4" if hermite else "2 * nqp",
+               phi_shape=f"({rows}, nel, nqp, 4)" if hermite else "(2, nqp)")
     parts = ['"""Generated by skmoor.fem.form_compiler: one user form (do not edit)."""',
              "import math", "", "import numpy as np", "from numba import carray, cfunc, njit",
              "", "from skmoor.fem.native_calls import advanced", "", "", point, "", "", tangent,
              _LOOP.format(n_inputs=n_inputs, n_outputs=n_tangent,
-                          inputs=_inputs_code(set(used) | set(used_too), hermite, n_fields),
-                          scatter=_HERMITE_SCATTER if hermite else _p1_scatter(
-                              zero_outputs(*tangent_jaxpr, n_inputs))),
+                          inputs=_inputs_code(set(used) | set(used_too), hermite, n_fields,
+                                              second),
+                          scatter=_hermite_scatter(zero_outputs(*tangent_jaxpr, n_inputs),
+                                                   3 if second is not None else 2)
+                          if hermite else _p1_scatter(zero_outputs(*tangent_jaxpr, n_inputs))),
              _STEP.format(signature=STEP_SIGNATURE, unpack=_UNPACK.format(**phi))]
     if update_jaxpr is not None:
         update, n_state, used = scalar_function(*update_jaxpr, n_inputs + 1, "update")
         parts += ["", "", update, _COMMIT.format(
             signature=STEP_SIGNATURE, n_inputs=n_inputs, n_state=n_state,
-            inputs=_inputs_code(set(used) - {n_inputs}, hermite, n_fields),
+            inputs=_inputs_code(set(used) - {n_inputs}, hermite, n_fields, second),
             unpack=_UNPACK.format(**phi))]
     return _load_module("\n".join(parts), "form")
 

@@ -508,7 +508,8 @@ class _Local:
     Fields split into: per-element arrays (last two axes (nel, nqp)), DOF vectors of the
     line basis (ndofs,), and constants (scalars, broadcastable arrays, other objects).
     ``phi``: the P1 shape functions (2, nqp), or on Hermite the reference cubics and
-    their d/dxi (2, 4, nqp) (scaled by the element length in :func:`_hermite_field`)."""
+    their d/dxi and d2/dxi2 (3, 4, nqp) (scaled by the element length in
+    :func:`_hermite_field`)."""
 
     def __init__(self, term):
         lines = term.lines
@@ -519,8 +520,8 @@ class _Local:
         self.xi = xi = basis.X[0]
         if self.hermite:
             from .hermite import hermite_shapes
-            N, dN, _ = hermite_shapes(xi, np.ones(1))
-            self.phi = np.stack([N[0].T, dN[0].T])  # (2, 4, nqp) on a unit element
+            N, dN, d2N = hermite_shapes(xi, np.ones(1))
+            self.phi = np.stack([N[0].T, dN[0].T, d2N[0].T])  # (3, 4, nqp): a unit element
         else:
             self.phi = np.stack([1.0 - xi, xi])  # (2, nqp)
         self.nqp = xi.size
@@ -571,32 +572,40 @@ def _tests(xp, h, phi):
 
 
 def _hermite_scales(xp, h):
-    """(nel, 4) factors of the unit-element cubics for their values and their d/ds."""
+    """(nel, 4) factors of the unit-element cubics for their values, d/ds and d2/ds2."""
     one = xp.ones_like(h)
-    return xp.stack([one, h, one, h], axis=1), xp.stack([1.0 / h, one, 1.0 / h, one], axis=1)
+    return (xp.stack([one, h, one, h], axis=1), xp.stack([1.0 / h, one, 1.0 / h, one], axis=1),
+            xp.stack([1.0 / h**2, 1.0 / h, 1.0 / h**2, 1.0 / h], axis=1))
 
 
 def _hermite_field(xp, ue, h, phi):
     """The Hermite field of element DOFs ue (nel, 12) [u_i, u_i', u_j, u_j'] x 3: value
-    (3, nel, nqp), grad (3, 1, nel, nqp)."""
-    values, slopes = _hermite_scales(xp, h)
+    (3, nel, nqp), grad (3, 1, nel, nqp), hess (3, 1, 1, nel, nqp)."""
     U = ue.reshape(h.shape[0], 4, 3)
-    value = xp.einsum("ebc,eb,bq->ceq", U, values, phi[0])
-    grad = xp.einsum("ebc,eb,bq->ceq", U, slopes, phi[1])
-    return value, grad[:, None]
+    value, grad, hess = (xp.einsum("ebc,eb,bq->ceq", U, scale, phi[k])
+                         for k, scale in enumerate(_hermite_scales(xp, h)))
+    return value, grad[:, None], hess[:, None, None]
 
 
 def _hermite_tests(xp, h, phi):
-    """The 12 local test functions of the Hermite element, in the order of its DOFs."""
-    values, slopes = _hermite_scales(xp, h)
+    """The 12 local test functions of the Hermite element, in the order of its DOFs:
+    (value, grad, hess) each."""
+    scales = _hermite_scales(xp, h)
     zero = xp.zeros((h.shape[0], phi.shape[2]))
     out = []
     for b in range(4):
-        value, slope = values[:, b, None] * phi[0, b], slopes[:, b, None] * phi[1, b]
+        value, slope, curvature = (scale[:, b, None] * phi[k, b]
+                                   for k, scale in enumerate(scales))
         for c in range(3):
-            out.append((xp.stack([value if k == c else zero for k in range(3)]),
-                        xp.stack([slope if k == c else zero for k in range(3)])[:, None]))
+            out.append(tuple(xp.stack([part if k == c else zero for k in range(3)])[index]
+                             for part, index in ((value, ...), (slope, (slice(None), None)),
+                                                 (curvature, (slice(None), None, None)))))
     return out
+
+
+def _field_of(field, parts):
+    """``field`` (a DiscreteField class) of (value, grad[, hess])."""
+    return field(parts[0], parts[1], hess=parts[2] if len(parts) > 2 else None)
 
 
 def _point_fields(xp, field, ue, ude, t, h, x, phi, per, dofs, const):
@@ -605,9 +614,9 @@ def _point_fields(xp, field, ue, ude, t, h, x, phi, per, dofs, const):
     w = {name: value for name, value in const.items()}
     w.update(per)
     for name, values in dofs.items():
-        w[name] = field(*interpolate(xp, values, h, phi))
-    w["u"] = field(*interpolate(xp, ue, h, phi))
-    w["du"] = field(*interpolate(xp, ude, h, phi))
+        w[name] = _field_of(field, interpolate(xp, values, h, phi))
+    w["u"] = _field_of(field, interpolate(xp, ue, h, phi))
+    w["du"] = _field_of(field, interpolate(xp, ude, h, phi))
     w["t"], w["x"] = t, x
     return FormExtraParams(w)
 
@@ -616,14 +625,14 @@ def _element_residual(xp, field, raw, ue, ude, t, h, dx, x, phi, per, dofs, cons
     """(nel, nloc) element residual vectors of the integrand ``raw``."""
     tests = _hermite_tests if phi.ndim == 3 else _tests
     w = _point_fields(xp, field, ue, ude, t, h, x, phi, per, dofs, const)
-    columns = [xp.sum(raw(field(value, grad), w) * dx, axis=-1)
-               for value, grad in tests(xp, h, phi)]
+    columns = [xp.sum(raw(_field_of(field, parts), w) * dx, axis=-1)
+               for parts in tests(xp, h, phi)]
     return xp.stack(columns, axis=-1).reshape(h.shape[0], ue.shape[1])
 
 
-def _numpy_field(value, grad):
+def _numpy_field(value, grad, hess=None):
     from skfem.element import DiscreteField
-    return DiscreteField(value, grad)
+    return DiscreteField(value, grad, hess=hess)
 
 
 def _fd_engine(term):
@@ -692,6 +701,16 @@ def _point_layout(local, w):
     return shapes, list(dofs), P, D, const
 
 
+def _first_derivatives_only(closed, n_inputs, second):
+    """Whether a traced integrand (a, b, c at one point of a bending line) reads neither
+    u'' nor udot'' (z[second:n_inputs]) and has no part in v'' (c = 0)."""
+    from .form_compiler import scalar_function, zero_outputs
+
+    _, _, used = scalar_function(closed.jaxpr, closed.consts, n_inputs, "point")
+    return (not any(k >= second for k in used)
+            and {6, 7, 8} <= zero_outputs(closed.jaxpr, closed.consts, n_inputs))
+
+
 def _numba_engine(term):
     """The generated numba kernel of the form (see :mod:`skmoor.fem.form_compiler`)."""
     import jax
@@ -711,9 +730,15 @@ def _numba_engine(term):
     zero_value, zero_grad = np.zeros((3, 1, 1)), np.zeros((3, 1, 1, 1))
     JaxDiscreteField = _jax_field()
 
-    def field(z, start):
+    # on bending lines the inputs end with u'' and udot'' (3 each) at z[second:]
+    second = n_inputs if local.hermite else None
+    if local.hermite:
+        n_inputs += 6
+
+    def field(z, start, curvature=None):
+        hess = None if curvature is None else z[curvature: curvature + 3].reshape(3, 1, 1, 1, 1)
         return JaxDiscreteField(z[start: start + 3].reshape(3, 1, 1),
-                                z[start + 3: start + 6].reshape(3, 1, 1, 1))
+                                z[start + 3: start + 6].reshape(3, 1, 1, 1), hess=hess)
 
     def point_w(z):
         # w at one point from the kernel's inputs z
@@ -726,18 +751,29 @@ def _numba_engine(term):
         for name in dof_names:
             w[name] = field(z, offset)
             offset += 6
-        w.update(u=field(z, 0), du=field(z, 6), t=z[12], x=z[13].reshape(1, 1, 1))
+        w.update(u=field(z, 0, second), du=field(z, 6, None if second is None else second + 3),
+                 t=z[12], x=z[13].reshape(1, 1, 1))
         return FormExtraParams(w)
 
+    zero_hess = np.zeros((3, 1, 1, 1, 1))
+
     def flux(z):
-        # (a, b): the integrand at one point is a . v + b . v'
+        # (a, b): the integrand at one point is a . v + b . v' (+ c . v'' on bending lines)
         w = point_w(z)
-        tests = ([JaxDiscreteField(unit[c], zero_grad) for c in range(3)]
-                 + [JaxDiscreteField(zero_value, unit[c][:, None]) for c in range(3)])
+        hess = {} if second is None else {"hess": zero_hess}
+        tests = ([JaxDiscreteField(unit[c], zero_grad, **hess) for c in range(3)]
+                 + [JaxDiscreteField(zero_value, unit[c][:, None], **hess) for c in range(3)])
+        if second is not None:
+            tests += [JaxDiscreteField(zero_value, zero_grad, hess=unit[c][:, None, None])
+                      for c in range(3)]
         return jnp.stack([jnp.sum(local.raw(v, w)) for v in tests])
 
     def with_tangent(z):
-        slopes = jax.jacfwd(lambda s: flux(jnp.concatenate([s, z[STATE:]])))(z[:STATE])
+        # the slopes in the state: u, u', udot, udot' (and u'', udot'' at the end)
+        end = n_inputs if second is None else second
+        slopes = jax.jacfwd(lambda s: flux(jnp.concatenate([s[:STATE], z[STATE:end],
+                                                            s[STATE:]])))(
+            jnp.concatenate([z[:STATE], z[end:]]))
         return jnp.concatenate([flux(z), slopes.ravel()])
 
     def new_state(z):
@@ -749,6 +785,10 @@ def _numba_engine(term):
 
     z0 = jnp.zeros(n_inputs)
     residual_jaxpr = jax.make_jaxpr(flux)(z0)
+    if second is not None and _first_derivatives_only(residual_jaxpr, n_inputs, second):
+        n_inputs, second = second, None  # the plain Hermite kernel
+        z0 = jnp.zeros(n_inputs)
+        residual_jaxpr = jax.make_jaxpr(flux)(z0)
     tangent_jaxpr = jax.make_jaxpr(with_tangent)(z0)
     update_jaxpr = None
     if term.state:
@@ -757,13 +797,14 @@ def _numba_engine(term):
     module, term.source = build_kernel((residual_jaxpr.jaxpr, residual_jaxpr.consts),
                                        (tangent_jaxpr.jaxpr, tangent_jaxpr.consts), n_inputs,
                                        P0.shape[2], hermite=local.hermite,
-                                       update_jaxpr=update_jaxpr)
+                                       update_jaxpr=update_jaxpr, second=second)
     kernel = module.kernel
     edofs = np.ascontiguousarray(local.edofs, dtype=np.int64)
     h, dx, phi = local.h, np.ascontiguousarray(local.dx), np.ascontiguousarray(local.phi)
-    if local.hermite:  # each element's cubics and their d/ds: (2, nel, nqp, 4)
+    if local.hermite:  # each element's cubics and their d/ds (and d2/ds2): (2 or 3, nel, nqp, 4)
         from .hermite import hermite_shapes
-        phi = np.ascontiguousarray(np.stack(hermite_shapes(local.xi, h)[:2]))
+        phi = np.ascontiguousarray(np.stack(hermite_shapes(local.xi, h)[:2 if second is None
+                                                                        else 3]))
     x = np.ascontiguousarray(local.x[0])
     try:  # compile now: a form numba cannot type goes to jax.jit instead
         zero, blocks = np.zeros(local.ndofs), np.zeros((local.nel, local.nloc, local.nloc))

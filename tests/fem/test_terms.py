@@ -125,6 +125,40 @@ def oscillating_spring(v, w):
     return 1e3 * ops.dot(g, ops.d_ds(v))
 
 
+@LinearForm
+def softening_bending(v, w):
+    # a bending moment k |kappa| kappa that grows with the curvature's change kappa = u''
+    # and a damping of its rate, on v'' (the second derivatives of bending lines)
+    kappa = w.u.hess[:, 0, 0]
+    return w.k * (ops.norm(kappa) * ops.dot(kappa, v.hess[:, 0, 0])
+                  + ops.dot(w.Xpp, v.hess[:, 0, 0]) + 0.1 * ops.dot(w.du.hess[:, 0, 0], v.hess[:, 0, 0]))
+
+
+def test_a_form_of_second_derivatives_on_bending_lines_on_every_path():
+    """On bending (Hermite) lines a form reads u'' and udot'' and acts on v'': the
+    generated kernel (its cubics' second derivatives), NumPy with central differences
+    and JAX on its own (the Hermite fields' hess) give scikit-fem's autodiff assembly
+    (its basis' own second derivatives)."""
+    rope = skmoor.LineType(EA=5e8, mass=100.0, diameter=0.1, EI=2e5)
+    cat = solve_catenary([0.0, 0.0, -60.0], [90.0, 20.0, -5.0], rope.weight, rope.EA,
+                         length=115.0)
+    bending = LineSet([Line.from_catenary(cat, rope, 8)])
+    u, v = state(bending, 3)
+    out = {}
+    for path in ("compiled", "autodiff", "fd", "jax"):
+        term = LineForm(softening_bending, fields={"k": 1e5},
+                        path="compiled" if path == "jax" else path, lines=bending)
+        if path == "jax":
+            term._engine = terms._jax_engine(term)
+        out[path] = dense(term, u, v, 0.0)
+        if path == "compiled":
+            assert term.backend == "numba"
+    R0, K0, C0 = out["autodiff"]
+    for path, rtol in (("compiled", 1e-10), ("jax", 1e-10), ("fd", 1e-5)):
+        R, K, C = out[path]
+        assert close(R, R0, 1e-12) and close(K, K0, rtol) and close(C, C0, rtol), path
+
+
 def test_interp_is_numpys_on_tables_of_numbers_and_of_arrays():
     """ops.interp, written as one ramp per piece: numpy.interp's values inside, at the
     knots and beyond both ends; a piece of no width adds nothing; a table whose points

@@ -256,6 +256,21 @@ def test_the_bed_and_morison_forms_run_compiled_as_their_hand_kernels():
     assert np.abs(got - expected).max() < 1e-10 * motion
 
 
+def _moves_as(system, x0, reference, x_reference, dt, steps=60):
+    """60 compiled steps of dt from rest of ``system`` and of ``reference`` (both
+    Newmark): the same motion to 1e-10 of it, and ``system``'s Python step the same
+    too. Returns the reference's states and the size of its motion (m)."""
+    got, _ = run(system, x0, np.zeros(system.n), dt, steps, scheme=Scheme.newmark())
+    expected, _ = run(reference, x_reference, np.zeros(reference.n), dt, steps,
+                      scheme=Scheme.newmark())
+    motion = np.abs(expected - expected[0]).max()
+    assert np.abs(got - expected).max() < 1e-10 * motion
+    slow, _ = run(system, x0, np.zeros(system.n), dt, steps, scheme=Scheme.newmark(),
+                  compiled=False)
+    assert np.abs(slow - got).max() < 1e-10 * motion
+    return expected, motion
+
+
 def _chain_in_waves(generated, EI=0.0, sea="waves"):
     """A 20-element chain (bending stiffness EI, N m2: > 0 on Hermite elements) in a
     sheared current and an Airy wave across it, its fairlead moved 2 m out and up from
@@ -294,13 +309,60 @@ def test_forms_in_a_current_and_waves_run_compiled_as_the_hand_kernel(EI):
     why, kinds = compiled_step.lowered_terms(forms)
     assert why is None
     assert {getattr(t, "name", "") for t in kinds["form"]} >= {"morison_drag", "fluid_inertia"}
-    got, _ = run(forms, x_forms, np.zeros(forms.n), 0.1, 60, scheme=Scheme.newmark())
-    expected, _ = run(hand, x_hand, np.zeros(hand.n), 0.1, 60, scheme=Scheme.newmark())
-    motion = np.abs(expected - expected[0]).max()
-    assert np.abs(got - expected).max() < 1e-10 * motion
-    slow, _ = run(forms, x_forms, np.zeros(forms.n), 0.1, 60, scheme=Scheme.newmark(),
-                  compiled=False)
-    assert np.abs(slow - got).max() < 1e-10 * motion
+    expected, motion = _moves_as(forms, x_forms, hand, x_hand, 0.1)
     current, x_current = _chain_in_waves(False, EI, sea="current")
     other, _ = run(current, x_current, np.zeros(current.n), 0.1, 60, scheme=Scheme.newmark())
     assert np.abs(other - expected).max() > 1e-3 * motion
+
+
+@LinearForm
+def more_bending(v, w):
+    # the bending stiffness's own form, int k (X'' + u'') . v'' ds: u'' and v'' the
+    # fields' second derivatives on bending lines
+    return w.k * dot(w.Xpp + w.u.hess[:, 0, 0], v.hess[:, 0, 0])
+
+
+def _bending_riser(EI, extra=None):
+    """A 20-element flexible riser (bending stiffness EI, N m2) hung from a fairlead moved
+    1 m at 0.8 rad/s, with ``extra`` more stiffness (N m2) as a user's form on path
+    'compiled': (system, static state)."""
+    from skmoor.lines.catenary import solve_catenary
+
+    riser = skmoor.LineType(EA=2e8, mass=150.0, diameter=0.3, EI=EI)
+    cat = solve_catenary([-150.0, 0.0, -150.0], [0.0, 0.0, -5.0], riser.weight, riser.EA,
+                         length=240.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, riser, 20)])
+    terms = [] if extra is None else [skmoor.LineForm(more_bending, fields={"k": extra},
+                                                      path="compiled", lines=lines)]
+    system = skmoor.System(lines, fairleads="prescribed", terms=terms, motion=lambda t: np.array(
+        [[np.sin(0.8 * t), 0.0, np.sin(0.8 * t)]]))
+    return system, skmoor.solve_static(system).x
+
+
+def test_a_form_of_second_derivatives_runs_compiled_as_the_line_types_bending():
+    """On bending lines a form may read u'' (``w.u.hess[:, 0, 0]``) and act on v''
+    (``v.hess[:, 0, 0]``): its kernel is generated with the cubics' second derivatives.
+    Part of a riser's bending stiffness written so (3/4 of it) runs in the compiled step
+    and moves the riser as the line type with all of it in its EI (the hand kernel): the
+    same static state and motion to 1e-10 (measured 5e-13), and the element residual and
+    blocks to round-off; the riser with the form left out moves otherwise."""
+    EI = 4e8
+    split, x_split = _bending_riser(0.25 * EI, 0.75 * EI)
+    whole, x_whole = _bending_riser(EI)
+    assert np.abs(x_split - x_whole).max() < 1e-10 * np.abs(x_whole).max()
+    lines, form = split.lines, split.terms[-1]
+    u, v = np.random.default_rng(2).standard_normal((2, lines.ndofs)) * [[1e-2], [1e-1]]
+    blocks = []
+    for kernel in (split.kernel, whole.kernel, form):  # the form: the kernels' difference
+        R, K = np.zeros(lines.ndofs), np.zeros((len(lines.element_dofs), 12, 12))
+        kernel.add_to(*((u, v, 0.0) if kernel is form else (u, v)), R, K, np.zeros_like(K))
+        blocks.append((R, K))
+    for k in range(2):
+        difference = blocks[1][k] - blocks[0][k]
+        assert np.abs(blocks[2][k] - difference).max() < 1e-12 * np.abs(difference).max()
+    why, kinds = compiled_step.lowered_terms(split)
+    assert why is None and "more_bending" in {getattr(t, "name", "") for t in kinds["form"]}
+    expected, motion = _moves_as(split, x_split, whole, x_whole, 0.05)
+    softer, x_softer = _bending_riser(0.25 * EI)
+    other, _ = run(softer, x_softer, np.zeros(softer.n), 0.05, 60, scheme=Scheme.newmark())
+    assert np.abs(other - expected).max() > 1e-2 * motion
