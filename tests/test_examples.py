@@ -113,3 +113,22 @@ def test_host_loop_example(monkeypatch, tmp_path):
     assert np.ptp(ex.tension) > 1e5
     if ex.moordyn_itself is not None:  # MoorDyn's static tension: the discretizations' 1 %
         assert ex.static == pytest.approx(ex.static_md, rel=0.015)
+
+
+def test_nonlinear_bending_example(monkeypatch, tmp_path):
+    """Example 11 (3 s): the armour layers' friction moment, a form of u'' and v'' on the
+    riser's bending elements, runs in the compiled step as in Python (1e-9); with a slip
+    curvature far beyond the riser's it is the linear beam of EI_stick, the line type's
+    bending in the hand kernel (1e-6); the law's largest curvature lies between those of
+    the stick and slip beams."""
+    pytest.importorskip("jax", reason="the example's form uses the generated kernel")
+    ex = load("11_nonlinear_bending.py", monkeypatch, SKMOOR_EXAMPLE_DURATION="3",
+              SKMOOR_EXAMPLE_OUT=str(tmp_path))
+    assert (tmp_path / "nonlinear_bending.png").is_file()
+    peaks = {name: run[1] for name, run in ex.runs.items()}
+    assert peaks["stick"].max() < peaks["law"].max() < peaks["slip"].max()
+    slow = ex.run(ex.models["law"], compiled=False)[1]
+    assert np.abs(slow - peaks["law"]).max() < 1e-9 * peaks["law"].max()
+    monkeypatch.setattr(ex, "KAPPA_SLIP", 1e3)  # (the model's field, set when it is made)
+    stuck = ex.run(ex.riser(ex.EI_SLIP, ex.EI_STICK - ex.EI_SLIP))[1]
+    assert np.abs(stuck - peaks["stick"]).max() < 1e-6 * peaks["stick"].max()
