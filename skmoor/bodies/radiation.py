@@ -258,12 +258,22 @@ class PotentialFlow(BodyTerm):
                 K[:, k] += (self._exact_load(q + e, qdot, t)
                             - self._exact_load(q - e, qdot, t)) / (2 * step)
 
+    def carry_memory(self, other):
+        """Take ``other``'s history (the same body's term in another model: a line
+        failure's rebuilt one) as this term's."""
+        self._count = other._count
+        if self._count:
+            self._t, self._v = other._t.copy(), other._v.copy()
+        self._past = (None, None)
+
     def commit(self, t, q, qdot):
         """Keep the accepted step (t, velocity: qdot, or on an exact body [v_ref, omega])
-        for the convolution; a time at or before the last one starts a new history (a
-        new run)."""
+        for the convolution; a time before the last one starts a new history (a new run),
+        the last one's keeps it (a run going on from it)."""
+        if self._count and t == self._t[self._count - 1]:
+            return
         qdot = self._velocity(self.body_motion(q, qdot))
-        if self._count and t <= self._t[self._count - 1]:
+        if self._count and t < self._t[self._count - 1]:
             self._count = 0
         if self._count == 0:  # a new history in its own arrays (copies of a term share none)
             self._t, self._v = np.zeros(256), np.zeros((256, 6))

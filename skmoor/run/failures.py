@@ -168,9 +168,9 @@ def release(model: Model, point: str, lines, x, v, t, rayleigh, remaining=None,
 
 
 def carry_memories(before, after):
-    """The memories of ``before``'s terms (creep states, user laws' states, VIV phases)
-    into their counterparts in ``after``, the same lines rebuilt (:func:`released`), in
-    the order of ``System.committing``."""
+    """The memories of ``before``'s terms (creep states, user laws' states, VIV phases,
+    radiation memory) into their counterparts in ``after``, the same lines and bodies
+    rebuilt (:func:`released`), in the order of ``System.committing``."""
     old, new = before.committing, after.committing
     if [type(term) for term in old] != [type(term) for term in new]:
         raise RuntimeError("release: the rebuilt model's terms with a memory are not the "

@@ -273,6 +273,30 @@ def test_a_release_carries_the_lift_phases_of_viv():
     assert np.array_equal(new._phase, new.first_phase)
 
 
+def test_a_release_carries_the_radiation_memory_of_a_body():
+    """A body's radiation memory (Cummins' convolution over its velocity history) carries
+    over to the rebuilt term: the same memory force at the next time, where a history
+    started afresh would have none; a run going on from the last committed time keeps
+    it, a time before it starts anew."""
+    from skmoor.bodies.bem import Hydrodynamics
+    from skmoor.bodies.radiation import PotentialFlow
+
+    hydro = Hydrodynamics.load(Path(__file__).parents[2] / "meshes" / "box_hull_bem.npz")
+    old, new = PotentialFlow(hydro), PotentialFlow(hydro)
+    q, times = np.zeros(6), np.arange(0.0, 4.0, 0.1)
+    for t in times:  # a surge and heave history
+        old.commit(t, q, np.array([np.sin(t), 0.0, 0.5 * np.cos(t), 0.0, 0.0, 0.0]))
+    new.carry_memory(old)
+    t, qdot = 4.05, np.array([0.3, 0.0, 0.1, 0.0, 0.0, 0.0])
+    memory = old.memory(t, qdot)[0]
+    assert np.abs(memory).max() > 1e3  # N: the history matters
+    np.testing.assert_allclose(new.memory(t, qdot)[0], memory, rtol=1e-12)
+    new.commit(times[-1], q, 0.0 * qdot)  # (a run going on from the last time)
+    np.testing.assert_allclose(new.memory(t, qdot)[0], memory, rtol=1e-12)
+    new.commit(1.0, q, qdot)  # a time before: a new run
+    assert new._count == 1
+
+
 def host_run(module, path, duration, coupling=0.01, break_at=None, **create):
     """A host's loop on ``path`` (MoorDyn's Python interface, or skmoor's): line 2's
     force at vessel 2 (N) after each Step, line 1 broken off point 1 at ``break_at``."""
