@@ -821,12 +821,16 @@ def _numba_engine(term):
         term._state_layout = (P0.shape, columns)
         term._commit_kernel = (module.commit, edofs, h, dx, phi, x, columns)
     ints, floats = packed(edofs, h, dx, phi, x, P0, D0)
-    # (C function, ints, floats, the DOF fields' names and where D starts in floats): what
-    # a subclass whose fields vary can call from compiled code, its D filled there
-    term.generated = (module.step_kernel, ints, floats, dof_names, floats.size - D0.size)
+    D_start = floats.size - D0.size
+    if term.state:  # (its step_commit reads the state's columns and last time after them)
+        ints, floats = np.concatenate([ints, columns]), np.append(floats, np.nan)
+    # (C function, ints, floats, the DOF fields' names, where D starts in floats, the
+    # commit's C function or None): what a subclass whose fields vary can call from
+    # compiled code, its D filled there
+    term.generated = (module.step_kernel, ints, floats, dof_names, D_start,
+                      module.step_commit if term.state else None)
     if not varying:  # the compiled time step calls it with these arrays
-        if term.state:  # (its step_commit reads the state's columns and last time after them)
-            ints, floats = np.concatenate([ints, columns]), np.append(floats, np.nan)
+        if term.state:
             term.step_commit = module.step_commit
         term.step_kernel = (module.step_kernel, ints, floats)
 

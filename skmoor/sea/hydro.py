@@ -211,16 +211,24 @@ class SeaTerm(LineForm):
     def fields_vary(self) -> bool:
         return not (self.sea is None or self.sea.still)  # still water: uw = 0 throughout
 
+    _water_size = 0  # floats of the water after the generated kernel's (_water_step_kernel)
+
     def lowered(self):
         """'form' also in moving water of a kind the compiled kernels evaluate
-        (:func:`water_lowers`): the generated kernel called after the water at the
-        displaced nodes (:func:`_sea_form_packed`)."""
+        (:func:`water_lowers`): the generated kernel (and with a memory its commit) called
+        after the water at the displaced nodes (:func:`_sea_form_packed`)."""
         kind = super().lowered()
-        if (kind is None and self.fields_vary() and not self.state and self.path == "compiled"
+        if (kind is None and self.fields_vary() and self.path == "compiled"
                 and self.generated is not None and water_lowers(self.sea)):
             self.step_kernel = self._water_step_kernel()
+            if self.state:
+                self.step_commit = _sea_commit_step()
             kind = "form"
         return kind
+
+    def step_state(self):
+        memory, offset = super().step_state()
+        return memory, offset + self._water_size
 
     @property
     def why_python(self):
@@ -232,10 +240,11 @@ class SeaTerm(LineForm):
         """(C function, ints, floats) of :func:`_sea_form_packed`: ints [the generated
         kernel's address, where the water's floats start, nodes, profile points, wave
         components, 1 with waves or fields (x and y matter) else 0, where the water's
-        DOF field starts in floats, 1 for the acceleration; the nodes' z DOFs (then with
-        waves or fields their x and y DOFs), their x, y, z DOFs (nodes, 3), then the
-        kernel's ints], floats [the kernel's, then the water's (:func:`_water`)]."""
-        function, form_ints, form_floats, dof_names, D_start = self.generated
+        DOF field starts in floats, 1 for the acceleration, the generated commit's
+        address (0: none); the nodes' z DOFs (then with waves or fields their x and y
+        DOFs), their x, y, z DOFs (nodes, 3), then the kernel's ints], floats [the
+        kernel's, then the water's (:func:`_water`)]."""
+        function, form_ints, form_floats, dof_names, D_start, commit = self.generated
         name = "uw" if self.water == "velocity" else "aw"
         lines = self.lines
         heading, heights, speeds, waves, fields = water_arrays(self.sea)
@@ -243,11 +252,13 @@ class SeaTerm(LineForm):
         axes = [2, 0, 1] if xy else [2]  # z, then with waves or fields x and y
         dofs, X = lines.nodal_dofs, lines.points
         header = [function.address, form_floats.size, len(dofs), len(heights), len(waves), xy,
-                  D_start + dof_names.index(name) * lines.ndofs, self.water != "velocity"]
+                  D_start + dof_names.index(name) * lines.ndofs, self.water != "velocity",
+                  0 if commit is None else commit.address]
         ints = np.concatenate([header, *dofs[:, axes].T, dofs.ravel(), form_ints])
         floats = np.concatenate([np.ravel(a) for a in (
             form_floats, *X[:, axes].T, heading, heights, speeds, waves, fields,
             np.zeros(3 * len(X)), np.zeros(3 * len(X) * xy))])
+        self._water_size = floats.size - form_floats.size
         return _sea_form_step(), ints.astype(np.int64), floats.astype(float)
 
     def mass_matrix(self):
@@ -556,14 +567,14 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
              carray(C_p, (blocks, 6, 6)))
 
 
-def _sea_form_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
-    """A :class:`SeaTerm`'s generated kernel (the C function at ints[0]) in a current and
-    Airy waves: its water field (velocity or acceleration, a DOF field) first set at the
-    displaced nodes (:func:`_water`), on the buffers of ``SeaTerm._water_step_kernel``."""
+@njit(cache=True)
+def _set_water(u, t, ints, floats, ndofs):
+    """A :class:`SeaTerm`'s water field (velocity or acceleration, a DOF field) set at the
+    displaced nodes (:func:`_water`) in the buffers of ``SeaTerm._water_step_kernel``;
+    returns where the generated kernel's ints start."""
     nnodes, axes = ints[2], 3 if ints[5] else 1
-    u = carray(u_p, (ndofs,))
-    water, acceleration, accelerates = _water(u, t, ints, 8, floats, ints[1])
-    dofs = carray(advanced(ints, 8 + axes * nnodes), (nnodes, 3))
+    water, acceleration, accelerates = _water(u, t, ints, 9, floats, ints[1])
+    dofs = carray(advanced(ints, 9 + axes * nnodes), (nnodes, 3))
     field = carray(advanced(floats, ints[6]), (ndofs,))
     for p in range(nnodes):
         for c in range(3):
@@ -571,8 +582,23 @@ def _sea_form_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
                 field[dofs[p, c]] = water[p, c]
             else:
                 field[dofs[p, c]] = acceleration[p, c] if accelerates else 0.0
-    call_form(ints[0], u_p, ud_p, ndofs, t, advanced(ints, 8 + (axes + 3) * nnodes), floats,
-              R_p, K_p, C_p, tangent)
+    return 9 + (axes + 3) * nnodes
+
+
+def _sea_form_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """A :class:`SeaTerm`'s generated kernel (the C function at ints[0]) in a current and
+    Airy waves, its water field set first (:func:`_set_water`)."""
+    start = _set_water(carray(u_p, (ndofs,)), t, ints, floats, ndofs)
+    call_form(ints[0], u_p, ud_p, ndofs, t, advanced(ints, start), floats, R_p, K_p, C_p,
+              tangent)
+
+
+def _sea_commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """A :class:`SeaTerm`'s generated commit (the C function at ints[8]): its memory
+    advanced to the accepted step, its water field set first (:func:`_set_water`)."""
+    start = _set_water(carray(u_p, (ndofs,)), t, ints, floats, ndofs)
+    call_form(ints[8], u_p, ud_p, ndofs, t, advanced(ints, start), floats, R_p, K_p, C_p,
+              tangent)
 
 
 @njit(cache=True)
@@ -735,6 +761,9 @@ _morison_p1_step = compiled_when_asked(_morison_p1_packed)  # (its C function, w
 
 
 _sea_form_step = compiled_when_asked(_sea_form_packed)  # (its C function, when first asked for)
+
+
+_sea_commit_step = compiled_when_asked(_sea_commit_packed)  # (its C function, when first asked for)
 
 
 @njit(cache=True)

@@ -366,3 +366,56 @@ def test_a_form_of_second_derivatives_runs_compiled_as_the_line_types_bending():
     softer, x_softer = _bending_riser(0.25 * EI)
     other, _ = run(softer, x_softer, np.zeros(softer.n), 0.05, 60, scheme=Scheme.newmark())
     assert np.abs(other - expected).max() > 1e-2 * motion
+
+
+DRIFT_DT = 0.1  # s
+PULL = 50.0  # N/m per m of water passed
+
+
+@LinearForm
+def pull_of_passed_water(v, w):
+    # - k s_x v_x: a pull against the water passed at each point, s = int u_w dt (memory)
+    return PULL * w.s * v.value[0]
+
+
+def passed_water(w):
+    # s_new = s + dt u_w,x: explicit, the residual within a step sees the last accepted s
+    return {"s": w.s + w.dt * w.uw.value[0]}
+
+
+@LinearForm
+def pull_in_time(v, w):
+    # the same in a uniform current U_x: s = U_x (t - dt) within the step to t
+    return PULL * w.U * ops.maximum(w.t - DRIFT_DT, 0.0) * v.value[0]
+
+
+def test_a_form_in_the_water_with_a_memory_runs_compiled():
+    """A SeaTerm with a memory (per point, the water passed, s = int u_w dt, advanced
+    after each step from the water at the displaced nodes) runs in the compiled step,
+    its commit after the water too: in a uniform current it moves the chain as the same
+    pull written in time (s = U t), to 1e-10 of the motion, and as its Python step."""
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea import Current, Sea, SeaTerm
+
+    current = Current(0.8, 30.0)  # m/s, deg
+    sea = Sea(150.0, current=current)
+    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09)
+    cat = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, chain.EA,
+                         length=336.0)
+
+    def chain_with(make):
+        lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, chain, 20)])
+        system = skmoor.System(lines, fairleads="prescribed", terms=[make(lines)],
+                               motion=lambda t: np.zeros((1, 3)))
+        return system, skmoor.solve_static(system).x
+
+    remembering, x0 = chain_with(lambda lines: SeaTerm(
+        pull_of_passed_water, sea=sea, state={"s": 0.0}, update=passed_water,
+        path="compiled", lines=lines))
+    U = float(current.velocity(np.zeros((1, 3)), 0.0)[0, 0])
+    in_time, x_time = chain_with(lambda lines: skmoor.LineForm(
+        pull_in_time, fields={"U": U}, path="compiled", lines=lines))
+    why, kinds = compiled_step.lowered_terms(remembering)
+    assert why is None and kinds["form"][0].step_commit is not None
+    expected, motion = _moves_as(remembering, x0, in_time, x_time, DRIFT_DT, steps=40)
+    assert motion > 0.1
