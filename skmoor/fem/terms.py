@@ -89,6 +89,10 @@ class Term:
     def add_to(self, u, v, t, R, K=None, C=None):
         raise NotImplementedError
 
+    # A term with a memory of the past has ``commit(t, u, v)`` (called after each accepted
+    # step) and ``carry_memory(other)``: the memory of the same term in another model of
+    # the same lines and bodies (a line failure's rebuilt one) taken as its own.
+
     def mass_matrix(self):
         """Constant mass on the term's DOFs (kg), or None."""
         return None
@@ -175,7 +179,10 @@ class LineForm(Term):
     ``.grad``; :func:`skmoor.fem.ops.d_ds`), the time ``w.t`` (s), the arclength ``w.x`` (m),
     the LineSet's reference fields (``Xp``, ``T``, ``EA``, ``m``, ``w``, ``BA``) and
     ``fields`` (a dict, or a function of t returning one; an (ndofs,) array is a field of
-    the line basis, interpolated like u: P1, or Hermite on bending lines). Write it with :mod:`skmoor.fem.ops` for the automatic tangents.
+    the line basis, interpolated like u: P1, or Hermite on bending lines). On bending
+    lines also the second derivatives ``w.u.hess[:, 0, 0]``, ``w.du.hess[:, 0, 0]`` and
+    ``v.hess[:, 0, 0]`` (1/m2 times the field), and the reference curvature ``Xpp``.
+    Write it with :mod:`skmoor.fem.ops` for the automatic tangents.
     stiffness, damping: hand-written BilinearForms of its d/du and d/dv (optional; given,
     they are used on scikit-fem's assembly). mass: a BilinearForm of a constant mass (kg/m).
     quadrature: 'gauss', 'midpoint' or 'nodal' (see :class:`~skmoor.lines.line.LineSet`).
