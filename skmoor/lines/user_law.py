@@ -40,10 +40,11 @@ J = d rate/d state and N_z = dN/d state frozen there; h = t - t_n):
 (:class:`~skmoor.lines.creep.CreepTerm`'s scheme for MoorDyn's creep laws, so that they can
 be written this way); or both: the rate integrated over the step, then the update applied
 to the result (a part of the state that only the update moves has a rate of 0, such as
-Syrope's highest mean tension, raised when the tension passes it). The state is kept at each quadrature point of the law's lines,
-starts at the given values (for a law of a reference state, a function of that state's
-strain and tension) and advances after each accepted time step (generated and compiled
-like the tension). Statics use the initial state.
+Syrope's highest mean tension, raised when the tension passes it). The state is kept at
+each quadrature point of the law's lines, starts at the given values (for a law of a
+reference state, a function of that state's strain and tension) and advances after each
+accepted time step (generated and compiled like the tension). Statics use the initial
+state.
 """
 from __future__ import annotations
 
@@ -69,8 +70,8 @@ class UserLaw(Law):
     start at 0 N and increase over [0, max_strain]; the catenary uses it sampled at
     ``samples`` strains there (beyond: the last slope). tension_only: a slack cable
     carries no compression (N < 0 is cut to 0). state and update and/or state_rate: a
-    memory (see the module docstring; for a law of a reference state the initial state may be a
-    function ``state(e_ref, T_ref)`` of the reference's strain and tension; with
+    memory (see the module docstring; for a law of a reference state the initial state
+    may be a function ``state(e_ref, T_ref)`` of the reference's strain and tension; with
     ``balanced=False`` it need not balance the reference's tension, as MoorDyn's start of
     a creep state, and the line then moves from its static state at t = 0). reference:
     the function reads a reference state's strain and tension at each point,
