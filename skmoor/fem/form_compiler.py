@@ -507,6 +507,11 @@ def kernel(u, ud, t, edofs, h, dx, phi, x, P, D, R, Ke, Ce, tangent):
                 point(z, out)
 {scatter}'''
 
+def _written_sum(zero, *parts):
+    """Source of sum out[k] * factor over ``parts`` (k, factor), the k in ``zero`` left out."""
+    return " + ".join(f"out[{k}] * {factor}" for k, factor in parts if k not in zero)
+
+
 def _hermite_scatter(zero, rows):
     """The Hermite element's accumulation of R, Ke, Ce at one point, written out term by
     term without the derivatives in ``zero``. phi (rows, nel, nqp, 4): each element's
@@ -519,13 +524,10 @@ def _hermite_scatter(zero, rows):
     stiffness = {0: 0, 1: 3, 2: STATE}  # where each derivative order's state starts
     rate = {0: 6, 1: 9, 2: STATE + 3}
 
-    def total(*parts):
-        parts = [f"out[{k}] * {factor}" for k, factor in parts if k not in zero]
-        return " + ".join(parts)
-
     lines = ["            w = dx[e, q]", "            for i in range(4):"]
     for c in range(3):
-        value = total(*[(3 * p + c, f"phi[{p}, e, q, i]") for p in range(rows)])
+        value = _written_sum(zero, *[(3 * p + c, f"phi[{p}, e, q, i]")
+                                     for p in range(rows)])
         if value:
             lines.append(f"                R[edofs[e, 3 * i + {c}]] += w * ({value})")
     if len(lines) == 2:
@@ -538,8 +540,9 @@ def _hermite_scatter(zero, rows):
     for c in range(3):
         for d in range(3):
             for block, start in (("Ke", stiffness), ("Ce", rate)):
-                value = total(*[(size + S * (3 * p + c) + start[r] + d, f"f{p}{r}")
-                                for p in range(rows) for r in range(rows)])
+                value = _written_sum(zero, *[(size + S * (3 * p + c) + start[r] + d,
+                                              f"f{p}{r}")
+                                             for p in range(rows) for r in range(rows)])
                 if value:
                     body.append(f"                    {block}[e, 3 * i + {c}, 3 * j + {d}] "
                                 f"+= w * ({value})")
@@ -659,14 +662,10 @@ def build_pointwise(jaxpr, consts, n_inputs, label):
 def _p1_scatter(zero):
     """The P1 loop's accumulation of R, Ke, Ce at one point, written out term by term
     without the derivatives in ``zero`` (out[6 + 12 r + s]: d(a, b)_r / d(state)_s)."""
-    def total(*parts):
-        parts = [f"out[{k}] * {factor}" for k, factor in parts if k not in zero]
-        return " + ".join(parts)
-
     lines = ["            w = dx[e, q]", "            for i in range(2):",
              "                si = (-1.0 if i == 0 else 1.0) / he"]
     for c in range(3):
-        value = total((c, "phi[i, q]"), (3 + c, "si"))
+        value = _written_sum(zero, (c, "phi[i, q]"), (3 + c, "si"))
         if value:
             lines.append(f"                R[edofs[e, 3 * i + {c}]] += w * ({value})")
     lines += ["            if not tangent:", "                continue",
@@ -681,7 +680,7 @@ def _p1_scatter(zero):
         ra, rb = 6 + 12 * c, 6 + 12 * (3 + c)
         for d in range(3):
             for block, shift in (("Ke", 0), ("Ce", 6)):
-                value = total((ra + shift + d, "pp"), (ra + shift + 3 + d, "ps"),
+                value = _written_sum(zero, (ra + shift + d, "pp"), (ra + shift + 3 + d, "ps"),
                               (rb + shift + d, "sp_"), (rb + shift + 3 + d, "ss"))
                 if value:
                     body.append(f"                    {block}[e, 3 * i + {c}, 3 * j + {d}] "
