@@ -10,6 +10,9 @@ effects that keep one, the same physics run both ways in this one process:
   CREEP_STEPS steps of 0.1 s: ``LineHydroKernel`` against the kernels generated from
   ``skmoor.sea.hydro.form_terms`` (the water at the nodes evaluated in compiled code
   before them);
+- **VIV lift**: the same chain on P1 lines with a lift coefficient, in the same water and
+  motion: ``VortexLift``'s hand kernel and commit against those generated from
+  ``skmoor.sea.viv.vortex_lift`` and its memory's update (``VortexLiftForm``);
 - **bending**: a 20-element flexible riser hung from a fairlead moved 0.1 m at 0.8 rad/s,
   CREEP_STEPS steps of 0.05 s: its bending stiffness in the hand kernel of bending lines
   (``HermiteKernel``), or all but a millionth of it in a form of u'' and v'' on path
@@ -122,6 +125,30 @@ def chain_in_waves(generated, EI):
     lumped = not lines.hermite
     terms = (hydro.form_terms(lines, sea, path="compiled", lumped_mass=lumped) if generated
              else [hydro.line_hydrodynamics(lines, sea, lumped_mass=lumped)])
+    system = skmoor.System(lines, fairleads="prescribed", terms=terms, motion=lambda t: np.array(
+        [[np.sin(0.8 * t), 0.0, np.sin(0.8 * t)]]))
+    return system, skmoor.solve_static(system).x
+
+
+def chain_with_lift(generated):
+    """The chain in waves of :func:`chain_in_waves` (P1, Morison's hand kernel) with a VIV
+    lift coefficient 0.8: the lift's hand kernels (``VortexLift``), or with ``generated``
+    the kernel and commit generated from its forms (``VortexLiftForm`` on path
+    'compiled', the water, node chords and surface evaluated in compiled code first)."""
+    import skmoor
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea import AiryWave, Current, Sea, hydro
+    from skmoor.sea.viv import vortex_lift_term
+
+    sea = Sea(150.0, current=Current(profile=[(-150.0, 0.1), (0.0, 0.8)], heading_deg=30.0),
+              waves=[AiryWave(3.0, 9.0, 150.0, heading_deg=-20.0)])
+    chain = skmoor.LineType(EA=EA_S, mass=140.0, diameter=0.09, Cd_n=1.2, Cd_t=0.1, Ca_n=1.0,
+                            Cl=0.8)
+    catenary = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, EA_S,
+                              length=336.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(catenary, chain, 20)])
+    terms = [hydro.line_hydrodynamics(lines, sea),
+             vortex_lift_term(lines, sea, rms_time=10.0, path="compiled" if generated else "auto")]
     system = skmoor.System(lines, fairleads="prescribed", terms=terms, motion=lambda t: np.array(
         [[np.sin(0.8 * t), 0.0, np.sin(0.8 * t)]]))
     return system, skmoor.solve_static(system).x
@@ -245,6 +272,8 @@ def main(argv=None):
              paired(lambda generated: chain_in_waves(generated, 0.0), chain_loop, args.pairs)),
             ("Morison in a current and waves, bending lines (chain, node positions)",
              paired(lambda generated: chain_in_waves(generated, 2e5), chain_loop, args.pairs)),
+            ("VIV lift in a current and waves, P1 lines (chain, node positions)",
+             paired(chain_with_lift, chain_loop, args.pairs)),
             ("bending, bending lines (flexible riser, node positions)",
              paired(bending_riser, lambda model: timed_loop(
                  *model, 0.05, 0.05 * CREEP_STEPS, Scheme.newmark(), positions), args.pairs)),

@@ -14,7 +14,7 @@ from ..lines.line import Line, LineSet, LineType
 from ..sea.hydro import line_terms
 from ..sea.seabed import seabed_term
 from ..sea.surface import SurfaceTerm
-from ..sea.viv import VortexLift
+from ..sea.viv import vortex_lift_term
 from .checks import carries_strain
 from .network import (
     _LINEAR,
@@ -287,7 +287,7 @@ def build_system(network: Network, positions: dict | None = None):
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
         terms += line_terms(lineset, network.sea, path=network.form_path)
     if network.hydro and any(ln.line_type.Cl > 0 for ln in network.lines):
-        terms.append(VortexLift(lineset, network.sea, **(
+        terms.append(vortex_lift_term(lineset, network.sea, path=network.form_path, **(
             {} if network.viv_rms_time is None else {"rms_time": network.viv_rms_time})))
     if network.surface and lines:
         terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,

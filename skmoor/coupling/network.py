@@ -184,7 +184,9 @@ class Network:
     hydrodynamic and sea-bed forms run on bending (Hermite) lines, a
     :class:`~skmoor.fem.terms.LineForm` path: 'auto' (scikit-fem's assembly with the exact
     tangents: no compile, slow per call) or 'compiled' (numba kernels generated once,
-    ~30 s each, cached on disk: for time integration). P1 lines have compiled kernels.
+    ~30 s each, cached on disk: for time integration). P1 lines have compiled kernels;
+    the VIV lift runs its hand-written kernels on 'auto', its forms on another path
+    (:func:`~skmoor.sea.viv.vortex_lift_term`).
     surface: the lines' parts above the free surface lose their buoyancy and drag
     (:mod:`skmoor.sea.surface`, on ``form_path``; MoorDyn's decks have it); off by default:
     the lines are taken as submerged. viv_rms_time: the time constant (s) of the VIV

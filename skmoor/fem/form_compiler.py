@@ -146,7 +146,7 @@ _BINARY = {
     "min": ("min({0}, {1})", min),
     "pow": ("({0} ** {1})", lambda a, b: a ** b),
     "atan2": ("math.atan2({0}, {1})", math.atan2),
-    "rem": ("math.fmod({0}, {1})", math.fmod),
+    "rem": ("np.fmod({0}, {1})", math.fmod),
     "gt": ("({0} > {1})", lambda a, b: a > b),
     "lt": ("({0} < {1})", lambda a, b: a < b),
     "ge": ("({0} >= {1})", lambda a, b: a >= b),

@@ -100,6 +100,26 @@ def cos(a):
     return xp(a).cos(a)
 
 
+def arctan2(y, x):
+    """The angle of the point (x, y), elementwise, in (-pi, pi] (radians)."""
+    y, x = _values(y, x)
+    return xp(y, x).arctan2(y, x)
+
+
+def mod(a, b):
+    """a modulo b with the sign of b, elementwise: an angle wrapped to [0, 2 pi) as
+    mod(angle, 2 pi)."""
+    a, b = _values(a, b)
+    return xp(a, b).mod(a, b)
+
+
+def cross(a, b):
+    """a x b for vectors of shape (3, ...)."""
+    a, b = _values(a, b)
+    return xp(a, b).stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                           a[0] * b[1] - a[1] * b[0]])
+
+
 def where(condition, a, b):
     """a where condition holds, else b, elementwise (the derivative is the chosen
     branch's: guard both branches against NaN, as :func:`norm` does)."""

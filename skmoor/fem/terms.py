@@ -314,8 +314,10 @@ class LineForm(Term):
         last = memory[-1]
         dt = float(t - last) if t >= last else 0.0  # the first commit: 0
         if self._commit_kernel is not None:  # the generated update (numba)
-            commit, edofs, h, dx, phi, x, columns = self._commit_kernel
+            commit, edofs, h, dx, phi, x, columns, fields_now = self._commit_kernel
             P, D = self._packed_fields()
+            if fields_now is not None:  # fields of (t, u): the update reads them at the step
+                P[...], D[...] = fields_now(u, v, t)
             commit(np.asarray(u, float), np.asarray(v, float), float(t), edofs, h, dx, phi,
                    x, P, D, columns, dt)
         else:
@@ -820,13 +822,23 @@ def _numba_engine(term):
                    blocks.copy(), tangent)
     except Exception as error:  # numba's typing and lowering errors
         raise Unsupported(f"numba: {str(error).strip().splitlines()[0][:120]}") from error
+    def fields_now(u, v, t):
+        # (P, D) of the fields at (u, v, t), the memory's values in P's state columns
+        _, w = term._w(u, v, t)
+        layout = _point_layout(local, {k: a for k, a in w.items() if k not in ("u", "du", "t")})
+        if layout[0] != shapes or layout[1] != dof_names:
+            raise ValueError(f"LineForm {term.name}: the fields changed their names or "
+                             "shapes between calls")
+        return layout[2], layout[3]
+
     if term.state:  # the memory becomes [P, D, the last commit's time], the state in P
         last = term.step_state()[0][-1]
         offsets = np.cumsum([0] + [int(np.prod(shape, dtype=int)) for shape in shapes.values()])
         columns = np.array([offsets[list(shapes).index(name)] for name in term.state], np.int64)
         term._memory = np.concatenate([P0.ravel(), D0.ravel(), [last]])
         term._state_layout = (P0.shape, columns)
-        term._commit_kernel = (module.commit, edofs, h, dx, phi, x, columns)
+        term._commit_kernel = (module.commit, edofs, h, dx, phi, x, columns,
+                               fields_now if varying else None)
     ints, floats = packed(edofs, h, dx, phi, x, P0, D0)
     D_start = floats.size - D0.size
     if term.state:  # (its step_commit reads the state's columns and last time after them)
@@ -846,13 +858,7 @@ def _numba_engine(term):
         if term.state:  # the memory's current values
             P, D = term._packed_fields()
         if varying:
-            _, w = term._w(u, v, t)
-            layout = _point_layout(local, {k: a for k, a in w.items()
-                                           if k not in ("u", "du", "t")})
-            if layout[0] != shapes or layout[1] != dof_names:
-                raise ValueError(f"LineForm {term.name}: the fields changed their names or "
-                                 "shapes between calls")
-            P, D = layout[2], layout[3]
+            P, D = fields_now(u, v, t)
         kernel(u, v, float(t), edofs, h, dx, phi, x, P, D, R,
                NO_BLOCKS if K is None else K, NO_BLOCKS if C is None else C, K is not None)
 

@@ -222,7 +222,7 @@ class SeaTerm(LineForm):
                 and self.generated is not None and water_lowers(self.sea)):
             self.step_kernel = self._water_step_kernel()
             if self.state:
-                self.step_commit = _sea_commit_step()
+                self.step_commit = self._packed_steps()[1]
             kind = "form"
         return kind
 
@@ -254,12 +254,23 @@ class SeaTerm(LineForm):
         header = [function.address, form_floats.size, len(dofs), len(heights), len(waves), xy,
                   D_start + dof_names.index(name) * lines.ndofs, self.water != "velocity",
                   0 if commit is None else commit.address]
-        ints = np.concatenate([header, *dofs[:, axes].T, dofs.ravel(), form_ints])
+        ints = np.concatenate([header, *dofs[:, axes].T, dofs.ravel(),
+                               self._more_ints(dof_names, D_start), form_ints])
         floats = np.concatenate([np.ravel(a) for a in (
             form_floats, *X[:, axes].T, heading, heights, speeds, waves, fields,
             np.zeros(3 * len(X)), np.zeros(3 * len(X) * xy))])
         self._water_size = floats.size - form_floats.size
-        return _sea_form_step(), ints.astype(np.int64), floats.astype(float)
+        return self._packed_steps()[0], ints.astype(np.int64), floats.astype(float)
+
+    def _more_ints(self, dof_names, D_start):
+        """Ints a subclass's packed kernel reads after the water's, before the generated
+        kernel's (dof_names, D_start: the generated kernel's DOF fields and where they
+        start in its floats)."""
+        return np.zeros(0, np.int64)
+
+    def _packed_steps(self):
+        """(the packed kernel, the packed commit) the compiled step calls, C functions."""
+        return _sea_form_step(), _sea_commit_step()
 
     def mass_matrix(self):
         return None if self.mass is None else added_mass_matrix(self.lines, self.lumped)

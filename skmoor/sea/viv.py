@@ -28,11 +28,15 @@ import math
 
 import numpy as np
 from numba import carray, njit
+from skfem import LinearForm
 
+from ..fem import ops
 from ..fem.form_compiler import compiled_when_asked
-from ..fem.native_calls import advanced
-from ..fem.terms import Term, state_part
+from ..fem.native_calls import advanced, call_form
+from ..fem.terms import HAS_JAX, PATHS, Term, state_part
 from .hydro import (
+    SeaTerm,
+    _set_water,
     unpacked_water,
     water_arrays,
     water_kinematics,
@@ -51,16 +55,69 @@ def lift_per_length(rho, diameter, Cl, v_normal, tangent, phase):
 
 def motion_phase(yd, ydd, yd_rms, ydd_rms):
     """phi_y = atan2(-ydd / rms(ydd), yd / rms(yd)) in [0, 2 pi) (unscaled where a
-    mean square is 0), rad."""
+    mean square is 0), rad (NumPy or traced arrays)."""
     scaled = (yd_rms > 0) & (ydd_rms > 0)
-    y = np.where(scaled, -ydd / np.where(scaled, ydd_rms, 1.0), -ydd)
-    x = np.where(scaled, yd / np.where(scaled, yd_rms, 1.0), yd)
-    return np.mod(np.arctan2(y, x), 2 * np.pi)
+    y = ops.where(scaled, -ydd / ops.where(scaled, ydd_rms, 1.0), -ydd)
+    x = ops.where(scaled, yd / ops.where(scaled, yd_rms, 1.0), yd)
+    return ops.mod(ops.arctan2(y, x), 2 * np.pi)
 
 
 def phase_rate(phase, phase_motion, normal_speed, diameter, cF, dF):
-    """dphi/dt = 2 pi (cF + dF sin(phi_y - phi)) |v_p| / d, rad/s."""
-    return 2 * np.pi * (cF + dF * np.sin(phase_motion - phase)) * normal_speed / diameter
+    """dphi/dt = 2 pi (cF + dF sin(phi_y - phi)) |v_p| / d, rad/s (NumPy or traced
+    arrays)."""
+    return 2 * np.pi * (cF + dF * ops.sin(phase_motion - phase)) * normal_speed / diameter
+
+
+# --- the lift and its memory written as forms (the definition), on nodal quadrature.
+# Fields: lift = 1/2 rho d Cl per reference length (0 at the lines' end nodes and where
+# Cl = 0), d, cF, dF, rms_time at the points; DOF fields: X the reference positions, qn the
+# node's chord r_{i+1} - r_{i-1}, eta the surface elevation (each component), uw the
+# water's velocity at the displaced node. Memory: phase, rate, yd_ms, ydd_ms, the node's
+# velocity (vx, vy, vz), lifting (1 after the first commit) and t_commit (its time).
+
+def _node_flow(w):
+    """(q, v_p, |v_p|): the node's unit tangent, the relative flow's part normal to it and
+    its size."""
+    q = ops.value(w.qn) / ops.norm(w.qn)
+    flow = ops.value(w.uw) - ops.value(w.du)
+    normal = flow - ops.dot(flow, q) * q
+    return q, normal, ops.norm(normal)
+
+
+@LinearForm
+def vortex_lift(v, w):
+    # -F_L . du, F_L = 1/2 rho d Cl |v_p| cos(phi) (q x v_p) times the wet fraction
+    q, normal, speed = _node_flow(w)
+    phase = w.phase + w.rate * (w.t - w.t_commit)  # extrapolated within the step
+    z = ops.value(w.X)[2] + ops.value(w.u)[2]
+    wet = ops.clip(0.5 - (z - ops.value(w.eta)[2]) / w.d, 0.0, 1.0)
+    size = w.lifting * w.lift * wet * speed * ops.cos(phase)
+    return -size * ops.dot(ops.cross(q, normal), v)
+
+
+def vortex_lift_update(w):
+    """The lift's memory at an accepted step: the phase advanced by its rate over the
+    step dt, the cross-flow velocity yd and acceleration ydd (from the last step's
+    velocity) in running mean squares of time constant rms_time, the motion's phase and
+    the new rate (:func:`motion_phase`, :func:`phase_rate`); the first commit starts the
+    lift (ydd 0, weight 1 / RMS_STEPS), a second one at the same time keeps it."""
+    fresh = w.lifting < 0.5
+    held = (w.lifting > 0.5) & (w.dt <= 0.0)
+    phase = ops.where(fresh, w.phase, ops.mod(w.phase + w.rate * w.dt, 2 * np.pi))
+    q, normal, speed = _node_flow(w)
+    velocity = ops.value(w.du)
+    before = ops.xp(velocity).stack([w.vx, w.vy, w.vz])
+    acceleration = ops.where(fresh, 0.0, (velocity - before) / ops.where(w.dt > 0.0, w.dt, 1.0))
+    across = ops.cross(q, normal) / ops.where(speed > 0.0, speed, 1.0)
+    yd, ydd = ops.dot(velocity, across), ops.dot(acceleration, across)
+    weight = ops.where(fresh, 1.0 / RMS_STEPS, ops.minimum(1.0, w.dt / w.rms_time))
+    yd_ms = w.yd_ms + weight * (yd * yd - w.yd_ms)
+    ydd_ms = w.ydd_ms + weight * (ydd * ydd - w.ydd_ms)
+    phase_y = motion_phase(yd, ydd, ops.sqrt(yd_ms), ops.sqrt(ydd_ms))
+    new = dict(phase=phase, rate=phase_rate(phase, phase_y, speed, w.d, w.cF, w.dF),
+               yd_ms=yd_ms, ydd_ms=ydd_ms, vx=velocity[0], vy=velocity[1], vz=velocity[2],
+               lifting=1.0 + 0.0 * phase, t_commit=w.t + 0.0 * phase)
+    return {name: ops.where(held, getattr(w, name), value) for name, value in new.items()}
 
 
 class VortexLift(Term):
@@ -343,3 +400,137 @@ _lift_step = compiled_when_asked(_lift_packed)  # (its C function, when first as
 
 
 _commit_step = compiled_when_asked(_commit_packed)  # (its C function, when first asked for)
+
+
+class VortexLiftForm(SeaTerm):
+    """The VIV lift as :func:`vortex_lift` with its memory :func:`vortex_lift_update`, a
+    :class:`~skmoor.sea.hydro.SeaTerm` on nodal quadrature (each node's lift from its two
+    elements' ends, half an element's length each): the same lift as
+    :class:`VortexLift`, and its tangents by automatic differentiation. lines, sea,
+    rms_time as VortexLift's; path: the form's (:class:`~skmoor.fem.terms.LineForm`;
+    'compiled' runs in the compiled time step, the node tangents and the surface
+    filled in by :func:`_lift_form_packed`)."""
+
+    def __init__(self, lines, sea=None, rms_time=RMS_STEPS * 1e-4, path="compiled"):
+        if not rms_time > 0:
+            raise ValueError(f"VortexLiftForm rms_time: {rms_time!r} s must be positive")
+        nodes, node_cells = lines.mesh.t, lines.line_of_cell  # (2, nel): a cell's end nodes
+        types = [line.line_type for line in lines.lines]
+        if not any(t.Cl > 0 for t in types):
+            raise ValueError("VortexLiftForm: no line type has Cl > 0")
+
+        def per_cell(name):
+            return np.array([getattr(t, name) for t in types], float)[node_cells]
+
+        ends = np.zeros(len(lines.points), bool)
+        ends[lines.anchor_nodes] = ends[lines.fairlead_nodes] = True
+        first_phase = np.zeros(len(lines.points))  # MoorDyn's start, 2 pi i / n on a line
+        for a, b in zip(lines.anchor_nodes, lines.fairlead_nodes):
+            first_phase[a:b + 1] = 2 * np.pi * np.arange(b - a + 1) / (b - a)
+        per_reference = lines.cable_fields["m"][:, 0] / per_cell("mass")  # 1 / stretch
+        lifting = per_cell("Cl") > 0
+        lift = 0.5 * per_cell("rho_water") * per_cell("diameter") * per_cell("Cl") * per_reference
+        points = nodes.T  # (nel, 2): the node at each nodal quadrature point
+        fields = dict(lift=np.where(ends[points], 0.0, lift[:, None]),
+                      d=np.where(lifting, per_cell("diameter"), 1.0)[:, None] + 0.0 * points,
+                      cF=per_cell("viv_cF")[:, None] + 0.0 * points,
+                      dF=per_cell("viv_dF")[:, None] + 0.0 * points,
+                      rms_time=np.full(points.shape, float(rms_time)),
+                      X=lines.reference_dofs.copy())
+        # the chord of each node: its neighbours', at a line's end its element's
+        self._before = np.where(ends & np.isin(np.arange(len(ends)), lines.anchor_nodes),
+                                np.arange(len(ends)), np.arange(len(ends)) - 1)
+        self._after = np.where(ends & np.isin(np.arange(len(ends)), lines.fairlead_nodes),
+                               np.arange(len(ends)), np.arange(len(ends)) + 1)
+        state = dict(phase=first_phase[points], rate=0.0, yd_ms=0.0, ydd_ms=0.0, vx=0.0,
+                     vy=0.0, vz=0.0, lifting=0.0, t_commit=0.0)
+        self.rms_time = float(rms_time)
+        super().__init__(vortex_lift, sea=sea, quadrature="nodal", fields=fields,
+                         state=state, update=vortex_lift_update, path=path, lines=lines,
+                         name="vortex_lift")
+
+    def fields_at(self, t, u):
+        lines = self.lines
+        r = lines.points + u[lines.nodal_dofs]
+        chord, surface = np.zeros(lines.ndofs), np.zeros(lines.ndofs)
+        chord[lines.nodal_dofs] = r[self._after] - r[self._before]
+        if self.sea is not None:
+            surface[lines.nodal_dofs] = np.asarray(self.sea.elevation(r, t), float)[:, None]
+        return dict(super().fields_at(t, u), qn=chord, eta=surface)
+
+    def fields_vary(self) -> bool:
+        return True  # the node tangents move with the lines
+
+    def _more_ints(self, dof_names, D_start):
+        """Where the chord, surface and reference-position fields start in the floats,
+        then each node's neighbours (before, after)."""
+        ndofs = self.lines.ndofs
+        return np.concatenate([[D_start + dof_names.index(name) * ndofs
+                                for name in ("qn", "eta", "X")], self._before, self._after])
+
+    def _packed_steps(self):
+        return _lift_form_step(), _lift_commit_step()
+
+
+def vortex_lift_term(lines, sea=None, *, rms_time=RMS_STEPS * 1e-4, path="auto"):
+    """The VIV lift of a System on ``lines``: the hand-written kernels
+    (:class:`VortexLift`) on path 'auto', else the forms (:class:`VortexLiftForm`) on
+    ``path`` ('assembly': 'compiled' with JAX, else 'fd')."""
+    if path not in PATHS:
+        raise ValueError(f"vortex_lift_term path: {path!r} is not one of {PATHS}")
+    if path == "auto":
+        return VortexLift(lines, sea, rms_time)
+    if path == "assembly":
+        path = "compiled" if HAS_JAX else "fd"
+    return VortexLiftForm(lines, sea, rms_time, path=path)
+
+
+@njit(cache=True)
+def _set_chords(u, t, ints, at, floats, ndofs):
+    """The chords r_after - r_before and the surface elevation at the displaced nodes set
+    in a :class:`VortexLiftForm`'s DOF fields (its ``_more_ints`` from ints[at]; the water's
+    packed after ``SeaTerm._water_step_kernel``'s header); returns where the generated
+    kernel's ints start."""
+    nnodes, axes = ints[2], 3 if ints[5] else 1
+    dofs = carray(advanced(ints, 9 + axes * nnodes), (nnodes, 3))
+    chord = carray(advanced(floats, ints[at]), (ndofs,))
+    surface = carray(advanced(floats, ints[at + 1]), (ndofs,))
+    X = carray(advanced(floats, ints[at + 2]), (ndofs,))
+    before = carray(advanced(ints, at + 3), (nnodes,))
+    after = carray(advanced(ints, at + 3 + nnodes), (nnodes,))
+    _, _, _, components, fields, _ = unpacked_water(floats, ints[1] + axes * nnodes, ints[3],
+                                                    ints[4])
+    for p in range(nnodes):
+        for c in range(3):
+            a, b = dofs[after[p], c], dofs[before[p], c]
+            chord[dofs[p, c]] = (X[a] + u[a]) - (X[b] + u[b])
+        x, y = X[dofs[p, 0]] + u[dofs[p, 0]], X[dofs[p, 1]] + u[dofs[p, 1]]
+        eta = wave_elevation(x, y, t, components, fields)
+        for c in range(3):
+            surface[dofs[p, c]] = eta
+    return at + 3 + 2 * nnodes
+
+
+def _lift_form_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """A :class:`VortexLiftForm`'s generated kernel (the C function at ints[0]) after its
+    water, chord and surface fields (:func:`~skmoor.sea.hydro._set_water`,
+    :func:`_set_chords`)."""
+    u = carray(u_p, (ndofs,))
+    start = _set_chords(u, t, ints, _set_water(u, t, ints, floats, ndofs), floats, ndofs)
+    call_form(ints[0], u_p, ud_p, ndofs, t, advanced(ints, start), floats, R_p, K_p, C_p,
+              tangent)
+
+
+def _lift_commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
+    """A :class:`VortexLiftForm`'s generated commit (the C function at ints[8]) after its
+    fields, as :func:`_lift_form_packed`."""
+    u = carray(u_p, (ndofs,))
+    start = _set_chords(u, t, ints, _set_water(u, t, ints, floats, ndofs), floats, ndofs)
+    call_form(ints[8], u_p, ud_p, ndofs, t, advanced(ints, start), floats, R_p, K_p, C_p,
+              tangent)
+
+
+_lift_form_step = compiled_when_asked(_lift_form_packed)  # (its C function, when first asked for)
+
+
+_lift_commit_step = compiled_when_asked(_lift_commit_packed)  # (its C function, when first asked for)

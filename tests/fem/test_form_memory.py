@@ -115,6 +115,26 @@ def test_the_memory_matters_and_a_new_run_starts_from_the_initial_state():
     assert np.abs(held - first).max() > 1e-3 * np.abs(first - first[0]).max()
 
 
+def test_an_update_reads_fields_of_time_at_the_committed_step():
+    """A memory s that takes the value of a field given as a function of time, f(t) =
+    sin t, at each commit: after commits at t = 0.3 and 1.1 the generated commit (path
+    'compiled') and NumPy's hold sin(1.1) at every point (the generated commit once read
+    the fields packed when the form was first evaluated, sin 0)."""
+    chain = skmoor.LineType(EA=7.5e8, mass=140.0, diameter=0.09)
+    points = np.c_[np.zeros(4), np.zeros(4), np.linspace(-10.0, 0.0, 4)]
+    lines = skmoor.LineSet([skmoor.Line.from_polyline(points, chain)])
+    shape = lines.basis.dx.shape
+    for path in ("compiled", "fd"):
+        form = LineForm(lambda v, w: w.s * v[0], fields=lambda t: {"f": np.full(shape, np.sin(t))},
+                        state={"s": 0.0}, update=lambda w: {"s": w.f + 0.0 * w.s},
+                        path=path, lines=lines)
+        u = np.zeros(lines.ndofs)
+        form.add_to(u, u, 0.0, np.zeros(lines.ndofs))
+        for t in (0.3, 1.1):
+            form.commit(t, u, u)
+        assert form.state_values()["s"] == pytest.approx(np.full(shape, np.sin(1.1)), abs=1e-15), path
+
+
 @pytest.mark.parametrize("kwargs, message", [
     (dict(state={"s": 0.0}), "give both"),
     (dict(update=creep_after), "give both"),

@@ -121,8 +121,9 @@ def oscillating_spring(v, w):
     s = ops.dot(up, up)
     g = (ops.sin(3.0 * s) + ops.cos(s) * ops.exp(-s) + ops.tanh(s) + ops.log(1.0 + s)
          + ops.sqrt(1.0 + s) + ops.abs(w.u[0]) + ops.minimum(s, 0.5)
-         + ops.interp(s, [0.0, 1e-3 * (1.0 + s), 0.1], [0.0, 2.0, 1.0])) * up
-    return 1e3 * ops.dot(g, ops.d_ds(v))
+         + ops.interp(s, [0.0, 1e-3 * (1.0 + s), 0.1], [0.0, 2.0, 1.0])
+         + ops.arctan2(s - 0.01, 1.0 - 30.0 * s) + ops.mod(40.0 * s, 0.3)) * up
+    return 1e3 * ops.dot(g + ops.cross(up, ops.value(w.du)), ops.d_ds(v))
 
 
 @LinearForm
@@ -172,8 +173,8 @@ def test_interp_is_numpys_on_tables_of_numbers_and_of_arrays():
 
 
 def test_every_elementwise_op_traces_and_compiles(lines):
-    """sin, cos, exp, tanh, log, sqrt, abs, minimum, interp on a table of the state in
-    one form: the compiled kernel, the
+    """sin, cos, exp, tanh, log, sqrt, abs, minimum, interp on a table of the state,
+    arctan2, mod and cross in one form: the compiled kernel, the
     JAX tangent and central differences agree (a function missing from the compiler, or
     one with a wrong derivative rule, would not)."""
     u, v = state(lines, 5)

@@ -10,7 +10,14 @@ import pytest
 
 import skmoor
 from skmoor.lines.line import Line, LineSet, LineType
-from skmoor.sea.viv import VortexLift, lift_per_length, motion_phase, phase_rate
+from skmoor.sea.viv import (
+    VortexLift,
+    VortexLiftForm,
+    lift_per_length,
+    motion_phase,
+    phase_rate,
+    vortex_lift_term,
+)
 from skmoor.sea.waves import Current, Sea
 from skmoor.solvers import compiled_step, dynamics
 
@@ -151,13 +158,14 @@ def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
     assert results.t[-1] == pytest.approx(0.2) and np.isfinite(results.displacement).all()
 
 
-def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=(), fields=()):
+def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=(), fields=(), form_path="auto"):
     """A weightless taut string of two elements (8 m, vertical, from z = ``bottom``) in a
     current U along x (and ``waves``, ``fields``): its middle node a cross-flow oscillator tuned to
     f_n = (cF + dF / 2) U / d with damping ratio ``zeta`` from the current's drag,
     ½ rho d Cd U per length across the flow (skmoor integrates the drag at Gauss points:
     the middle node takes 2/3 of the lumped share, int N^2 = 2 h / 3), lift lumped at the
-    node. (model, f_n, m, h)."""
+    node, its running mean squares over two periods (a clean rms of a harmonic motion);
+    form_path 'auto' the lift's hand kernels, else its forms. (model, f_n, m, h)."""
     from skmoor.coupling.network import MooringLine, Network, Point
     from skmoor.model.model import from_network
 
@@ -175,7 +183,8 @@ def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=(), fields=()):
     network = Network([Point("A", "fixed", [0.0, 0.0, bottom]),
                        Point("B", "fixed", [0.0, 0.0, bottom + L])],
                       [MooringLine("string", line_type, "A", "B", L / (1 + T / EA), 2)],
-                      depth=50.0, rho=RHO, sea=sea)
+                      depth=50.0, rho=RHO, sea=sea, viv_rms_time=2 / f_n,
+                      form_path=form_path)
     return from_network(network), f_n, m, h
 
 
@@ -185,7 +194,6 @@ def locked_response(zeta, duration=6.0, since=4.0):
     motion, phi_y - phi (rad, the motion's phase from a sine fitted to it)."""
     model, f_n, m, h = lock_in_case(zeta)
     lift = next(t for t in model.system.line_terms if isinstance(t, VortexLift))
-    lift.rms_time = 2 / f_n  # two periods: a clean rms of a harmonic motion
     phases, commit, steps = [], lift.commit, compiled_step.CompiledStep.steps
 
     def recording_commit(t, u, v):  # a Python step's
@@ -256,7 +264,6 @@ def test_the_compiled_step_advances_the_lift_as_the_python_step():
         model, f_n, _, _ = lock_in_case(0.15)
         system = model.system
         lift = next(t for t in system.line_terms if isinstance(t, VortexLift))
-        lift.rms_time = 2 / f_n
         eq = skmoor.equilibrium(model)
         if not lift_on:
             lift.Cl = np.zeros_like(lift.Cl)
@@ -302,20 +309,21 @@ def test_the_compiled_kernels_evaluate_the_waves_as_the_sea():
             float(sea.elevation(point, t)), rel=1e-12, abs=1e-12)
 
 
-def raised_lock_in_run(compiled, waves=(), fields=()):
+def raised_lock_in_run(compiled, waves=(), fields=(), form_path="auto"):
     """The lock-in string raised to 1 m under the still surface (in ``waves`` and
-    ``fields``), 300 steps from its equilibrium, compiled or not: (states, the lift's
-    state at the end, the lift)."""
-    model, f_n, _, _ = lock_in_case(0.15, bottom=-5.0, waves=waves, fields=fields)
+    ``fields``), 300 steps from its equilibrium, compiled or not (its lift's hand kernels
+    or with ``form_path`` its forms): (states, the lift's state at the end, the lift)."""
+    model, f_n, _, _ = lock_in_case(0.15, bottom=-5.0, waves=waves, fields=fields,
+                                    form_path=form_path)
     system = model.system
-    lift = next(t for t in system.line_terms if isinstance(t, VortexLift))
-    lift.rms_time = 2 / f_n
+    lift = next(t for t in system.line_terms if isinstance(t, (VortexLift, VortexLiftForm)))
     eq = skmoor.equilibrium(model)
     assert compiled_step.lowered_terms(system)[0] is None
     dt = 1 / (50 * f_n)
     states = [s.x.copy() for s in dynamics.integrate(
         system, eq.x, np.zeros(system.n), dt, 300 * dt, C=eq.C, compiled=compiled, tol=1e-10)]
-    return np.array(states), lift._state.copy(), lift
+    memory = lift._state if isinstance(lift, VortexLift) else lift.state_values()["phase"]
+    return np.array(states), memory.copy(), lift
 
 
 def test_the_compiled_step_advances_the_lift_in_waves_as_the_python_step():
@@ -339,6 +347,89 @@ def test_the_compiled_step_advances_the_lift_in_waves_as_the_python_step():
     assert lift.sea.elevation(np.zeros((200, 2)), times).min() < -1.0 - D  # dry there
     calm, _, _ = raised_lock_in_run(True)
     assert np.abs(calm - slow).max() > 0.1 * motion
+
+
+def chain_with_lift(EI=0.0):
+    """A 10-element catenary chain (bending stiffness EI) with Cl = 0.8 hung to 0.5 m
+    under the still surface in a sheared current and a 3 m Airy wave across it:
+    (lines, sea)."""
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea.waves import AiryWave
+
+    sea = Sea(150.0, current=Current(profile=[(-150.0, 0.1), (0.0, 0.8)], heading_deg=30.0),
+              waves=[AiryWave(3.0, 9.0, 150.0, heading_deg=-20.0)])
+    chain = LineType(EA=7.5e8, mass=140.0, diameter=0.09, Cl=0.8, viv_cF=0.2, viv_dF=0.1,
+                     EI=EI)
+    catenary = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -0.5], chain.weight, chain.EA,
+                              length=336.0)
+    return LineSet([Line.from_catenary(catenary, chain, 10)]), sea
+
+
+@pytest.mark.parametrize("EI, path", [(0.0, "compiled"), (0.0, "fd"), (2e5, "compiled")])
+def test_the_lift_form_is_the_hand_kernel_at_every_node(EI, path):
+    """The lift written as forms (VortexLiftForm: vortex_lift and its memory's update on
+    nodal quadrature) against the hand kernels (VortexLift), node by node, on a chain in
+    waves whose top nodes go in and out of the water, at random states: the loads (with
+    the phases extrapolated within a step), the phases, rates and mean squares after
+    commits along a run, a second commit at the same time (kept), and a new run (a time
+    before the last: started again). A lift on the element's tangent (not the node's
+    chord), a wet fraction of the reference z, an update of the step's start or the
+    phase's rate without the motion would each part them."""
+    lines, sea = chain_with_lift(EI)
+    hand = VortexLift(lines, sea, rms_time=1.5)
+    form = vortex_lift_term(lines, sea, rms_time=1.5, path=path)
+    assert isinstance(form, VortexLiftForm) and isinstance(vortex_lift_term(lines, sea),
+                                                            VortexLift)
+    # the form's points at each hand node: its element's end there
+    point = {node: (e, j) for j in range(2) for e, node in enumerate(lines.mesh.t[j])}
+    at_nodes = tuple(np.array([point[n][k] for n in hand.nodes]) for k in range(2))
+    rng = np.random.default_rng(7)
+    scale = np.zeros(lines.ndofs)
+    scale[lines.nodal_dofs] = 1.0
+    u = rng.normal(0.0, 0.3, lines.ndofs) * scale
+    R = np.zeros(lines.ndofs)
+    form.add_to(u, u, 0.0, R)
+    assert not R.any()  # no lift before the first commit (statics)
+    top, below = lines.nodal_dofs[-2], lines.nodal_dofs[-3]
+    fractions = []
+    for t in (0.0, 0.1, 0.25, 0.25, 0.4, 0.15, 0.3):  # kept at 0.25; a new run at 0.15
+        u = u + rng.normal(0.0, 0.05, lines.ndofs) * scale
+        v = rng.normal(0.0, 0.4, lines.ndofs) * scale
+        u[top[2]] = 3.0 - lines.points[-2, 2]  # dry above the crests
+        x = lines.points[-3] + u[below]  # 1 cm over the surface: half wet
+        u[below[2]] += float(sea.elevation(x[None], t + 0.05)[0]) + 0.01 - x[2]
+        for term in (hand, form):
+            term.commit(t, u, v)
+        memory = form.state_values()
+        for name, part in (("phase", hand._phase), ("rate", hand._rate),
+                           ("yd_ms", hand._yd_ms), ("ydd_ms", hand._ydd_ms)):
+            assert memory[name][at_nodes] == pytest.approx(part, rel=1e-12, abs=1e-12), name
+        loads = []
+        for term in (hand, form):
+            R = np.zeros(lines.ndofs)
+            term.add_to(u, v, t + 0.05, R)
+            loads.append(R)
+        assert np.abs(loads[1] - loads[0]).max() < 1e-12 * np.abs(loads[0]).max()
+        fractions.append(hand._flow(u, v, t + 0.05)[3][-2:])
+    assert np.allclose(fractions, [0.5 - 0.01 / 0.09, 0.0]) and np.abs(hand._rate).max() > 1.0
+
+
+def test_the_compiled_step_runs_the_lift_form_as_the_hand_kernel():
+    """The raised lock-in string in a 3 m wave with its lift written as forms on path
+    'compiled': the compiled step runs it (the form's kernel and commit generated, the
+    water, the node chords and the surface set in compiled code first) as the hand
+    kernels: the same motion to 1e-9 of it and the same phase at the middle node (to
+    1e-6 rad: the two solve to the tolerance along other Newton paths, the form with its
+    tangents)."""
+    from skmoor.sea.waves import AiryWave
+
+    waves = [AiryWave(3.0, 8.0, depth=50.0, heading_deg=60.0, phase=-1.0)]
+    form, phases, lift = raised_lock_in_run(True, waves=waves, form_path="compiled")
+    assert isinstance(lift, VortexLiftForm) and lift.backend == "numba"
+    hand, state, _ = raised_lock_in_run(True, waves=waves)
+    motion = np.abs(hand - hand[0]).max()
+    assert np.abs(form - hand).max() < 1e-9 * motion
+    assert phases[0, 1] == pytest.approx(state[1], abs=1e-6)  # the middle node's
 
 
 def tension_period(t, tension):
