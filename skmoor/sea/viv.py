@@ -12,6 +12,10 @@ cross-flow direction y = q x v_p / |v_p| (per unit unstretched length, N/m):
   yd = rdot.y and ydd = rddot.y the node's cross-flow velocity and acceleration, rms a
   running mean square of time constant ``rms_time`` (MoorDyn: 500 steps dtM).
 
+The lift is written once as forms on nodal quadrature (:func:`vortex_lift` and
+:func:`vortex_lift_update`, run by :class:`VortexLiftForm`); :class:`VortexLift` is their
+hand-written kernels, faster in the time loop and run by default.
+
 The phase phi is a state of each node, advanced explicitly between accepted steps (the
 term's ``commit``: phi += dphi/dt h, the acceleration from the velocities of the last two
 steps); within a step the lift reads phi extrapolated to the step's time. The lift acts
@@ -122,7 +126,9 @@ def vortex_lift_update(w):
 
 class VortexLift(Term):
     """The VIV lift on the internal nodes of every line whose LineType has Cl > 0 (its
-    ``Cl``, ``viv_dF``, ``viv_cF``); sea: the water (currents), None for still water;
+    ``Cl``, ``viv_dF``, ``viv_cF``), the hand-written kernels of :func:`vortex_lift` and
+    its memory's update (:class:`VortexLiftForm`; held equal to them by tests, faster in
+    the time loop); sea: the water (currents), None for still water;
     rms_time: the running mean square's time constant, s. Its state (the last committed
     time, each node's phase, phase rate, mean squares and velocity) is one array, which
     the compiled time step advances in place with :attr:`step_commit` (still water, a
@@ -431,23 +437,30 @@ class VortexLiftForm(SeaTerm):
         lifting = per_cell("Cl") > 0
         lift = 0.5 * per_cell("rho_water") * per_cell("diameter") * per_cell("Cl") * per_reference
         points = nodes.T  # (nel, 2): the node at each nodal quadrature point
+
+        def at_points(per_cell_values):
+            return np.repeat(per_cell_values[:, None], 2, axis=1)
+
         fields = dict(lift=np.where(ends[points], 0.0, lift[:, None]),
-                      d=np.where(lifting, per_cell("diameter"), 1.0)[:, None] + 0.0 * points,
-                      cF=per_cell("viv_cF")[:, None] + 0.0 * points,
-                      dF=per_cell("viv_dF")[:, None] + 0.0 * points,
+                      d=at_points(np.where(lifting, per_cell("diameter"), 1.0)),
+                      cF=at_points(per_cell("viv_cF")), dF=at_points(per_cell("viv_dF")),
                       rms_time=np.full(points.shape, float(rms_time)),
                       X=lines.reference_dofs.copy())
         # the chord of each node: its neighbours', at a line's end its element's
-        self._before = np.where(ends & np.isin(np.arange(len(ends)), lines.anchor_nodes),
-                                np.arange(len(ends)), np.arange(len(ends)) - 1)
-        self._after = np.where(ends & np.isin(np.arange(len(ends)), lines.fairlead_nodes),
-                               np.arange(len(ends)), np.arange(len(ends)) + 1)
+        self._before = np.arange(len(ends)) - 1
+        self._before[lines.anchor_nodes] = lines.anchor_nodes
+        self._after = np.arange(len(ends)) + 1
+        self._after[lines.fairlead_nodes] = lines.fairlead_nodes
         state = dict(phase=first_phase[points], rate=0.0, yd_ms=0.0, ydd_ms=0.0, vx=0.0,
                      vy=0.0, vz=0.0, lifting=0.0, t_commit=0.0)
-        self.rms_time = float(rms_time)
         super().__init__(vortex_lift, sea=sea, quadrature="nodal", fields=fields,
                          state=state, update=vortex_lift_update, path=path, lines=lines,
                          name="vortex_lift")
+
+    @property
+    def rms_time(self) -> float:
+        """The running mean squares' time constant, s (fixed when the form is made)."""
+        return float(self.fields["rms_time"][0, 0])
 
     def fields_at(self, t, u):
         lines = self.lines
@@ -530,7 +543,7 @@ def _lift_commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangen
               tangent)
 
 
-_lift_form_step = compiled_when_asked(_lift_form_packed)  # (its C function, when first asked for)
+_lift_form_step = compiled_when_asked(_lift_form_packed)  # (its C function when asked)
 
 
-_lift_commit_step = compiled_when_asked(_lift_commit_packed)  # (its C function, when first asked for)
+_lift_commit_step = compiled_when_asked(_lift_commit_packed)  # (its C function when asked)
