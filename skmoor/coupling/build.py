@@ -287,7 +287,8 @@ def build_system(network: Network, positions: dict | None = None):
                              for c in ("Cd_n", "Cd_t", "Ca_n", "Ca_t")):
         terms += line_terms(lineset, network.sea, path=network.form_path)
     if network.hydro and any(ln.line_type.Cl > 0 for ln in network.lines):
-        terms.append(vortex_lift_term(lineset, network.sea, path=network.form_path, **(
+        make_lift = network.viv_lift or vortex_lift_term
+        terms.append(make_lift(lineset, network.sea, path=network.form_path, **(
             {} if network.viv_rms_time is None else {"rms_time": network.viv_rms_time})))
     if network.surface and lines:
         terms.append(SurfaceTerm(lineset, network.sea, drag=network.hydro,

@@ -191,7 +191,10 @@ class Network:
     (:mod:`skmoor.sea.surface`, on ``form_path``; MoorDyn's decks have it); off by default:
     the lines are taken as submerged. viv_rms_time: the time constant (s) of the VIV
     lift's running mean squares (:class:`~skmoor.sea.viv.VortexLift`; None: its default; a
-    MoorDyn deck sets 500 of its steps dtM).
+    MoorDyn deck sets 500 of its steps dtM). viv_lift: what makes the VIV lift term,
+    fn(lines, sea, *, path, [rms_time]) -> Term (None:
+    :func:`~skmoor.sea.viv.vortex_lift_term`; a lift model of one's own, e.g. a
+    :class:`~skmoor.sea.viv.VortexLiftForm` with another update, docs/forms.md).
     """
 
     points: list
@@ -208,6 +211,7 @@ class Network:
     form_path: str = "auto"
     surface: bool = False
     viv_rms_time: float | None = None
+    viv_lift: object = None
     notes: list = field(default_factory=list)  # what the build noticed (see Model.notes)
     failures: list = field(default_factory=list)  # LineFailure events of the run
 

@@ -415,9 +415,16 @@ class VortexLiftForm(SeaTerm):
     :class:`VortexLift`, and its tangents by automatic differentiation. lines, sea,
     rms_time as VortexLift's; path: the form's (:class:`~skmoor.fem.terms.LineForm`;
     'compiled' runs in the compiled time step, the node tangents and the surface
-    filled in by :func:`_lift_form_packed`)."""
+    filled in by :func:`_lift_form_packed`).
 
-    def __init__(self, lines, sea=None, rms_time=RMS_STEPS * 1e-4, path="compiled"):
+    lift, update, state: another lift model on the same fields (``w.qn`` the node's
+    chord, ``w.eta`` the surface, ``w.uw`` the water, ``w.X`` the reference positions and
+    the point fields ``lift``, ``d``, ``cF``, ``dF``, ``rms_time``): its load (a
+    LinearForm), its memory's rule (a function of w returning every state value by
+    name) and its memory beyond the built-in one (name -> initial value)."""
+
+    def __init__(self, lines, sea=None, rms_time=RMS_STEPS * 1e-4, path="compiled", *,
+                 lift=vortex_lift, update=vortex_lift_update, state=None):
         if not rms_time > 0:
             raise ValueError(f"VortexLiftForm rms_time: {rms_time!r} s must be positive")
         nodes, node_cells = lines.mesh.t, lines.line_of_cell  # (2, nel): a cell's end nodes
@@ -435,13 +442,13 @@ class VortexLiftForm(SeaTerm):
             first_phase[a:b + 1] = 2 * np.pi * np.arange(b - a + 1) / (b - a)
         per_reference = lines.cable_fields["m"][:, 0] / per_cell("mass")  # 1 / stretch
         lifting = per_cell("Cl") > 0
-        lift = 0.5 * per_cell("rho_water") * per_cell("diameter") * per_cell("Cl") * per_reference
+        size = 0.5 * per_cell("rho_water") * per_cell("diameter") * per_cell("Cl") * per_reference
         points = nodes.T  # (nel, 2): the node at each nodal quadrature point
 
         def at_points(per_cell_values):
             return np.repeat(per_cell_values[:, None], 2, axis=1)
 
-        fields = dict(lift=np.where(ends[points], 0.0, lift[:, None]),
+        fields = dict(lift=np.where(ends[points], 0.0, size[:, None]),
                       d=at_points(np.where(lifting, per_cell("diameter"), 1.0)),
                       cF=at_points(per_cell("viv_cF")), dF=at_points(per_cell("viv_dF")),
                       rms_time=np.full(points.shape, float(rms_time)),
@@ -451,11 +458,11 @@ class VortexLiftForm(SeaTerm):
         self._before[lines.anchor_nodes] = lines.anchor_nodes
         self._after = np.arange(len(ends)) + 1
         self._after[lines.fairlead_nodes] = lines.fairlead_nodes
-        state = dict(phase=first_phase[points], rate=0.0, yd_ms=0.0, ydd_ms=0.0, vx=0.0,
-                     vy=0.0, vz=0.0, lifting=0.0, t_commit=0.0)
-        super().__init__(vortex_lift, sea=sea, quadrature="nodal", fields=fields,
-                         state=state, update=vortex_lift_update, path=path, lines=lines,
-                         name="vortex_lift")
+        memory = dict(phase=first_phase[points], rate=0.0, yd_ms=0.0, ydd_ms=0.0, vx=0.0,
+                      vy=0.0, vz=0.0, lifting=0.0, t_commit=0.0)
+        super().__init__(lift, sea=sea, quadrature="nodal", fields=fields,
+                         state=dict(memory, **(state or {})), update=update, path=path,
+                         lines=lines)
 
     @property
     def rms_time(self) -> float:

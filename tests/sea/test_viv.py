@@ -7,16 +7,21 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from skfem import LinearForm
 
 import skmoor
+from skmoor.fem import ops
 from skmoor.lines.line import Line, LineSet, LineType
+from skmoor.sea import viv
 from skmoor.sea.viv import (
     VortexLift,
     VortexLiftForm,
     lift_per_length,
     motion_phase,
     phase_rate,
+    vortex_lift,
     vortex_lift_term,
+    vortex_lift_update,
 )
 from skmoor.sea.waves import Current, Sea
 from skmoor.solvers import compiled_step, dynamics
@@ -158,14 +163,16 @@ def test_rotating_body_deck_reads_its_lift_column_and_runs(tmp_path):
     assert results.t[-1] == pytest.approx(0.2) and np.isfinite(results.displacement).all()
 
 
-def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=(), fields=(), form_path="auto"):
+def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=(), fields=(), form_path="auto",
+                 viv_lift=None):
     """A weightless taut string of two elements (8 m, vertical, from z = ``bottom``) in a
     current U along x (and ``waves``, ``fields``): its middle node a cross-flow oscillator tuned to
     f_n = (cF + dF / 2) U / d with damping ratio ``zeta`` from the current's drag,
     ½ rho d Cd U per length across the flow (skmoor integrates the drag at Gauss points:
     the middle node takes 2/3 of the lumped share, int N^2 = 2 h / 3), lift lumped at the
     node, its running mean squares over two periods (a clean rms of a harmonic motion);
-    form_path 'auto' the lift's hand kernels, else its forms. (model, f_n, m, h)."""
+    form_path 'auto' the lift's hand kernels, else its forms; viv_lift: what makes the
+    lift (Network.viv_lift). (model, f_n, m, h)."""
     from skmoor.coupling.network import MooringLine, Network, Point
     from skmoor.model.model import from_network
 
@@ -184,7 +191,7 @@ def lock_in_case(zeta, dF=0.08, cF=0.18, bottom=-10.0, waves=(), fields=(), form
                        Point("B", "fixed", [0.0, 0.0, bottom + L])],
                       [MooringLine("string", line_type, "A", "B", L / (1 + T / EA), 2)],
                       depth=50.0, rho=RHO, sea=sea, viv_rms_time=2 / f_n,
-                      form_path=form_path)
+                      form_path=form_path, viv_lift=viv_lift)
     return from_network(network), f_n, m, h
 
 
@@ -349,16 +356,16 @@ def test_the_compiled_step_advances_the_lift_in_waves_as_the_python_step():
     assert np.abs(calm - slow).max() > 0.1 * motion
 
 
-def chain_with_lift(EI=0.0):
-    """A 10-element catenary chain (bending stiffness EI) with Cl = 0.8 hung to 0.5 m
-    under the still surface in a sheared current and a 3 m Airy wave across it:
+def chain_with_lift(EI=0.0, dF=0.1):
+    """A 10-element catenary chain (bending stiffness EI) with Cl = 0.8 (and dF) hung to
+    0.5 m under the still surface in a sheared current and a 3 m Airy wave across it:
     (lines, sea)."""
     from skmoor.lines.catenary import solve_catenary
     from skmoor.sea.waves import AiryWave
 
     sea = Sea(150.0, current=Current(profile=[(-150.0, 0.1), (0.0, 0.8)], heading_deg=30.0),
               waves=[AiryWave(3.0, 9.0, 150.0, heading_deg=-20.0)])
-    chain = LineType(EA=7.5e8, mass=140.0, diameter=0.09, Cl=0.8, viv_cF=0.2, viv_dF=0.1,
+    chain = LineType(EA=7.5e8, mass=140.0, diameter=0.09, Cl=0.8, viv_cF=0.2, viv_dF=dF,
                      EI=EI)
     catenary = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -0.5], chain.weight, chain.EA,
                               length=336.0)
@@ -412,6 +419,79 @@ def test_the_lift_form_is_the_hand_kernel_at_every_node(EI, path):
         assert np.abs(loads[1] - loads[0]).max() < 1e-12 * np.abs(loads[0]).max()
         fractions.append(hand._flow(u, v, t + 0.05)[3][-2:])
     assert np.allclose(fractions, [0.5 - 0.01 / 0.09, 0.0]) and np.abs(hand._rate).max() > 1.0
+
+
+def strouhal_rate(w):
+    # the lift's phase at the Strouhal rate alone, 2 pi cF |v_p| / d (no synchronization)
+    new = vortex_lift_update(w)
+    _, _, speed = viv._node_flow(w)
+    held = (w.lifting > 0.5) & (w.dt <= 0.0)
+    new["rate"] = ops.where(held, w.rate, 2 * np.pi * w.cF * speed / w.d)
+    return new
+
+
+@LinearForm
+def growing_lift(v, w):
+    # the built-in lift times (1 + the commits so far)
+    return (1.0 + w.commits) * vortex_lift.form(v, w)
+
+
+def count_commits(w):
+    return dict(vortex_lift_update(w), commits=w.commits + 1.0)
+
+
+def test_a_lift_model_of_ones_own_runs_on_the_same_fields():
+    """VortexLiftForm with a user's update and load on its fields, compiled: a phase at
+    the Strouhal rate alone (the rate's synchronization term dropped) gives the built-in
+    lift of a line type with dF = 0, node by node; a load scaled by a memory of one's own
+    (the commits counted) is the built-in one times 1 + that count."""
+    lines, sea = chain_with_lift()
+    mine = VortexLiftForm(lines, sea, 1.5, update=strouhal_rate)
+    unsynchronized = VortexLiftForm(*chain_with_lift(dF=0.0), 1.5)
+    growing = VortexLiftForm(lines, sea, 1.5, lift=growing_lift, update=count_commits,
+                             state={"commits": 0.0})
+    built_in = VortexLiftForm(lines, sea, 1.5)
+    rng = np.random.default_rng(3)
+    scale = np.zeros(lines.ndofs)
+    scale[lines.nodal_dofs] = 1.0
+    u = rng.normal(0.0, 0.3, lines.ndofs) * scale
+    for k, t in enumerate((0.0, 0.1, 0.2)):
+        u = u + rng.normal(0.0, 0.05, lines.ndofs) * scale
+        v = rng.normal(0.0, 0.4, lines.ndofs) * scale
+        loads = {}
+        for name, term in (("mine", mine), ("dF = 0", unsynchronized), ("grow", growing),
+                           ("built-in", built_in)):
+            term.commit(t, u, v)
+            loads[name] = np.zeros(lines.ndofs)
+            term.add_to(u, v, t + 0.05, loads[name])
+        size = np.abs(loads["built-in"]).max()
+        assert np.abs(loads["mine"] - loads["dF = 0"]).max() < 1e-12 * size
+        assert np.abs(loads["mine"] - loads["built-in"]).max() > 1e-6 * size  # (other rates)
+        assert np.abs(loads["grow"] - (k + 2) * loads["built-in"]).max() < 1e-12 * size
+    assert mine.backend == growing.backend == "numba"
+
+
+def test_a_network_takes_a_lift_model_of_ones_own():
+    """Network.viv_lift puts the Strouhal model in place of the built-in lift: the
+    compiled step runs it (the whole loop compiled) and the lock-in string moves
+    otherwise than with the built-in synchronizing lift."""
+    def strouhal_lift(lines, sea, **options):
+        return VortexLiftForm(lines, sea, update=strouhal_rate, **options)
+
+    runs = []
+    for viv_lift in (strouhal_lift, None):
+        model, f_n, _, _ = lock_in_case(0.15, viv_lift=viv_lift)
+        lifts = [t for t in model.system.line_terms if isinstance(t, (VortexLift, VortexLiftForm))]
+        assert len(lifts) == 1 and (viv_lift is None) == isinstance(lifts[0], VortexLift)
+        if viv_lift is not None:
+            assert lifts[0].update is strouhal_rate and lifts[0].rms_time == 2 / f_n
+        eq = skmoor.equilibrium(model)
+        assert compiled_step.lowered_terms(model.system)[0] is None
+        dt = 1 / (50 * f_n)
+        runs.append(np.array([s.x.copy() for s in dynamics.integrate(
+            model.system, eq.x, np.zeros(model.system.n), dt, 300 * dt, C=eq.C, tol=1e-10)]))
+    mine, built_in = runs
+    assert np.abs(mine - built_in).max() > 0.01 * np.abs(built_in - built_in[0]).max()
 
 
 def test_the_compiled_step_runs_the_lift_form_as_the_hand_kernel():
