@@ -79,9 +79,10 @@ def phase_rate(phase, phase_motion, normal_speed, diameter, cF, dF):
 # water's velocity at the displaced node. Memory: phase, rate, yd_ms, ydd_ms, the node's
 # velocity (vx, vy, vz), lifting (1 after the first commit) and t_commit (its time).
 
-def _node_flow(w):
-    """(q, v_p, |v_p|): the node's unit tangent, the relative flow's part normal to it and
-    its size."""
+def node_flow(w):
+    """(q, v_p, |v_p|) at the points of a :class:`VortexLiftForm`'s w: the node's unit
+    tangent (its chord's direction), the relative flow's part normal to it (m/s) and its
+    size."""
     q = ops.value(w.qn) / ops.norm(w.qn)
     flow = ops.value(w.uw) - ops.value(w.du)
     normal = flow - ops.dot(flow, q) * q
@@ -91,7 +92,7 @@ def _node_flow(w):
 @LinearForm
 def vortex_lift(v, w):
     # -F_L . du, F_L = 1/2 rho d Cl |v_p| cos(phi) (q x v_p) times the wet fraction
-    q, normal, speed = _node_flow(w)
+    q, normal, speed = node_flow(w)
     phase = w.phase + w.rate * (w.t - w.t_commit)  # extrapolated within the step
     z = ops.value(w.X)[2] + ops.value(w.u)[2]
     wet = ops.clip(0.5 - (z - ops.value(w.eta)[2]) / w.d, 0.0, 1.0)
@@ -108,7 +109,7 @@ def vortex_lift_update(w):
     fresh = w.lifting < 0.5
     held = (w.lifting > 0.5) & (w.dt <= 0.0)
     phase = ops.where(fresh, w.phase, ops.mod(w.phase + w.rate * w.dt, 2 * np.pi))
-    q, normal, speed = _node_flow(w)
+    q, normal, speed = node_flow(w)
     velocity = ops.value(w.du)
     before = ops.xp(velocity).stack([w.vx, w.vy, w.vz])
     acceleration = ops.where(fresh, 0.0, (velocity - before) / ops.where(w.dt > 0.0, w.dt, 1.0))

@@ -424,7 +424,7 @@ def test_the_lift_form_is_the_hand_kernel_at_every_node(EI, path):
 def strouhal_rate(w):
     # the lift's phase at the Strouhal rate alone, 2 pi cF |v_p| / d (no synchronization)
     new = vortex_lift_update(w)
-    _, _, speed = viv._node_flow(w)
+    _, _, speed = viv.node_flow(w)
     held = (w.lifting > 0.5) & (w.dt <= 0.0)
     new["rate"] = ops.where(held, w.rate, 2 * np.pi * w.cF * speed / w.d)
     return new
