@@ -118,6 +118,12 @@ def fluid_inertia(v, w):
     return -(w.inertia_n * dot(an, v) + w.inertia_t * a * dot(tau, v))
 
 
+@LinearForm
+def morison_in_waves(v, w):
+    # the drag and the fluid inertia above in one form (the water evaluated once for both)
+    return morison_drag.form(v, w) + fluid_inertia.form(v, w)
+
+
 @BilinearForm
 def fluid_inertia_stiffness(du, v, w):
     # d/du via tau: -int (inertia_t - inertia_n) d(a_t).du ds, d(a_t) = (a_n.dtau) tau + (a.tau) dtau
@@ -192,10 +198,15 @@ def added_mass_matrix(lines, lumped=True):
 
 class SeaTerm(LineForm):
     """A :class:`~skmoor.fem.terms.LineForm` with the water's velocity (field ``uw``) or
-    acceleration (``aw``, when ``water='acceleration'``) from :func:`nodal_water` at the
-    displaced nodes at time t; its mass (the added mass) is block-lumped when ``lumped``."""
+    acceleration (``aw``, when ``water='acceleration'``; both when ``water='both'``) from
+    :func:`nodal_water` at the displaced nodes at time t; its mass (the added mass) is
+    block-lumped when ``lumped``."""
+
+    WATER = {"velocity": ("uw",), "acceleration": ("aw",), "both": ("uw", "aw")}
 
     def __init__(self, residual, *, sea=None, water="velocity", lumped=True, **kw):
+        if water not in self.WATER:
+            raise ValueError(f"SeaTerm water: {water!r} is not one of {tuple(self.WATER)}")
         super().__init__(residual, **kw)
         self.sea, self.water, self.lumped = sea, water, lumped
 
@@ -205,8 +216,9 @@ class SeaTerm(LineForm):
         super().add_to(u, v, t, R, K, C)
 
     def fields_at(self, t, u):
-        name = "uw" if self.water == "velocity" else "aw"
-        return dict(self.fields, **{name: nodal_water(self.lines, self.sea, u, t, self.water)})
+        kinds = {"uw": "velocity", "aw": "acceleration"}
+        return dict(self.fields, **{name: nodal_water(self.lines, self.sea, u, t, kinds[name])
+                                    for name in self.WATER[self.water]})
 
     def fields_vary(self) -> bool:
         return not (self.sea is None or self.sea.still)  # still water: uw = 0 throughout
@@ -239,21 +251,21 @@ class SeaTerm(LineForm):
     def _water_step_kernel(self):
         """(C function, ints, floats) of :func:`_sea_form_packed`: ints [the generated
         kernel's address, where the water's floats start, nodes, profile points, wave
-        components, 1 with waves or fields (x and y matter) else 0, where the water's
-        DOF field starts in floats, 1 for the acceleration, the generated commit's
-        address (0: none); the nodes' z DOFs (then with waves or fields their x and y
+        components, 1 with waves or fields (x and y matter) else 0, where the velocity's
+        and the acceleration's DOF fields start in floats (-1: not read), the generated
+        commit's address (0: none); the nodes' z DOFs (then with waves or fields their x and y
         DOFs), their x, y, z DOFs (nodes, 3), then the kernel's ints], floats [the
         kernel's, then the water's (:func:`_water`)]."""
         function, form_ints, form_floats, dof_names, D_start, commit = self.generated
-        name = "uw" if self.water == "velocity" else "aw"
         lines = self.lines
+        field_at = [D_start + dof_names.index(name) * lines.ndofs
+                    if name in self.WATER[self.water] else -1 for name in ("uw", "aw")]
         heading, heights, speeds, waves, fields = water_arrays(self.sea)
         xy = len(waves) > 0 or fields[0] > 0
         axes = [2, 0, 1] if xy else [2]  # z, then with waves or fields x and y
         dofs, X = lines.nodal_dofs, lines.points
         header = [function.address, form_floats.size, len(dofs), len(heights), len(waves), xy,
-                  D_start + dof_names.index(name) * lines.ndofs, self.water != "velocity",
-                  0 if commit is None else commit.address]
+                  *field_at, 0 if commit is None else commit.address]
         ints = np.concatenate([header, *dofs[:, axes].T, dofs.ravel(),
                                self._more_ints(dof_names, D_start), form_ints])
         floats = np.concatenate([np.ravel(a) for a in (
@@ -580,19 +592,20 @@ def _morison_p1_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent
 
 @njit(cache=True)
 def _set_water(u, t, ints, floats, ndofs):
-    """A :class:`SeaTerm`'s water field (velocity or acceleration, a DOF field) set at the
-    displaced nodes (:func:`_water`) in the buffers of ``SeaTerm._water_step_kernel``;
+    """A :class:`SeaTerm`'s water fields (velocity and/or acceleration, DOF fields) set at
+    the displaced nodes (:func:`_water`) in the buffers of ``SeaTerm._water_step_kernel``;
     returns where the generated kernel's ints start."""
     nnodes, axes = ints[2], 3 if ints[5] else 1
     water, acceleration, accelerates = _water(u, t, ints, 9, floats, ints[1])
     dofs = carray(advanced(ints, 9 + axes * nnodes), (nnodes, 3))
-    field = carray(advanced(floats, ints[6]), (ndofs,))
+    velocity_field = carray(advanced(floats, max(ints[6], 0)), (ndofs,))
+    acceleration_field = carray(advanced(floats, max(ints[7], 0)), (ndofs,))
     for p in range(nnodes):
         for c in range(3):
-            if ints[7] == 0:
-                field[dofs[p, c]] = water[p, c]
-            else:
-                field[dofs[p, c]] = acceleration[p, c] if accelerates else 0.0
+            if ints[6] >= 0:
+                velocity_field[dofs[p, c]] = water[p, c]
+            if ints[7] >= 0:
+                acceleration_field[dofs[p, c]] = acceleration[p, c] if accelerates else 0.0
     return 9 + (axes + 3) * nnodes
 
 
@@ -836,17 +849,22 @@ def line_terms(lines, sea=None, *, lumped_mass=True, path="auto") -> list:
 
 def form_terms(lines, sea=None, *, lumped_mass=True, path="auto"):
     """The same physics as :func:`line_hydrodynamics` as :class:`SeaTerm` forms (the
-    definition): drag (+ fluid inertia with waves); ``path`` as :class:`LineForm` ('auto':
-    scikit-fem's assembly with the hand-written tangents)."""
+    definition): drag (+ fluid inertia with waves: a second term with its hand-written
+    tangents, on the automatic tangents' paths one form, :func:`morison_in_waves`);
+    ``path`` as :class:`LineForm` ('auto': scikit-fem's assembly with the hand-written
+    tangents)."""
     _check_sea(lines, sea)
     c = coefficients(lines)
-    has_mass = np.any(c["added_n"]) or np.any(c["added_t"])
+    mass = added_mass if np.any(c["added_n"]) or np.any(c["added_t"]) else None
     hand = path in ("auto", "assembly")
+    waves = sea is not None and sea.has_waves
+    if waves and not hand:  # one pass over the water for both
+        return [SeaTerm(morison_in_waves, mass=mass, fields=c, sea=sea, water="both",
+                        lumped=lumped_mass, path=path, lines=lines)]
     terms = [SeaTerm(morison_drag, stiffness=morison_drag_stiffness if hand else None,
-                     damping=morison_drag_rate if hand else None,
-                     mass=added_mass if has_mass else None, fields=c, sea=sea,
-                     lumped=lumped_mass, path=path, lines=lines)]
-    if sea is not None and sea.has_waves:
+                     damping=morison_drag_rate if hand else None, mass=mass, fields=c,
+                     sea=sea, lumped=lumped_mass, path=path, lines=lines)]
+    if waves:
         terms.append(SeaTerm(fluid_inertia, stiffness=fluid_inertia_stiffness if hand else None,
                              fields=c, sea=sea, water="acceleration", path=path, lines=lines))
     return terms

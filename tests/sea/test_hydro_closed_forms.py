@@ -232,19 +232,21 @@ def test_line_towed_along_its_axis(kernel):
 
 
 def test_forms_count_the_added_mass_once_in_waves():
-    """form_terms in waves are two terms (drag with the added mass, fluid inertia without):
-    the System's mass grows by the lumped added mass alone, sum over interior nodes of
-    (h_l + h_r)/2 times the entries of rho A [Ca_n P + Ca_t e e^T], not twice that. Fails
-    when the fluid-inertia term also reports the added mass."""
+    """form_terms in waves are two terms (drag with the added mass, fluid inertia without),
+    on the compiled path one (both in one form): the System's mass grows by the lumped
+    added mass alone, sum over interior nodes of (h_l + h_r)/2 times the entries of
+    rho A [Ca_n P + Ca_t e e^T], not twice that. Fails when the fluid-inertia term also
+    reports the added mass."""
     lt = line_type()
     lines, e = straight(lt)
-    terms = form_terms(lines, wave_sea())
-    assert len(terms) == 2
-    wet = System(lines, fairleads="fixed", terms=terms).M
     dry = System(lines, fairleads="fixed").M
     interior = (LENGTHS[:-1] + LENGTHS[1:]) / 2
     expected = interior.sum() * added_block(lt, e).sum()
-    assert (wet - dry).sum() == pytest.approx(expected, rel=1e-12)
+    for path, count in (("auto", 2), ("compiled", 1)):
+        terms = form_terms(lines, wave_sea(), path=path)
+        assert len(terms) == count
+        wet = System(lines, fairleads="fixed", terms=terms).M
+        assert (wet - dry).sum() == pytest.approx(expected, rel=1e-12), path
 
 
 def test_kernel_without_a_velocity_is_a_line_at_rest():
