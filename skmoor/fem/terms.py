@@ -822,6 +822,7 @@ def _numba_engine(term):
                    blocks.copy(), tangent)
     except Exception as error:  # numba's typing and lowering errors
         raise Unsupported(f"numba: {str(error).strip().splitlines()[0][:120]}") from error
+
     def fields_now(u, v, t):
         # (P, D) of the fields at (u, v, t), the memory's values in P's state columns
         _, w = term._w(u, v, t)
