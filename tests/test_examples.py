@@ -132,3 +132,23 @@ def test_nonlinear_bending_example(monkeypatch, tmp_path):
     monkeypatch.setattr(ex, "KAPPA_SLIP", 1e3)  # (the model's field, set when it is made)
     stuck = ex.run(ex.riser(ex.EI_SLIP, ex.EI_STICK - ex.EI_SLIP))[1]
     assert np.abs(stuck - peaks["stick"]).max() < 1e-6 * peaks["stick"].max()
+
+
+def test_viv_model_example(monkeypatch, tmp_path):
+    """Example 12 (80 s): a user's VIV model (the phase at the Strouhal rate alone, put in
+    place of the built-in lift with Network.viv_lift) moves the riser at cF U / d (2 %);
+    Thorsen's built-in lift, in step with the motion, drives a standing wave (its rms at
+    the middle node under a quarter of the antinodes') three times the Strouhal
+    forcing's, whose phases spread along the riser give a travelling wave (rms within
+    10 % from a quarter to three quarters of the height)."""
+    pytest.importorskip("jax", reason="the user's lift runs as a generated form")
+    ex = load("12_viv_model.py", monkeypatch, SKMOOR_EXAMPLE_DURATION="80",
+              SKMOOR_EXAMPLE_OUT=str(tmp_path))
+    assert (tmp_path / "viv_model.png").is_file()
+    f, rms = ex.stats["Strouhal rate"]
+    assert f == pytest.approx(ex.CF * ex.U / ex.D, rel=0.02)
+    middle = rms[ex.ELEMENTS // 4: 3 * ex.ELEMENTS // 4 + 1]
+    assert middle.max() < 1.1 * middle.min()
+    _, thorsen = ex.stats["Thorsen (built-in)"]
+    assert thorsen[ex.ELEMENTS // 2] < 0.25 * thorsen.max()
+    assert thorsen.max() > 3 * rms.max()
