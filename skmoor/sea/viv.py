@@ -363,11 +363,13 @@ def _commit_packed(u_p, ud_p, ndofs, t, ints, floats, R_p, K_p, C_p, tangent):
     """``VortexLift.commit`` on the buffers of its ``step_kernel`` (R, K, C unused)."""
     dofs, X, coefficients, first, heading, heights, speeds, water, rms_time, state, scratch = (
         _unpacked(ints, floats))
+    if t == state[0]:  # a second commit at the same time keeps the state
+        return
     n = X.shape[1]
     u, v = carray(u_p, (ndofs,)), carray(ud_p, (ndofs,))
     d, cF, dF = coefficients[1], coefficients[3], coefficients[4]
     _flow_at(u, v, t, dofs, X, d, heading, heights, speeds, water, scratch)
-    restart = math.isnan(state[0]) or t <= state[0]
+    restart = math.isnan(state[0]) or t < state[0]
     h = 0.0 if restart else t - state[0]
     weight = 1.0 / RMS_STEPS if restart else min(1.0, h / rms_time[0])
     phase, rate = state[1: 1 + n], state[1 + n: 1 + 2 * n]

@@ -421,6 +421,41 @@ def test_the_lift_form_is_the_hand_kernel_at_every_node(EI, path):
     assert np.allclose(fractions, [0.5 - 0.01 / 0.09, 0.0]) and np.abs(hand._rate).max() > 1.0
 
 
+def test_the_compiled_commit_advances_keeps_and_restarts_as_the_python_one():
+    """VortexLift's compiled commit (its C function on the step kernel's buffers, as the
+    compiled step calls it) and its Python commit along the same commits of a chain in
+    waves at random states: the same state after each, a second commit at the same time
+    keeping it and an earlier time starting again."""
+    import ctypes
+
+    lines, sea = chain_with_lift()
+    python, compiled = VortexLift(lines, sea, rms_time=1.5), VortexLift(lines, sea, rms_time=1.5)
+    _, ints, floats = compiled.step_kernel
+    state, offset = compiled.step_state()
+    at = floats.size - offset
+    rng = np.random.default_rng(11)
+    scale = np.zeros(lines.ndofs)
+    scale[lines.nodal_dofs] = 1.0
+    R = np.zeros(lines.ndofs)
+
+    def pointer(array, kind=ctypes.c_double):
+        return array.ctypes.data_as(ctypes.POINTER(kind))
+
+    states = []
+    for t in (0.0, 0.1, 0.25, 0.25, 0.4, 0.15, 0.3):  # kept at 0.25; a new run at 0.15
+        u = rng.normal(0.0, 0.3, lines.ndofs) * scale
+        v = rng.normal(0.0, 0.4, lines.ndofs) * scale
+        python.commit(t, u, v)
+        compiled.step_commit.ctypes(pointer(u), pointer(v), lines.ndofs, t,
+                                    pointer(ints, ctypes.c_int64), pointer(floats), pointer(R),
+                                    pointer(R), pointer(R), 0)
+        assert floats[at: at + state.size] == pytest.approx(python._state, rel=1e-12,
+                                                             abs=1e-12), t
+        states.append(python._state.copy())
+    assert np.array_equal(states[2], states[3])  # kept
+    assert not np.allclose(states[4], states[3])
+
+
 def strouhal_rate(w):
     # the lift's phase at the Strouhal rate alone, 2 pi cF |v_p| / d (no synchronization)
     new = vortex_lift_update(w)
