@@ -105,29 +105,44 @@ def chain(law, offset):
     return system, skmoor.solve_static(system).x
 
 
-def chain_in_waves(generated, EI):
-    """The chain (bending stiffness EI, N m2: > 0 on Hermite elements) in a sheared
-    current and a 3 m Airy wave across it, its fairlead moved 1 m at 0.8 rad/s: Morison's
-    hand kernel (``LineHydroKernel``), or with ``generated`` the kernels generated from
-    its forms (``hydro.form_terms`` on path 'compiled', the water evaluated at the nodes
-    in compiled code first)."""
+def sea_and_chain(EI=0.0, Cl=0.0):
+    """(sea, lines): a sheared current and a 3 m Airy wave across it, and the 20-element
+    chain (bending stiffness EI, N m2: > 0 on Hermite elements; VIV lift coefficient Cl)
+    with Morison's coefficients."""
     import skmoor
     from skmoor.lines.catenary import solve_catenary
-    from skmoor.sea import AiryWave, Current, Sea, hydro
+    from skmoor.sea import AiryWave, Current, Sea
 
     sea = Sea(150.0, current=Current(profile=[(-150.0, 0.1), (0.0, 0.8)], heading_deg=30.0),
               waves=[AiryWave(3.0, 9.0, 150.0, heading_deg=-20.0)])
     chain = skmoor.LineType(EA=EA_S, mass=140.0, diameter=0.09, Cd_n=1.2, Cd_t=0.1, Ca_n=1.0,
-                            EI=EI)
+                            EI=EI, Cl=Cl)
     catenary = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, EA_S,
                               length=336.0)
-    lines = skmoor.LineSet([skmoor.Line.from_catenary(catenary, chain, 20)])
-    lumped = not lines.hermite
-    terms = (hydro.form_terms(lines, sea, path="compiled", lumped_mass=lumped) if generated
-             else [hydro.line_hydrodynamics(lines, sea, lumped_mass=lumped)])
+    return sea, skmoor.LineSet([skmoor.Line.from_catenary(catenary, chain, 20)])
+
+
+def moved_chain(lines, terms):
+    """(system, static state) of the chain with ``terms``, its fairlead moved 1 m at 0.8
+    rad/s."""
+    import skmoor
+
     system = skmoor.System(lines, fairleads="prescribed", terms=terms, motion=lambda t: np.array(
         [[np.sin(0.8 * t), 0.0, np.sin(0.8 * t)]]))
     return system, skmoor.solve_static(system).x
+
+
+def chain_in_waves(generated, EI):
+    """The chain (bending stiffness EI) in the water of :func:`sea_and_chain`, its
+    fairlead moved: Morison's hand kernel (``LineHydroKernel``), or with ``generated`` the
+    kernels generated from its forms (``hydro.form_terms`` on path 'compiled', the water
+    evaluated at the nodes in compiled code first)."""
+    from skmoor.sea import hydro
+
+    sea, lines = sea_and_chain(EI)
+    lumped = not lines.hermite
+    return moved_chain(lines, hydro.form_terms(lines, sea, path="compiled", lumped_mass=lumped)
+                       if generated else [hydro.line_hydrodynamics(lines, sea, lumped_mass=lumped)])
 
 
 def chain_with_lift(generated):
@@ -135,23 +150,12 @@ def chain_with_lift(generated):
     lift coefficient 0.8: the lift's hand kernels (``VortexLift``), or with ``generated``
     the kernel and commit generated from its forms (``VortexLiftForm`` on path
     'compiled', the water, node chords and surface evaluated in compiled code first)."""
-    import skmoor
-    from skmoor.lines.catenary import solve_catenary
-    from skmoor.sea import AiryWave, Current, Sea, hydro
+    from skmoor.sea import hydro
     from skmoor.sea.viv import vortex_lift_term
 
-    sea = Sea(150.0, current=Current(profile=[(-150.0, 0.1), (0.0, 0.8)], heading_deg=30.0),
-              waves=[AiryWave(3.0, 9.0, 150.0, heading_deg=-20.0)])
-    chain = skmoor.LineType(EA=EA_S, mass=140.0, diameter=0.09, Cd_n=1.2, Cd_t=0.1, Ca_n=1.0,
-                            Cl=0.8)
-    catenary = solve_catenary([-300.0, 0.0, -150.0], [0.0, 0.0, -5.0], chain.weight, EA_S,
-                              length=336.0)
-    lines = skmoor.LineSet([skmoor.Line.from_catenary(catenary, chain, 20)])
-    terms = [hydro.line_hydrodynamics(lines, sea),
-             vortex_lift_term(lines, sea, rms_time=10.0, path="compiled" if generated else "auto")]
-    system = skmoor.System(lines, fairleads="prescribed", terms=terms, motion=lambda t: np.array(
-        [[np.sin(0.8 * t), 0.0, np.sin(0.8 * t)]]))
-    return system, skmoor.solve_static(system).x
+    sea, lines = sea_and_chain(Cl=0.8)
+    return moved_chain(lines, [hydro.line_hydrodynamics(lines, sea), vortex_lift_term(
+        lines, sea, rms_time=10.0, path="compiled" if generated else "auto")])
 
 
 def more_bending(v, w):

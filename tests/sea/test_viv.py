@@ -380,8 +380,8 @@ def test_the_lift_form_is_the_hand_kernel_at_every_node(EI, path):
     the phases extrapolated within a step), the phases, rates and mean squares after
     commits along a run, a second commit at the same time (kept), and a new run (a time
     before the last: started again). A lift on the element's tangent (not the node's
-    chord), a wet fraction of the reference z, an update of the step's start or the
-    phase's rate without the motion would each part them."""
+    chord), a wet fraction of the reference z or the acceleration's sign flipped in the
+    update each parts them (tried)."""
     lines, sea = chain_with_lift(EI)
     hand = VortexLift(lines, sea, rms_time=1.5)
     form = vortex_lift_term(lines, sea, rms_time=1.5, path=path)
