@@ -146,15 +146,16 @@ def clip(a, low, high):
 
 
 def interp(x, xs, ys):
-    """Piecewise-linear interpolation of the table (xs increasing, ys) at x, held at the
-    end values beyond the ends (as ``numpy.interp``): ys[0] and one ramp per piece,
-    (ys[i+1] - ys[i]) clip((x - xs[i]) / (xs[i+1] - xs[i]), 0, 1); a piece of no width
-    adds nothing. The table's points may be arrays shaped like x (functions of a state):
-    the form compiler traces them as the rest."""
+    """Piecewise-linear interpolation of the table (xs non-decreasing, ys) at x, held at
+    the end values beyond the ends (as ``numpy.interp``): ys[0] and one ramp per piece,
+    (ys[i+1] - ys[i]) clip((x - xs[i]) / (xs[i+1] - xs[i]), 0, 1); a piece of no width is
+    a step, ys[i+1] from x = xs[i] on. The table's points may be arrays shaped like x
+    (functions of a state): the form compiler traces them as the rest."""
     x = value(x)
     out = ys[0] + 0.0 * x
     for i in range(len(xs) - 1):
         width = xs[i + 1] - xs[i]
-        out = out + (ys[i + 1] - ys[i]) * clip((x - xs[i]) / where(width > 0.0, width, 1.0),
-                                               0.0, 1.0)
+        ramp = clip((x - xs[i]) / where(width > 0.0, width, 1.0), 0.0, 1.0)
+        out = out + (ys[i + 1] - ys[i]) * where(width > 0.0, ramp,
+                                                where(x >= xs[i], 1.0, 0.0))
     return out

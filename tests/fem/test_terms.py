@@ -161,11 +161,15 @@ def test_a_form_of_second_derivatives_on_bending_lines_on_every_path():
 
 def test_interp_is_numpys_on_tables_of_numbers_and_of_arrays():
     """ops.interp, written as one ramp per piece: numpy.interp's values inside, at the
-    knots and beyond both ends; a piece of no width adds nothing; a table whose points
-    are arrays (a function of the state) interpolates point by point."""
+    knots and beyond both ends; a piece of no width is a step (numpy's jump, its value
+    at the knot the one after it); a table whose points are arrays (a function of the
+    state) interpolates point by point."""
     xs, ys = [0.0, 0.5, 0.5, 2.0, 3.0], [1.0, -1.0, -1.0, 4.0, 4.5]
     x = np.linspace(-1.0, 4.0, 101)
     assert np.abs(ops.interp(x, xs, ys) - np.interp(x, xs, ys)).max() < 1e-14
+    jump = ([0.0, 1.0, 1.0, 2.0], [0.0, 1.0, 5.0, 6.0])
+    x_jump = np.array([-0.5, 0.5, 1.0, 1.2, 1.5, 2.5])
+    assert np.abs(ops.interp(x_jump, *jump) - np.interp(x_jump, *jump)).max() < 1e-14
     shift = np.linspace(0.0, 1.0, x.size)  # each point its own table
     moved = ops.interp(x, [k + shift for k in xs], ys)
     assert np.abs(moved - np.interp(x - shift, xs, ys)).max() < 1e-14
