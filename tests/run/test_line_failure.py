@@ -273,6 +273,33 @@ def test_a_release_carries_the_lift_phases_of_viv():
     assert np.array_equal(new._phase, new.first_phase)
 
 
+def test_a_release_carries_the_memory_of_the_lift_written_as_forms():
+    """The same for the lift's forms (VortexLiftForm, compiled): the memory by name and
+    the last commit's time carry over, a run going on keeps it, an earlier time starts
+    the phases anew."""
+    pytest.importorskip("jax", reason="the lift's forms run compiled")
+    from skmoor.lines.catenary import solve_catenary
+    from skmoor.sea import Current, Sea, VortexLiftForm
+
+    rope = skmoor.LineType(EA=5e8, mass=40.0, diameter=0.1, Cl=0.8)
+    cat = solve_catenary([-40.0, 0.0, -5.0], [40.0, 0.0, -5.0], rope.weight, rope.EA,
+                         length=100.0)
+    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, rope, 10)])
+    sea = Sea(100.0, current=Current(1.0, 90.0))
+    old, new = VortexLiftForm(lines, sea), VortexLiftForm(lines, sea)
+    rng = np.random.default_rng(3)
+    u, v = 0.01 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
+    for t in (0.0, 0.1, 0.2):
+        old.commit(t, u * (1 + t), v * (1 - t))
+    new.carry_memory(old)
+    new.commit(0.2, u, 0.0 * v)  # (a run going on from t = 0.2 s)
+    for name, value in old.state_values().items():
+        assert np.array_equal(new.state_values()[name], value), name
+    assert new.state_values()["lifting"].all() and new.state_values()["rate"].any()
+    new.commit(0.1, u, v)  # a time before: a new run
+    assert np.array_equal(new.state_values()["phase"], new.state["phase"])
+
+
 def test_a_release_carries_the_radiation_memory_of_a_body():
     """A body's radiation memory (Cummins' convolution over its velocity history) carries
     over to the rebuilt term: the same memory force at the next time, where a history
