@@ -147,15 +147,17 @@ def clip(a, low, high):
 
 def interp(x, xs, ys):
     """Piecewise-linear interpolation of the table (xs non-decreasing, ys) at x, held at
-    the end values beyond the ends (as ``numpy.interp``): ys[0] and one ramp per piece,
-    (ys[i+1] - ys[i]) clip((x - xs[i]) / (xs[i+1] - xs[i]), 0, 1); a piece of no width is
-    a step, ys[i+1] from x = xs[i] on. The table's points may be arrays shaped like x
-    (functions of a state): the form compiler traces them as the rest."""
+    the end values beyond the ends (as ``numpy.interp``): the piece x lies in, chosen
+    from the left by comparisons, then one division; a piece of no width is a step,
+    ys[i+1] from x = xs[i] on. The table's points may be arrays shaped like x (functions
+    of a state): the form compiler traces them as the rest."""
     x = value(x)
-    out = ys[0] + 0.0 * x
-    for i in range(len(xs) - 1):
-        width = xs[i + 1] - xs[i]
-        ramp = clip((x - xs[i]) / where(width > 0.0, width, 1.0), 0.0, 1.0)
-        out = out + (ys[i + 1] - ys[i]) * where(width > 0.0, ramp,
-                                                where(x >= xs[i], 1.0, 0.0))
-    return out
+    x0 = x1 = xs[0] + 0.0 * x
+    y0 = y1 = ys[0] + 0.0 * x
+    for i in range(len(xs) - 1):  # the last piece that starts at or below x
+        inside = x >= xs[i]
+        x0, x1 = where(inside, xs[i], x0), where(inside, xs[i + 1], x1)
+        y0, y1 = where(inside, ys[i], y0), where(inside, ys[i + 1], y1)
+    width = x1 - x0
+    ramp = clip((x - x0) / where(width > 0.0, width, 1.0), 0.0, 1.0)
+    return y0 + (y1 - y0) * where(width > 0.0, ramp, 1.0)

@@ -160,10 +160,10 @@ def test_a_form_of_second_derivatives_on_bending_lines_on_every_path():
 
 
 def test_interp_is_numpys_on_tables_of_numbers_and_of_arrays():
-    """ops.interp, written as one ramp per piece: numpy.interp's values inside, at the
-    knots and beyond both ends; a piece of no width is a step (numpy's jump, its value
-    at the knot the one after it); a table whose points are arrays (a function of the
-    state) interpolates point by point."""
+    """ops.interp, written as comparisons and one division: numpy.interp's values
+    inside, at the knots and beyond both ends; a piece of no width is a step (numpy's
+    jump, its value at the knot the one after it); a table whose points are arrays (a
+    function of the state) interpolates point by point."""
     xs, ys = [0.0, 0.5, 0.5, 2.0, 3.0], [1.0, -1.0, -1.0, 4.0, 4.5]
     x = np.linspace(-1.0, 4.0, 101)
     assert np.abs(ops.interp(x, xs, ys) - np.interp(x, xs, ys)).max() < 1e-14
