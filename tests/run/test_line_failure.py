@@ -249,25 +249,35 @@ def test_a_release_keeps_the_creep_state_of_the_lines(tmp_path, law, monkeypatch
     assert abs(T_broken[k + 1] - T_intact[k + 1]) < 1.0
 
 
-def test_a_release_carries_the_lift_phases_of_viv():
-    """VIV's state (phases, their rates, running mean squares, velocities) carries over
-    to a rebuilt lift on the same lines, and a run going on from the last committed time
-    keeps it (a time before it starts anew)."""
+def carried_lift(kind):
+    """Two lifts of ``kind`` (VortexLift or VortexLiftForm) on a rope in a current: the
+    first committed at 0, 0.1 and 0.2 s at random states, its memory carried to the
+    second, which then commits at 0.2 s (a run going on from there). (old, new, u, v)."""
     from skmoor.lines.catenary import solve_catenary
-    from skmoor.sea import Current, Sea, VortexLift
+    from skmoor.sea import Current, Sea
 
     rope = skmoor.LineType(EA=5e8, mass=40.0, diameter=0.1, Cl=0.8)
     cat = solve_catenary([-40.0, 0.0, -5.0], [40.0, 0.0, -5.0], rope.weight, rope.EA,
                          length=100.0)
     lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, rope, 10)])
     sea = Sea(100.0, current=Current(1.0, 90.0))
-    old, new = VortexLift(lines, sea), VortexLift(lines, sea)
+    old, new = kind(lines, sea), kind(lines, sea)
     rng = np.random.default_rng(3)
     u, v = 0.01 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
     for t in (0.0, 0.1, 0.2):
         old.commit(t, u * (1 + t), v * (1 - t))
     new.carry_memory(old)
-    new.commit(0.2, u, 0.0 * v)  # (a run going on from t = 0.2 s)
+    new.commit(0.2, u, 0.0 * v)
+    return old, new, u, v
+
+
+def test_a_release_carries_the_lift_phases_of_viv():
+    """VIV's state (phases, their rates, running mean squares, velocities) carries over
+    to a rebuilt lift on the same lines, and a run going on from the last committed time
+    keeps it (a time before it starts anew)."""
+    from skmoor.sea import VortexLift
+
+    old, new, u, v = carried_lift(VortexLift)
     assert np.array_equal(new._state, old._state)
     new.commit(0.1, u, v)  # a time before: a new run
     assert np.array_equal(new._phase, new.first_phase)
@@ -278,21 +288,9 @@ def test_a_release_carries_the_memory_of_the_lift_written_as_forms():
     the last commit's time carry over, a run going on keeps it, an earlier time starts
     the phases anew."""
     pytest.importorskip("jax", reason="the lift's forms run compiled")
-    from skmoor.lines.catenary import solve_catenary
-    from skmoor.sea import Current, Sea, VortexLiftForm
+    from skmoor.sea import VortexLiftForm
 
-    rope = skmoor.LineType(EA=5e8, mass=40.0, diameter=0.1, Cl=0.8)
-    cat = solve_catenary([-40.0, 0.0, -5.0], [40.0, 0.0, -5.0], rope.weight, rope.EA,
-                         length=100.0)
-    lines = skmoor.LineSet([skmoor.Line.from_catenary(cat, rope, 10)])
-    sea = Sea(100.0, current=Current(1.0, 90.0))
-    old, new = VortexLiftForm(lines, sea), VortexLiftForm(lines, sea)
-    rng = np.random.default_rng(3)
-    u, v = 0.01 * rng.standard_normal(lines.ndofs), rng.standard_normal(lines.ndofs)
-    for t in (0.0, 0.1, 0.2):
-        old.commit(t, u * (1 + t), v * (1 - t))
-    new.carry_memory(old)
-    new.commit(0.2, u, 0.0 * v)  # (a run going on from t = 0.2 s)
+    old, new, u, v = carried_lift(VortexLiftForm)
     for name, value in old.state_values().items():
         assert np.array_equal(new.state_values()[name], value), name
     assert new.state_values()["lifting"].all() and new.state_values()["rate"].any()
