@@ -299,10 +299,10 @@ def test_forms_in_a_current_and_waves_run_compiled_as_the_hand_kernel(EI):
     """Morison's forms (drag on the water's velocity ``w.uw``, fluid inertia on its
     acceleration ``w.aw``, in one ``SeaTerm`` with water='both') in a sheared current
     and Airy waves run in the compiled step, the water evaluated at the displaced nodes
-    in compiled code before their generated kernel: the motion of the hand kernel to round-off (measured 3e-15), on
-    P1 and bending lines, and the Python step's. Still water would move the chain 3 %
-    otherwise, the current alone 1 %: a water field left at its first values, or the
-    velocity read as the acceleration, would fail."""
+    in compiled code before their generated kernel: the motion of the hand kernel to
+    round-off (measured 3e-15), on P1 and bending lines, and the Python step's. Still
+    water would move the chain 3 % otherwise, the current alone 1 %: a water field left
+    at its first values, or the velocity read as the acceleration, would fail."""
     forms, x_forms = _chain_in_waves(True, EI)
     hand, x_hand = _chain_in_waves(False, EI)
     assert np.abs(x_forms - x_hand).max() < 1e-9 * np.abs(x_hand).max()
